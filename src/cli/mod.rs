@@ -1,0 +1,255 @@
+//! The command line: `raylab solve …` prints every step of a solve as text, JSON or LaTeX.
+//!
+//! Errors in what the user typed are one line naming the flag (or the batch line), and a non-zero exit.
+
+pub mod batch;
+pub mod input;
+pub mod solve;
+
+use std::io::Write;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::geometry::Precision;
+use crate::trace;
+use input::{Coords, Literal, parse_coords2, parse_coords3, parse_literal};
+use solve::Case;
+
+/// raylab: parametric forms and ray–primitive intersection, every step shown.
+#[derive(Debug, Parser)]
+#[command(name = "raylab", version, arg_required_else_help = true)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Solve one intersection problem and print every step (M X = Y, determinants, checks, verdict).
+    Solve(SolveArgs),
+}
+
+/// How to print a result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// Every step of the trace, for a terminal.
+    Text,
+    /// One JSON object: status, parameters, point, exact values and the trace.
+    Json,
+    /// The trace as LaTeX (amsmath), to paste into slides.
+    Latex,
+}
+
+/// Arithmetic precision on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PrecisionArg {
+    /// IEEE single precision.
+    F32,
+    /// IEEE double precision.
+    F64,
+    /// Exact rational arithmetic (numbers are read exactly as written: 0.1 is 1/10).
+    Exact,
+}
+
+impl From<PrecisionArg> for Precision {
+    fn from(p: PrecisionArg) -> Precision {
+        match p {
+            PrecisionArg::F32 => Precision::F32,
+            PrecisionArg::F64 => Precision::F64,
+            PrecisionArg::Exact => Precision::Exact,
+        }
+    }
+}
+
+/// `raylab solve`.
+#[derive(Debug, Args)]
+#[command(
+    args_conflicts_with_subcommands = true,
+    after_help = "Numbers may be integers, decimals or fractions: --dir 1/3,0.5,-2e-1.\n\
+                  With --batch, read one JSON case per line from standard input (see the README)."
+)]
+pub struct SolveArgs {
+    /// The problem to solve.
+    #[command(subcommand)]
+    pub problem: Option<Problem>,
+    /// Arithmetic to solve in.
+    #[arg(long, value_enum, default_value = "f64", global = true)]
+    pub precision: PrecisionArg,
+    /// Output format (batch mode always writes JSON lines).
+    #[arg(long, value_enum, global = true)]
+    pub format: Option<Format>,
+    /// Read JSON cases from standard input, one per line; write one JSON result per line.
+    #[arg(long)]
+    pub batch: bool,
+    /// Leave the step-by-step trace out of JSON output.
+    #[arg(long, global = true)]
+    pub no_trace: bool,
+}
+
+/// The problems `raylab solve` knows.
+#[derive(Debug, Subcommand)]
+pub enum Problem {
+    /// Two 2D segments A1–A2 and B1–B2 (seed 000): A(t) = A1 + t(A2−A1), B(s) = B1 + s(B2−B1).
+    Segments {
+        /// Start of segment A.
+        #[arg(long, value_name = "X,Y", value_parser = parse_coords2, allow_hyphen_values = true)]
+        a1: Coords<2>,
+        /// End of segment A.
+        #[arg(long, value_name = "X,Y", value_parser = parse_coords2, allow_hyphen_values = true)]
+        a2: Coords<2>,
+        /// Start of segment B.
+        #[arg(long, value_name = "X,Y", value_parser = parse_coords2, allow_hyphen_values = true)]
+        b1: Coords<2>,
+        /// End of segment B.
+        #[arg(long, value_name = "X,Y", value_parser = parse_coords2, allow_hyphen_values = true)]
+        b2: Coords<2>,
+    },
+    /// A ray L + tD against the triangle A, B, C by Cramer's rule (seed 000).
+    Triangle {
+        /// Vertex A.
+        #[arg(long, value_name = "X,Y,Z", value_parser = parse_coords3, allow_hyphen_values = true)]
+        a: Coords<3>,
+        /// Vertex B.
+        #[arg(long, value_name = "X,Y,Z", value_parser = parse_coords3, allow_hyphen_values = true)]
+        b: Coords<3>,
+        /// Vertex C.
+        #[arg(long, value_name = "X,Y,Z", value_parser = parse_coords3, allow_hyphen_values = true)]
+        c: Coords<3>,
+        /// The ray's origin L.
+        #[arg(long, value_name = "X,Y,Z", value_parser = parse_coords3, allow_hyphen_values = true)]
+        origin: Coords<3>,
+        /// The ray's direction D (any length; t is measured in units of |D|).
+        #[arg(long, value_name = "X,Y,Z", value_parser = parse_coords3, allow_hyphen_values = true)]
+        dir: Coords<3>,
+        /// A hit needs t > tmin (open: t = tmin is a miss).
+        #[arg(long, value_name = "T", value_parser = parse_literal, default_value = "0", allow_hyphen_values = true)]
+        tmin: Literal,
+    },
+    /// A ray o + t d against the parallelogram c + α e1 + β e2 (seed 001).
+    Parallelogram {
+        /// The corner c.
+        #[arg(long, value_name = "X,Y,Z", value_parser = parse_coords3, allow_hyphen_values = true)]
+        corner: Coords<3>,
+        /// The first edge vector e1.
+        #[arg(long, value_name = "X,Y,Z", value_parser = parse_coords3, allow_hyphen_values = true)]
+        e1: Coords<3>,
+        /// The second edge vector e2.
+        #[arg(long, value_name = "X,Y,Z", value_parser = parse_coords3, allow_hyphen_values = true)]
+        e2: Coords<3>,
+        /// The ray's origin o.
+        #[arg(long, value_name = "X,Y,Z", value_parser = parse_coords3, allow_hyphen_values = true)]
+        origin: Coords<3>,
+        /// The ray's direction d.
+        #[arg(long, value_name = "X,Y,Z", value_parser = parse_coords3, allow_hyphen_values = true)]
+        dir: Coords<3>,
+    },
+}
+
+impl Problem {
+    fn into_case(self) -> Case {
+        match self {
+            Problem::Segments { a1, a2, b1, b2 } => Case::Segments {
+                points: [a1, a2, b1, b2],
+            },
+            Problem::Triangle {
+                a,
+                b,
+                c,
+                origin,
+                dir,
+                tmin,
+            } => Case::Triangle {
+                vectors: [a, b, c, origin, dir],
+                t_min: tmin,
+            },
+            Problem::Parallelogram {
+                corner,
+                e1,
+                e2,
+                origin,
+                dir,
+            } => Case::Parallelogram {
+                vectors: [corner, e1, e2, origin, dir],
+            },
+        }
+    }
+}
+
+/// Parses the arguments; a usage error prints one line and exits with status 2.
+pub fn parse_or_exit() -> Cli {
+    Cli::try_parse().unwrap_or_else(|error| {
+        use clap::error::ErrorKind;
+        if matches!(
+            error.kind(),
+            ErrorKind::DisplayHelp
+                | ErrorKind::DisplayVersion
+                | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+        ) {
+            error.exit();
+        }
+        let rendered = error.render().to_string();
+        let first = rendered.lines().next().unwrap_or("invalid arguments");
+        eprintln!(
+            "raylab: {} (see --help)",
+            first.trim_start_matches("error: ")
+        );
+        std::process::exit(2);
+    })
+}
+
+/// Runs a parsed command line; returns the process exit code.
+pub fn run(cli: Cli) -> i32 {
+    match cli.command {
+        Command::Solve(args) => run_solve(args),
+    }
+}
+
+fn run_solve(args: SolveArgs) -> i32 {
+    let precision = Precision::from(args.precision);
+    if args.batch {
+        if matches!(args.format, Some(Format::Text | Format::Latex)) {
+            eprintln!("raylab: --batch writes JSON lines; --format text and latex do not apply");
+            return 2;
+        }
+        let stdin = std::io::stdin();
+        return match batch::run_batch(
+            stdin.lock(),
+            std::io::stdout().lock(),
+            std::io::stderr(),
+            precision,
+            !args.no_trace,
+        ) {
+            Ok(0) => 0,
+            Ok(bad) => {
+                eprintln!("raylab: {bad} bad line(s) in the batch");
+                1
+            }
+            Err(error) => {
+                eprintln!("raylab: {error}");
+                1
+            }
+        };
+    }
+    let Some(problem) = args.problem else {
+        eprintln!(
+            "raylab: name a problem (segments, triangle, parallelogram) or pass --batch (see --help)"
+        );
+        return 2;
+    };
+    let report = solve::run(&problem.into_case(), precision);
+    let output = match args.format.unwrap_or(Format::Text) {
+        Format::Text => trace::to_text(&report.trace),
+        Format::Json => format!(
+            "{}\n",
+            serde_json::to_string_pretty(&report.to_json(!args.no_trace))
+                .expect("JSON values always serialize")
+        ),
+        Format::Latex => trace::to_latex(&report.trace),
+    };
+    let mut stdout = std::io::stdout().lock();
+    // A closed pipe (e.g. `| head`) is not an error worth a panic.
+    let _ = stdout.write_all(output.as_bytes());
+    0
+}

@@ -1,0 +1,319 @@
+//! `raylab solve`: one case from flags, or many from JSON lines, printed as text, JSON or LaTeX.
+
+use serde_json::{Map, Value, json};
+
+use super::input::{Coords, Literal};
+use crate::exact::Exact;
+use crate::geometry::parallelogram::{self, RayParallelogram};
+use crate::geometry::segments::{self, SegmentPair, SegmentsOutcome};
+use crate::geometry::triangle::{self, RayTriangle, TriangleMiss, TriangleOutcome};
+use crate::geometry::{Precision, Real};
+use crate::trace::Trace;
+
+/// One problem to solve, with its inputs as the user wrote them.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Case {
+    /// Two 2D segments A1–A2 and B1–B2.
+    Segments {
+        /// A1, A2, B1, B2.
+        points: [Coords<2>; 4],
+    },
+    /// A ray L + tD and a triangle A, B, C.
+    Triangle {
+        /// A, B, C, L (origin), D (direction).
+        vectors: [Coords<3>; 5],
+        /// Hits need t > t_min.
+        t_min: Literal,
+    },
+    /// A ray o + t d and a parallelogram c + α e1 + β e2.
+    Parallelogram {
+        /// c (corner), e1, e2, o (origin), d (direction).
+        vectors: [Coords<3>; 5],
+    },
+}
+
+impl Case {
+    /// `segments`, `triangle` or `parallelogram`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Case::Segments { .. } => "segments",
+            Case::Triangle { .. } => "triangle",
+            Case::Parallelogram { .. } => "parallelogram",
+        }
+    }
+}
+
+/// The result of one solve: the JSON object (without the trace) and the trace.
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// `status`, the parameters, `point`, `exact`, …
+    pub fields: Map<String, Value>,
+    /// Every step.
+    pub trace: Trace,
+}
+
+impl Report {
+    /// The full JSON object, with the trace unless `with_trace` is false.
+    pub fn to_json(&self, with_trace: bool) -> Value {
+        let mut fields = self.fields.clone();
+        if with_trace {
+            fields.insert(
+                "trace".into(),
+                serde_json::to_value(&self.trace).expect("a trace always serializes"),
+            );
+        }
+        Value::Object(fields)
+    }
+}
+
+/// Solves a case in the chosen precision.
+pub fn run(case: &Case, precision: Precision) -> Report {
+    match precision {
+        Precision::F32 => run_in::<f32>(case),
+        Precision::F64 => run_in::<f64>(case),
+        Precision::Exact => run_in::<Exact>(case),
+    }
+}
+
+fn run_in<R: Real>(case: &Case) -> Report {
+    let mut fields = Map::new();
+    fields.insert("kind".into(), json!(case.kind()));
+    fields.insert("precision".into(), json!(R::PRECISION.name()));
+    let trace = match case {
+        Case::Segments { points } => segments_report::<R>(points, &mut fields),
+        Case::Triangle { vectors, t_min } => triangle_report::<R>(vectors, t_min, &mut fields),
+        Case::Parallelogram { vectors } => parallelogram_report::<R>(vectors, &mut fields),
+    };
+    Report { fields, trace }
+}
+
+fn convert<R: Real, const N: usize>(c: &Coords<N>) -> [R; N] {
+    let exact = c.exact();
+    std::array::from_fn(|i| R::from_exact(&exact[i]))
+}
+
+/// A float as JSON (null for NaN or ±inf, which JSON cannot hold).
+fn number<R: Real>(x: &R) -> Value {
+    serde_json::Number::from_f64(x.to_f64()).map_or(Value::Null, Value::Number)
+}
+
+fn optional<R: Real>(x: Option<&R>) -> Value {
+    x.map_or(Value::Null, number)
+}
+
+fn vector<R: Real, const N: usize>(v: Option<&[R; N]>) -> Value {
+    v.map_or(Value::Null, |v| {
+        Value::Array(v.iter().map(number).collect())
+    })
+}
+
+/// Collects exact strings for named values when the precision is exact; empty otherwise.
+struct ExactFields(Map<String, Value>);
+
+impl ExactFields {
+    fn new() -> ExactFields {
+        ExactFields(Map::new())
+    }
+
+    fn scalar<R: Real>(&mut self, name: &str, x: Option<&R>) {
+        if let Some(exact) = x.and_then(Real::to_exact) {
+            self.0.insert(name.into(), json!(exact.fraction()));
+        }
+    }
+
+    fn vector<R: Real, const N: usize>(&mut self, name: &str, v: Option<&[R; N]>) {
+        if let Some(v) = v.filter(|_| R::PRECISION == Precision::Exact) {
+            let parts: Vec<Value> = v
+                .iter()
+                .filter_map(Real::to_exact)
+                .map(|e| json!(e.fraction()))
+                .collect();
+            self.0.insert(name.into(), Value::Array(parts));
+        }
+    }
+
+    fn finish(self, fields: &mut Map<String, Value>) {
+        if !self.0.is_empty() {
+            fields.insert("exact".into(), Value::Object(self.0));
+        }
+    }
+}
+
+fn segments_report<R: Real>(points: &[Coords<2>; 4], fields: &mut Map<String, Value>) -> Trace {
+    let pair = SegmentPair {
+        a1: convert::<R, 2>(&points[0]),
+        a2: convert::<R, 2>(&points[1]),
+        b1: convert::<R, 2>(&points[2]),
+        b2: convert::<R, 2>(&points[3]),
+    };
+    let solution = segments::solve(&pair, true);
+    fields.insert("status".into(), json!(solution.outcome.status()));
+    insert_message(fields, solution.trace.as_ref());
+    match &solution.outcome {
+        SegmentsOutcome::LinesCrossOutside {
+            t_outside,
+            s_outside,
+        } => {
+            let mut outside = Vec::new();
+            if *t_outside {
+                outside.push("t");
+            }
+            if *s_outside {
+                outside.push("s");
+            }
+            fields.insert("outside".into(), json!(outside));
+        }
+        SegmentsOutcome::DegenerateSegment { a, b } => {
+            fields.insert("zero_length".into(), json!({"a": a, "b": b}));
+        }
+        SegmentsOutcome::InvalidInput(bad) => {
+            fields.insert("field".into(), json!(bad.field));
+        }
+        _ => {}
+    }
+    fields.insert("t".into(), optional(solution.t.as_ref()));
+    fields.insert("s".into(), optional(solution.s.as_ref()));
+    fields.insert("point".into(), vector(solution.point.as_ref()));
+    fields.insert("overlap".into(), vector(solution.overlap.as_ref()));
+    let mut exact = ExactFields::new();
+    exact.scalar("t", solution.t.as_ref());
+    exact.scalar("s", solution.s.as_ref());
+    exact.vector("point", solution.point.as_ref());
+    exact.vector("overlap", solution.overlap.as_ref());
+    exact.finish(fields);
+    solution.trace.expect("recorded")
+}
+
+fn triangle_report<R: Real>(
+    vectors: &[Coords<3>; 5],
+    t_min: &Literal,
+    fields: &mut Map<String, Value>,
+) -> Trace {
+    let problem = RayTriangle {
+        a: convert::<R, 3>(&vectors[0]),
+        b: convert::<R, 3>(&vectors[1]),
+        c: convert::<R, 3>(&vectors[2]),
+        origin: convert::<R, 3>(&vectors[3]),
+        dir: convert::<R, 3>(&vectors[4]),
+        t_min: R::from_exact(&t_min.exact),
+    };
+    let solved = triangle::solve(&problem, true);
+    fields.insert("status".into(), json!(solved.outcome.status()));
+    insert_message(fields, solved.trace.as_ref());
+    if let TriangleOutcome::Miss(miss) = &solved.outcome {
+        insert_triangle_miss(fields, miss);
+    }
+    let s = solved.solution.as_ref();
+    let hit = solved.outcome.is_hit();
+    fields.insert("beta".into(), optional(s.map(|s| &s.beta)));
+    fields.insert("gamma".into(), optional(s.map(|s| &s.gamma)));
+    fields.insert("t".into(), optional(s.map(|s| &s.t)));
+    fields.insert("alpha".into(), optional(s.map(|s| &s.alpha)));
+    fields.insert(
+        "distance".into(),
+        s.and_then(|s| serde_json::Number::from_f64(s.distance))
+            .map_or(Value::Null, Value::Number),
+    );
+    fields.insert("point".into(), vector(s.filter(|_| hit).map(|s| &s.point)));
+    if !hit {
+        fields.insert("plane_point".into(), vector(s.map(|s| &s.point)));
+    }
+    let mut exact = ExactFields::new();
+    exact.scalar("beta", s.map(|s| &s.beta));
+    exact.scalar("gamma", s.map(|s| &s.gamma));
+    exact.scalar("t", s.map(|s| &s.t));
+    exact.scalar("alpha", s.map(|s| &s.alpha));
+    exact.vector(
+        if hit { "point" } else { "plane_point" },
+        s.map(|s| &s.point),
+    );
+    if let Some(distance) = s.and_then(|s| s.distance_exact.clone()) {
+        exact.0.insert("distance".into(), json!(distance));
+    }
+    exact.finish(fields);
+    solved.trace.expect("recorded")
+}
+
+fn insert_triangle_miss(fields: &mut Map<String, Value>, miss: &TriangleMiss) {
+    match miss {
+        TriangleMiss::Outside { edges } => {
+            let failed: Vec<&str> = edges.iter().map(|e| e.inequality()).collect();
+            let beyond: Vec<&str> = edges.iter().map(|e| e.name()).collect();
+            fields.insert("failed".into(), json!(failed));
+            fields.insert("beyond_edges".into(), json!(beyond));
+        }
+        TriangleMiss::Parallel { in_plane } => {
+            fields.insert("in_plane".into(), json!(in_plane));
+        }
+        TriangleMiss::ZeroDirection => {
+            fields.insert("field".into(), json!("D"));
+            fields.insert("reason".into(), json!("zero-direction"));
+        }
+        TriangleMiss::InvalidInput(bad) => {
+            fields.insert("field".into(), json!(bad.field));
+        }
+        TriangleMiss::Behind | TriangleMiss::DegenerateTriangle => {}
+    }
+}
+
+fn parallelogram_report<R: Real>(
+    vectors: &[Coords<3>; 5],
+    fields: &mut Map<String, Value>,
+) -> Trace {
+    let problem = RayParallelogram {
+        corner: convert::<R, 3>(&vectors[0]),
+        e1: convert::<R, 3>(&vectors[1]),
+        e2: convert::<R, 3>(&vectors[2]),
+        origin: convert::<R, 3>(&vectors[3]),
+        dir: convert::<R, 3>(&vectors[4]),
+    };
+    let solved = parallelogram::solve(&problem, true);
+    fields.insert("status".into(), json!(solved.outcome.status()));
+    insert_message(fields, solved.trace.as_ref());
+    match &solved.outcome {
+        parallelogram::ParallelogramOutcome::Outside { sides } => {
+            let failed: Vec<&str> = sides.iter().map(|s| s.inequality()).collect();
+            fields.insert("failed".into(), json!(failed));
+        }
+        parallelogram::ParallelogramOutcome::Degenerate => {
+            fields.insert("reason".into(), json!("degenerate-parallelogram"));
+        }
+        parallelogram::ParallelogramOutcome::ZeroDirection => {
+            fields.insert("field".into(), json!("d"));
+            fields.insert("reason".into(), json!("zero-direction"));
+        }
+        parallelogram::ParallelogramOutcome::InvalidInput(bad) => {
+            fields.insert("field".into(), json!(bad.field));
+        }
+        _ => {}
+    }
+    let x = solved.alpha_beta_t.as_ref();
+    let hit = solved.outcome.is_hit();
+    fields.insert("alpha".into(), optional(x.map(|x| &x[0])));
+    fields.insert("beta".into(), optional(x.map(|x| &x[1])));
+    fields.insert("t".into(), optional(x.map(|x| &x[2])));
+    fields.insert(
+        "point".into(),
+        vector(solved.point.as_ref().filter(|_| hit)),
+    );
+    if !hit {
+        fields.insert("plane_point".into(), vector(solved.point.as_ref()));
+    }
+    let mut exact = ExactFields::new();
+    exact.scalar("alpha", x.map(|x| &x[0]));
+    exact.scalar("beta", x.map(|x| &x[1]));
+    exact.scalar("t", x.map(|x| &x[2]));
+    exact.vector(
+        if hit { "point" } else { "plane_point" },
+        solved.point.as_ref(),
+    );
+    exact.finish(fields);
+    solved.trace.expect("recorded")
+}
+
+/// Copies the verdict's sentence into the report as `message`.
+fn insert_message(fields: &mut Map<String, Value>, trace: Option<&Trace>) {
+    if let Some(verdict) = trace.and_then(Trace::verdict) {
+        fields.insert("message".into(), json!(verdict.message));
+    }
+}

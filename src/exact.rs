@@ -1,0 +1,295 @@
+//! Exact rational arithmetic: the reference every floating-point result is judged by.
+//!
+//! Every finite `f64` is a rational number (an integer times a power of two), so a float input converts
+//! to [`Exact`] without rounding, and the solvers run on it with no rounding at all. Decimal text such as
+//! `0.1` or `17/22` can also be read exactly, as the number a person wrote.
+
+use std::fmt;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+use std::str::FromStr;
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Signed, ToPrimitive, Zero};
+
+/// Fractions whose denominator is at most this are printed as `n/d`.
+const SMALL_DENOMINATOR: u64 = 1_000_000;
+/// Fractions longer than this many characters are printed as a float with a note instead.
+const LONGEST_FRACTION: usize = 24;
+
+/// An exact rational number (a `BigRational` with the few conveniences raylab needs).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+pub struct Exact(pub BigRational);
+
+/// Why a piece of text is not an exact number.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ParseExactError(pub String);
+
+impl fmt::Display for ParseExactError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ParseExactError {}
+
+impl Exact {
+    /// The exact value of a finite float; `None` for NaN and the infinities, which are not numbers.
+    pub fn from_f64(x: f64) -> Option<Exact> {
+        BigRational::from_float(x).map(Exact)
+    }
+
+    /// An integer.
+    pub fn from_int(n: i64) -> Exact {
+        Exact(BigRational::from_integer(BigInt::from(n)))
+    }
+
+    /// The fraction `numerator / denominator`; `None` if the denominator is zero.
+    pub fn ratio(numerator: i64, denominator: i64) -> Option<Exact> {
+        (denominator != 0).then(|| {
+            Exact(BigRational::new(
+                BigInt::from(numerator),
+                BigInt::from(denominator),
+            ))
+        })
+    }
+
+    /// The nearest `f64` (may be ±inf or 0 when the value is outside the float range).
+    pub fn to_f64(&self) -> f64 {
+        self.0.to_f64().unwrap_or_else(|| {
+            // `to_f64` only fails on overflow of both parts; fall back to a quotient of logs.
+            let sign = if self.0.is_negative() { -1.0 } else { 1.0 };
+            let digits = self.0.numer().bits() as i64 - self.0.denom().bits() as i64;
+            if digits > 0 {
+                sign * f64::INFINITY
+            } else {
+                0.0
+            }
+        })
+    }
+
+    /// True if the value is zero.
+    pub fn is_zero(&self) -> bool {
+        self.0.is_zero()
+    }
+
+    /// The absolute value.
+    pub fn abs(&self) -> Exact {
+        Exact(self.0.abs())
+    }
+
+    /// The quotient, or `None` when dividing by zero.
+    pub fn checked_div(&self, other: &Exact) -> Option<Exact> {
+        (!other.is_zero()).then(|| Exact(&self.0 / &other.0))
+    }
+
+    /// True if the denominator is 1.
+    pub fn is_integer(&self) -> bool {
+        self.0.is_integer()
+    }
+
+    /// The whole fraction, however long: `-17/22`, `3`.
+    pub fn fraction(&self) -> String {
+        if self.0.is_integer() {
+            self.0.numer().to_string()
+        } else {
+            format!("{}/{}", self.0.numer(), self.0.denom())
+        }
+    }
+
+    /// True if [`Exact::display`] shows the fraction itself (small denominator, short text).
+    pub fn is_short(&self) -> bool {
+        let small = self
+            .0
+            .denom()
+            .to_u64()
+            .is_some_and(|d| d <= SMALL_DENOMINATOR);
+        small && self.fraction().len() <= LONGEST_FRACTION
+    }
+
+    /// For people: the fraction when it is short (`21/22`), else a float marked exact.
+    pub fn display(&self) -> String {
+        if self.is_short() {
+            self.fraction()
+        } else {
+            format!(
+                "{:.10e} (exact value, fraction too long to show)",
+                self.to_f64()
+            )
+        }
+    }
+
+    /// If this is the square of a rational, that rational (non-negative root); used to print √ exactly.
+    pub fn exact_sqrt(&self) -> Option<Exact> {
+        if self.0.is_negative() {
+            return None;
+        }
+        let (n, d) = (self.0.numer(), self.0.denom());
+        let (rn, rd) = (n.sqrt(), d.sqrt());
+        (&rn * &rn == *n && &rd * &rd == *d).then(|| Exact(BigRational::new(rn, rd)))
+    }
+
+    /// `√q` written exactly: `2/3` when q is a perfect square, else `√(q)` or `√3`.
+    pub fn sqrt_text(&self) -> String {
+        match self.exact_sqrt() {
+            Some(root) => root.display(),
+            None if self.is_integer() && self.is_short() => format!("√{}", self.fraction()),
+            None if self.is_short() => format!("√({})", self.fraction()),
+            None => format!("{:.10e} (√ of an exact value)", self.to_f64().sqrt()),
+        }
+    }
+}
+
+/// Reads an exact number as written: an integer, a decimal (`-2.5`, `1e-3`, `.5`) or a fraction (`17/22`).
+impl FromStr for Exact {
+    type Err = ParseExactError;
+
+    fn from_str(text: &str) -> Result<Exact, ParseExactError> {
+        let text = text.trim();
+        if let Some((num, den)) = text.split_once('/') {
+            let num = parse_decimal(num.trim())?;
+            let den = parse_decimal(den.trim())?;
+            return num
+                .checked_div(&den)
+                .ok_or_else(|| ParseExactError(format!("'{text}' divides by zero")));
+        }
+        parse_decimal(text)
+    }
+}
+
+/// Parses `[+-]digits[.digits][e[+-]digits]` exactly.
+fn parse_decimal(text: &str) -> Result<Exact, ParseExactError> {
+    let bad = || ParseExactError(format!("'{text}' is not a number"));
+    let (mantissa, exponent) = match text.find(['e', 'E']) {
+        Some(i) => (&text[..i], text[i + 1..].parse::<i32>().map_err(|_| bad())?),
+        None => (text, 0),
+    };
+    let (negative, unsigned) = match mantissa.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, mantissa.strip_prefix('+').unwrap_or(mantissa)),
+    };
+    let (whole, frac) = unsigned.split_once('.').unwrap_or((unsigned, ""));
+    let all_digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
+    if whole.is_empty() && frac.is_empty() || !all_digits(whole) || !all_digits(frac) {
+        return Err(bad());
+    }
+    if exponent.unsigned_abs() > 4000 {
+        return Err(ParseExactError(format!(
+            "'{text}' has an exponent too large"
+        )));
+    }
+    let digits: BigInt = format!("{whole}{frac}0").parse().map_err(|_| bad())?;
+    // The trailing "0" above keeps an empty digit string parseable; divide it back out.
+    let scale = exponent - frac.len() as i32 - 1;
+    let ten = BigRational::from_integer(BigInt::from(10));
+    let power = if scale >= 0 {
+        num_traits::pow(ten, scale as usize)
+    } else {
+        BigRational::one() / num_traits::pow(ten, (-scale) as usize)
+    };
+    let value = BigRational::from_integer(digits) * power;
+    Ok(Exact(if negative { -value } else { value }))
+}
+
+impl fmt::Display for Exact {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.display())
+    }
+}
+
+macro_rules! exact_binary_op {
+    ($trait:ident, $method:ident, $op:tt) => {
+        impl $trait for Exact {
+            type Output = Exact;
+            fn $method(self, other: Exact) -> Exact {
+                Exact(self.0 $op other.0)
+            }
+        }
+        impl<'a> $trait<&'a Exact> for &'a Exact {
+            type Output = Exact;
+            fn $method(self, other: &'a Exact) -> Exact {
+                Exact(&self.0 $op &other.0)
+            }
+        }
+    };
+}
+
+exact_binary_op!(Add, add, +);
+exact_binary_op!(Sub, sub, -);
+exact_binary_op!(Mul, mul, *);
+
+/// Division panics on a zero divisor, like integer division; solvers use [`Exact::checked_div`].
+impl Div for Exact {
+    type Output = Exact;
+    fn div(self, other: Exact) -> Exact {
+        Exact(self.0 / other.0)
+    }
+}
+
+impl Neg for Exact {
+    type Output = Exact;
+    fn neg(self) -> Exact {
+        Exact(-self.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn q(text: &str) -> Exact {
+        text.parse().unwrap()
+    }
+
+    #[test]
+    fn floats_convert_without_rounding() {
+        // 0.1 as a float is not 1/10: it is 3602879701896397 / 2^55.
+        let tenth = Exact::from_f64(0.1).unwrap();
+        assert_ne!(tenth, q("1/10"));
+        assert_eq!(tenth.fraction(), "3602879701896397/36028797018963968");
+        assert_eq!(tenth.to_f64(), 0.1);
+        assert_eq!(Exact::from_f64(f64::NAN), None);
+        assert_eq!(Exact::from_f64(f64::INFINITY), None);
+        assert_eq!(Exact::from_f64(-2.5).unwrap(), q("-5/2"));
+    }
+
+    #[test]
+    fn decimal_text_reads_exactly() {
+        assert_eq!(q("0.1"), Exact::ratio(1, 10).unwrap());
+        assert_eq!(q("-2.5e2"), Exact::from_int(-250));
+        assert_eq!(q(".5"), q("1/2"));
+        assert_eq!(q("1E-3"), q("1/1000"));
+        assert_eq!(q("17/22").fraction(), "17/22");
+        assert_eq!(q("+3"), Exact::from_int(3));
+        for bad in [
+            "", "-", ".", "1..2", "abc", "1e", "nan", "inf", "1/0", "1e99999", "1,2",
+        ] {
+            assert!(bad.parse::<Exact>().is_err(), "{bad:?} should not parse");
+        }
+    }
+
+    #[test]
+    fn display_prefers_short_fractions() {
+        assert_eq!(q("21/22").display(), "21/22");
+        assert_eq!(q("-4").display(), "-4");
+        let long = Exact::from_f64(0.1).unwrap().display();
+        assert!(long.contains("exact"), "{long}");
+        assert!(long.starts_with("1.0000000000e-1"), "{long}");
+    }
+
+    #[test]
+    fn square_roots_print_exactly() {
+        assert_eq!(q("3").sqrt_text(), "√3");
+        assert_eq!(q("4/9").sqrt_text(), "2/3");
+        assert_eq!(q("1/2").sqrt_text(), "√(1/2)");
+        assert_eq!(q("-1").exact_sqrt(), None);
+    }
+
+    #[test]
+    fn huge_values_do_not_panic_when_converted() {
+        let big = q("1e400");
+        assert_eq!(big.to_f64(), f64::INFINITY);
+        assert_eq!((-big.clone()).to_f64(), f64::NEG_INFINITY);
+        assert_eq!(q("1e-400").to_f64(), 0.0);
+    }
+}

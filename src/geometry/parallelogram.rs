@@ -1,0 +1,411 @@
+//! Ray–parallelogram intersection (seed 001): p(α, β) = c + α e1 + β e2 with (α, β) in [0, 1]², and the
+//! ray r(t) = o + t d with t ≥ 0.
+//!
+//! Setting them equal gives α e1 + β e2 − t d = c − o, i.e. M (α, β, t)ᵀ = c − o with M = [e1 | e2 | −d].
+//! When M is invertible, (α, β, t)ᵀ = M⁻¹ (c − o), and M⁻¹ = adj(M) / |M|.
+
+use glam::DVec3;
+
+use super::linalg::{
+    V3, adjugate3, cofactor_terms3, cross, from_columns, from_dvec3, is_zero_vector, mul_vec, neg,
+    norm_f64, scale, sub, sum_terms,
+};
+use super::real::Real;
+use super::{InvalidInput, check_finite, negligible};
+use crate::trace::{
+    Check, Determinant, Formula, Matrix, Number, Payload, Recorder, Scalar, Trace, Vector, Verdict,
+};
+
+/// A ray and a parallelogram, in seed 001's names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RayParallelogram<R> {
+    /// The corner c.
+    pub corner: V3<R>,
+    /// The first edge vector e1.
+    pub e1: V3<R>,
+    /// The second edge vector e2.
+    pub e2: V3<R>,
+    /// The ray's origin o.
+    pub origin: V3<R>,
+    /// The ray's direction d.
+    pub dir: V3<R>,
+}
+
+impl<R: Real> RayParallelogram<R> {
+    /// Converts float inputs to precision `R`, naming the first that does not convert.
+    pub fn from_f64(
+        [corner, e1, e2, origin, dir]: [DVec3; 5],
+    ) -> Result<RayParallelogram<R>, InvalidInput> {
+        let convert = |name: &str, v: DVec3| {
+            from_dvec3(v).ok_or_else(|| InvalidInput {
+                field: name.into(),
+                problem: "is not a finite number".into(),
+            })
+        };
+        Ok(RayParallelogram {
+            corner: convert("c", corner)?,
+            e1: convert("e1", e1)?,
+            e2: convert("e2", e2)?,
+            origin: convert("o", origin)?,
+            dir: convert("d", dir)?,
+        })
+    }
+}
+
+/// A bound on α or β that a point outside the parallelogram breaks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// α < 0: before the edge through c along e2.
+    AlphaBelow,
+    /// α > 1: past the opposite edge.
+    AlphaAbove,
+    /// β < 0: before the edge through c along e1.
+    BetaBelow,
+    /// β > 1: past the opposite edge.
+    BetaAbove,
+}
+
+impl Side {
+    /// The broken bound, e.g. `α ≥ 0`.
+    pub fn inequality(self) -> &'static str {
+        match self {
+            Side::AlphaBelow => "α ≥ 0",
+            Side::AlphaAbove => "α ≤ 1",
+            Side::BetaBelow => "β ≥ 0",
+            Side::BetaAbove => "β ≤ 1",
+        }
+    }
+}
+
+/// Hit, or a miss that says why.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ParallelogramOutcome {
+    /// α, β in [0, 1] and t ≥ 0.
+    Hit,
+    /// The ray meets the plane outside the parallelogram.
+    Outside {
+        /// Every broken bound.
+        sides: Vec<Side>,
+    },
+    /// Inside, but t < 0: behind the ray's origin.
+    Behind,
+    /// |M| = 0: the ray is parallel to the parallelogram's plane.
+    Parallel,
+    /// e1 and e2 are parallel (or zero): no area.
+    Degenerate,
+    /// d = 0: there is no ray.
+    ZeroDirection,
+    /// An input is NaN or infinite in this precision.
+    InvalidInput(InvalidInput),
+}
+
+impl ParallelogramOutcome {
+    /// The stable status word, shared with triangles (`degenerate-triangle` for a flat parallelogram).
+    pub fn status(&self) -> &'static str {
+        match self {
+            ParallelogramOutcome::Hit => "hit",
+            ParallelogramOutcome::Outside { .. } => "miss-outside",
+            ParallelogramOutcome::Behind => "miss-behind",
+            ParallelogramOutcome::Parallel => "parallel",
+            ParallelogramOutcome::Degenerate => "degenerate-triangle",
+            ParallelogramOutcome::ZeroDirection | ParallelogramOutcome::InvalidInput(_) => {
+                "invalid-input"
+            }
+        }
+    }
+
+    /// True for a hit.
+    pub fn is_hit(&self) -> bool {
+        matches!(self, ParallelogramOutcome::Hit)
+    }
+}
+
+/// The answer of [`solve`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParallelogramSolution<R> {
+    /// Hit, or why not.
+    pub outcome: ParallelogramOutcome,
+    /// (α, β, t) = M⁻¹ (c − o), whenever M is invertible.
+    pub alpha_beta_t: Option<V3<R>>,
+    /// o + t d, whenever M is invertible.
+    pub point: Option<V3<R>>,
+    /// Every step, if asked for.
+    pub trace: Option<Trace>,
+}
+
+const LABELS: [&str; 3] = ["e1", "e2", "−d"];
+
+/// Solves by the inverse matrix, recording each step when `record` is set.
+pub fn solve<R: Real>(p: &RayParallelogram<R>, record: bool) -> ParallelogramSolution<R> {
+    let mut rec = Recorder::new(record, "parallelogram", R::PRECISION);
+    let (outcome, alpha_beta_t) = solve_recorded(p, &mut rec);
+    let point = alpha_beta_t
+        .as_ref()
+        .map(|x| super::linalg::add(&p.origin, &scale(&x[2], &p.dir)));
+    let message = verdict_message(&outcome);
+    rec.push("verdict", "Verdict", "What the checks decide.", || {
+        Payload::Verdict(Verdict {
+            status: outcome.status().into(),
+            message,
+        })
+    });
+    if let Some(point) = &point {
+        let title = if outcome.is_hit() {
+            "Hit point o + t d"
+        } else {
+            "Where the ray's line meets the plane, o + t d"
+        };
+        rec.push("point", title, "Knowing t gives the point.", || {
+            Payload::Vector(Vector::of("P", "P", point))
+        });
+    }
+    ParallelogramSolution {
+        outcome,
+        alpha_beta_t,
+        point,
+        trace: rec.finish(),
+    }
+}
+
+fn solve_recorded<R: Real>(
+    p: &RayParallelogram<R>,
+    rec: &mut Recorder,
+) -> (ParallelogramOutcome, Option<V3<R>>) {
+    let fields = [
+        ("c", &p.corner),
+        ("e1", &p.e1),
+        ("e2", &p.e2),
+        ("o", &p.origin),
+        ("d", &p.dir),
+    ];
+    if let Err(bad) = check_finite(&fields) {
+        return (ParallelogramOutcome::InvalidInput(bad), None);
+    }
+    if is_zero_vector(&p.dir) {
+        return (ParallelogramOutcome::ZeroDirection, None);
+    }
+
+    let minus_d = neg(&p.dir);
+    let m = from_columns([&p.e1, &p.e2, &minus_d]);
+    let y = sub(&p.corner, &p.origin);
+    rec.push(
+        "system",
+        "The system M (α, β, t)ᵀ = c − o",
+        "Set o + t d = c + α e1 + β e2 and move the unknowns α, β, t to the left.",
+        || Payload::System {
+            matrix: Matrix::of3("M", "M", &m, LABELS),
+            unknowns: vec!["α".into(), "β".into(), "t".into()],
+            unknowns_latex: vec!["\\alpha".into(), "\\beta".into(), "t".into()],
+            rhs: Vector::of("c − o", "c - o", &y),
+        },
+    );
+
+    let normal = cross(&p.e1, &p.e2);
+    let degenerate = negligible::<R>(
+        norm_f64(&normal),
+        norm_f64(&p.e1) * norm_f64(&p.e2),
+        is_zero_vector(&normal),
+    );
+    rec.push(
+        "check_area",
+        "The parallelogram has an area",
+        "Its area is |e1 × e2|; seed 001 requires e1 and e2 not parallel and not zero.",
+        || {
+            Payload::Check(Check {
+                inequality: "|e1 × e2| > 0".into(),
+                latex: "|e_1 \\times e_2| > 0".into(),
+                value: Number::float(norm_f64(&normal), R::PRECISION),
+                passed: !degenerate,
+                meaning: "e1 and e2 are parallel or zero: the parallelogram is flat".into(),
+            })
+        },
+    );
+    if degenerate {
+        return (ParallelogramOutcome::Degenerate, None);
+    }
+
+    let terms = cofactor_terms3(&m);
+    let det = sum_terms(&terms);
+    rec.push(
+        "det_M",
+        "|M|",
+        "The determinant of M, expanded along the first row.",
+        || Payload::Determinant(Determinant::of3("M", "M", &terms, &det)),
+    );
+    if !det.is_finite() {
+        return (overflow::<R>(), None);
+    }
+    let parallel = negligible::<R>(
+        det.to_f64().abs(),
+        norm_f64(&normal) * norm_f64(&p.dir),
+        det.is_zero(),
+    );
+    rec.push(
+        "check_det",
+        "|M| is not zero",
+        "M is invertible only if d is not in the plane of e1 and e2 (for floats: |M| > 16ε·|e1×e2|·|d|).",
+        || {
+            Payload::Check(Check {
+                inequality: "|M| ≠ 0".into(),
+                latex: "|M| \\neq 0".into(),
+                value: Number::of(&det),
+                passed: !parallel,
+                meaning: "the ray is parallel to the parallelogram's plane".into(),
+            })
+        },
+    );
+    if parallel {
+        return (ParallelogramOutcome::Parallel, None);
+    }
+
+    let adjugate = adjugate3(&m);
+    rec.push(
+        "adj_M",
+        "adj(M), the adjugate",
+        "The transposed matrix of cofactors: M · adj(M) = |M| I.",
+        || {
+            Payload::Matrix(Matrix::of3(
+                "adj(M)",
+                "\\operatorname{adj}(M)",
+                &adjugate,
+                ["", "", ""],
+            ))
+        },
+    );
+    let inverse = adjugate
+        .clone()
+        .map(|row| row.map(|x| x.checked_div(&det).expect("|M| was checked to be nonzero")));
+    rec.push(
+        "inverse",
+        "M⁻¹ = adj(M) / |M|",
+        "Each entry of the adjugate divided by the determinant.",
+        || Payload::Matrix(Matrix::of3("M⁻¹", "M^{-1}", &inverse, ["", "", ""])),
+    );
+    let x = mul_vec(&inverse, &y);
+    if x.iter().any(|v| !v.is_finite()) {
+        return (overflow::<R>(), None);
+    }
+    rec.push(
+        "product",
+        "(α, β, t)ᵀ = M⁻¹ (c − o)",
+        "Multiply the inverse by the right-hand side.",
+        || Payload::Vector(Vector::of("(α, β, t)", "(\\alpha, \\beta, t)", &x)),
+    );
+    for (i, (id, symbol, latex)) in [
+        ("alpha", "α", "\\alpha"),
+        ("beta", "β", "\\beta"),
+        ("t", "t", "t"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        rec.push(id, symbol, "Read off the product.", || {
+            Payload::Scalar(Scalar {
+                symbol: symbol.into(),
+                latex: latex.into(),
+                formula: Some(Formula::Expression {
+                    text: format!("row {} of M⁻¹ (c − o)", i + 1),
+                    latex: format!("\\left(M^{{-1}}(c-o)\\right)_{}", i + 1),
+                }),
+                value: Number::of(&x[i]),
+                closed_form: None,
+            })
+        });
+    }
+    (classify(rec, &x), Some(x))
+}
+
+fn overflow<R: Real>() -> ParallelogramOutcome {
+    ParallelogramOutcome::InvalidInput(InvalidInput {
+        field: "input".into(),
+        problem: format!(
+            "the computation overflows {}: the coordinates are too large for this precision",
+            R::PRECISION.name()
+        ),
+    })
+}
+
+fn classify<R: Real>(rec: &mut Recorder, x: &V3<R>) -> ParallelogramOutcome {
+    let (zero, one) = (R::zero(), R::one());
+    let mut sides = Vec::new();
+    for (i, (symbol, latex, below, above)) in [
+        ("α", "\\alpha", Side::AlphaBelow, Side::AlphaAbove),
+        ("β", "\\beta", Side::BetaBelow, Side::BetaAbove),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let value = &x[i];
+        let broken = if value < &zero {
+            Some(below)
+        } else if value > &one {
+            Some(above)
+        } else {
+            None
+        };
+        sides.extend(broken);
+        rec.push(
+            &format!("check_{}", if i == 0 { "alpha" } else { "beta" }),
+            &format!("Check 0 ≤ {symbol} ≤ 1"),
+            "The point is on the parallelogram only if α and β are both in [0, 1].",
+            || {
+                Payload::Check(Check {
+                    inequality: format!("0 ≤ {symbol} ≤ 1"),
+                    latex: format!("0 \\le {latex} \\le 1"),
+                    value: Number::of(value),
+                    passed: broken.is_none(),
+                    meaning: format!(
+                        "the point breaks {}",
+                        broken.map(Side::inequality).unwrap_or_default()
+                    ),
+                })
+            },
+        );
+    }
+    let in_front = x[2] >= zero;
+    rec.push(
+        "check_t",
+        "Check t ≥ 0",
+        "Seed 001 takes the ray for t in [0, ∞): t = 0 counts.",
+        || {
+            Payload::Check(Check {
+                inequality: "t ≥ 0".into(),
+                latex: "t \\ge 0".into(),
+                value: Number::of(&x[2]),
+                passed: in_front,
+                meaning: "the plane is behind the ray's origin".into(),
+            })
+        },
+    );
+    if !sides.is_empty() {
+        ParallelogramOutcome::Outside { sides }
+    } else if !in_front {
+        ParallelogramOutcome::Behind
+    } else {
+        ParallelogramOutcome::Hit
+    }
+}
+
+fn verdict_message(outcome: &ParallelogramOutcome) -> String {
+    match outcome {
+        ParallelogramOutcome::Hit => "the ray hits the parallelogram".into(),
+        ParallelogramOutcome::Outside { sides } => {
+            let broken: Vec<&str> = sides.iter().map(|s| s.inequality()).collect();
+            format!(
+                "the ray meets the plane outside the parallelogram: it breaks {}",
+                broken.join(" and ")
+            )
+        }
+        ParallelogramOutcome::Behind => {
+            "the point is on the parallelogram but behind the ray's origin (t < 0)".into()
+        }
+        ParallelogramOutcome::Parallel => {
+            "the ray is parallel to the parallelogram's plane (|M| = 0)".into()
+        }
+        ParallelogramOutcome::Degenerate => {
+            "e1 and e2 are parallel or zero: the parallelogram has no area".into()
+        }
+        ParallelogramOutcome::ZeroDirection => "the direction d is the zero vector: no ray".into(),
+        ParallelogramOutcome::InvalidInput(bad) => format!("invalid input: {bad}"),
+    }
+}

@@ -1,0 +1,171 @@
+//! The number types a solver can run in: `f32`, `f64` and [`Exact`] rationals.
+//!
+//! Every solver is generic over [`Real`], so one piece of code is the lecture's formula in all three
+//! precisions, and the exact run is the judge of the two float runs.
+
+use std::fmt::Debug;
+use std::ops::{Add, Mul, Neg, Sub};
+
+use serde::{Deserialize, Serialize};
+
+use crate::exact::Exact;
+
+/// The arithmetic precision a solver runs in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Precision {
+    /// IEEE single precision.
+    F32,
+    /// IEEE double precision.
+    #[default]
+    F64,
+    /// Exact rational arithmetic.
+    Exact,
+}
+
+impl Precision {
+    /// Every precision, cheapest first.
+    pub const ALL: [Precision; 3] = [Precision::F32, Precision::F64, Precision::Exact];
+
+    /// The name used on the command line and in JSON: `f32`, `f64`, `exact`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+            Precision::Exact => "exact",
+        }
+    }
+}
+
+impl std::str::FromStr for Precision {
+    type Err = String;
+    fn from_str(text: &str) -> Result<Precision, String> {
+        Precision::ALL
+            .into_iter()
+            .find(|p| p.name() == text)
+            .ok_or_else(|| format!("unknown precision '{text}' (expected f32, f64 or exact)"))
+    }
+}
+
+/// A number a solver can compute with: a field with an order, plus what the trace needs to show it.
+///
+/// Operators take values; `Copy` floats make that free, and exact rationals clone where needed.
+pub trait Real:
+    Clone
+    + Debug
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Neg<Output = Self>
+{
+    /// Which precision this type is.
+    const PRECISION: Precision;
+
+    /// Relative tolerance for "zero" in scale-free tests (parallel, degenerate): a few units of
+    /// rounding for floats, and 0 for exact arithmetic, where only a true zero is zero.
+    const TOLERANCE: f64;
+
+    /// Converts a float input: rounds to nearest for `f32`, exact for [`Exact`] (`None` if not finite).
+    fn from_f64(x: f64) -> Option<Self>;
+    /// Converts exact text input; float types round the value to nearest.
+    fn from_exact(x: &Exact) -> Self;
+    /// The nearest `f64`, for display, norms and tolerances.
+    fn to_f64(&self) -> f64;
+    /// The exact value when this type is exact.
+    fn to_exact(&self) -> Option<Exact>;
+    /// The constant 0.
+    fn zero() -> Self;
+    /// The constant 1.
+    fn one() -> Self;
+    /// True for NaN or ±inf (never for exact numbers).
+    fn is_finite(&self) -> bool;
+    /// True only for an exact zero (floats: `== 0.0`).
+    fn is_zero(&self) -> bool;
+    /// The quotient, `None` if the divisor is zero.
+    fn checked_div(&self, other: &Self) -> Option<Self>;
+    /// The absolute value.
+    fn abs(&self) -> Self;
+}
+
+/// Tolerance for floats: 16 units of roundoff in the precision.
+const FLOAT_TOLERANCE_ULPS: f64 = 16.0;
+
+macro_rules! float_real {
+    ($t:ty, $precision:expr) => {
+        impl Real for $t {
+            const PRECISION: Precision = $precision;
+            const TOLERANCE: f64 = FLOAT_TOLERANCE_ULPS * <$t>::EPSILON as f64;
+
+            fn from_f64(x: f64) -> Option<$t> {
+                Some(x as $t)
+            }
+            fn from_exact(x: &Exact) -> $t {
+                x.to_f64() as $t
+            }
+            fn to_f64(&self) -> f64 {
+                *self as f64
+            }
+            fn to_exact(&self) -> Option<Exact> {
+                None
+            }
+            fn zero() -> $t {
+                0.0
+            }
+            fn one() -> $t {
+                1.0
+            }
+            fn is_finite(&self) -> bool {
+                <$t>::is_finite(*self)
+            }
+            fn is_zero(&self) -> bool {
+                *self == 0.0
+            }
+            fn checked_div(&self, other: &$t) -> Option<$t> {
+                (*other != 0.0).then(|| *self / *other)
+            }
+            fn abs(&self) -> $t {
+                <$t>::abs(*self)
+            }
+        }
+    };
+}
+
+float_real!(f32, Precision::F32);
+float_real!(f64, Precision::F64);
+
+impl Real for Exact {
+    const PRECISION: Precision = Precision::Exact;
+    const TOLERANCE: f64 = 0.0;
+
+    fn from_f64(x: f64) -> Option<Exact> {
+        Exact::from_f64(x)
+    }
+    fn from_exact(x: &Exact) -> Exact {
+        x.clone()
+    }
+    fn to_f64(&self) -> f64 {
+        Exact::to_f64(self)
+    }
+    fn to_exact(&self) -> Option<Exact> {
+        Some(self.clone())
+    }
+    fn zero() -> Exact {
+        Exact::from_int(0)
+    }
+    fn one() -> Exact {
+        Exact::from_int(1)
+    }
+    fn is_finite(&self) -> bool {
+        true
+    }
+    fn is_zero(&self) -> bool {
+        Exact::is_zero(self)
+    }
+    fn checked_div(&self, other: &Exact) -> Option<Exact> {
+        Exact::checked_div(self, other)
+    }
+    fn abs(&self) -> Exact {
+        Exact::abs(self)
+    }
+}

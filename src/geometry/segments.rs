@@ -1,0 +1,547 @@
+//! 2D segment–segment intersection (seed 000), as a 2x2 system solved by Cramer's rule.
+//!
+//! A(t) = A1 + t(A2−A1) and B(s) = B1 + s(B2−B1) meet where t(A2−A1) − s(B2−B1) = B1 − A1, i.e.
+//! M X = Y with M = [A2−A1 | B1−B2], X = (t, s), Y = B1 − A1. The infinite lines cross whenever |M| ≠ 0;
+//! the segments cross only if both t and s are in [0, 1].
+
+use glam::DVec2;
+
+use super::linalg::{
+    V2, cross2, dot, from_columns, from_dvec2, is_zero_vector, norm_f64, scale, sub, with_column,
+};
+use super::real::Real;
+use super::{InvalidInput, check_finite, negligible};
+use crate::trace::{
+    Check, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar, Trace, Vector,
+    Verdict,
+};
+
+/// Two segments, in the lecture's names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SegmentPair<R> {
+    /// Start of segment A.
+    pub a1: V2<R>,
+    /// End of segment A.
+    pub a2: V2<R>,
+    /// Start of segment B.
+    pub b1: V2<R>,
+    /// End of segment B.
+    pub b2: V2<R>,
+}
+
+impl<R: Real> SegmentPair<R> {
+    /// Converts float inputs to precision `R`, naming the first that does not convert.
+    pub fn from_f64([a1, a2, b1, b2]: [DVec2; 4]) -> Result<SegmentPair<R>, InvalidInput> {
+        let convert = |name: &str, v: DVec2| {
+            from_dvec2(v).ok_or_else(|| InvalidInput {
+                field: name.into(),
+                problem: "is not a finite number".into(),
+            })
+        };
+        Ok(SegmentPair {
+            a1: convert("A1", a1)?,
+            a2: convert("A2", a2)?,
+            b1: convert("B1", b1)?,
+            b2: convert("B2", b2)?,
+        })
+    }
+}
+
+/// How two segments relate.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SegmentsOutcome {
+    /// The segments cross at a point inside both: 0 < t < 1 and 0 < s < 1.
+    Crossing,
+    /// They meet at an endpoint of one or both: t or s is exactly 0 or 1, and both are in [0, 1].
+    Touching,
+    /// The lines cross, but outside at least one segment.
+    LinesCrossOutside {
+        /// t is outside [0, 1].
+        t_outside: bool,
+        /// s is outside [0, 1].
+        s_outside: bool,
+    },
+    /// Parallel lines that never meet.
+    Parallel,
+    /// One line, and the segments share the interval in [`SegmentsSolution::overlap`].
+    CollinearOverlap,
+    /// One line, but the segments do not share a point.
+    CollinearDisjoint,
+    /// A segment has zero length.
+    DegenerateSegment {
+        /// A1 = A2.
+        a: bool,
+        /// B1 = B2.
+        b: bool,
+    },
+    /// An input is NaN or infinite in this precision.
+    InvalidInput(InvalidInput),
+}
+
+impl SegmentsOutcome {
+    /// The stable kebab-case status word used in JSON.
+    pub fn status(&self) -> &'static str {
+        match self {
+            SegmentsOutcome::Crossing => "crossing",
+            SegmentsOutcome::Touching => "touching",
+            SegmentsOutcome::LinesCrossOutside { .. } => "lines-cross-outside",
+            SegmentsOutcome::Parallel => "parallel",
+            SegmentsOutcome::CollinearOverlap => "collinear-overlap",
+            SegmentsOutcome::CollinearDisjoint => "collinear-disjoint",
+            SegmentsOutcome::DegenerateSegment { .. } => "degenerate-segment",
+            SegmentsOutcome::InvalidInput(_) => "invalid-input",
+        }
+    }
+
+    /// True if the segments share at least one point.
+    pub fn segments_meet(&self) -> bool {
+        matches!(
+            self,
+            SegmentsOutcome::Crossing
+                | SegmentsOutcome::Touching
+                | SegmentsOutcome::CollinearOverlap
+        )
+    }
+}
+
+/// The answer of [`solve`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SegmentsSolution<R> {
+    /// How the segments relate.
+    pub outcome: SegmentsOutcome,
+    /// t on the infinite line A, whenever the lines cross at one point.
+    pub t: Option<R>,
+    /// s on the infinite line B, whenever the lines cross at one point.
+    pub s: Option<R>,
+    /// A(t) = B(s), whenever the lines cross at one point.
+    pub point: Option<V2<R>>,
+    /// For collinear segments, the t values of B1 and B2 on line A.
+    pub t_of_b: Option<[R; 2]>,
+    /// For overlapping collinear segments, the shared part as an interval [t0, t1] of t.
+    pub overlap: Option<[R; 2]>,
+    /// Every step, if asked for.
+    pub trace: Option<Trace>,
+}
+
+impl<R> SegmentsSolution<R> {
+    fn new(outcome: SegmentsOutcome) -> SegmentsSolution<R> {
+        SegmentsSolution {
+            outcome,
+            t: None,
+            s: None,
+            point: None,
+            t_of_b: None,
+            overlap: None,
+            trace: None,
+        }
+    }
+}
+
+const LABELS: [&str; 2] = ["A2−A1", "B1−B2"];
+
+/// Solves the 2x2 system by Cramer's rule and classifies, recording each step when `record` is set.
+pub fn solve<R: Real>(pair: &SegmentPair<R>, record: bool) -> SegmentsSolution<R> {
+    let mut rec = Recorder::new(record, "segments", R::PRECISION);
+    let mut solution = solve_recorded(pair, &mut rec);
+    let message = verdict_message(&solution);
+    rec.push(
+        "verdict",
+        "Verdict",
+        "What the numbers say about the two segments.",
+        || {
+            Payload::Verdict(Verdict {
+                status: solution.outcome.status().into(),
+                message,
+            })
+        },
+    );
+    if let Some(point) = &solution.point {
+        rec.push(
+            "point",
+            "Where the lines cross: A(t) = B(s)",
+            "Substituting t into A(t) gives the same point as s in B(s).",
+            || Payload::Vector(Vector::of("P", "P", point)),
+        );
+    }
+    solution.trace = rec.finish();
+    solution
+}
+
+fn solve_recorded<R: Real>(p: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSolution<R> {
+    let fields = [("A1", &p.a1), ("A2", &p.a2), ("B1", &p.b1), ("B2", &p.b2)];
+    if let Err(bad) = check_finite(&fields) {
+        return SegmentsSolution::new(SegmentsOutcome::InvalidInput(bad));
+    }
+
+    // The system M X = Y.
+    let d_a = sub(&p.a2, &p.a1);
+    let b1_minus_b2 = sub(&p.b1, &p.b2);
+    let y = sub(&p.b1, &p.a1);
+    let m = from_columns([&d_a, &b1_minus_b2]);
+    record_system(rec, &m, &y);
+
+    let (a_degenerate, b_degenerate) = (is_zero_vector(&d_a), is_zero_vector(&b1_minus_b2));
+    rec.push(
+        "check_lengths",
+        "Both segments have a length",
+        "A segment whose endpoints coincide is a single point, with no direction to follow.",
+        || {
+            Payload::Check(Check {
+                inequality: "A2 ≠ A1 and B2 ≠ B1".into(),
+                latex: "A_2 \\neq A_1,\\ B_2 \\neq B_1".into(),
+                value: Number::float(norm_f64(&d_a).min(norm_f64(&b1_minus_b2)), R::PRECISION),
+                passed: !(a_degenerate || b_degenerate),
+                meaning: "a segment has zero length".into(),
+            })
+        },
+    );
+    if a_degenerate || b_degenerate {
+        return SegmentsSolution::new(SegmentsOutcome::DegenerateSegment {
+            a: a_degenerate,
+            b: b_degenerate,
+        });
+    }
+
+    let m1 = with_column(&m, 0, &y);
+    let m2 = with_column(&m, 1, &y);
+    for (i, mi) in [&m1, &m2].into_iter().enumerate() {
+        let name = format!("M{}", i + 1);
+        rec.push(
+            &name,
+            &format!("{name}: M with column {} replaced by Y", i + 1),
+            "Cramer's rule: replace one column of M by the right-hand side Y.",
+            || {
+                Payload::Matrix(
+                    Matrix::of2(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
+                )
+            },
+        );
+    }
+
+    let det_m = record_det(rec, &m, "M", "M");
+    if !det_m.is_finite() {
+        return overflow();
+    }
+    let scale_of_m = norm_f64(&d_a) * norm_f64(&b1_minus_b2);
+    let parallel = negligible::<R>(det_m.to_f64().abs(), scale_of_m, det_m.is_zero());
+    rec.push(
+        "check_det",
+        "|M| is not zero",
+        parallel_explanation::<R>(),
+        || {
+            Payload::Check(Check {
+                inequality: "|M| ≠ 0".into(),
+                latex: "|M| \\neq 0".into(),
+                value: Number::of(&det_m),
+                passed: !parallel,
+                meaning: "the lines are parallel: no single crossing point".into(),
+            })
+        },
+    );
+    if parallel {
+        return parallel_case(rec, p, &d_a, &y);
+    }
+
+    let det_m1 = record_det(rec, &m1, "M1", "M_1");
+    let det_m2 = record_det(rec, &m2, "M2", "M_2");
+    if !det_m1.is_finite() || !det_m2.is_finite() {
+        return overflow();
+    }
+    let t = det_m1
+        .checked_div(&det_m)
+        .expect("|M| was checked to be nonzero");
+    let s = det_m2
+        .checked_div(&det_m)
+        .expect("|M| was checked to be nonzero");
+    record_quotient(
+        rec,
+        "t",
+        "t",
+        "|M1|",
+        "|M_1|",
+        &det_m1,
+        &det_m,
+        &t,
+        "How far along A from A1, in units of A2−A1.",
+    );
+    record_quotient(
+        rec,
+        "s",
+        "s",
+        "|M2|",
+        "|M_2|",
+        &det_m2,
+        &det_m,
+        &s,
+        "How far along B from B1, in units of B2−B1.",
+    );
+
+    let t_inside = in_unit_interval(rec, "check_t", "t", &t, "A");
+    let s_inside = in_unit_interval(rec, "check_s", "s", &s, "B");
+    let at_end = |x: &R| x.is_zero() || (x.clone() - R::one()).is_zero();
+    let outcome = match (t_inside, s_inside) {
+        (true, true) if at_end(&t) || at_end(&s) => SegmentsOutcome::Touching,
+        (true, true) => SegmentsOutcome::Crossing,
+        _ => SegmentsOutcome::LinesCrossOutside {
+            t_outside: !t_inside,
+            s_outside: !s_inside,
+        },
+    };
+    let point = super::linalg::add(&p.a1, &scale(&t, &d_a));
+    SegmentsSolution {
+        point: Some(point),
+        t: Some(t),
+        s: Some(s),
+        ..SegmentsSolution::new(outcome)
+    }
+}
+
+fn overflow<R: Real>() -> SegmentsSolution<R> {
+    SegmentsSolution::new(SegmentsOutcome::InvalidInput(InvalidInput {
+        field: "input".into(),
+        problem: format!(
+            "the determinants overflow {}: the coordinates are too large for this precision",
+            R::PRECISION.name()
+        ),
+    }))
+}
+
+/// Parallel lines: one line (collinear) or two. For one line, B1 and B2 are placed on A's parameter t.
+fn parallel_case<R: Real>(
+    rec: &mut Recorder,
+    p: &SegmentPair<R>,
+    d_a: &V2<R>,
+    b1_minus_a1: &V2<R>,
+) -> SegmentsSolution<R> {
+    let offset = cross2(d_a, b1_minus_a1);
+    let collinear = negligible::<R>(
+        offset.to_f64().abs(),
+        norm_f64(d_a) * norm_f64(b1_minus_a1),
+        offset.is_zero(),
+    );
+    rec.push(
+        "check_collinear",
+        "Are the parallel lines one line?",
+        "B1 lies on line A exactly when (A2−A1) × (B1−A1) = 0.",
+        || {
+            Payload::Check(Check {
+                inequality: "(A2−A1) × (B1−A1) = 0".into(),
+                latex: "(A_2-A_1) \\times (B_1-A_1) = 0".into(),
+                value: Number::of(&offset),
+                passed: collinear,
+                meaning: "two distinct parallel lines: they never meet".into(),
+            })
+        },
+    );
+    if !collinear {
+        return SegmentsSolution::new(SegmentsOutcome::Parallel);
+    }
+    // Project B1 and B2 onto line A: t = (P − A1)·(A2−A1) / |A2−A1|².
+    let length_squared = dot(d_a, d_a);
+    let b2_minus_a1 = sub(&p.b2, &p.a1);
+    let t_of = |v: &V2<R>| {
+        dot(v, d_a)
+            .checked_div(&length_squared)
+            .expect("segment A has a length")
+    };
+    let (t_b1, t_b2) = (t_of(b1_minus_a1), t_of(&b2_minus_a1));
+    for (id, symbol, latex, value) in [
+        ("t_b1", "t(B1)", "t(B_1)", &t_b1),
+        ("t_b2", "t(B2)", "t(B_2)", &t_b2),
+    ] {
+        rec.push(
+            id,
+            &format!("{symbol} on line A"),
+            "Where an endpoint of B sits on A's parameter.",
+            || {
+                Payload::Scalar(Scalar {
+                    symbol: symbol.into(),
+                    latex: latex.into(),
+                    formula: Some(Formula::Expression {
+                        text: format!("({}−A1)·(A2−A1) / |A2−A1|²", &symbol[2..4]),
+                        latex: format!(
+                            "\\frac{{({}-A_1)\\cdot(A_2-A_1)}}{{|A_2-A_1|^2}}",
+                            &latex[2..5]
+                        ),
+                    }),
+                    value: Number::of(value),
+                    closed_form: None,
+                })
+            },
+        );
+    }
+    let (low, high) = if t_b1 <= t_b2 {
+        (t_b1.clone(), t_b2.clone())
+    } else {
+        (t_b2.clone(), t_b1.clone())
+    };
+    let from = if low > R::zero() { low } else { R::zero() };
+    let to = if high < R::one() { high } else { R::one() };
+    let overlaps = from <= to;
+    let outcome = if overlaps {
+        SegmentsOutcome::CollinearOverlap
+    } else {
+        SegmentsOutcome::CollinearDisjoint
+    };
+    SegmentsSolution {
+        t_of_b: Some([t_b1, t_b2]),
+        overlap: overlaps.then_some([from, to]),
+        ..SegmentsSolution::new(outcome)
+    }
+}
+
+fn record_system<R: Real>(rec: &mut Recorder, m: &super::linalg::M2<R>, y: &V2<R>) {
+    rec.push(
+        "system",
+        "The system M X = Y",
+        "Set A1 + t(A2−A1) = B1 + s(B2−B1) and move the unknowns t, s to the left.",
+        || Payload::System {
+            matrix: Matrix::of2("M", "M", m, LABELS),
+            unknowns: vec!["t".into(), "s".into()],
+            unknowns_latex: vec!["t".into(), "s".into()],
+            rhs: Vector::of("Y", "Y", y),
+        },
+    );
+    rec.push(
+        "M",
+        "M = [A2−A1 | B1−B2]",
+        "The columns are the direction of A and the reversed direction of B.",
+        || Payload::Matrix(Matrix::of2("M", "M", m, LABELS)),
+    );
+    rec.push(
+        "Y",
+        "Y = B1 − A1",
+        "The right-hand side: from A1 to B1.",
+        || Payload::Vector(Vector::of("Y", "Y", y)),
+    );
+}
+
+fn record_det<R: Real>(rec: &mut Recorder, m: &super::linalg::M2<R>, name: &str, latex: &str) -> R {
+    let value = super::linalg::det2(m);
+    rec.push(
+        &format!("det_{name}"),
+        &format!("|{name}|"),
+        "A 2x2 determinant: the product of the diagonal minus the product of the anti-diagonal.",
+        || Payload::Determinant(Determinant::of2(name, latex, m, &value)),
+    );
+    value
+}
+
+#[allow(clippy::too_many_arguments)]
+fn record_quotient<R: Real>(
+    rec: &mut Recorder,
+    symbol: &str,
+    latex: &str,
+    numerator: &str,
+    numerator_latex: &str,
+    det_mi: &R,
+    det_m: &R,
+    value: &R,
+    explanation: &str,
+) {
+    rec.push(
+        symbol,
+        &format!("{symbol} by Cramer's rule"),
+        explanation,
+        || {
+            Payload::Scalar(Scalar {
+                symbol: symbol.into(),
+                latex: latex.into(),
+                formula: Some(Formula::Quotient {
+                    numerator: Operand::of(numerator, numerator_latex, det_mi),
+                    denominator: Operand::of("|M|", "|M|", det_m),
+                }),
+                value: Number::of(value),
+                closed_form: None,
+            })
+        },
+    );
+}
+
+/// Records and returns `0 ≤ x ≤ 1`.
+fn in_unit_interval<R: Real>(
+    rec: &mut Recorder,
+    id: &str,
+    symbol: &str,
+    x: &R,
+    segment: &str,
+) -> bool {
+    let inside = x >= &R::zero() && x <= &R::one();
+    let side = if x < &R::zero() { "before" } else { "past" };
+    let start_or_end = if x < &R::zero() { "start" } else { "end" };
+    rec.push(
+        id,
+        &format!("Check 0 ≤ {symbol} ≤ 1"),
+        "The crossing is on the segment itself only for parameters in [0, 1].",
+        || {
+            Payload::Check(Check {
+                inequality: format!("0 ≤ {symbol} ≤ 1"),
+                latex: format!("0 \\le {symbol} \\le 1"),
+                value: Number::of(x),
+                passed: inside,
+                meaning: format!(
+                    "the crossing is on line {segment} {side} the segment's {start_or_end}"
+                ),
+            })
+        },
+    );
+    inside
+}
+
+fn parallel_explanation<R: Real>() -> &'static str {
+    if R::TOLERANCE == 0.0 {
+        "Exact arithmetic: the lines are parallel only if |M| is exactly zero."
+    } else {
+        "|M| counts as zero when |M| ≤ 16ε·|A2−A1|·|B2−B1|, i.e. the lines are within 16ε radians of parallel."
+    }
+}
+
+fn verdict_message<R: Real>(s: &SegmentsSolution<R>) -> String {
+    let shown = |x: &Option<R>| {
+        x.as_ref()
+            .map(|x| Number::of(x).shown())
+            .unwrap_or_default()
+    };
+    let (t, sv) = (shown(&s.t), shown(&s.s));
+    match &s.outcome {
+        SegmentsOutcome::Crossing => format!("the segments cross at t = {t}, s = {sv}"),
+        SegmentsOutcome::Touching => {
+            format!("the segments touch at an endpoint: t = {t}, s = {sv}")
+        }
+        SegmentsOutcome::LinesCrossOutside {
+            t_outside,
+            s_outside,
+        } => {
+            let which = match (t_outside, s_outside) {
+                (true, true) => format!("both t = {t} and s = {sv} are outside [0, 1]"),
+                (true, false) => format!("t = {t} is outside [0, 1] (s = {sv} is inside)"),
+                _ => format!("s = {sv} is outside [0, 1] (t = {t} is inside)"),
+            };
+            format!("the segments do not meet: their lines cross, but {which}")
+        }
+        SegmentsOutcome::Parallel => {
+            "the lines are parallel and distinct: the segments never meet".into()
+        }
+        SegmentsOutcome::CollinearOverlap => {
+            let [from, to] = s
+                .overlap
+                .as_ref()
+                .map(|[a, b]| [Number::of(a).shown(), Number::of(b).shown()])
+                .unwrap_or_default();
+            if from == to {
+                format!("the segments lie on one line and share a single point, t = {from}")
+            } else {
+                format!("the segments lie on one line and overlap for t in [{from}, {to}]")
+            }
+        }
+        SegmentsOutcome::CollinearDisjoint => {
+            "the segments lie on one line but do not overlap".into()
+        }
+        SegmentsOutcome::DegenerateSegment { a, b } => match (a, b) {
+            (true, true) => "both segments have zero length (each is a single point)".into(),
+            (true, false) => "segment A has zero length (A1 = A2): it is a single point".into(),
+            _ => "segment B has zero length (B1 = B2): it is a single point".into(),
+        },
+        SegmentsOutcome::InvalidInput(bad) => format!("invalid input: {bad}"),
+    }
+}

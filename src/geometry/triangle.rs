@@ -1,0 +1,629 @@
+//! Ray–triangle intersection by Cramer's rule, in the lecture's form (seed 000, seed 004).
+//!
+//! Setting the ray equal to the triangle's parametric form, L + tD = A + β(B−A) + γ(C−A), and moving the
+//! unknowns to the left gives M X = Y with M = [A−B | A−C | D], X = (β, γ, t) and Y = A − L. Cramer's
+//! rule replaces column i of M by Y to get Mi, and X_i = |Mi| / |M|. The ray hits the triangle if and
+//! only if β ≥ 0, γ ≥ 0, β + γ ≤ 1 and t > t_min (open at t_min: a ray starting on the triangle with
+//! t_min = 0 does not hit it).
+
+use glam::DVec3;
+
+use super::linalg::{
+    V3, cofactor_terms3, cross, dot, from_columns, from_dvec3, is_zero_vector, norm_f64, scale,
+    sub, sum_terms, with_column,
+};
+use super::real::Real;
+use super::{InvalidInput, check_finite, negligible};
+use crate::exact::Exact;
+use crate::trace::{
+    Check, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar, Trace, Vector,
+    Verdict,
+};
+
+/// A ray and a triangle, in the lecture's names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RayTriangle<R> {
+    /// Vertex A (the key vertex of the parametric form).
+    pub a: V3<R>,
+    /// Vertex B.
+    pub b: V3<R>,
+    /// Vertex C.
+    pub c: V3<R>,
+    /// The ray's origin L.
+    pub origin: V3<R>,
+    /// The ray's direction D (not necessarily unit length).
+    pub dir: V3<R>,
+    /// Hits need t > t_min.
+    pub t_min: R,
+}
+
+impl<R: Real> RayTriangle<R> {
+    /// Converts float inputs to precision `R`, naming the first input that does not convert.
+    pub fn from_f64(
+        [a, b, c, origin, dir]: [DVec3; 5],
+        t_min: f64,
+    ) -> Result<RayTriangle<R>, InvalidInput> {
+        let convert = |name: &str, v: DVec3| {
+            from_dvec3(v).ok_or_else(|| InvalidInput {
+                field: name.into(),
+                problem: "is not a finite number".into(),
+            })
+        };
+        Ok(RayTriangle {
+            a: convert("A", a)?,
+            b: convert("B", b)?,
+            c: convert("C", c)?,
+            origin: convert("L", origin)?,
+            dir: convert("D", dir)?,
+            t_min: R::from_f64(t_min).ok_or_else(|| InvalidInput {
+                field: "t_min".into(),
+                problem: "is not a finite number".into(),
+            })?,
+        })
+    }
+}
+
+/// The inequality a point outside the triangle fails, named by the edge it is beyond.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Edge {
+    /// β < 0: beyond edge CA (the side of the line AC away from B).
+    Ca,
+    /// γ < 0: beyond edge AB (the side of the line AB away from C).
+    Ab,
+    /// β + γ > 1: beyond edge BC (the side of the line BC away from A).
+    Bc,
+}
+
+impl Edge {
+    /// `CA`, `AB` or `BC`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Edge::Ca => "CA",
+            Edge::Ab => "AB",
+            Edge::Bc => "BC",
+        }
+    }
+
+    /// The inequality that failed.
+    pub fn inequality(self) -> &'static str {
+        match self {
+            Edge::Ca => "β ≥ 0",
+            Edge::Ab => "γ ≥ 0",
+            Edge::Bc => "β + γ ≤ 1",
+        }
+    }
+}
+
+/// Why a ray misses a triangle.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TriangleMiss {
+    /// The ray meets the plane outside the triangle, beyond these edges.
+    Outside {
+        /// Every failed inequality, as the edge it puts the point beyond.
+        edges: Vec<Edge>,
+    },
+    /// The point is in the triangle but not in front of the origin: t ≤ t_min.
+    Behind,
+    /// |M| = 0 (or negligible): the ray is parallel to the triangle's plane.
+    Parallel {
+        /// True if the ray lies in the plane itself.
+        in_plane: bool,
+    },
+    /// A, B and C are collinear (or coincide): the triangle has no area.
+    DegenerateTriangle,
+    /// D = 0: there is no ray.
+    ZeroDirection,
+    /// An input is NaN or infinite in this precision.
+    InvalidInput(InvalidInput),
+}
+
+/// Hit, or a miss that says why.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TriangleOutcome {
+    /// β ≥ 0, γ ≥ 0, β + γ ≤ 1 and t > t_min.
+    Hit,
+    /// Not a hit.
+    Miss(TriangleMiss),
+}
+
+impl TriangleOutcome {
+    /// The stable kebab-case status word used in JSON.
+    pub fn status(&self) -> &'static str {
+        match self {
+            TriangleOutcome::Hit => "hit",
+            TriangleOutcome::Miss(miss) => match miss {
+                TriangleMiss::Outside { .. } => "miss-outside",
+                TriangleMiss::Behind => "miss-behind",
+                TriangleMiss::Parallel { .. } => "parallel",
+                TriangleMiss::DegenerateTriangle => "degenerate-triangle",
+                TriangleMiss::ZeroDirection | TriangleMiss::InvalidInput(_) => "invalid-input",
+            },
+        }
+    }
+
+    /// True for a hit.
+    pub fn is_hit(&self) -> bool {
+        matches!(self, TriangleOutcome::Hit)
+    }
+}
+
+/// The solution of M X = Y, when it exists.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Barycentric<R> {
+    /// β = |M1| / |M|.
+    pub beta: R,
+    /// γ = |M2| / |M|.
+    pub gamma: R,
+    /// t = |M3| / |M|, in units of |D|.
+    pub t: R,
+    /// α = 1 − β − γ.
+    pub alpha: R,
+    /// L + tD: the hit point, or where the ray's line meets the plane on a miss.
+    pub point: V3<R>,
+    /// The distance from L to the point, t·|D| (in f64: it needs a square root).
+    pub distance: f64,
+    /// The exact distance when exact: `√3`, or a fraction when |D| is rational.
+    pub distance_exact: Option<String>,
+}
+
+/// The answer of [`solve`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct TriangleSolution<R> {
+    /// Hit, or why not.
+    pub outcome: TriangleOutcome,
+    /// β, γ, t, α and the point, whenever |M| ≠ 0.
+    pub solution: Option<Barycentric<R>>,
+    /// Every step, if asked for.
+    pub trace: Option<Trace>,
+}
+
+/// Solves the lecture's system by Cramer's rule, recording each step when `record` is set.
+pub fn solve<R: Real>(problem: &RayTriangle<R>, record: bool) -> TriangleSolution<R> {
+    let mut rec = Recorder::new(record, "triangle", R::PRECISION);
+    let (outcome, solution) = solve_recorded(problem, &mut rec);
+    rec.push("verdict", "Verdict", &verdict_sentence(&outcome), || {
+        Payload::Verdict(Verdict {
+            status: outcome.status().into(),
+            message: verdict_message(&outcome, solution.as_ref()),
+        })
+    });
+    if let Some(found) = &solution {
+        record_point(&mut rec, problem, found, outcome.is_hit());
+    }
+    TriangleSolution {
+        outcome,
+        solution,
+        trace: rec.finish(),
+    }
+}
+
+type Solved<R> = (TriangleOutcome, Option<Barycentric<R>>);
+
+fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> {
+    let miss = |m| (TriangleOutcome::Miss(m), None);
+    let fields = [
+        ("A", &p.a),
+        ("B", &p.b),
+        ("C", &p.c),
+        ("L", &p.origin),
+        ("D", &p.dir),
+    ];
+    if let Err(bad) =
+        check_finite(&fields).and(check_finite(&[("t_min", std::array::from_ref(&p.t_min))]))
+    {
+        return miss(TriangleMiss::InvalidInput(bad));
+    }
+    if is_zero_vector(&p.dir) {
+        return miss(TriangleMiss::ZeroDirection);
+    }
+
+    // The system M X = Y.
+    let a_minus_b = sub(&p.a, &p.b);
+    let a_minus_c = sub(&p.a, &p.c);
+    let y = sub(&p.a, &p.origin);
+    let m = from_columns([&a_minus_b, &a_minus_c, &p.dir]);
+    record_system(rec, &m, &y);
+
+    // Degenerate triangle: the two edge vectors are parallel, n = (A−B)×(A−C) = 0.
+    let normal = cross(&a_minus_b, &a_minus_c);
+    let area_scale = norm_f64(&a_minus_b) * norm_f64(&a_minus_c);
+    let degenerate = negligible::<R>(norm_f64(&normal), area_scale, is_zero_vector(&normal));
+    rec.push(
+        "check_area",
+        "The triangle has an area",
+        area_explanation::<R>(),
+        || {
+            Payload::Check(Check {
+                inequality: "|(A−B)×(A−C)| / 2 > 0".into(),
+                latex: "\\tfrac12 |(A-B)\\times(A-C)| > 0".into(),
+                value: Number::float(norm_f64(&normal) / 2.0, R::PRECISION),
+                passed: !degenerate,
+                meaning: "A, B and C are collinear: the triangle is a segment or a point".into(),
+            })
+        },
+    );
+    if degenerate {
+        return miss(TriangleMiss::DegenerateTriangle);
+    }
+
+    // Cramer's matrices: M with column i replaced by Y.
+    let mi: [_; 3] = std::array::from_fn(|col| with_column(&m, col, &y));
+    for (i, mi) in mi.iter().enumerate() {
+        let name = format!("M{}", i + 1);
+        rec.push(
+            &name,
+            &format!("{name}: M with column {} replaced by Y", i + 1),
+            "Cramer's rule: replace one column of M by the right-hand side Y.",
+            || {
+                Payload::Matrix(
+                    Matrix::of3(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
+                )
+            },
+        );
+    }
+
+    // The determinants, each expanded along its first row.
+    let det_m = record_det(
+        rec,
+        &m,
+        "M",
+        "M",
+        "The determinant of M, expanded along the first row.",
+    );
+    if !det_m.is_finite() {
+        return overflow::<R>();
+    }
+    let in_plane = || {
+        negligible::<R>(
+            dot(&normal, &y).to_f64().abs(),
+            norm_f64(&normal) * norm_f64(&y),
+            dot(&normal, &y).is_zero(),
+        )
+    };
+    let parallel = negligible::<R>(
+        det_m.to_f64().abs(),
+        norm_f64(&normal) * norm_f64(&p.dir),
+        det_m.is_zero(),
+    );
+    rec.push(
+        "check_det",
+        "|M| is not zero",
+        parallel_explanation::<R>(),
+        || {
+            Payload::Check(Check {
+                inequality: "|M| ≠ 0".into(),
+                latex: "|M| \\neq 0".into(),
+                value: Number::of(&det_m),
+                passed: !parallel,
+                meaning:
+                    "the ray is parallel to the triangle's plane, so M X = Y has no unique solution"
+                        .into(),
+            })
+        },
+    );
+    if parallel {
+        return miss(TriangleMiss::Parallel {
+            in_plane: in_plane(),
+        });
+    }
+    let dets: [R; 3] = std::array::from_fn(|i| {
+        let name = format!("M{}", i + 1);
+        let latex = format!("M_{}", i + 1);
+        record_det(
+            rec,
+            &mi[i],
+            &name,
+            &latex,
+            "Expanded along the first row, like |M|.",
+        )
+    });
+    if dets.iter().any(|d| !d.is_finite()) {
+        return overflow::<R>();
+    }
+
+    // β, γ, t by Cramer's rule; α from β + γ + α = 1.
+    let quotient = |i: usize| {
+        dets[i]
+            .checked_div(&det_m)
+            .expect("|M| was checked to be nonzero")
+    };
+    let (beta, gamma, t) = (quotient(0), quotient(1), quotient(2));
+    for (i, (id, symbol, latex)) in UNKNOWNS.iter().enumerate() {
+        let value = [&beta, &gamma, &t][i];
+        rec.push(
+            id,
+            &format!("{symbol} by Cramer's rule"),
+            UNKNOWN_NOTES[i],
+            || {
+                Payload::Scalar(Scalar {
+                    symbol: (*symbol).into(),
+                    latex: (*latex).into(),
+                    formula: Some(Formula::Quotient {
+                        numerator: Operand::of(
+                            &format!("|M{}|", i + 1),
+                            &format!("|M_{}|", i + 1),
+                            &dets[i],
+                        ),
+                        denominator: Operand::of("|M|", "|M|", &det_m),
+                    }),
+                    value: Number::of(value),
+                    closed_form: None,
+                })
+            },
+        );
+    }
+    let alpha = R::one() - beta.clone() - gamma.clone();
+    rec.push(
+        "alpha",
+        "α, the third barycentric coordinate",
+        "The weights of A, B and C add up to 1, so α = 1 − β − γ.",
+        || {
+            Payload::Scalar(Scalar {
+                symbol: "α".into(),
+                latex: "\\alpha".into(),
+                formula: Some(Formula::Expression {
+                    text: "1 − β − γ".into(),
+                    latex: "1 - \\beta - \\gamma".into(),
+                }),
+                value: Number::of(&alpha),
+                closed_form: None,
+            })
+        },
+    );
+
+    let outcome = classify(rec, p, &beta, &gamma, &t);
+    let point = super::linalg::add(&p.origin, &scale(&t, &p.dir));
+    let (distance, distance_exact) = distance_along(&t, &p.dir);
+    let solution = Barycentric {
+        beta,
+        gamma,
+        t,
+        alpha,
+        point,
+        distance,
+        distance_exact,
+    };
+    (outcome, Some(solution))
+}
+
+/// Column labels of M (the app colours columns by them).
+const LABELS: [&str; 3] = ["A−B", "A−C", "D"];
+const UNKNOWNS: [(&str, &str, &str); 3] = [
+    ("beta", "β", "\\beta"),
+    ("gamma", "γ", "\\gamma"),
+    ("t", "t", "t"),
+];
+const UNKNOWN_NOTES: [&str; 3] = [
+    "β = |M1| / |M|: how far to go along B−A from A.",
+    "γ = |M2| / |M|: how far to go along C−A from A.",
+    "t = |M3| / |M|: how far along the ray, in units of |D| (not a distance unless |D| = 1).",
+];
+
+fn overflow<R: Real>() -> Solved<R> {
+    let problem = format!(
+        "the determinants overflow {}: the coordinates are too large for this precision",
+        R::PRECISION.name()
+    );
+    (
+        TriangleOutcome::Miss(TriangleMiss::InvalidInput(InvalidInput {
+            field: "input".into(),
+            problem,
+        })),
+        None,
+    )
+}
+
+fn record_system<R: Real>(rec: &mut Recorder, m: &super::linalg::M3<R>, y: &V3<R>) {
+    rec.push(
+        "system",
+        "The system M X = Y",
+        "Set L + tD = A + β(B−A) + γ(C−A) and move the unknowns β, γ, t to the left.",
+        || Payload::System {
+            matrix: Matrix::of3("M", "M", m, LABELS),
+            unknowns: vec!["β".into(), "γ".into(), "t".into()],
+            unknowns_latex: vec!["\\beta".into(), "\\gamma".into(), "t".into()],
+            rhs: Vector::of("Y", "Y", y),
+        },
+    );
+    rec.push(
+        "M",
+        "M = [A−B | A−C | D]",
+        "The columns are the two edge vectors from B and C to A, and the ray's direction.",
+        || Payload::Matrix(Matrix::of3("M", "M", m, LABELS)),
+    );
+    rec.push(
+        "Y",
+        "Y = A − L",
+        "The right-hand side: from the ray's origin L to the vertex A, reversed.",
+        || Payload::Vector(Vector::of("Y", "Y", y)),
+    );
+}
+
+fn record_det<R: Real>(
+    rec: &mut Recorder,
+    m: &super::linalg::M3<R>,
+    name: &str,
+    latex: &str,
+    explanation: &str,
+) -> R {
+    let terms = cofactor_terms3(m);
+    let value = sum_terms(&terms);
+    rec.push(
+        &format!("det_{name}"),
+        &format!("|{name}|"),
+        explanation,
+        || Payload::Determinant(Determinant::of3(name, latex, &terms, &value)),
+    );
+    value
+}
+
+/// Records the four checks and decides the outcome.
+fn classify<R: Real>(
+    rec: &mut Recorder,
+    p: &RayTriangle<R>,
+    beta: &R,
+    gamma: &R,
+    t: &R,
+) -> TriangleOutcome {
+    let zero = R::zero();
+    let sum = beta.clone() + gamma.clone();
+    let inside_checks = [
+        (Edge::Ca, beta >= &zero, beta.clone(), "\\beta \\ge 0"),
+        (Edge::Ab, gamma >= &zero, gamma.clone(), "\\gamma \\ge 0"),
+        (
+            Edge::Bc,
+            sum <= R::one(),
+            sum.clone(),
+            "\\beta + \\gamma \\le 1",
+        ),
+    ];
+    let mut failed = Vec::new();
+    for (edge, passed, value, latex) in inside_checks {
+        if !passed {
+            failed.push(edge);
+        }
+        let id = format!("check_{}", edge.name().to_lowercase());
+        rec.push(
+            &id,
+            &format!("Check {}", edge.inequality()),
+            "A point of the plane is in the triangle only if all three inequalities hold.",
+            || {
+                Payload::Check(Check {
+                    inequality: edge.inequality().into(),
+                    latex: latex.into(),
+                    value: Number::of(&value),
+                    passed,
+                    meaning: format!("the point is beyond edge {}", edge.name()),
+                })
+            },
+        );
+    }
+    let in_front = t > &p.t_min;
+    let t_min_text = Number::of(&p.t_min).shown();
+    rec.push(
+        "check_t",
+        "Check t > t_min",
+        "The hit must be in front of the ray's origin (t_min is excluded).",
+        || {
+            Payload::Check(Check {
+                inequality: format!("t > {t_min_text}"),
+                latex: format!("t > {}", crate::trace::latex_number(&Number::of(&p.t_min))),
+                value: Number::of(t),
+                passed: in_front,
+                meaning: if t < &zero {
+                    "the plane is behind the ray's origin".into()
+                } else {
+                    "the plane is not beyond t_min".into()
+                },
+            })
+        },
+    );
+    if !failed.is_empty() {
+        TriangleOutcome::Miss(TriangleMiss::Outside { edges: failed })
+    } else if !in_front {
+        TriangleOutcome::Miss(TriangleMiss::Behind)
+    } else {
+        TriangleOutcome::Hit
+    }
+}
+
+/// t·|D|, with its exact closed form when exact (t²·(D·D) under a square root).
+fn distance_along<R: Real>(t: &R, dir: &V3<R>) -> (f64, Option<String>) {
+    let distance = t.to_f64() * norm_f64(dir);
+    let exact = t.to_exact().zip(dot(dir, dir).to_exact()).map(|(t, dd)| {
+        let squared = &(&t * &t) * &dd;
+        let root = squared.sqrt_text();
+        if t < Exact::from_int(0) {
+            format!("−{root}")
+        } else {
+            root
+        }
+    });
+    (distance, exact)
+}
+
+fn record_point<R: Real>(rec: &mut Recorder, p: &RayTriangle<R>, s: &Barycentric<R>, hit: bool) {
+    let title = if hit {
+        "Hit point L + tD"
+    } else {
+        "Where the ray's line meets the plane, L + tD"
+    };
+    rec.push(
+        "point",
+        title,
+        "Knowing t gives the point; A + β(B−A) + γ(C−A) is the same point.",
+        || Payload::Vector(Vector::of("P", "P", &s.point)),
+    );
+    let d_norm = norm_f64(&p.dir);
+    rec.step("distance", "Distance from L: t·|D|", || {
+        let explanation = format!(
+            "t counts steps of length |D| = {}; the distance along the ray is t·|D| (equal to t only for a unit D).",
+            crate::trace::format_float(d_norm, R::PRECISION)
+        );
+        let payload = Payload::Scalar(Scalar {
+            symbol: "t·|D|".into(),
+            latex: "t\\,|D|".into(),
+            formula: None,
+            value: Number::float(s.distance, R::PRECISION),
+            closed_form: s.distance_exact.clone(),
+        });
+        (explanation, payload)
+    });
+}
+
+fn area_explanation<R: Real>() -> &'static str {
+    if R::TOLERANCE == 0.0 {
+        "Exact arithmetic: the triangle is degenerate only if (A−B)×(A−C) is exactly zero."
+    } else {
+        "In floating point the area counts as zero when |(A−B)×(A−C)| ≤ 16ε·|A−B|·|A−C| (the sine of the angle at A is below 16ε)."
+    }
+}
+
+fn parallel_explanation<R: Real>() -> &'static str {
+    if R::TOLERANCE == 0.0 {
+        "Exact arithmetic: the ray is parallel to the plane only if |M| is exactly zero."
+    } else {
+        "|M| = ((A−B)×(A−C))·D; it counts as zero when |M| ≤ 16ε·|(A−B)×(A−C)|·|D|, i.e. the ray is within 16ε radians of the plane."
+    }
+}
+
+fn verdict_sentence(outcome: &TriangleOutcome) -> String {
+    match outcome {
+        TriangleOutcome::Hit => "All four checks pass.".into(),
+        _ => "What the checks decide.".into(),
+    }
+}
+
+fn verdict_message<R: Real>(outcome: &TriangleOutcome, s: Option<&Barycentric<R>>) -> String {
+    let t_text = || s.map(|s| Number::of(&s.t).shown()).unwrap_or_default();
+    match outcome {
+        TriangleOutcome::Hit => format!("the ray hits the triangle at t = {}", t_text()),
+        TriangleOutcome::Miss(miss) => match miss {
+            TriangleMiss::Outside { edges } => {
+                let names: Vec<String> = edges
+                    .iter()
+                    .map(|e| format!("{} (fails {})", e.name(), e.inequality()))
+                    .collect();
+                format!(
+                    "the ray meets the plane outside the triangle, beyond edge {}",
+                    names.join(" and ")
+                )
+            }
+            TriangleMiss::Behind => format!(
+                "the point is inside the triangle but t = {} is not greater than t_min: behind the ray's origin",
+                t_text()
+            ),
+            TriangleMiss::Parallel { in_plane: true } => {
+                "the ray is parallel to the triangle's plane and lies in it (|M| = 0)".into()
+            }
+            TriangleMiss::Parallel { in_plane: false } => {
+                "the ray is parallel to the triangle's plane and never meets it (|M| = 0)".into()
+            }
+            TriangleMiss::DegenerateTriangle => {
+                "A, B and C are collinear: the triangle has no area".into()
+            }
+            TriangleMiss::ZeroDirection => "the direction D is the zero vector: no ray".into(),
+            TriangleMiss::InvalidInput(bad) => format!("invalid input: {bad}"),
+        },
+    }
+}

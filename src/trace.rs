@@ -1,0 +1,431 @@
+//! The record of one solve: an ordered list of steps, each a title, one sentence and a payload.
+//!
+//! One Trace, many readers: the CLI prints it as text, JSON or LaTeX, the app's step panel draws it, and
+//! the tests read it. Solvers fill it with the very numbers they computed, so no reader ever recomputes.
+
+use serde::Serialize;
+
+use crate::exact::Exact;
+use crate::geometry::linalg::{CofactorTerm, M2, M3};
+use crate::geometry::real::{Precision, Real};
+
+mod latex;
+mod text;
+
+pub use latex::{number as latex_number, step_to_latex, to_latex};
+pub use text::{format_float, to_text};
+
+/// A number as computed: its float value and, when the solve was exact, its exact value.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Number {
+    /// The value (rounded to the nearest f64 when exact; f32 values convert to f64 without change).
+    pub value: f64,
+    /// The exact fraction (`"17/22"`), present only for exact solves.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exact: Option<String>,
+    /// The exact value as a person should read it: the fraction when short, else a float marked exact.
+    #[serde(skip)]
+    pub exact_shown: Option<String>,
+    /// The precision it was computed in (decides how many digits are meaningful).
+    #[serde(skip)]
+    pub precision: Precision,
+}
+
+impl Number {
+    /// Records a solver value.
+    pub fn of<R: Real>(x: &R) -> Number {
+        let exact = x.to_exact();
+        Number {
+            value: x.to_f64(),
+            exact: exact.as_ref().map(Exact::fraction),
+            exact_shown: exact.as_ref().map(Exact::display),
+            precision: R::PRECISION,
+        }
+    }
+
+    /// A float that is not the output of a solver precision (e.g. a distance with a square root).
+    pub fn float(value: f64, precision: Precision) -> Number {
+        Number {
+            value,
+            exact: None,
+            exact_shown: None,
+            precision,
+        }
+    }
+
+    /// How a person reads it: `1/3` for short exact values, else the float with meaningful digits.
+    pub fn shown(&self) -> String {
+        match &self.exact_shown {
+            Some(shown) => shown.clone(),
+            None => format_float(self.value, self.precision),
+        }
+    }
+
+    /// True if [`Number::shown`] is an exact fraction or integer.
+    pub fn shown_exactly(&self) -> bool {
+        self.exact_shown
+            .as_deref()
+            .is_some_and(|s| !s.contains("exact value"))
+    }
+}
+
+/// Records a vector.
+pub fn numbers<R: Real, const N: usize>(v: &[R; N]) -> Vec<Number> {
+    v.iter().map(Number::of).collect()
+}
+
+/// A named matrix, with a label for each column and, for Cramer's M1..M3, the column replaced by Y.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Matrix {
+    /// Plain name, e.g. `M1`.
+    pub name: String,
+    /// LaTeX name, e.g. `M_1`.
+    pub latex_name: String,
+    /// The entries, row by row.
+    pub rows: Vec<Vec<Number>>,
+    /// What each column is (`A−B`, `A−C`, `D`, `Y`): the app colours columns by these.
+    pub column_labels: Vec<String>,
+    /// The column replaced by the right-hand side, if any (0-based).
+    pub replaced_column: Option<usize>,
+}
+
+impl Matrix {
+    /// Records a 3x3 matrix.
+    pub fn of3<R: Real>(name: &str, latex_name: &str, m: &M3<R>, labels: [&str; 3]) -> Matrix {
+        Matrix {
+            name: name.into(),
+            latex_name: latex_name.into(),
+            rows: m.iter().map(numbers).collect(),
+            column_labels: labels.iter().map(|s| s.to_string()).collect(),
+            replaced_column: None,
+        }
+    }
+
+    /// Records a 2x2 matrix.
+    pub fn of2<R: Real>(name: &str, latex_name: &str, m: &M2<R>, labels: [&str; 2]) -> Matrix {
+        Matrix {
+            name: name.into(),
+            latex_name: latex_name.into(),
+            rows: m.iter().map(numbers).collect(),
+            column_labels: labels.iter().map(|s| s.to_string()).collect(),
+            replaced_column: None,
+        }
+    }
+
+    /// Marks a column as replaced by the right-hand side Y (and labels it `Y`).
+    pub fn replacing(mut self, column: usize) -> Matrix {
+        self.replaced_column = Some(column);
+        if let Some(label) = self.column_labels.get_mut(column) {
+            *label = "Y".into();
+        }
+        self
+    }
+}
+
+/// A named vector.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Vector {
+    /// Plain name, e.g. `Y`.
+    pub name: String,
+    /// LaTeX name.
+    pub latex_name: String,
+    /// The components.
+    pub components: Vec<Number>,
+}
+
+impl Vector {
+    /// Records a vector.
+    pub fn of<R: Real, const N: usize>(name: &str, latex_name: &str, v: &[R; N]) -> Vector {
+        Vector {
+            name: name.into(),
+            latex_name: latex_name.into(),
+            components: numbers(v),
+        }
+    }
+}
+
+/// One term `sign · element · |minor|` of a determinant's expansion along its first row.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ExpansionTerm {
+    /// +1 or −1.
+    pub sign: i8,
+    /// The first-row element.
+    pub element: Number,
+    /// The minor (2x2 for a 3x3 determinant, 1x1 for a 2x2 one).
+    pub minor: Vec<Vec<Number>>,
+    /// The minor's determinant.
+    pub minor_det: Number,
+}
+
+/// A determinant with its cofactor expansion written out with the numbers.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Determinant {
+    /// Plain name of the matrix, e.g. `M1`.
+    pub of: String,
+    /// LaTeX name of the matrix.
+    pub latex_of: String,
+    /// The expansion along the first row.
+    pub terms: Vec<ExpansionTerm>,
+    /// The determinant.
+    pub value: Number,
+}
+
+impl Determinant {
+    /// Records a 3x3 determinant from the terms the solver summed.
+    pub fn of3<R: Real>(
+        of: &str,
+        latex_of: &str,
+        terms: &[CofactorTerm<R>; 3],
+        value: &R,
+    ) -> Determinant {
+        Determinant {
+            of: of.into(),
+            latex_of: latex_of.into(),
+            terms: terms
+                .iter()
+                .map(|term| ExpansionTerm {
+                    sign: term.sign,
+                    element: Number::of(&term.element),
+                    minor: term.minor.iter().map(numbers).collect(),
+                    minor_det: Number::of(&term.minor_det),
+                })
+                .collect(),
+            value: Number::of(value),
+        }
+    }
+
+    /// Records a 2x2 determinant `ad − bc` as two terms with 1x1 minors.
+    pub fn of2<R: Real>(of: &str, latex_of: &str, m: &M2<R>, value: &R) -> Determinant {
+        let term = |sign: i8, element: &R, minor: &R| ExpansionTerm {
+            sign,
+            element: Number::of(element),
+            minor: vec![vec![Number::of(minor)]],
+            minor_det: Number::of(minor),
+        };
+        Determinant {
+            of: of.into(),
+            latex_of: latex_of.into(),
+            terms: vec![term(1, &m[0][0], &m[1][1]), term(-1, &m[0][1], &m[1][0])],
+            value: Number::of(value),
+        }
+    }
+}
+
+/// A named operand of a formula: `|M1|` with its value.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Operand {
+    /// Plain symbol.
+    pub symbol: String,
+    /// LaTeX symbol.
+    pub latex: String,
+    /// Its value.
+    pub value: Number,
+}
+
+impl Operand {
+    /// Records an operand.
+    pub fn of<R: Real>(symbol: &str, latex: &str, value: &R) -> Operand {
+        Operand {
+            symbol: symbol.into(),
+            latex: latex.into(),
+            value: Number::of(value),
+        }
+    }
+}
+
+/// How a scalar was obtained.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "form", rename_all = "kebab-case")]
+pub enum Formula {
+    /// `numerator / denominator`, as in Cramer's rule.
+    Quotient {
+        /// The numerator.
+        numerator: Operand,
+        /// The denominator.
+        denominator: Operand,
+    },
+    /// Any other expression, written symbolically.
+    Expression {
+        /// Plain text, e.g. `1 − β − γ`.
+        text: String,
+        /// LaTeX.
+        latex: String,
+    },
+}
+
+/// A named scalar with how it was computed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Scalar {
+    /// Plain symbol, e.g. `β`.
+    pub symbol: String,
+    /// LaTeX symbol, e.g. `\beta`.
+    pub latex: String,
+    /// How it was computed, if worth saying.
+    pub formula: Option<Formula>,
+    /// The value.
+    pub value: Number,
+    /// An exact closed form when the value is not rational, e.g. `√3` for a distance.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closed_form: Option<String>,
+}
+
+/// An inequality tested by the solver.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Check {
+    /// Plain text, e.g. `β + γ ≤ 1`.
+    pub inequality: String,
+    /// LaTeX, e.g. `\beta + \gamma \le 1`.
+    pub latex: String,
+    /// The value of the left-hand side that was tested.
+    pub value: Number,
+    /// Whether it held.
+    pub passed: bool,
+    /// What failing it means, e.g. `P is beyond edge BC`.
+    pub meaning: String,
+}
+
+/// The outcome of the solve.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Verdict {
+    /// A stable kebab-case word (`hit`, `miss-outside`, `crossing`, …).
+    pub status: String,
+    /// One sentence for people.
+    pub message: String,
+}
+
+/// The payload of a step.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Payload {
+    /// The linear system `M X = Y`.
+    System {
+        /// The matrix M.
+        matrix: Matrix,
+        /// The unknowns X, by symbol.
+        unknowns: Vec<String>,
+        /// The unknowns in LaTeX.
+        unknowns_latex: Vec<String>,
+        /// The right-hand side Y.
+        rhs: Vector,
+    },
+    /// A matrix.
+    Matrix(Matrix),
+    /// A determinant with its expansion.
+    Determinant(Determinant),
+    /// A vector.
+    Vector(Vector),
+    /// A scalar.
+    Scalar(Scalar),
+    /// A tested inequality.
+    Check(Check),
+    /// The verdict.
+    Verdict(Verdict),
+}
+
+/// One step of a solve.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Step {
+    /// A stable key (`M1`, `det_M1`, `beta`, `check_beta`, `verdict`) for readers that look a step up.
+    pub id: String,
+    /// A short title.
+    pub title: String,
+    /// One sentence of explanation.
+    pub explanation: String,
+    /// What was computed.
+    pub payload: Payload,
+}
+
+/// The record of one solve.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Trace {
+    /// Which solver made it (`segments`, `triangle`, `parallelogram`, …).
+    pub solver: String,
+    /// The precision it ran in.
+    pub precision: Precision,
+    /// The steps, in order.
+    pub steps: Vec<Step>,
+}
+
+impl Trace {
+    /// An empty trace.
+    pub fn new(solver: &str, precision: Precision) -> Trace {
+        Trace {
+            solver: solver.into(),
+            precision,
+            steps: Vec::new(),
+        }
+    }
+
+    /// The step with this id.
+    pub fn step(&self, id: &str) -> Option<&Step> {
+        self.steps.iter().find(|s| s.id == id)
+    }
+
+    /// The scalar step with this id.
+    pub fn scalar(&self, id: &str) -> Option<&Scalar> {
+        match &self.step(id)?.payload {
+            Payload::Scalar(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// The verdict, if the solve got that far (it always does).
+    pub fn verdict(&self) -> Option<&Verdict> {
+        self.steps.iter().rev().find_map(|s| match &s.payload {
+            Payload::Verdict(v) => Some(v),
+            _ => None,
+        })
+    }
+
+    /// Every check, in order.
+    pub fn checks(&self) -> impl Iterator<Item = &Check> {
+        self.steps.iter().filter_map(|s| match &s.payload {
+            Payload::Check(c) => Some(c),
+            _ => None,
+        })
+    }
+}
+
+/// Collects steps when a trace was asked for, and costs nothing (not even formatting) when not.
+#[derive(Debug)]
+pub struct Recorder {
+    trace: Option<Trace>,
+}
+
+impl Recorder {
+    /// Records when `enabled`.
+    pub fn new(enabled: bool, solver: &str, precision: Precision) -> Recorder {
+        Recorder {
+            trace: enabled.then(|| Trace::new(solver, precision)),
+        }
+    }
+
+    /// Adds a step, built only if recording.
+    pub fn step(&mut self, id: &str, title: &str, build: impl FnOnce() -> (String, Payload)) {
+        if let Some(trace) = &mut self.trace {
+            let (explanation, payload) = build();
+            trace.steps.push(Step {
+                id: id.into(),
+                title: title.into(),
+                explanation,
+                payload,
+            });
+        }
+    }
+
+    /// Adds a step.
+    pub fn push(
+        &mut self,
+        id: &str,
+        title: &str,
+        explanation: &str,
+        payload: impl FnOnce() -> Payload,
+    ) {
+        self.step(id, title, || (explanation.to_string(), payload()));
+    }
+
+    /// The trace, if one was recorded.
+    pub fn finish(self) -> Option<Trace> {
+        self.trace
+    }
+}

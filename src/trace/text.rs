@@ -1,0 +1,325 @@
+//! Plain-text rendering of a [`Trace`], readable in a terminal: matrices with brackets, determinants
+//! expanded with their numbers, every check with ✓ or ✗.
+
+use std::fmt::Write;
+
+use super::{Check, Determinant, Formula, Matrix, Number, Payload, Scalar, Step, Trace, Vector};
+use crate::geometry::real::Precision;
+
+/// Formats a float with the digits its precision can mean: 8 significant digits for f32, 10 otherwise.
+/// Integers print without a decimal point; very large and small magnitudes use scientific notation.
+pub fn format_float(value: f64, precision: Precision) -> String {
+    if value.is_nan() {
+        return "NaN".into();
+    }
+    if value.is_infinite() {
+        return if value > 0.0 { "∞" } else { "−∞" }.into();
+    }
+    if value == 0.0 {
+        return "0".into();
+    }
+    if value.fract() == 0.0 && value.abs() < 1e15 {
+        return format!("{value:.0}");
+    }
+    let significant = if precision == Precision::F32 { 8 } else { 10 };
+    let scientific = format!("{value:.*e}", significant - 1);
+    let (mantissa, exponent) = scientific.split_once('e').unwrap_or((&scientific, "0"));
+    let exponent: i32 = exponent.parse().unwrap_or(0);
+    if (-5..10).contains(&exponent) {
+        let decimals = (significant as i32 - 1 - exponent).max(0) as usize;
+        trim_zeros(&format!("{value:.decimals$}"))
+    } else {
+        format!("{}e{exponent}", trim_zeros(mantissa))
+    }
+}
+
+fn trim_zeros(text: &str) -> String {
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text.to_string()
+    }
+}
+
+/// A number with its float beside it when it is exact: `1/3 ≈ 0.3333333333`.
+fn with_float(n: &Number) -> String {
+    match &n.exact_shown {
+        Some(_) if n.shown_exactly() && n.value.fract() != 0.0 => {
+            format!("{} ≈ {}", n.shown(), format_float(n.value, n.precision))
+        }
+        _ => n.shown(),
+    }
+}
+
+/// Wraps a negative number in parentheses so `3·(−3)` reads right.
+fn paren(n: &Number) -> String {
+    let shown = n.shown();
+    if shown.starts_with('-') || shown.starts_with('−') {
+        format!("({shown})")
+    } else {
+        shown
+    }
+}
+
+/// Renders a whole trace.
+pub fn to_text(trace: &Trace) -> String {
+    let mut out = String::new();
+    let heading = format!(
+        "{} solve, in {} arithmetic",
+        trace.solver,
+        trace.precision.name()
+    );
+    let _ = writeln!(out, "{heading}\n{}", "═".repeat(heading.chars().count()));
+    for (index, step) in trace.steps.iter().enumerate() {
+        let _ = write!(out, "\n{}. {}", index + 1, step_to_text(step));
+    }
+    out
+}
+
+/// Renders one step: title, explanation, then the payload indented.
+pub fn step_to_text(step: &Step) -> String {
+    let mut out = format!("{}\n   {}\n", step.title, step.explanation);
+    for line in payload_lines(&step.payload) {
+        let _ = writeln!(out, "     {line}");
+    }
+    out
+}
+
+fn payload_lines(payload: &Payload) -> Vec<String> {
+    match payload {
+        Payload::System {
+            matrix,
+            unknowns,
+            rhs,
+            ..
+        } => {
+            let cells = |v: &[String]| v.iter().map(|s| vec![s.clone()]).collect::<Vec<_>>();
+            let x = bracket(&cells(unknowns), &["X".into()], None);
+            let y = bracket(
+                &cells(&rhs.components.iter().map(Number::shown).collect::<Vec<_>>()),
+                std::slice::from_ref(&rhs.name),
+                None,
+            );
+            let m = matrix_block(matrix);
+            let middle = m.len() / 2 + m.len() % 2;
+            let mut times = vec![String::new(); m.len()];
+            times[middle.min(m.len() - 1)] = "·".into();
+            let mut equals = vec![String::new(); m.len()];
+            equals[middle.min(m.len() - 1)] = "=".into();
+            side_by_side(&[m, times, x, equals, y])
+        }
+        Payload::Matrix(matrix) => {
+            let mut lines = matrix_block(matrix);
+            if let Some(column) = matrix.replaced_column {
+                lines.push(format!("(column {} replaced by Y)", column + 1));
+            }
+            lines
+        }
+        Payload::Determinant(det) => determinant_lines(det),
+        Payload::Vector(vector) => vec![vector_line(vector)],
+        Payload::Scalar(scalar) => vec![scalar_line(scalar)],
+        Payload::Check(check) => vec![check_line(check)],
+        Payload::Verdict(verdict) => vec![format!(
+            "⇒ {}: {}",
+            verdict.status.to_uppercase(),
+            verdict.message
+        )],
+    }
+}
+
+fn matrix_block(matrix: &Matrix) -> Vec<String> {
+    let cells: Vec<Vec<String>> = matrix
+        .rows
+        .iter()
+        .map(|row| row.iter().map(Number::shown).collect())
+        .collect();
+    let mut labels = matrix.column_labels.clone();
+    if let Some(column) = matrix.replaced_column {
+        labels[column] = format!("▼{}", labels[column]);
+    }
+    bracket(&cells, &labels, Some(&matrix.name))
+}
+
+/// Lays out a bracketed grid with a header of column labels; `name =` goes before the middle row.
+fn bracket(cells: &[Vec<String>], labels: &[String], name: Option<&str>) -> Vec<String> {
+    let columns = labels.len().max(cells.first().map_or(0, Vec::len));
+    let width = |col: usize| {
+        cells
+            .iter()
+            .filter_map(|row| row.get(col))
+            .chain(labels.get(col))
+            .map(|s| s.chars().count())
+            .max()
+            .unwrap_or(1)
+    };
+    let widths: Vec<usize> = (0..columns).map(width).collect();
+    let row_text = |row: &[String]| {
+        row.iter()
+            .zip(&widths)
+            .map(|(cell, w)| format!("{cell:>w$}"))
+            .collect::<Vec<_>>()
+            .join("  ")
+    };
+    let prefix = name.map(|n| format!("{n} = ")).unwrap_or_default();
+    let blank = " ".repeat(prefix.chars().count());
+    let middle = cells.len() / 2;
+    let mut lines = vec![format!("{blank}  {}", row_text(labels))];
+    for (i, row) in cells.iter().enumerate() {
+        let (left, right) = match (cells.len(), i) {
+            (1, _) => ('[', ']'),
+            (_, 0) => ('⎡', '⎤'),
+            (n, i) if i + 1 == n => ('⎣', '⎦'),
+            _ => ('⎢', '⎥'),
+        };
+        let lead = if i == middle { &prefix } else { &blank };
+        lines.push(format!("{lead}{left} {} {right}", row_text(row)));
+    }
+    lines
+}
+
+/// Joins blocks of lines left to right, padding each block to its widest line.
+fn side_by_side(blocks: &[Vec<String>]) -> Vec<String> {
+    let height = blocks.iter().map(Vec::len).max().unwrap_or(0);
+    (0..height)
+        .map(|row| {
+            blocks
+                .iter()
+                .map(|block| {
+                    let width = block.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+                    // Bottom-align shorter blocks so operators sit on the middle row of the tallest.
+                    let offset = height - block.len();
+                    let line = row
+                        .checked_sub(offset)
+                        .and_then(|r| block.get(r))
+                        .map_or("", String::as_str);
+                    format!("{line:<width$}")
+                })
+                .collect::<Vec<_>>()
+                .join(" ")
+                .trim_end()
+                .to_string()
+        })
+        .collect()
+}
+
+fn determinant_lines(det: &Determinant) -> Vec<String> {
+    let minor_text = |m: &[Vec<Number>]| {
+        if m.len() == 1 {
+            paren(&m[0][0])
+        } else {
+            let rows: Vec<String> = m
+                .iter()
+                .map(|r| r.iter().map(Number::shown).collect::<Vec<_>>().join(" "))
+                .collect();
+            format!("|{}|", rows.join("; "))
+        }
+    };
+    let join = |term_text: &dyn Fn(&super::ExpansionTerm) -> String| {
+        let mut text = String::new();
+        for (i, term) in det.terms.iter().enumerate() {
+            let sign = match (i, term.sign) {
+                (0, s) if s < 0 => "−",
+                (0, _) => "",
+                (_, s) if s < 0 => " − ",
+                _ => " + ",
+            };
+            text.push_str(sign);
+            text.push_str(&term_text(term));
+        }
+        text
+    };
+    let symbolic = join(&|t| format!("{}·{}", paren(&t.element), minor_text(&t.minor)));
+    let name = format!("|{}| = ", det.of);
+    let pad = " ".repeat(name.chars().count() - 2);
+    let mut lines = vec![format!("{name}{symbolic}")];
+    if det.terms.first().is_some_and(|t| t.minor.len() > 1) {
+        let products = join(&|t| format!("{}·{}", paren(&t.element), paren(&t.minor_det)));
+        lines.push(format!("{pad}= {products}"));
+    }
+    lines.push(format!("{pad}= {}", with_float(&det.value)));
+    lines
+}
+
+fn vector_line(vector: &Vector) -> String {
+    let parts: Vec<String> = vector.components.iter().map(Number::shown).collect();
+    format!("{} = ({})", vector.name, parts.join(", "))
+}
+
+fn scalar_line(scalar: &Scalar) -> String {
+    let mut text = format!("{} = ", scalar.symbol);
+    match &scalar.formula {
+        Some(Formula::Quotient {
+            numerator,
+            denominator,
+        }) => {
+            let _ = write!(
+                text,
+                "{} / {} = {} / {} = ",
+                numerator.symbol,
+                denominator.symbol,
+                numerator.value.shown(),
+                paren(&denominator.value)
+            );
+        }
+        Some(Formula::Expression { text: formula, .. }) => {
+            let _ = write!(text, "{formula} = ");
+        }
+        None => {}
+    }
+    match &scalar.closed_form {
+        Some(closed) => {
+            let _ = write!(
+                text,
+                "{closed} ≈ {}",
+                format_float(scalar.value.value, scalar.value.precision)
+            );
+        }
+        None => text.push_str(&with_float(&scalar.value)),
+    }
+    text
+}
+
+fn check_line(check: &Check) -> String {
+    let mark = if check.passed { "✓" } else { "✗" };
+    let mut text = format!(
+        "{mark} {}   (value {})",
+        check.inequality,
+        check.value.shown()
+    );
+    if !check.passed {
+        let _ = write!(text, ": {}", check.meaning);
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floats_show_meaningful_digits() {
+        assert_eq!(format_float(3.0, Precision::F64), "3");
+        assert_eq!(format_float(-3.0, Precision::F64), "-3");
+        assert_eq!(format_float(1.0 / 3.0, Precision::F64), "0.3333333333");
+        assert_eq!(
+            format_float((1.0f32 / 3.0) as f64, Precision::F32),
+            "0.33333334"
+        );
+        assert_eq!(format_float(45.0 / 38.0, Precision::F64), "1.184210526");
+        assert_eq!(format_float(1.5e-12, Precision::F64), "1.5e-12");
+        assert_eq!(format_float(2.5e20, Precision::F64), "2.5e20");
+        assert_eq!(format_float(f64::NAN, Precision::F64), "NaN");
+        assert_eq!(format_float(f64::NEG_INFINITY, Precision::F64), "−∞");
+    }
+
+    #[test]
+    fn brackets_align_columns() {
+        let cells = vec![
+            vec!["3".to_string(), "-10".to_string()],
+            vec!["12".to_string(), "1".to_string()],
+        ];
+        let lines = bracket(&cells, &["a".into(), "b".into()], Some("M"));
+        assert_eq!(lines[1], "    ⎡  3  -10 ⎤");
+        assert_eq!(lines[2], "M = ⎣ 12    1 ⎦");
+    }
+}
