@@ -189,11 +189,19 @@ pub fn parse_or_exit() -> Cli {
         ) {
             error.exit();
         }
+        // clap spreads some messages over several lines (the missing flags on their own lines, then a
+        // usage block): keep the message, drop the usage and hints, and join it into one line.
         let rendered = error.render().to_string();
-        let first = rendered.lines().next().unwrap_or("invalid arguments");
+        let message: Vec<&str> = rendered
+            .lines()
+            .map(str::trim)
+            .take_while(|line| !line.starts_with("Usage:"))
+            .filter(|line| !line.is_empty())
+            .collect();
+        let message = message.join(" ");
         eprintln!(
             "raylab: {} (see --help)",
-            first.trim_start_matches("error: ")
+            message.trim_start_matches("error: ")
         );
         std::process::exit(2);
     })

@@ -1,14 +1,18 @@
 //! Ray–parallelogram intersection (seed 001): p(α, β) = c + α e1 + β e2 with (α, β) in [0, 1]², and the
 //! ray r(t) = o + t d with t ≥ 0.
 //!
-//! Setting them equal gives α e1 + β e2 − t d = c − o, i.e. M (α, β, t)ᵀ = c − o with M = [e1 | e2 | −d].
-//! When M is invertible, (α, β, t)ᵀ = M⁻¹ (c − o), and M⁻¹ = adj(M) / |M|.
+//! Setting them equal, o + t d = c + α e1 + β e2, and moving the unknowns left gives
+//! α e1 + β e2 − t d = o − c, i.e. M (α, β, t)ᵀ = o − c with M = [e1 | e2 | −d]. When M is invertible,
+//! (α, β, t)ᵀ = M⁻¹ (o − c), and M⁻¹ = adj(M) / |M|.
+//!
+//! Seed 001 prints the right-hand side as c − o: a sign slip (with c − o every α, β and t comes out
+//! negated). The tests pin the corrected form with a worked example.
 
 use glam::DVec3;
 
 use super::linalg::{
-    V3, adjugate3, cofactor_terms3, cross, from_columns, from_dvec3, is_zero_vector, mul_vec, neg,
-    norm_f64, scale, sub, sum_terms,
+    V3, adjugate3, all_finite, cofactor_terms3, cross, from_columns, from_dvec3, is_zero_vector,
+    mul_vec, neg, norm_f64, scale, sub, sum_terms,
 };
 use super::real::Real;
 use super::{InvalidInput, check_finite, negligible};
@@ -125,7 +129,7 @@ impl ParallelogramOutcome {
 pub struct ParallelogramSolution<R> {
     /// Hit, or why not.
     pub outcome: ParallelogramOutcome,
-    /// (α, β, t) = M⁻¹ (c − o), whenever M is invertible.
+    /// (α, β, t) = M⁻¹ (o − c), whenever M is invertible.
     pub alpha_beta_t: Option<V3<R>>,
     /// o + t d, whenever M is invertible.
     pub point: Option<V3<R>>,
@@ -187,20 +191,23 @@ fn solve_recorded<R: Real>(
 
     let minus_d = neg(&p.dir);
     let m = from_columns([&p.e1, &p.e2, &minus_d]);
-    let y = sub(&p.corner, &p.origin);
+    let y = sub(&p.origin, &p.corner);
     rec.push(
         "system",
-        "The system M (α, β, t)ᵀ = c − o",
-        "Set o + t d = c + α e1 + β e2 and move the unknowns α, β, t to the left.",
+        "The system M (α, β, t)ᵀ = o − c",
+        "Set o + t d = c + α e1 + β e2 and move the unknowns left: α e1 + β e2 − t d = o − c (seed 001 prints c − o, a sign slip).",
         || Payload::System {
             matrix: Matrix::of3("M", "M", &m, LABELS),
             unknowns: vec!["α".into(), "β".into(), "t".into()],
             unknowns_latex: vec!["\\alpha".into(), "\\beta".into(), "t".into()],
-            rhs: Vector::of("c − o", "c - o", &y),
+            rhs: Vector::of("o − c", "o - c", &y),
         },
     );
 
     let normal = cross(&p.e1, &p.e2);
+    if !all_finite(&normal) {
+        return (overflow::<R>(), None);
+    }
     let degenerate = negligible::<R>(
         norm_f64(&normal),
         norm_f64(&p.e1) * norm_f64(&p.e2),
@@ -287,7 +294,7 @@ fn solve_recorded<R: Real>(
     }
     rec.push(
         "product",
-        "(α, β, t)ᵀ = M⁻¹ (c − o)",
+        "(α, β, t)ᵀ = M⁻¹ (o − c)",
         "Multiply the inverse by the right-hand side.",
         || Payload::Vector(Vector::of("(α, β, t)", "(\\alpha, \\beta, t)", &x)),
     );
@@ -304,8 +311,8 @@ fn solve_recorded<R: Real>(
                 symbol: symbol.into(),
                 latex: latex.into(),
                 formula: Some(Formula::Expression {
-                    text: format!("row {} of M⁻¹ (c − o)", i + 1),
-                    latex: format!("\\left(M^{{-1}}(c-o)\\right)_{}", i + 1),
+                    text: format!("row {} of M⁻¹ (o − c)", i + 1),
+                    latex: format!("\\left(M^{{-1}}(o-c)\\right)_{}", i + 1),
                 }),
                 value: Number::of(&x[i]),
                 closed_form: None,

@@ -9,8 +9,8 @@
 use glam::DVec3;
 
 use super::linalg::{
-    V3, cofactor_terms3, cross, dot, from_columns, from_dvec3, is_zero_vector, norm_f64, scale,
-    sub, sum_terms, with_column,
+    V3, all_finite, cofactor_terms3, cross, dot, from_columns, from_dvec3, is_zero_vector,
+    norm_f64, scale, sub, sum_terms, with_column,
 };
 use super::real::Real;
 use super::{InvalidInput, check_finite, negligible};
@@ -226,6 +226,9 @@ fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> 
 
     // Degenerate triangle: the two edge vectors are parallel, n = (A−B)×(A−C) = 0.
     let normal = cross(&a_minus_b, &a_minus_c);
+    if !all_finite(&normal) {
+        return overflow::<R>();
+    }
     let area_scale = norm_f64(&a_minus_b) * norm_f64(&a_minus_c);
     let degenerate = negligible::<R>(norm_f64(&normal), area_scale, is_zero_vector(&normal));
     rec.push(

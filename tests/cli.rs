@@ -1,0 +1,320 @@
+//! The `raylab` binary as a user runs it: flags in, text / JSON / LaTeX out, one-line errors.
+
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+use serde_json::Value;
+
+fn raylab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn raylab_with_stdin(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(stdin.as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8(output.stdout.clone()).unwrap()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8(output.stderr.clone()).unwrap()
+}
+
+fn json(args: &[&str]) -> Value {
+    let output = raylab(args);
+    assert!(output.status.success(), "{}", stderr(&output));
+    serde_json::from_str(&stdout(&output)).expect("one JSON object")
+}
+
+const SEED000_SEGMENTS: [&str; 10] = [
+    "solve", "segments", "--a1", "1,2", "--a2", "6,1", "--b1", "2,6", "--b2", "5,1",
+];
+const LECTURE_TRIANGLE: [&str; 12] = [
+    "solve", "triangle", "--a", "3,0,0", "--b", "0,3,0", "--c", "0,0,3", "--origin", "0,0,0",
+    "--dir", "1,1,1",
+];
+
+#[test]
+fn text_shows_every_step_of_the_lecture_example() {
+    let output = raylab(&LECTURE_TRIANGLE);
+    assert!(output.status.success());
+    let text = stdout(&output);
+    for expected in [
+        "The system M X = Y",
+        "M1: M with column 1 replaced by Y",
+        "|M| = 3·|0 1; -3 1| − 3·|-3 1; 0 1| + 1·|-3 0; 0 -3|",
+        "= 27",
+        "β = |M1| / |M| = 9 / 27 = 0.3333333333",
+        "t = |M3| / |M| = 27 / 27 = 1",
+        "✓ β + γ ≤ 1",
+        "⇒ HIT",
+        "P = (1, 1, 1)",
+        "t·|D| = 1.732050808",
+    ] {
+        assert!(text.contains(expected), "missing {expected:?} in\n{text}");
+    }
+}
+
+#[test]
+fn json_has_status_parameters_point_and_exact_strings() {
+    let mut args = SEED000_SEGMENTS.to_vec();
+    args.extend(["--format", "json", "--precision", "exact"]);
+    let result = json(&args);
+    assert_eq!(result["status"], "crossing");
+    assert_eq!(result["exact"]["t"], "17/22");
+    assert_eq!(result["exact"]["s"], "21/22");
+    assert!((result["t"].as_f64().unwrap() - 17.0 / 22.0).abs() < 1e-15);
+    assert_eq!(result["point"].as_array().unwrap().len(), 2);
+    let steps = result["trace"]["steps"].as_array().unwrap();
+    assert!(
+        steps
+            .iter()
+            .any(|s| s["id"] == "det_M" && s["payload"]["kind"] == "determinant")
+    );
+
+    let mut args = LECTURE_TRIANGLE.to_vec();
+    args.extend(["--format", "json", "--precision", "exact"]);
+    let result = json(&args);
+    assert_eq!(result["status"], "hit");
+    assert_eq!(result["exact"]["beta"], "1/3");
+    assert_eq!(result["exact"]["gamma"], "1/3");
+    assert_eq!(result["exact"]["t"], "1");
+    assert_eq!(result["exact"]["distance"], "√3");
+    assert_eq!(result["t"], 1.0);
+}
+
+#[test]
+fn float_json_has_no_exact_block_and_nulls_for_missing_parameters() {
+    let args = [
+        "solve",
+        "triangle",
+        "--a",
+        "3,0,0",
+        "--b",
+        "0,3,0",
+        "--c",
+        "0,0,3",
+        "--origin",
+        "0,0,0",
+        "--dir",
+        "1,-1,0",
+        "--format",
+        "json",
+        "--no-trace",
+    ];
+    let result = json(&args);
+    assert_eq!(result["status"], "parallel");
+    assert_eq!(result["t"], Value::Null);
+    assert_eq!(result["point"], Value::Null);
+    assert!(result.get("exact").is_none());
+    assert!(result.get("trace").is_none());
+}
+
+#[test]
+fn parallelogram_and_f32_run() {
+    let args = [
+        "solve",
+        "parallelogram",
+        "--corner",
+        "0,0,0",
+        "--e1",
+        "2,0,0",
+        "--e2",
+        "0,1,0",
+        "--origin",
+        "0.5,0.5,1",
+        "--dir",
+        "0,0,-1",
+        "--format",
+        "json",
+        "--precision",
+        "f32",
+    ];
+    let result = json(&args);
+    assert_eq!(result["status"], "hit");
+    assert_eq!(result["precision"], "f32");
+    assert_eq!(result["alpha"], 0.25);
+    assert_eq!(result["beta"], 0.5);
+    assert_eq!(result["t"], 1.0);
+}
+
+#[test]
+fn latex_has_bmatrix_and_cramer_fractions() {
+    let mut args = LECTURE_TRIANGLE.to_vec();
+    args.extend(["--format", "latex", "--precision", "exact"]);
+    let output = raylab(&args);
+    let latex = stdout(&output);
+    assert!(
+        latex.contains(
+            "M = \\begin{bmatrix} 3 & 3 & 1 \\\\ -3 & 0 & 1 \\\\ 0 & -3 & 1 \\end{bmatrix}"
+        ),
+        "{latex}"
+    );
+    assert!(
+        latex.contains("\\beta = \\frac{|M_1|}{|M|} = \\frac{9}{27} = \\frac{1}{3}"),
+        "{latex}"
+    );
+    assert!(latex.contains("\\begin{vmatrix}"), "{latex}");
+    assert!(
+        latex.contains("{\\color{teal} 3}"),
+        "replaced column is highlighted: {latex}"
+    );
+}
+
+#[test]
+fn exact_reads_decimals_as_written() {
+    // Seed 003's ray, with 0.1 read as 1/10: the hit is exactly (9/76, 9/76, 45/38).
+    let args = [
+        "solve",
+        "triangle",
+        "--a",
+        "0,1,1.5",
+        "--b",
+        "1,0,1.25",
+        "--c",
+        "-1,0,1",
+        "--origin",
+        "0,0,0",
+        "--dir",
+        "0.1,0.1,1",
+        "--precision",
+        "exact",
+        "--format",
+        "json",
+    ];
+    let result = json(&args);
+    assert_eq!(
+        result["exact"]["point"],
+        serde_json::json!(["9/76", "9/76", "45/38"])
+    );
+}
+
+/// Bad input: one line on stderr naming the flag, nothing on stdout, a non-zero exit.
+fn expect_one_line_error(args: &[&str], names: &[&str]) {
+    let output = raylab(args);
+    assert!(!output.status.success(), "{args:?} should fail");
+    assert!(stdout(&output).is_empty());
+    let message = stderr(&output);
+    assert_eq!(message.trim_end().lines().count(), 1, "{message}");
+    for name in names {
+        assert!(message.contains(name), "{message:?} should name {name}");
+    }
+}
+
+#[test]
+fn bad_input_gets_one_line_naming_the_flag() {
+    let with = |flag: &str, value: &str| {
+        let mut args: Vec<String> = SEED000_SEGMENTS.iter().map(|s| s.to_string()).collect();
+        let at = args.iter().position(|a| a == flag).unwrap();
+        args[at + 1] = value.to_string();
+        args
+    };
+    let cases = [
+        (with("--a1", "1,2,3"), vec!["--a1", "expected 2 numbers"]),
+        (with("--b2", "nan,1"), vec!["--b2", "NaN"]),
+        (with("--a2", "1,x"), vec!["--a2", "'x' is not a number"]),
+        (with("--b1", "inf,1"), vec!["--b1", "finite"]),
+        (with("--a1", "1e999,0"), vec!["--a1", "too large"]),
+        (with("--a1", ""), vec!["--a1"]),
+    ];
+    for (args, names) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        expect_one_line_error(&args, &names);
+    }
+    expect_one_line_error(&["solve", "segments", "--a1", "1,2"], &["--a2"]);
+    let mut bad_precision = LECTURE_TRIANGLE.to_vec();
+    bad_precision.extend(["--precision", "f16"]);
+    expect_one_line_error(&bad_precision, &["--precision"]);
+    expect_one_line_error(&["solve"], &["segments"]);
+}
+
+#[test]
+fn negative_numbers_and_fractions_are_values_not_flags() {
+    let args = [
+        "solve",
+        "segments",
+        "--a1",
+        "-1,-1",
+        "--a2",
+        "1/2,1/2",
+        "--b1",
+        "-1,1",
+        "--b2",
+        "1,-1",
+        "--format",
+        "json",
+        "--precision",
+        "exact",
+    ];
+    let result = json(&args);
+    assert_eq!(result["status"], "crossing");
+    assert_eq!(result["exact"]["point"], serde_json::json!(["0", "0"]));
+}
+
+#[test]
+fn batch_reads_lines_and_keeps_going_past_bad_ones() {
+    let input = [
+        r#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1","precision":"exact"}"#,
+        r#"{"kind":"triangle","a":[3,0,0],"b":[0,3,0],"c":[0,0,3],"origin":[0,0,0],"dir":[1,1,1]}"#,
+        r#"{"kind":"triangle","a":[3,0,0],"b":[0,3,0]}"#,
+        r#"{"kind":"parallelogram","corner":"0,0,0","e1":"1,0,0","e2":"0,1,0","origin":"0.5,0.5,1","dir":"0,0,-1"}"#,
+    ]
+    .join("\n");
+    let output = raylab_with_stdin(&["solve", "--batch", "--no-trace"], &input);
+    assert_eq!(
+        output.status.code(),
+        Some(1),
+        "a bad line makes the exit non-zero"
+    );
+    let lines: Vec<Value> = stdout(&output)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 4);
+    assert_eq!(lines[0]["exact"]["t"], "17/22");
+    assert_eq!(lines[1]["status"], "hit");
+    assert_eq!(lines[1]["precision"], "f64");
+    assert_eq!(lines[2]["status"], "error");
+    assert_eq!(lines[2]["line"], 3);
+    assert!(
+        lines[2]["error"]
+            .as_str()
+            .unwrap()
+            .contains("missing field 'c'")
+    );
+    assert_eq!(lines[3]["status"], "hit");
+    assert!(stderr(&output).contains("line 3: missing field 'c'"));
+
+    let good = raylab_with_stdin(
+        &["solve", "--batch", "--precision", "exact"],
+        &input[..input.find('\n').unwrap()],
+    );
+    assert!(good.status.success());
+    let line: Value = serde_json::from_str(stdout(&good).trim()).unwrap();
+    assert!(line["trace"]["steps"].is_array());
+}
+
+#[test]
+fn no_arguments_prints_help() {
+    let output = raylab(&[]);
+    let help = stdout(&output) + &stderr(&output);
+    assert!(help.contains("Usage: raylab"), "{help}");
+    assert!(help.contains("solve"));
+}
