@@ -335,6 +335,23 @@ pub struct Step {
     pub payload: Payload,
 }
 
+impl Step {
+    /// A step.
+    pub fn new(
+        id: impl Into<String>,
+        title: impl Into<String>,
+        explanation: impl Into<String>,
+        payload: Payload,
+    ) -> Step {
+        Step {
+            id: id.into(),
+            title: title.into(),
+            explanation: explanation.into(),
+            payload,
+        }
+    }
+}
+
 /// The record of one solve.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Trace {
@@ -400,28 +417,16 @@ impl Recorder {
         }
     }
 
-    /// Adds a step, built only if recording.
-    pub fn step(&mut self, id: &str, title: &str, build: impl FnOnce() -> (String, Payload)) {
-        if let Some(trace) = &mut self.trace {
-            let (explanation, payload) = build();
-            trace.steps.push(Step {
-                id: id.into(),
-                title: title.into(),
-                explanation,
-                payload,
-            });
-        }
+    /// True if steps are being recorded.
+    pub fn is_recording(&self) -> bool {
+        self.trace.is_some()
     }
 
-    /// Adds a step.
-    pub fn push(
-        &mut self,
-        id: &str,
-        title: &str,
-        explanation: &str,
-        payload: impl FnOnce() -> Payload,
-    ) {
-        self.step(id, title, || (explanation.to_string(), payload()));
+    /// Adds a step; `build` runs only when recording, so a solve without a trace formats nothing.
+    pub fn push(&mut self, build: impl FnOnce() -> Step) {
+        if let Some(trace) = &mut self.trace {
+            trace.steps.push(build());
+        }
     }
 
     /// The trace, if one was recorded.

@@ -318,3 +318,29 @@ fn no_arguments_prints_help() {
     assert!(help.contains("Usage: raylab"), "{help}");
     assert!(help.contains("solve"));
 }
+
+#[test]
+fn the_lecture_examples_file_solves_as_the_readme_says() {
+    let input = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/examples/lecture.jsonl"
+    ))
+    .unwrap();
+    let output = raylab_with_stdin(&["solve", "--batch", "--no-trace"], &input);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let statuses: Vec<String> = stdout(&output)
+        .lines()
+        .map(|l| serde_json::from_str::<Value>(l).unwrap()["status"].to_string())
+        .collect();
+    let expected = [
+        "crossing",
+        "lines-cross-outside",
+        "hit",
+        "hit",
+        "hit",
+        "hit",
+        "hit",
+        "hit",
+    ];
+    assert_eq!(statuses, expected.map(|s| format!("\"{s}\"")));
+}

@@ -55,9 +55,20 @@ pub fn cross2<R: Real>(a: &V2<R>, b: &V2<R>) -> R {
     a[0].clone() * b[1].clone() - a[1].clone() * b[0].clone()
 }
 
-/// Euclidean length, computed in f64 (it only feeds tolerances and distances).
+/// Euclidean length, computed in f64 (it only feeds tolerances and distances). Scaled by the largest
+/// component first, so coordinates near 1e200 do not overflow when squared.
 pub fn norm_f64<R: Real, const N: usize>(a: &[R; N]) -> f64 {
-    a.iter().map(|x| x.to_f64()).fold(0.0, f64::hypot)
+    let values: [f64; N] = std::array::from_fn(|i| a[i].to_f64());
+    let largest = values.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
+    largest
+        * values
+            .iter()
+            .map(|x| (x / largest).powi(2))
+            .sum::<f64>()
+            .sqrt()
 }
 
 /// True if every component is finite.
@@ -212,6 +223,17 @@ mod tests {
                 assert_eq!(entry, expected);
             }
         }
+    }
+
+    #[test]
+    fn norms_do_not_overflow_or_underflow() {
+        assert_eq!(norm_f64(&[3.0, 4.0]), 5.0);
+        let close = |a: f64, b: f64| (a - b).abs() <= 4.0 * f64::EPSILON * b;
+        assert!(close(norm_f64(&[3e200, 4e200]), 5e200));
+        assert!(close(norm_f64(&[3e-200, 4e-200]), 5e-200));
+        assert_eq!(norm_f64(&[0.0, 0.0, 0.0]), 0.0);
+        assert!(norm_f64(&[f64::NAN, 1.0]).is_nan());
+        assert_eq!(norm_f64(&[f64::INFINITY, 1.0]), f64::INFINITY);
     }
 
     #[test]

@@ -17,7 +17,8 @@ use super::linalg::{
 use super::real::Real;
 use super::{InvalidInput, check_finite, negligible};
 use crate::trace::{
-    Check, Determinant, Formula, Matrix, Number, Payload, Recorder, Scalar, Trace, Vector, Verdict,
+    Check, Determinant, Formula, Matrix, Number, Payload, Recorder, Scalar, Step, Trace, Vector,
+    Verdict,
 };
 
 /// A ray and a parallelogram, in seed 001's names.
@@ -146,11 +147,12 @@ pub fn solve<R: Real>(p: &RayParallelogram<R>, record: bool) -> ParallelogramSol
     let point = alpha_beta_t
         .as_ref()
         .map(|x| super::linalg::add(&p.origin, &scale(&x[2], &p.dir)));
-    let message = verdict_message(&outcome);
-    rec.push("verdict", "Verdict", "What the checks decide.", || {
-        Payload::Verdict(Verdict {
-            status: outcome.status().into(),
-            message,
+    rec.push(|| {
+        Step::new("verdict", "Verdict", "What the checks decide.", {
+            Payload::Verdict(Verdict {
+                status: outcome.status().into(),
+                message: verdict_message(&outcome),
+            })
         })
     });
     if let Some(point) = &point {
@@ -159,8 +161,10 @@ pub fn solve<R: Real>(p: &RayParallelogram<R>, record: bool) -> ParallelogramSol
         } else {
             "Where the ray's line meets the plane, o + t d"
         };
-        rec.push("point", title, "Knowing t gives the point.", || {
-            Payload::Vector(Vector::of("P", "P", point))
+        rec.push(|| {
+            Step::new("point", title, "Knowing t gives the point.", {
+                Payload::Vector(Vector::of("P", "P", point))
+            })
         });
     }
     ParallelogramSolution {
@@ -192,17 +196,12 @@ fn solve_recorded<R: Real>(
     let minus_d = neg(&p.dir);
     let m = from_columns([&p.e1, &p.e2, &minus_d]);
     let y = sub(&p.origin, &p.corner);
-    rec.push(
-        "system",
-        "The system M (α, β, t)ᵀ = o − c",
-        "Set o + t d = c + α e1 + β e2 and move the unknowns left: α e1 + β e2 − t d = o − c (seed 001 prints c − o, a sign slip).",
-        || Payload::System {
+    rec.push(|| Step::new("system", "The system M (α, β, t)ᵀ = o − c", "Set o + t d = c + α e1 + β e2 and move the unknowns left: α e1 + β e2 − t d = o − c (seed 001 prints c − o, a sign slip).", Payload::System {
             matrix: Matrix::of3("M", "M", &m, LABELS),
             unknowns: vec!["α".into(), "β".into(), "t".into()],
             unknowns_latex: vec!["\\alpha".into(), "\\beta".into(), "t".into()],
             rhs: Vector::of("o − c", "o - c", &y),
-        },
-    );
+        }));
 
     let normal = cross(&p.e1, &p.e2);
     if !all_finite(&normal) {
@@ -213,32 +212,36 @@ fn solve_recorded<R: Real>(
         norm_f64(&p.e1) * norm_f64(&p.e2),
         is_zero_vector(&normal),
     );
-    rec.push(
-        "check_area",
-        "The parallelogram has an area",
-        "Its area is |e1 × e2|; seed 001 requires e1 and e2 not parallel and not zero.",
-        || {
-            Payload::Check(Check {
-                inequality: "|e1 × e2| > 0".into(),
-                latex: "|e_1 \\times e_2| > 0".into(),
-                value: Number::float(norm_f64(&normal), R::PRECISION),
-                passed: !degenerate,
-                meaning: "e1 and e2 are parallel or zero: the parallelogram is flat".into(),
-            })
-        },
-    );
+    rec.push(|| {
+        Step::new(
+            "check_area",
+            "The parallelogram has an area",
+            "Its area is |e1 × e2|; seed 001 requires e1 and e2 not parallel and not zero.",
+            {
+                Payload::Check(Check {
+                    inequality: "|e1 × e2| > 0".into(),
+                    latex: "|e_1 \\times e_2| > 0".into(),
+                    value: Number::float(norm_f64(&normal), R::PRECISION),
+                    passed: !degenerate,
+                    meaning: "e1 and e2 are parallel or zero: the parallelogram is flat".into(),
+                })
+            },
+        )
+    });
     if degenerate {
         return (ParallelogramOutcome::Degenerate, None);
     }
 
     let terms = cofactor_terms3(&m);
     let det = sum_terms(&terms);
-    rec.push(
-        "det_M",
-        "|M|",
-        "The determinant of M, expanded along the first row.",
-        || Payload::Determinant(Determinant::of3("M", "M", &terms, &det)),
-    );
+    rec.push(|| {
+        Step::new(
+            "det_M",
+            "|M|",
+            "The determinant of M, expanded along the first row.",
+            Payload::Determinant(Determinant::of3("M", "M", &terms, &det)),
+        )
+    });
     if !det.is_finite() {
         return (overflow::<R>(), None);
     }
@@ -247,11 +250,7 @@ fn solve_recorded<R: Real>(
         norm_f64(&normal) * norm_f64(&p.dir),
         det.is_zero(),
     );
-    rec.push(
-        "check_det",
-        "|M| is not zero",
-        "M is invertible only if d is not in the plane of e1 and e2 (for floats: |M| > 16ε·|e1×e2|·|d|).",
-        || {
+    rec.push(|| Step::new("check_det", "|M| is not zero", "M is invertible only if d is not in the plane of e1 and e2 (for floats: |M| > 16ε·|e1×e2|·|d|).", {
             Payload::Check(Check {
                 inequality: "|M| ≠ 0".into(),
                 latex: "|M| \\neq 0".into(),
@@ -259,45 +258,50 @@ fn solve_recorded<R: Real>(
                 passed: !parallel,
                 meaning: "the ray is parallel to the parallelogram's plane".into(),
             })
-        },
-    );
+        }));
     if parallel {
         return (ParallelogramOutcome::Parallel, None);
     }
 
     let adjugate = adjugate3(&m);
-    rec.push(
-        "adj_M",
-        "adj(M), the adjugate",
-        "The transposed matrix of cofactors: M · adj(M) = |M| I.",
-        || {
-            Payload::Matrix(Matrix::of3(
-                "adj(M)",
-                "\\operatorname{adj}(M)",
-                &adjugate,
-                ["", "", ""],
-            ))
-        },
-    );
+    rec.push(|| {
+        Step::new(
+            "adj_M",
+            "adj(M), the adjugate",
+            "The transposed matrix of cofactors: M · adj(M) = |M| I.",
+            {
+                Payload::Matrix(Matrix::of3(
+                    "adj(M)",
+                    "\\operatorname{adj}(M)",
+                    &adjugate,
+                    ["", "", ""],
+                ))
+            },
+        )
+    });
     let inverse = adjugate
         .clone()
         .map(|row| row.map(|x| x.checked_div(&det).expect("|M| was checked to be nonzero")));
-    rec.push(
-        "inverse",
-        "M⁻¹ = adj(M) / |M|",
-        "Each entry of the adjugate divided by the determinant.",
-        || Payload::Matrix(Matrix::of3("M⁻¹", "M^{-1}", &inverse, ["", "", ""])),
-    );
+    rec.push(|| {
+        Step::new(
+            "inverse",
+            "M⁻¹ = adj(M) / |M|",
+            "Each entry of the adjugate divided by the determinant.",
+            Payload::Matrix(Matrix::of3("M⁻¹", "M^{-1}", &inverse, ["", "", ""])),
+        )
+    });
     let x = mul_vec(&inverse, &y);
     if x.iter().any(|v| !v.is_finite()) {
         return (overflow::<R>(), None);
     }
-    rec.push(
-        "product",
-        "(α, β, t)ᵀ = M⁻¹ (o − c)",
-        "Multiply the inverse by the right-hand side.",
-        || Payload::Vector(Vector::of("(α, β, t)", "(\\alpha, \\beta, t)", &x)),
-    );
+    rec.push(|| {
+        Step::new(
+            "product",
+            "(α, β, t)ᵀ = M⁻¹ (o − c)",
+            "Multiply the inverse by the right-hand side.",
+            Payload::Vector(Vector::of("(α, β, t)", "(\\alpha, \\beta, t)", &x)),
+        )
+    });
     for (i, (id, symbol, latex)) in [
         ("alpha", "α", "\\alpha"),
         ("beta", "β", "\\beta"),
@@ -306,16 +310,18 @@ fn solve_recorded<R: Real>(
     .into_iter()
     .enumerate()
     {
-        rec.push(id, symbol, "Read off the product.", || {
-            Payload::Scalar(Scalar {
-                symbol: symbol.into(),
-                latex: latex.into(),
-                formula: Some(Formula::Expression {
-                    text: format!("row {} of M⁻¹ (o − c)", i + 1),
-                    latex: format!("\\left(M^{{-1}}(o-c)\\right)_{}", i + 1),
-                }),
-                value: Number::of(&x[i]),
-                closed_form: None,
+        rec.push(|| {
+            Step::new(id, symbol, "Read off the product.", {
+                Payload::Scalar(Scalar {
+                    symbol: symbol.into(),
+                    latex: latex.into(),
+                    formula: Some(Formula::Expression {
+                        text: format!("row {} of M⁻¹ (o − c)", i + 1),
+                        latex: format!("\\left(M^{{-1}}(o-c)\\right)_{}", i + 1),
+                    }),
+                    value: Number::of(&x[i]),
+                    closed_form: None,
+                })
             })
         });
     }
@@ -351,39 +357,43 @@ fn classify<R: Real>(rec: &mut Recorder, x: &V3<R>) -> ParallelogramOutcome {
             None
         };
         sides.extend(broken);
-        rec.push(
-            &format!("check_{}", if i == 0 { "alpha" } else { "beta" }),
-            &format!("Check 0 ≤ {symbol} ≤ 1"),
-            "The point is on the parallelogram only if α and β are both in [0, 1].",
-            || {
-                Payload::Check(Check {
-                    inequality: format!("0 ≤ {symbol} ≤ 1"),
-                    latex: format!("0 \\le {latex} \\le 1"),
-                    value: Number::of(value),
-                    passed: broken.is_none(),
-                    meaning: format!(
-                        "the point breaks {}",
-                        broken.map(Side::inequality).unwrap_or_default()
-                    ),
-                })
-            },
-        );
+        rec.push(|| {
+            Step::new(
+                format!("check_{}", if i == 0 { "alpha" } else { "beta" }),
+                format!("Check 0 ≤ {symbol} ≤ 1"),
+                "The point is on the parallelogram only if α and β are both in [0, 1].",
+                {
+                    Payload::Check(Check {
+                        inequality: format!("0 ≤ {symbol} ≤ 1"),
+                        latex: format!("0 \\le {latex} \\le 1"),
+                        value: Number::of(value),
+                        passed: broken.is_none(),
+                        meaning: format!(
+                            "the point breaks {}",
+                            broken.map(Side::inequality).unwrap_or_default()
+                        ),
+                    })
+                },
+            )
+        });
     }
     let in_front = x[2] >= zero;
-    rec.push(
-        "check_t",
-        "Check t ≥ 0",
-        "Seed 001 takes the ray for t in [0, ∞): t = 0 counts.",
-        || {
-            Payload::Check(Check {
-                inequality: "t ≥ 0".into(),
-                latex: "t \\ge 0".into(),
-                value: Number::of(&x[2]),
-                passed: in_front,
-                meaning: "the plane is behind the ray's origin".into(),
-            })
-        },
-    );
+    rec.push(|| {
+        Step::new(
+            "check_t",
+            "Check t ≥ 0",
+            "Seed 001 takes the ray for t in [0, ∞): t = 0 counts.",
+            {
+                Payload::Check(Check {
+                    inequality: "t ≥ 0".into(),
+                    latex: "t \\ge 0".into(),
+                    value: Number::of(&x[2]),
+                    passed: in_front,
+                    meaning: "the plane is behind the ray's origin".into(),
+                })
+            },
+        )
+    });
     if !sides.is_empty() {
         ParallelogramOutcome::Outside { sides }
     } else if !in_front {

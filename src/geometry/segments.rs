@@ -12,8 +12,8 @@ use super::linalg::{
 use super::real::Real;
 use super::{InvalidInput, check_finite, negligible};
 use crate::trace::{
-    Check, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar, Trace, Vector,
-    Verdict,
+    Check, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar, Step, Trace,
+    Vector, Verdict,
 };
 
 /// Two segments, in the lecture's names.
@@ -143,25 +143,28 @@ const LABELS: [&str; 2] = ["A2−A1", "B1−B2"];
 pub fn solve<R: Real>(pair: &SegmentPair<R>, record: bool) -> SegmentsSolution<R> {
     let mut rec = Recorder::new(record, "segments", R::PRECISION);
     let mut solution = solve_recorded(pair, &mut rec);
-    let message = verdict_message(&solution);
-    rec.push(
-        "verdict",
-        "Verdict",
-        "What the numbers say about the two segments.",
-        || {
-            Payload::Verdict(Verdict {
-                status: solution.outcome.status().into(),
-                message,
-            })
-        },
-    );
+    rec.push(|| {
+        Step::new(
+            "verdict",
+            "Verdict",
+            "What the numbers say about the two segments.",
+            {
+                Payload::Verdict(Verdict {
+                    status: solution.outcome.status().into(),
+                    message: verdict_message(&solution),
+                })
+            },
+        )
+    });
     if let Some(point) = &solution.point {
-        rec.push(
-            "point",
-            "Where the lines cross: A(t) = B(s)",
-            "Substituting t into A(t) gives the same point as s in B(s).",
-            || Payload::Vector(Vector::of("P", "P", point)),
-        );
+        rec.push(|| {
+            Step::new(
+                "point",
+                "Where the lines cross: A(t) = B(s)",
+                "Substituting t into A(t) gives the same point as s in B(s).",
+                Payload::Vector(Vector::of("P", "P", point)),
+            )
+        });
     }
     solution.trace = rec.finish();
     solution
@@ -181,20 +184,22 @@ fn solve_recorded<R: Real>(p: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSo
     record_system(rec, &m, &y);
 
     let (a_degenerate, b_degenerate) = (is_zero_vector(&d_a), is_zero_vector(&b1_minus_b2));
-    rec.push(
-        "check_lengths",
-        "Both segments have a length",
-        "A segment whose endpoints coincide is a single point, with no direction to follow.",
-        || {
-            Payload::Check(Check {
-                inequality: "A2 ≠ A1 and B2 ≠ B1".into(),
-                latex: "A_2 \\neq A_1,\\ B_2 \\neq B_1".into(),
-                value: Number::float(norm_f64(&d_a).min(norm_f64(&b1_minus_b2)), R::PRECISION),
-                passed: !(a_degenerate || b_degenerate),
-                meaning: "a segment has zero length".into(),
-            })
-        },
-    );
+    rec.push(|| {
+        Step::new(
+            "check_lengths",
+            "Both segments have a length",
+            "A segment whose endpoints coincide is a single point, with no direction to follow.",
+            {
+                Payload::Check(Check {
+                    inequality: "A2 ≠ A1 and B2 ≠ B1".into(),
+                    latex: "A_2 \\neq A_1,\\ B_2 \\neq B_1".into(),
+                    value: Number::float(norm_f64(&d_a).min(norm_f64(&b1_minus_b2)), R::PRECISION),
+                    passed: !(a_degenerate || b_degenerate),
+                    meaning: "a segment has zero length".into(),
+                })
+            },
+        )
+    });
     if a_degenerate || b_degenerate {
         return SegmentsSolution::new(SegmentsOutcome::DegenerateSegment {
             a: a_degenerate,
@@ -205,17 +210,19 @@ fn solve_recorded<R: Real>(p: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSo
     let m1 = with_column(&m, 0, &y);
     let m2 = with_column(&m, 1, &y);
     for (i, mi) in [&m1, &m2].into_iter().enumerate() {
-        let name = format!("M{}", i + 1);
-        rec.push(
-            &name,
-            &format!("{name}: M with column {} replaced by Y", i + 1),
-            "Cramer's rule: replace one column of M by the right-hand side Y.",
-            || {
-                Payload::Matrix(
-                    Matrix::of2(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
-                )
-            },
-        );
+        rec.push(|| {
+            let name = format!("M{}", i + 1);
+            Step::new(
+                &name,
+                format!("{name}: M with column {} replaced by Y", i + 1),
+                "Cramer's rule: replace one column of M by the right-hand side Y.",
+                {
+                    Payload::Matrix(
+                        Matrix::of2(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
+                    )
+                },
+            )
+        });
     }
 
     let det_m = record_det(rec, &m, "M", "M");
@@ -224,20 +231,22 @@ fn solve_recorded<R: Real>(p: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSo
     }
     let scale_of_m = norm_f64(&d_a) * norm_f64(&b1_minus_b2);
     let parallel = negligible::<R>(det_m.to_f64().abs(), scale_of_m, det_m.is_zero());
-    rec.push(
-        "check_det",
-        "|M| is not zero",
-        parallel_explanation::<R>(),
-        || {
-            Payload::Check(Check {
-                inequality: "|M| ≠ 0".into(),
-                latex: "|M| \\neq 0".into(),
-                value: Number::of(&det_m),
-                passed: !parallel,
-                meaning: "the lines are parallel: no single crossing point".into(),
-            })
-        },
-    );
+    rec.push(|| {
+        Step::new(
+            "check_det",
+            "|M| is not zero",
+            parallel_explanation::<R>(),
+            {
+                Payload::Check(Check {
+                    inequality: "|M| ≠ 0".into(),
+                    latex: "|M| \\neq 0".into(),
+                    value: Number::of(&det_m),
+                    passed: !parallel,
+                    meaning: "the lines are parallel: no single crossing point".into(),
+                })
+            },
+        )
+    });
     if parallel {
         return parallel_case(rec, p, &d_a, &y);
     }
@@ -319,20 +328,22 @@ fn parallel_case<R: Real>(
         norm_f64(d_a) * norm_f64(b1_minus_a1),
         offset.is_zero(),
     );
-    rec.push(
-        "check_collinear",
-        "Are the parallel lines one line?",
-        "B1 lies on line A exactly when (A2−A1) × (B1−A1) = 0.",
-        || {
-            Payload::Check(Check {
-                inequality: "(A2−A1) × (B1−A1) = 0".into(),
-                latex: "(A_2-A_1) \\times (B_1-A_1) = 0".into(),
-                value: Number::of(&offset),
-                passed: collinear,
-                meaning: "two distinct parallel lines: they never meet".into(),
-            })
-        },
-    );
+    rec.push(|| {
+        Step::new(
+            "check_collinear",
+            "Are the parallel lines one line?",
+            "B1 lies on line A exactly when (A2−A1) × (B1−A1) = 0.",
+            {
+                Payload::Check(Check {
+                    inequality: "(A2−A1) × (B1−A1) = 0".into(),
+                    latex: "(A_2-A_1) \\times (B_1-A_1) = 0".into(),
+                    value: Number::of(&offset),
+                    passed: collinear,
+                    meaning: "two distinct parallel lines: they never meet".into(),
+                })
+            },
+        )
+    });
     if !collinear {
         return SegmentsSolution::new(SegmentsOutcome::Parallel);
     }
@@ -345,30 +356,30 @@ fn parallel_case<R: Real>(
             .expect("segment A has a length")
     };
     let (t_b1, t_b2) = (t_of(b1_minus_a1), t_of(&b2_minus_a1));
-    for (id, symbol, latex, value) in [
-        ("t_b1", "t(B1)", "t(B_1)", &t_b1),
-        ("t_b2", "t(B2)", "t(B_2)", &t_b2),
-    ] {
-        rec.push(
-            id,
-            &format!("{symbol} on line A"),
-            "Where an endpoint of B sits on A's parameter.",
-            || {
-                Payload::Scalar(Scalar {
-                    symbol: symbol.into(),
-                    latex: latex.into(),
-                    formula: Some(Formula::Expression {
-                        text: format!("({}−A1)·(A2−A1) / |A2−A1|²", &symbol[2..4]),
-                        latex: format!(
-                            "\\frac{{({}-A_1)\\cdot(A_2-A_1)}}{{|A_2-A_1|^2}}",
-                            &latex[2..5]
-                        ),
-                    }),
-                    value: Number::of(value),
-                    closed_form: None,
-                })
-            },
-        );
+    for (id, point, point_latex, value) in
+        [("t_b1", "B1", "B_1", &t_b1), ("t_b2", "B2", "B_2", &t_b2)]
+    {
+        rec.push(|| {
+            Step::new(
+                id,
+                format!("t({point}) on line A"),
+                "Where an endpoint of B sits on A's parameter.",
+                {
+                    Payload::Scalar(Scalar {
+                        symbol: format!("t({point})"),
+                        latex: format!("t({point_latex})"),
+                        formula: Some(Formula::Expression {
+                            text: format!("({point}−A1)·(A2−A1) / |A2−A1|²"),
+                            latex: format!(
+                                "\\frac{{({point_latex}-A_1)\\cdot(A_2-A_1)}}{{|A_2-A_1|^2}}"
+                            ),
+                        }),
+                        value: Number::of(value),
+                        closed_form: None,
+                    })
+                },
+            )
+        });
     }
     let (low, high) = if t_b1 <= t_b2 {
         (t_b1.clone(), t_b2.clone())
@@ -391,39 +402,40 @@ fn parallel_case<R: Real>(
 }
 
 fn record_system<R: Real>(rec: &mut Recorder, m: &super::linalg::M2<R>, y: &V2<R>) {
-    rec.push(
-        "system",
-        "The system M X = Y",
-        "Set A1 + t(A2−A1) = B1 + s(B2−B1) and move the unknowns t, s to the left.",
-        || Payload::System {
-            matrix: Matrix::of2("M", "M", m, LABELS),
-            unknowns: vec!["t".into(), "s".into()],
-            unknowns_latex: vec!["t".into(), "s".into()],
-            rhs: Vector::of("Y", "Y", y),
-        },
-    );
-    rec.push(
-        "M",
-        "M = [A2−A1 | B1−B2]",
-        "The columns are the direction of A and the reversed direction of B.",
-        || Payload::Matrix(Matrix::of2("M", "M", m, LABELS)),
-    );
-    rec.push(
-        "Y",
-        "Y = B1 − A1",
-        "The right-hand side: from A1 to B1.",
-        || Payload::Vector(Vector::of("Y", "Y", y)),
-    );
+    rec.push(|| {
+        Step::new(
+            "system",
+            "The system M X = Y",
+            "Set A1 + t(A2−A1) = B1 + s(B2−B1) and move the unknowns t, s to the left.",
+            Payload::System {
+                matrix: Matrix::of2("M", "M", m, LABELS),
+                unknowns: vec!["t".into(), "s".into()],
+                unknowns_latex: vec!["t".into(), "s".into()],
+                rhs: Vector::of("Y", "Y", y),
+            },
+        )
+    });
+    rec.push(|| {
+        Step::new(
+            "M",
+            "M = [A2−A1 | B1−B2]",
+            "The columns are the direction of A and the reversed direction of B.",
+            Payload::Matrix(Matrix::of2("M", "M", m, LABELS)),
+        )
+    });
+    rec.push(|| {
+        Step::new(
+            "Y",
+            "Y = B1 − A1",
+            "The right-hand side: from A1 to B1.",
+            Payload::Vector(Vector::of("Y", "Y", y)),
+        )
+    });
 }
 
 fn record_det<R: Real>(rec: &mut Recorder, m: &super::linalg::M2<R>, name: &str, latex: &str) -> R {
     let value = super::linalg::det2(m);
-    rec.push(
-        &format!("det_{name}"),
-        &format!("|{name}|"),
-        "A 2x2 determinant: the product of the diagonal minus the product of the anti-diagonal.",
-        || Payload::Determinant(Determinant::of2(name, latex, m, &value)),
-    );
+    rec.push(|| Step::new(format!("det_{name}"), format!("|{name}|"), "A 2x2 determinant: the product of the diagonal minus the product of the anti-diagonal.", Payload::Determinant(Determinant::of2(name, latex, m, &value))));
     value
 }
 
@@ -439,11 +451,8 @@ fn record_quotient<R: Real>(
     value: &R,
     explanation: &str,
 ) {
-    rec.push(
-        symbol,
-        &format!("{symbol} by Cramer's rule"),
-        explanation,
-        || {
+    rec.push(|| {
+        Step::new(symbol, format!("{symbol} by Cramer's rule"), explanation, {
             Payload::Scalar(Scalar {
                 symbol: symbol.into(),
                 latex: latex.into(),
@@ -454,8 +463,8 @@ fn record_quotient<R: Real>(
                 value: Number::of(value),
                 closed_form: None,
             })
-        },
-    );
+        })
+    });
 }
 
 /// Records and returns `0 ≤ x ≤ 1`.
@@ -469,22 +478,24 @@ fn in_unit_interval<R: Real>(
     let inside = x >= &R::zero() && x <= &R::one();
     let side = if x < &R::zero() { "before" } else { "past" };
     let start_or_end = if x < &R::zero() { "start" } else { "end" };
-    rec.push(
-        id,
-        &format!("Check 0 ≤ {symbol} ≤ 1"),
-        "The crossing is on the segment itself only for parameters in [0, 1].",
-        || {
-            Payload::Check(Check {
-                inequality: format!("0 ≤ {symbol} ≤ 1"),
-                latex: format!("0 \\le {symbol} \\le 1"),
-                value: Number::of(x),
-                passed: inside,
-                meaning: format!(
-                    "the crossing is on line {segment} {side} the segment's {start_or_end}"
-                ),
-            })
-        },
-    );
+    rec.push(|| {
+        Step::new(
+            id,
+            format!("Check 0 ≤ {symbol} ≤ 1"),
+            "The crossing is on the segment itself only for parameters in [0, 1].",
+            {
+                Payload::Check(Check {
+                    inequality: format!("0 ≤ {symbol} ≤ 1"),
+                    latex: format!("0 \\le {symbol} \\le 1"),
+                    value: Number::of(x),
+                    passed: inside,
+                    meaning: format!(
+                        "the crossing is on line {segment} {side} the segment's {start_or_end}"
+                    ),
+                })
+            },
+        )
+    });
     inside
 }
 

@@ -16,8 +16,8 @@ use super::real::Real;
 use super::{InvalidInput, check_finite, negligible};
 use crate::exact::Exact;
 use crate::trace::{
-    Check, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar, Trace, Vector,
-    Verdict,
+    Check, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar, Step, Trace,
+    Vector, Verdict,
 };
 
 /// A ray and a triangle, in the lecture's names.
@@ -181,10 +181,12 @@ pub struct TriangleSolution<R> {
 pub fn solve<R: Real>(problem: &RayTriangle<R>, record: bool) -> TriangleSolution<R> {
     let mut rec = Recorder::new(record, "triangle", R::PRECISION);
     let (outcome, solution) = solve_recorded(problem, &mut rec);
-    rec.push("verdict", "Verdict", &verdict_sentence(&outcome), || {
-        Payload::Verdict(Verdict {
-            status: outcome.status().into(),
-            message: verdict_message(&outcome, solution.as_ref()),
+    rec.push(|| {
+        Step::new("verdict", "Verdict", verdict_sentence(&outcome), {
+            Payload::Verdict(Verdict {
+                status: outcome.status().into(),
+                message: verdict_message(&outcome, solution.as_ref()),
+            })
         })
     });
     if let Some(found) = &solution {
@@ -231,20 +233,23 @@ fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> 
     }
     let area_scale = norm_f64(&a_minus_b) * norm_f64(&a_minus_c);
     let degenerate = negligible::<R>(norm_f64(&normal), area_scale, is_zero_vector(&normal));
-    rec.push(
-        "check_area",
-        "The triangle has an area",
-        area_explanation::<R>(),
-        || {
-            Payload::Check(Check {
-                inequality: "|(A−B)×(A−C)| / 2 > 0".into(),
-                latex: "\\tfrac12 |(A-B)\\times(A-C)| > 0".into(),
-                value: Number::float(norm_f64(&normal) / 2.0, R::PRECISION),
-                passed: !degenerate,
-                meaning: "A, B and C are collinear: the triangle is a segment or a point".into(),
-            })
-        },
-    );
+    rec.push(|| {
+        Step::new(
+            "check_area",
+            "The triangle has an area",
+            area_explanation::<R>(),
+            {
+                Payload::Check(Check {
+                    inequality: "|(A−B)×(A−C)| / 2 > 0".into(),
+                    latex: "\\tfrac12 |(A-B)\\times(A-C)| > 0".into(),
+                    value: Number::float(norm_f64(&normal) / 2.0, R::PRECISION),
+                    passed: !degenerate,
+                    meaning: "A, B and C are collinear: the triangle is a segment or a point"
+                        .into(),
+                })
+            },
+        )
+    });
     if degenerate {
         return miss(TriangleMiss::DegenerateTriangle);
     }
@@ -252,17 +257,19 @@ fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> 
     // Cramer's matrices: M with column i replaced by Y.
     let mi: [_; 3] = std::array::from_fn(|col| with_column(&m, col, &y));
     for (i, mi) in mi.iter().enumerate() {
-        let name = format!("M{}", i + 1);
-        rec.push(
-            &name,
-            &format!("{name}: M with column {} replaced by Y", i + 1),
-            "Cramer's rule: replace one column of M by the right-hand side Y.",
-            || {
-                Payload::Matrix(
-                    Matrix::of3(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
-                )
-            },
-        );
+        rec.push(|| {
+            let name = format!("M{}", i + 1);
+            Step::new(
+                &name,
+                format!("{name}: M with column {} replaced by Y", i + 1),
+                "Cramer's rule: replace one column of M by the right-hand side Y.",
+                {
+                    Payload::Matrix(
+                        Matrix::of3(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
+                    )
+                },
+            )
+        });
     }
 
     // The determinants, each expanded along its first row.
@@ -288,12 +295,13 @@ fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> 
         norm_f64(&normal) * norm_f64(&p.dir),
         det_m.is_zero(),
     );
-    rec.push(
-        "check_det",
-        "|M| is not zero",
-        parallel_explanation::<R>(),
-        || {
-            Payload::Check(Check {
+    rec.push(|| {
+        Step::new(
+            "check_det",
+            "|M| is not zero",
+            parallel_explanation::<R>(),
+            {
+                Payload::Check(Check {
                 inequality: "|M| ≠ 0".into(),
                 latex: "|M| \\neq 0".into(),
                 value: Number::of(&det_m),
@@ -302,21 +310,20 @@ fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> 
                     "the ray is parallel to the triangle's plane, so M X = Y has no unique solution"
                         .into(),
             })
-        },
-    );
+            },
+        )
+    });
     if parallel {
         return miss(TriangleMiss::Parallel {
             in_plane: in_plane(),
         });
     }
     let dets: [R; 3] = std::array::from_fn(|i| {
-        let name = format!("M{}", i + 1);
-        let latex = format!("M_{}", i + 1);
         record_det(
             rec,
             &mi[i],
-            &name,
-            &latex,
+            ["M1", "M2", "M3"][i],
+            ["M_1", "M_2", "M_3"][i],
             "Expanded along the first row, like |M|.",
         )
     });
@@ -333,46 +340,50 @@ fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> 
     let (beta, gamma, t) = (quotient(0), quotient(1), quotient(2));
     for (i, (id, symbol, latex)) in UNKNOWNS.iter().enumerate() {
         let value = [&beta, &gamma, &t][i];
-        rec.push(
-            id,
-            &format!("{symbol} by Cramer's rule"),
-            UNKNOWN_NOTES[i],
-            || {
+        rec.push(|| {
+            Step::new(
+                *id,
+                format!("{symbol} by Cramer's rule"),
+                UNKNOWN_NOTES[i],
+                {
+                    Payload::Scalar(Scalar {
+                        symbol: (*symbol).into(),
+                        latex: (*latex).into(),
+                        formula: Some(Formula::Quotient {
+                            numerator: Operand::of(
+                                &format!("|M{}|", i + 1),
+                                &format!("|M_{}|", i + 1),
+                                &dets[i],
+                            ),
+                            denominator: Operand::of("|M|", "|M|", &det_m),
+                        }),
+                        value: Number::of(value),
+                        closed_form: None,
+                    })
+                },
+            )
+        });
+    }
+    let alpha = R::one() - beta.clone() - gamma.clone();
+    rec.push(|| {
+        Step::new(
+            "alpha",
+            "α, the third barycentric coordinate",
+            "The weights of A, B and C add up to 1, so α = 1 − β − γ.",
+            {
                 Payload::Scalar(Scalar {
-                    symbol: (*symbol).into(),
-                    latex: (*latex).into(),
-                    formula: Some(Formula::Quotient {
-                        numerator: Operand::of(
-                            &format!("|M{}|", i + 1),
-                            &format!("|M_{}|", i + 1),
-                            &dets[i],
-                        ),
-                        denominator: Operand::of("|M|", "|M|", &det_m),
+                    symbol: "α".into(),
+                    latex: "\\alpha".into(),
+                    formula: Some(Formula::Expression {
+                        text: "1 − β − γ".into(),
+                        latex: "1 - \\beta - \\gamma".into(),
                     }),
-                    value: Number::of(value),
+                    value: Number::of(&alpha),
                     closed_form: None,
                 })
             },
-        );
-    }
-    let alpha = R::one() - beta.clone() - gamma.clone();
-    rec.push(
-        "alpha",
-        "α, the third barycentric coordinate",
-        "The weights of A, B and C add up to 1, so α = 1 − β − γ.",
-        || {
-            Payload::Scalar(Scalar {
-                symbol: "α".into(),
-                latex: "\\alpha".into(),
-                formula: Some(Formula::Expression {
-                    text: "1 − β − γ".into(),
-                    latex: "1 - \\beta - \\gamma".into(),
-                }),
-                value: Number::of(&alpha),
-                closed_form: None,
-            })
-        },
-    );
+        )
+    });
 
     let outcome = classify(rec, p, &beta, &gamma, &t);
     let point = super::linalg::add(&p.origin, &scale(&t, &p.dir));
@@ -417,29 +428,35 @@ fn overflow<R: Real>() -> Solved<R> {
 }
 
 fn record_system<R: Real>(rec: &mut Recorder, m: &super::linalg::M3<R>, y: &V3<R>) {
-    rec.push(
-        "system",
-        "The system M X = Y",
-        "Set L + tD = A + β(B−A) + γ(C−A) and move the unknowns β, γ, t to the left.",
-        || Payload::System {
-            matrix: Matrix::of3("M", "M", m, LABELS),
-            unknowns: vec!["β".into(), "γ".into(), "t".into()],
-            unknowns_latex: vec!["\\beta".into(), "\\gamma".into(), "t".into()],
-            rhs: Vector::of("Y", "Y", y),
-        },
-    );
-    rec.push(
-        "M",
-        "M = [A−B | A−C | D]",
-        "The columns are the two edge vectors from B and C to A, and the ray's direction.",
-        || Payload::Matrix(Matrix::of3("M", "M", m, LABELS)),
-    );
-    rec.push(
-        "Y",
-        "Y = A − L",
-        "The right-hand side: from the ray's origin L to the vertex A, reversed.",
-        || Payload::Vector(Vector::of("Y", "Y", y)),
-    );
+    rec.push(|| {
+        Step::new(
+            "system",
+            "The system M X = Y",
+            "Set L + tD = A + β(B−A) + γ(C−A) and move the unknowns β, γ, t to the left.",
+            Payload::System {
+                matrix: Matrix::of3("M", "M", m, LABELS),
+                unknowns: vec!["β".into(), "γ".into(), "t".into()],
+                unknowns_latex: vec!["\\beta".into(), "\\gamma".into(), "t".into()],
+                rhs: Vector::of("Y", "Y", y),
+            },
+        )
+    });
+    rec.push(|| {
+        Step::new(
+            "M",
+            "M = [A−B | A−C | D]",
+            "The columns are the two edge vectors from B and C to A, and the ray's direction.",
+            Payload::Matrix(Matrix::of3("M", "M", m, LABELS)),
+        )
+    });
+    rec.push(|| {
+        Step::new(
+            "Y",
+            "Y = A − L",
+            "The right-hand side: from the ray's origin L to the vertex A, reversed.",
+            Payload::Vector(Vector::of("Y", "Y", y)),
+        )
+    });
 }
 
 fn record_det<R: Real>(
@@ -451,12 +468,14 @@ fn record_det<R: Real>(
 ) -> R {
     let terms = cofactor_terms3(m);
     let value = sum_terms(&terms);
-    rec.push(
-        &format!("det_{name}"),
-        &format!("|{name}|"),
-        explanation,
-        || Payload::Determinant(Determinant::of3(name, latex, &terms, &value)),
-    );
+    rec.push(|| {
+        Step::new(
+            format!("det_{name}"),
+            format!("|{name}|"),
+            explanation,
+            Payload::Determinant(Determinant::of3(name, latex, &terms, &value)),
+        )
+    });
     value
 }
 
@@ -485,42 +504,44 @@ fn classify<R: Real>(
         if !passed {
             failed.push(edge);
         }
-        let id = format!("check_{}", edge.name().to_lowercase());
-        rec.push(
-            &id,
-            &format!("Check {}", edge.inequality()),
-            "A point of the plane is in the triangle only if all three inequalities hold.",
-            || {
-                Payload::Check(Check {
-                    inequality: edge.inequality().into(),
-                    latex: latex.into(),
-                    value: Number::of(&value),
-                    passed,
-                    meaning: format!("the point is beyond edge {}", edge.name()),
-                })
-            },
-        );
+        rec.push(|| {
+            Step::new(
+                format!("check_{}", edge.name().to_lowercase()),
+                format!("Check {}", edge.inequality()),
+                "A point of the plane is in the triangle only if all three inequalities hold.",
+                {
+                    Payload::Check(Check {
+                        inequality: edge.inequality().into(),
+                        latex: latex.into(),
+                        value: Number::of(&value),
+                        passed,
+                        meaning: format!("the point is beyond edge {}", edge.name()),
+                    })
+                },
+            )
+        });
     }
     let in_front = t > &p.t_min;
-    let t_min_text = Number::of(&p.t_min).shown();
-    rec.push(
-        "check_t",
-        "Check t > t_min",
-        "The hit must be in front of the ray's origin (t_min is excluded).",
-        || {
-            Payload::Check(Check {
-                inequality: format!("t > {t_min_text}"),
-                latex: format!("t > {}", crate::trace::latex_number(&Number::of(&p.t_min))),
-                value: Number::of(t),
-                passed: in_front,
-                meaning: if t < &zero {
-                    "the plane is behind the ray's origin".into()
-                } else {
-                    "the plane is not beyond t_min".into()
-                },
-            })
-        },
-    );
+    rec.push(|| {
+        Step::new(
+            "check_t",
+            "Check t > t_min",
+            "The hit must be in front of the ray's origin (t_min is excluded).",
+            {
+                Payload::Check(Check {
+                    inequality: format!("t > {}", Number::of(&p.t_min).shown()),
+                    latex: format!("t > {}", crate::trace::latex_number(&Number::of(&p.t_min))),
+                    value: Number::of(t),
+                    passed: in_front,
+                    meaning: if t < &zero {
+                        "the plane is behind the ray's origin".into()
+                    } else {
+                        "the plane is not beyond t_min".into()
+                    },
+                })
+            },
+        )
+    });
     if !failed.is_empty() {
         TriangleOutcome::Miss(TriangleMiss::Outside { edges: failed })
     } else if !in_front {
@@ -551,14 +572,16 @@ fn record_point<R: Real>(rec: &mut Recorder, p: &RayTriangle<R>, s: &Barycentric
     } else {
         "Where the ray's line meets the plane, L + tD"
     };
-    rec.push(
-        "point",
-        title,
-        "Knowing t gives the point; A + β(B−A) + γ(C−A) is the same point.",
-        || Payload::Vector(Vector::of("P", "P", &s.point)),
-    );
+    rec.push(|| {
+        Step::new(
+            "point",
+            title,
+            "Knowing t gives the point; A + β(B−A) + γ(C−A) is the same point.",
+            Payload::Vector(Vector::of("P", "P", &s.point)),
+        )
+    });
     let d_norm = norm_f64(&p.dir);
-    rec.step("distance", "Distance from L: t·|D|", || {
+    rec.push(|| {
         let explanation = format!(
             "t counts steps of length |D| = {}; the distance along the ray is t·|D| (equal to t only for a unit D).",
             crate::trace::format_float(d_norm, R::PRECISION)
@@ -570,7 +593,7 @@ fn record_point<R: Real>(rec: &mut Recorder, p: &RayTriangle<R>, s: &Barycentric
             value: Number::float(s.distance, R::PRECISION),
             closed_form: s.distance_exact.clone(),
         });
-        (explanation, payload)
+        Step::new("distance", "Distance from L: t·|D|", explanation, payload)
     });
 }
 
