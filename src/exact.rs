@@ -128,15 +128,57 @@ impl Exact {
         let (rn, rd) = (n.sqrt(), d.sqrt());
         (&rn * &rn == *n && &rd * &rd == *d).then(|| Exact(BigRational::new(rn, rd)))
     }
+}
 
-    /// `√q` written exactly: `2/3` when q is a perfect square, else `√(q)` or `√3`.
-    pub fn sqrt_text(&self) -> String {
-        match self.exact_sqrt() {
-            Some(root) => root.display(),
-            None if self.is_integer() && self.is_short() => format!("√{}", self.fraction()),
-            None if self.is_short() => format!("√({})", self.fraction()),
-            None => format!("{:.10e} (√ of an exact value)", self.to_f64().sqrt()),
-        }
+/// ±√q for an exact rational q ≥ 0: an exact value that is usually not rational (a length).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SignedRoot {
+    /// True for −√q.
+    pub negative: bool,
+    /// The radicand q.
+    pub square: Exact,
+}
+
+impl SignedRoot {
+    fn sign(&self) -> &'static str {
+        if self.negative { "−" } else { "" }
+    }
+
+    /// The whole exact value, however long: `√3`, `2/3`, `√(1/2)`, `−√(4131/2888)`.
+    pub fn full(&self) -> String {
+        let body = match self.square.exact_sqrt() {
+            Some(root) => root.fraction(),
+            None if self.square.is_integer() => format!("√{}", self.square.fraction()),
+            None => format!("√({})", self.square.fraction()),
+        };
+        format!("{}{body}", self.sign())
+    }
+
+    /// For people: [`SignedRoot::full`] when short, else `None` (show the float instead).
+    pub fn short(&self) -> Option<String> {
+        let root = self.square.exact_sqrt();
+        let short = match &root {
+            Some(root) => root.is_short(),
+            None => self.square.is_short(),
+        };
+        short.then(|| self.full())
+    }
+
+    /// LaTeX for [`SignedRoot::short`]: `\sqrt{3}`, `\frac{2}{3}`, `\sqrt{\frac{1}{2}}`.
+    pub fn short_latex(&self) -> Option<String> {
+        self.short()?;
+        let frac = |e: &Exact| {
+            if e.is_integer() {
+                e.fraction()
+            } else {
+                format!("\\frac{{{}}}{{{}}}", e.0.numer(), e.0.denom())
+            }
+        };
+        let body = match self.square.exact_sqrt() {
+            Some(root) => frac(&root),
+            None => format!("\\sqrt{{{}}}", frac(&self.square)),
+        };
+        Some(format!("{}{body}", if self.negative { "-" } else { "" }))
     }
 }
 
@@ -279,9 +321,22 @@ mod tests {
 
     #[test]
     fn square_roots_print_exactly() {
-        assert_eq!(q("3").sqrt_text(), "√3");
-        assert_eq!(q("4/9").sqrt_text(), "2/3");
-        assert_eq!(q("1/2").sqrt_text(), "√(1/2)");
+        let root = |text: &str, negative: bool| SignedRoot {
+            negative,
+            square: q(text),
+        };
+        assert_eq!(root("3", false).full(), "√3");
+        assert_eq!(root("4/9", false).full(), "2/3");
+        assert_eq!(root("1/2", true).full(), "−√(1/2)");
+        assert_eq!(
+            root("1/2", true).short_latex().unwrap(),
+            "-\\sqrt{\\frac{1}{2}}"
+        );
+        assert_eq!(root("4/9", false).short_latex().unwrap(), "\\frac{2}{3}");
+        let long = root("1/288800000000000000000000001", false);
+        assert_eq!(long.short(), None);
+        assert_eq!(long.short_latex(), None);
+        assert_eq!(long.full(), "√(1/288800000000000000000000001)");
         assert_eq!(q("-1").exact_sqrt(), None);
     }
 

@@ -266,7 +266,16 @@ pub struct Scalar {
     pub value: Number,
     /// An exact closed form when the value is not rational, e.g. `√3` for a distance.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub closed_form: Option<String>,
+    pub closed_form: Option<ClosedForm>,
+}
+
+/// An exact value that is not a fraction, written out (only when it is short enough to read).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ClosedForm {
+    /// Plain text, e.g. `√3`.
+    pub text: String,
+    /// LaTeX, e.g. `\sqrt{3}`.
+    pub latex: String,
 }
 
 /// An inequality tested by the solver.

@@ -75,7 +75,7 @@ fn seed000_lecture_triangle_gives_thirds_and_t_one() {
     assert_eq!(s.alpha, q("1/3"));
     assert_eq!(s.point, [q("1"), q("1"), q("1")]);
     // The lecture prints t = √3: that is the distance t·|D|, while t itself is 1.
-    assert_eq!(s.distance_exact.as_deref(), Some("√3"));
+    assert_eq!(s.distance_exact.unwrap().full(), "√3");
     assert!((s.distance - 3f64.sqrt()).abs() < 1e-15);
     let trace = solved.trace.unwrap();
     for id in [

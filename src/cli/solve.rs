@@ -227,8 +227,8 @@ fn triangle_report<R: Real>(
         if hit { "point" } else { "plane_point" },
         s.map(|s| &s.point),
     );
-    if let Some(distance) = s.and_then(|s| s.distance_exact.clone()) {
-        exact.0.insert("distance".into(), json!(distance));
+    if let Some(distance) = s.and_then(|s| s.distance_exact.as_ref()) {
+        exact.0.insert("distance".into(), json!(distance.full()));
     }
     exact.finish(fields);
     solved.trace.expect("recorded")

@@ -14,10 +14,10 @@ use super::linalg::{
 };
 use super::real::Real;
 use super::{InvalidInput, check_finite, negligible};
-use crate::exact::Exact;
+use crate::exact::{Exact, SignedRoot};
 use crate::trace::{
-    Check, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar, Step, Trace,
-    Vector, Verdict,
+    Check, ClosedForm, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar,
+    Step, Trace, Vector, Verdict,
 };
 
 /// A ray and a triangle, in the lecture's names.
@@ -162,8 +162,8 @@ pub struct Barycentric<R> {
     pub point: V3<R>,
     /// The distance from L to the point, t·|D| (in f64: it needs a square root).
     pub distance: f64,
-    /// The exact distance when exact: `√3`, or a fraction when |D| is rational.
-    pub distance_exact: Option<String>,
+    /// The exact distance when exact: ±√(t²·(D·D)).
+    pub distance_exact: Option<SignedRoot>,
 }
 
 /// The answer of [`solve`].
@@ -552,17 +552,15 @@ fn classify<R: Real>(
 }
 
 /// t·|D|, with its exact closed form when exact (t²·(D·D) under a square root).
-fn distance_along<R: Real>(t: &R, dir: &V3<R>) -> (f64, Option<String>) {
+fn distance_along<R: Real>(t: &R, dir: &V3<R>) -> (f64, Option<SignedRoot>) {
     let distance = t.to_f64() * norm_f64(dir);
-    let exact = t.to_exact().zip(dot(dir, dir).to_exact()).map(|(t, dd)| {
-        let squared = &(&t * &t) * &dd;
-        let root = squared.sqrt_text();
-        if t < Exact::from_int(0) {
-            format!("−{root}")
-        } else {
-            root
-        }
-    });
+    let exact = t
+        .to_exact()
+        .zip(dot(dir, dir).to_exact())
+        .map(|(t, dd)| SignedRoot {
+            negative: t < Exact::from_int(0),
+            square: &(&t * &t) * &dd,
+        });
     (distance, exact)
 }
 
@@ -580,8 +578,8 @@ fn record_point<R: Real>(rec: &mut Recorder, p: &RayTriangle<R>, s: &Barycentric
             Payload::Vector(Vector::of("P", "P", &s.point)),
         )
     });
-    let d_norm = norm_f64(&p.dir);
     rec.push(|| {
+        let d_norm = norm_f64(&p.dir);
         let explanation = format!(
             "t counts steps of length |D| = {}; the distance along the ray is t·|D| (equal to t only for a unit D).",
             crate::trace::format_float(d_norm, R::PRECISION)
@@ -591,7 +589,12 @@ fn record_point<R: Real>(rec: &mut Recorder, p: &RayTriangle<R>, s: &Barycentric
             latex: "t\\,|D|".into(),
             formula: None,
             value: Number::float(s.distance, R::PRECISION),
-            closed_form: s.distance_exact.clone(),
+            closed_form: s.distance_exact.as_ref().and_then(|root| {
+                Some(ClosedForm {
+                    text: root.short()?,
+                    latex: root.short_latex()?,
+                })
+            }),
         });
         Step::new("distance", "Distance from L: t·|D|", explanation, payload)
     });

@@ -1,7 +1,8 @@
 //! LaTeX rendering of a [`Trace`], ready to paste into slides: a `bmatrix` per matrix, determinants
 //! expanded with `vmatrix` minors, and `\beta = \frac{|M_1|}{|M|} = …`.
 //!
-//! Needs amsmath; the replaced column of M1..M3 uses `\color` from xcolor (beamer loads both).
+//! Needs amsmath and amssymb (`\checkmark`); the replaced column of M1..M3 uses `\color` from xcolor.
+//! Beamer loads all three.
 
 use std::fmt::Write;
 
@@ -11,7 +12,7 @@ use super::{Check, Determinant, Formula, Matrix, Number, Payload, Scalar, Step, 
 /// Renders a whole trace as a LaTeX fragment: a comment per step, then its display math.
 pub fn to_latex(trace: &Trace) -> String {
     let mut out = format!(
-        "% raylab: {} solve in {} arithmetic (needs amsmath; xcolor for replaced columns)\n",
+        "% raylab: {} solve in {} arithmetic (needs amsmath, amssymb and xcolor; beamer loads them)\n",
         trace.solver,
         trace.precision.name()
     );
@@ -31,7 +32,7 @@ pub fn step_to_latex(step: &Step) -> String {
             rhs,
             ..
         } => format!(
-            "{} {} = {}",
+            "M\\,X = Y:\\quad {} {} = {}",
             bmatrix(matrix),
             column(unknowns_latex),
             column(&rhs.components.iter().map(number).collect::<Vec<_>>())
@@ -141,11 +142,12 @@ fn determinant(det: &Determinant) -> String {
             format!("{} \\cdot {}", paren(&term.element), paren(&term.minor_det)),
         ));
     }
-    let mut out = format!("|{}| = {expansion}", det.latex_of);
+    // One line per stage, aligned at "=", so long float expansions fit on a slide.
+    let mut out = format!("\\begin{{aligned}} |{}| &= {expansion}", det.latex_of);
     if det.terms.first().is_some_and(|t| t.minor.len() > 1) {
-        let _ = write!(out, " = {products}");
+        let _ = write!(out, " \\\\ &= {products}");
     }
-    let _ = write!(out, " = {}", number(&det.value));
+    let _ = write!(out, " \\\\ &= {} \\end{{aligned}}", number(&det.value));
     out
 }
 
@@ -181,14 +183,10 @@ fn scalar_latex(scalar: &Scalar) -> String {
     }
     match &scalar.closed_form {
         Some(closed) => {
-            let closed = closed.replace("√(", "\\sqrt{").replace(')', "}");
-            let closed = match closed.strip_prefix('√') {
-                Some(radicand) => format!("\\sqrt{{{radicand}}}"),
-                None => closed,
-            };
             let _ = write!(
                 out,
-                "{closed} \\approx {}",
+                "{} \\approx {}",
+                closed.latex,
                 float_latex(scalar.value.value, &scalar.value)
             );
         }

@@ -270,7 +270,8 @@ fn scalar_line(scalar: &Scalar) -> String {
         Some(closed) => {
             let _ = write!(
                 text,
-                "{closed} ≈ {}",
+                "{} ≈ {}",
+                closed.text,
                 format_float(scalar.value.value, scalar.value.precision)
             );
         }
