@@ -3,7 +3,9 @@
 //! The pure core (`geometry`, `exact`, `trace`) never imports a UI crate; the command line in `cli`
 //! reads and prints the core's [`trace::Trace`].
 
+pub mod app;
 pub mod cli;
 pub mod exact;
 pub mod geometry;
+pub mod scene;
 pub mod trace;

@@ -312,8 +312,8 @@ fn batch_reads_lines_and_keeps_going_past_bad_ones() {
 }
 
 #[test]
-fn no_arguments_prints_help() {
-    let output = raylab(&[]);
+fn help_names_the_commands() {
+    let output = raylab(&["--help"]);
     let help = stdout(&output) + &stderr(&output);
     assert!(help.contains("Usage: raylab"), "{help}");
     assert!(help.contains("solve"));

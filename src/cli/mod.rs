@@ -17,11 +17,15 @@ use solve::Case;
 
 /// raylab: parametric forms and ray–primitive intersection, every step shown.
 #[derive(Debug, Parser)]
-#[command(name = "raylab", version, arg_required_else_help = true)]
+#[command(
+    name = "raylab",
+    version,
+    after_help = "With no command, raylab opens the interactive app."
+)]
 pub struct Cli {
-    /// What to do.
+    /// What to do (nothing: open the app).
     #[command(subcommand)]
-    pub command: Command,
+    pub command: Option<Command>,
 }
 
 /// The subcommands.
@@ -210,7 +214,14 @@ pub fn parse_or_exit() -> Cli {
 /// Runs a parsed command line; returns the process exit code.
 pub fn run(cli: Cli) -> i32 {
     match cli.command {
-        Command::Solve(args) => run_solve(args),
+        Some(Command::Solve(args)) => run_solve(args),
+        None => match crate::app::run() {
+            Ok(()) => 0,
+            Err(error) => {
+                eprintln!("raylab: could not open the window: {error}");
+                1
+            }
+        },
     }
 }
 

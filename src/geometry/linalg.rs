@@ -4,8 +4,6 @@
 //! f64 and exact rationals. Matrices are stored as rows, and every determinant is expanded along the
 //! first row, exactly as the lecture writes it, so the trace can show the very terms that were summed.
 
-use glam::{DVec2, DVec3};
-
 use super::real::Real;
 
 /// A 2-vector.
@@ -179,16 +177,6 @@ pub fn adjugate3<R: Real>(m: &M3<R>) -> M3<R> {
             if (row + col) % 2 == 1 { -minor } else { minor }
         })
     })
-}
-
-/// Converts a glam vector to a solver vector, `None` if a component cannot be represented.
-pub fn from_dvec3<R: Real>(v: DVec3) -> Option<V3<R>> {
-    Some([R::from_f64(v.x)?, R::from_f64(v.y)?, R::from_f64(v.z)?])
-}
-
-/// Converts a glam 2D vector to a solver vector, `None` if a component cannot be represented.
-pub fn from_dvec2<R: Real>(v: DVec2) -> Option<V2<R>> {
-    Some([R::from_f64(v.x)?, R::from_f64(v.y)?])
 }
 
 #[cfg(test)]

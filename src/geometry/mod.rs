@@ -23,6 +23,43 @@ impl std::fmt::Display for InvalidInput {
     }
 }
 
+/// How float inputs become solver numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Reading {
+    /// The float's own value (exact for [`crate::exact::Exact`]: 0.1 is 3602879701896397/2^55).
+    #[default]
+    FloatValue,
+    /// The shortest decimal that prints as the float (0.1 is 1/10), as a person typed or dragged it.
+    AsWritten,
+}
+
+/// Converts one float input, naming it if it cannot be represented (only exact numbers refuse NaN).
+pub(crate) fn read<R: Real>(reading: Reading, name: &str, x: f64) -> Result<R, InvalidInput> {
+    let value = match reading {
+        Reading::FloatValue => R::from_f64(x),
+        Reading::AsWritten => R::from_f64_as_written(x),
+    };
+    value.ok_or_else(|| InvalidInput {
+        field: name.into(),
+        problem: "is not a finite number".into(),
+    })
+}
+
+/// Converts a float vector input.
+pub(crate) fn read_vec<R: Real, const N: usize>(
+    reading: Reading,
+    name: &str,
+    v: [f64; N],
+) -> Result<[R; N], InvalidInput> {
+    let parts: Vec<R> = v
+        .iter()
+        .map(|x| read(reading, name, *x))
+        .collect::<Result<_, _>>()?;
+    Ok(parts
+        .try_into()
+        .unwrap_or_else(|_| unreachable!("N parts in, N out")))
+}
+
 /// Checks that every named input is finite in precision `R` (an f64 can overflow to ∞ in f32).
 pub(crate) fn check_finite<R: Real, const N: usize>(
     fields: &[(&str, &[R; N])],

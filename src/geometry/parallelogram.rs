@@ -11,11 +11,11 @@
 use glam::DVec3;
 
 use super::linalg::{
-    V3, adjugate3, all_finite, cofactor_terms3, cross, from_columns, from_dvec3, is_zero_vector,
-    mul_vec, neg, norm_f64, scale, sub, sum_terms,
+    V3, adjugate3, all_finite, cofactor_terms3, cross, from_columns, is_zero_vector, mul_vec, neg,
+    norm_f64, scale, sub, sum_terms,
 };
 use super::real::Real;
-use super::{InvalidInput, check_finite, negligible};
+use super::{InvalidInput, Reading, check_finite, negligible, read_vec};
 use crate::trace::{
     Check, Determinant, Formula, Matrix, Number, Payload, Recorder, Scalar, Step, Trace, Vector,
     Verdict,
@@ -38,21 +38,21 @@ pub struct RayParallelogram<R> {
 
 impl<R: Real> RayParallelogram<R> {
     /// Converts float inputs to precision `R`, naming the first that does not convert.
-    pub fn from_f64(
+    pub fn from_f64(vectors: [DVec3; 5]) -> Result<RayParallelogram<R>, InvalidInput> {
+        RayParallelogram::read(Reading::FloatValue, vectors)
+    }
+
+    /// Converts float inputs as [`Reading`] says.
+    pub fn read(
+        reading: Reading,
         [corner, e1, e2, origin, dir]: [DVec3; 5],
     ) -> Result<RayParallelogram<R>, InvalidInput> {
-        let convert = |name: &str, v: DVec3| {
-            from_dvec3(v).ok_or_else(|| InvalidInput {
-                field: name.into(),
-                problem: "is not a finite number".into(),
-            })
-        };
         Ok(RayParallelogram {
-            corner: convert("c", corner)?,
-            e1: convert("e1", e1)?,
-            e2: convert("e2", e2)?,
-            origin: convert("o", origin)?,
-            dir: convert("d", dir)?,
+            corner: read_vec(reading, "c", corner.to_array())?,
+            e1: read_vec(reading, "e1", e1.to_array())?,
+            e2: read_vec(reading, "e2", e2.to_array())?,
+            origin: read_vec(reading, "o", origin.to_array())?,
+            dir: read_vec(reading, "d", dir.to_array())?,
         })
     }
 }
@@ -172,6 +172,36 @@ pub fn solve<R: Real>(p: &RayParallelogram<R>, record: bool) -> ParallelogramSol
         alpha_beta_t,
         point,
         trace: rec.finish(),
+    }
+}
+
+/// Converts float inputs and solves; inputs the precision cannot hold (NaN for exact numbers) give an
+/// `invalid-input` solution with a one-step trace instead of an error.
+pub fn solve_inputs<R: Real>(
+    reading: Reading,
+    vectors: [DVec3; 5],
+    record: bool,
+) -> ParallelogramSolution<R> {
+    match RayParallelogram::read(reading, vectors) {
+        Ok(problem) => solve(&problem, record),
+        Err(bad) => {
+            let outcome = ParallelogramOutcome::InvalidInput(bad);
+            let mut rec = Recorder::new(record, "parallelogram", R::PRECISION);
+            rec.push(|| {
+                Step::new("verdict", "Verdict", "An input cannot be used.", {
+                    Payload::Verdict(Verdict {
+                        status: outcome.status().into(),
+                        message: verdict_message(&outcome),
+                    })
+                })
+            });
+            ParallelogramSolution {
+                outcome,
+                alpha_beta_t: None,
+                point: None,
+                trace: rec.finish(),
+            }
+        }
     }
 }
 
@@ -424,5 +454,35 @@ fn verdict_message(outcome: &ParallelogramOutcome) -> String {
         }
         ParallelogramOutcome::ZeroDirection => "the direction d is the zero vector: no ray".into(),
         ParallelogramOutcome::InvalidInput(bad) => format!("invalid input: {bad}"),
+    }
+}
+
+/// Where the sliders put things: p(α, β) on the plane, o + t d on the ray, and the gap.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Exploration<R> {
+    /// c + α e1 + β e2.
+    pub plane_point: V3<R>,
+    /// o + t d.
+    pub ray_point: V3<R>,
+    /// |p(α, β) − (o + t d)|.
+    pub gap: f64,
+    /// True if α and β are both in [0, 1].
+    pub inside: bool,
+}
+
+/// Evaluates both parametric forms.
+pub fn explore<R: Real>(p: &RayParallelogram<R>, alpha: &R, beta: &R, t: &R) -> Exploration<R> {
+    let plane_point = super::linalg::add(
+        &super::linalg::add(&p.corner, &scale(alpha, &p.e1)),
+        &scale(beta, &p.e2),
+    );
+    let ray_point = super::linalg::add(&p.origin, &scale(t, &p.dir));
+    let gap = norm_f64(&sub(&plane_point, &ray_point));
+    let unit = |x: &R| x >= &R::zero() && x <= &R::one();
+    Exploration {
+        plane_point,
+        ray_point,
+        gap,
+        inside: unit(alpha) && unit(beta),
     }
 }

@@ -68,6 +68,11 @@ pub trait Real:
 
     /// Converts a float input: rounds to nearest for `f32`, exact for [`Exact`] (`None` if not finite).
     fn from_f64(x: f64) -> Option<Self>;
+    /// Converts a float as a person wrote it: the shortest decimal that prints as `x` (0.1 → 1/10 for
+    /// exact numbers; floats keep `x`, NaN included, for the solver to report).
+    fn from_f64_as_written(x: f64) -> Option<Self> {
+        Self::from_f64(x)
+    }
     /// Converts exact text input; float types round the value to nearest.
     fn from_exact(x: &Exact) -> Self;
     /// The nearest `f64`, for display, norms and tolerances.
@@ -140,6 +145,10 @@ impl Real for Exact {
 
     fn from_f64(x: f64) -> Option<Exact> {
         Exact::from_f64(x)
+    }
+    fn from_f64_as_written(x: f64) -> Option<Exact> {
+        // Rust prints the shortest decimal that reads back as x; read that decimal exactly.
+        x.is_finite().then(|| format!("{x}").parse().ok()).flatten()
     }
     fn from_exact(x: &Exact) -> Exact {
         x.clone()

@@ -7,10 +7,10 @@
 use glam::DVec2;
 
 use super::linalg::{
-    V2, cross2, dot, from_columns, from_dvec2, is_zero_vector, norm_f64, scale, sub, with_column,
+    V2, cross2, dot, from_columns, is_zero_vector, norm_f64, scale, sub, with_column,
 };
 use super::real::Real;
-use super::{InvalidInput, check_finite, negligible};
+use super::{InvalidInput, Reading, check_finite, negligible, read_vec};
 use crate::trace::{
     Check, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar, Step, Trace,
     Vector, Verdict,
@@ -31,18 +31,20 @@ pub struct SegmentPair<R> {
 
 impl<R: Real> SegmentPair<R> {
     /// Converts float inputs to precision `R`, naming the first that does not convert.
-    pub fn from_f64([a1, a2, b1, b2]: [DVec2; 4]) -> Result<SegmentPair<R>, InvalidInput> {
-        let convert = |name: &str, v: DVec2| {
-            from_dvec2(v).ok_or_else(|| InvalidInput {
-                field: name.into(),
-                problem: "is not a finite number".into(),
-            })
-        };
+    pub fn from_f64(points: [DVec2; 4]) -> Result<SegmentPair<R>, InvalidInput> {
+        SegmentPair::read(Reading::FloatValue, points)
+    }
+
+    /// Converts float inputs as [`Reading`] says.
+    pub fn read(
+        reading: Reading,
+        [a1, a2, b1, b2]: [DVec2; 4],
+    ) -> Result<SegmentPair<R>, InvalidInput> {
         Ok(SegmentPair {
-            a1: convert("A1", a1)?,
-            a2: convert("A2", a2)?,
-            b1: convert("B1", b1)?,
-            b2: convert("B2", b2)?,
+            a1: read_vec(reading, "A1", a1.to_array())?,
+            a2: read_vec(reading, "A2", a2.to_array())?,
+            b1: read_vec(reading, "B1", b1.to_array())?,
+            b2: read_vec(reading, "B2", b2.to_array())?,
         })
     }
 }
@@ -168,6 +170,32 @@ pub fn solve<R: Real>(pair: &SegmentPair<R>, record: bool) -> SegmentsSolution<R
     }
     solution.trace = rec.finish();
     solution
+}
+
+/// Converts float inputs and solves; inputs the precision cannot hold (NaN for exact numbers) give an
+/// `invalid-input` solution with a one-step trace instead of an error.
+pub fn solve_inputs<R: Real>(
+    reading: Reading,
+    points: [DVec2; 4],
+    record: bool,
+) -> SegmentsSolution<R> {
+    match SegmentPair::read(reading, points) {
+        Ok(pair) => solve(&pair, record),
+        Err(bad) => {
+            let mut solution = SegmentsSolution::new(SegmentsOutcome::InvalidInput(bad));
+            let mut rec = Recorder::new(record, "segments", R::PRECISION);
+            rec.push(|| {
+                Step::new("verdict", "Verdict", "An input cannot be used.", {
+                    Payload::Verdict(Verdict {
+                        status: solution.outcome.status().into(),
+                        message: verdict_message(&solution),
+                    })
+                })
+            });
+            solution.trace = rec.finish();
+            solution
+        }
+    }
 }
 
 fn solve_recorded<R: Real>(p: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSolution<R> {
@@ -555,4 +583,43 @@ fn verdict_message<R: Real>(s: &SegmentsSolution<R>) -> String {
         },
         SegmentsOutcome::InvalidInput(bad) => format!("invalid input: {bad}"),
     }
+}
+
+/// Where the t and s handles are: A(t), B(s) and the distance between them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Exploration<R> {
+    /// A(t) = A1 + t(A2−A1).
+    pub a_at_t: V2<R>,
+    /// B(s) = B1 + s(B2−B1).
+    pub b_at_s: V2<R>,
+    /// |A(t) − B(s)|: zero exactly at the crossing.
+    pub gap: f64,
+}
+
+/// Evaluates both parametric forms.
+pub fn explore<R: Real>(p: &SegmentPair<R>, t: &R, s: &R) -> Exploration<R> {
+    let a_at_t = point_on(&p.a1, &p.a2, t);
+    let b_at_s = point_on(&p.b1, &p.b2, s);
+    let gap = norm_f64(&sub(&a_at_t, &b_at_s));
+    Exploration {
+        a_at_t,
+        b_at_s,
+        gap,
+    }
+}
+
+/// P1 + u(P2 − P1).
+pub fn point_on<R: Real>(p1: &V2<R>, p2: &V2<R>, u: &R) -> V2<R> {
+    super::linalg::add(p1, &scale(u, &sub(p2, p1)))
+}
+
+/// The parameter of the point of the line P1 + u(P2 − P1) nearest to q (for dragging a handle along
+/// its line); 0 for a zero-length segment.
+pub fn nearest_parameter(p1: &V2<f64>, p2: &V2<f64>, q: &V2<f64>) -> f64 {
+    let direction = sub(p2, p1);
+    let length_squared = dot(&direction, &direction);
+    if length_squared == 0.0 || !length_squared.is_finite() {
+        return 0.0;
+    }
+    dot(&sub(q, p1), &direction) / length_squared
 }

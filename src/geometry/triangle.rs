@@ -9,11 +9,11 @@
 use glam::DVec3;
 
 use super::linalg::{
-    V3, all_finite, cofactor_terms3, cross, dot, from_columns, from_dvec3, is_zero_vector,
-    norm_f64, scale, sub, sum_terms, with_column,
+    V3, all_finite, cofactor_terms3, cross, dot, from_columns, is_zero_vector, norm_f64, scale,
+    sub, sum_terms, with_column,
 };
 use super::real::Real;
-use super::{InvalidInput, check_finite, negligible};
+use super::{InvalidInput, Reading, check_finite, negligible, read, read_vec};
 use crate::exact::{Exact, SignedRoot};
 use crate::trace::{
     Check, ClosedForm, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar,
@@ -39,26 +39,23 @@ pub struct RayTriangle<R> {
 
 impl<R: Real> RayTriangle<R> {
     /// Converts float inputs to precision `R`, naming the first input that does not convert.
-    pub fn from_f64(
+    pub fn from_f64(vectors: [DVec3; 5], t_min: f64) -> Result<RayTriangle<R>, InvalidInput> {
+        RayTriangle::read(Reading::FloatValue, vectors, t_min)
+    }
+
+    /// Converts float inputs as [`Reading`] says.
+    pub fn read(
+        reading: Reading,
         [a, b, c, origin, dir]: [DVec3; 5],
         t_min: f64,
     ) -> Result<RayTriangle<R>, InvalidInput> {
-        let convert = |name: &str, v: DVec3| {
-            from_dvec3(v).ok_or_else(|| InvalidInput {
-                field: name.into(),
-                problem: "is not a finite number".into(),
-            })
-        };
         Ok(RayTriangle {
-            a: convert("A", a)?,
-            b: convert("B", b)?,
-            c: convert("C", c)?,
-            origin: convert("L", origin)?,
-            dir: convert("D", dir)?,
-            t_min: R::from_f64(t_min).ok_or_else(|| InvalidInput {
-                field: "t_min".into(),
-                problem: "is not a finite number".into(),
-            })?,
+            a: read_vec(reading, "A", a.to_array())?,
+            b: read_vec(reading, "B", b.to_array())?,
+            c: read_vec(reading, "C", c.to_array())?,
+            origin: read_vec(reading, "L", origin.to_array())?,
+            dir: read_vec(reading, "D", dir.to_array())?,
+            t_min: read(reading, "t_min", t_min)?,
         })
     }
 }
@@ -196,6 +193,36 @@ pub fn solve<R: Real>(problem: &RayTriangle<R>, record: bool) -> TriangleSolutio
         outcome,
         solution,
         trace: rec.finish(),
+    }
+}
+
+/// Converts float inputs and solves; inputs the precision cannot hold (NaN for exact numbers) give an
+/// `invalid-input` solution with a one-step trace instead of an error.
+pub fn solve_inputs<R: Real>(
+    reading: Reading,
+    vectors: [DVec3; 5],
+    t_min: f64,
+    record: bool,
+) -> TriangleSolution<R> {
+    match RayTriangle::read(reading, vectors, t_min) {
+        Ok(problem) => solve(&problem, record),
+        Err(bad) => {
+            let outcome = TriangleOutcome::Miss(TriangleMiss::InvalidInput(bad));
+            let mut rec = Recorder::new(record, "triangle", R::PRECISION);
+            rec.push(|| {
+                Step::new("verdict", "Verdict", "An input cannot be used.", {
+                    Payload::Verdict(Verdict {
+                        status: outcome.status().into(),
+                        message: verdict_message::<R>(&outcome, None),
+                    })
+                })
+            });
+            TriangleSolution {
+                outcome,
+                solution: None,
+                trace: rec.finish(),
+            }
+        }
     }
 }
 
@@ -655,4 +682,57 @@ fn verdict_message<R: Real>(outcome: &TriangleOutcome, s: Option<&Barycentric<R>
             TriangleMiss::InvalidInput(bad) => format!("invalid input: {bad}"),
         },
     }
+}
+
+/// Where the sliders put things: P(β, γ) on the plane, L + tD on the ray, and the gap between them.
+///
+/// This is the "drive from the red to the green point" picture of seed 000: at the solution
+/// (β*, γ*, t*) the gap is zero.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Exploration<R> {
+    /// β(B−A): the first leg from A.
+    pub beta_leg: V3<R>,
+    /// γ(C−A): the second leg.
+    pub gamma_leg: V3<R>,
+    /// P(β, γ) = A + β(B−A) + γ(C−A).
+    pub plane_point: V3<R>,
+    /// L + tD.
+    pub ray_point: V3<R>,
+    /// |P(β, γ) − (L + tD)|.
+    pub gap: f64,
+    /// The inequalities (β, γ) fails, as edges; empty when P is in the triangle.
+    pub outside: Vec<Edge>,
+}
+
+/// Evaluates both parametric forms at the given parameters.
+pub fn explore<R: Real>(p: &RayTriangle<R>, beta: &R, gamma: &R, t: &R) -> Exploration<R> {
+    let beta_leg = scale(beta, &sub(&p.b, &p.a));
+    let gamma_leg = scale(gamma, &sub(&p.c, &p.a));
+    let plane_point = super::linalg::add(&super::linalg::add(&p.a, &beta_leg), &gamma_leg);
+    let ray_point = super::linalg::add(&p.origin, &scale(t, &p.dir));
+    let gap = norm_f64(&sub(&plane_point, &ray_point));
+    Exploration {
+        beta_leg,
+        gamma_leg,
+        plane_point,
+        ray_point,
+        gap,
+        outside: edges_failed(beta, gamma),
+    }
+}
+
+/// The edges a point with barycentrics (β, γ) is beyond (β < 0: CA, γ < 0: AB, β + γ > 1: BC).
+pub fn edges_failed<R: Real>(beta: &R, gamma: &R) -> Vec<Edge> {
+    let zero = R::zero();
+    let mut edges = Vec::new();
+    if beta < &zero {
+        edges.push(Edge::Ca);
+    }
+    if gamma < &zero {
+        edges.push(Edge::Ab);
+    }
+    if beta.clone() + gamma.clone() > R::one() {
+        edges.push(Edge::Bc);
+    }
+    edges
 }

@@ -85,7 +85,8 @@ pub fn step_to_text(step: &Step) -> String {
     out
 }
 
-fn payload_lines(payload: &Payload) -> Vec<String> {
+/// The lines of one payload, as the text renderer prints them (the app reuses them).
+pub fn payload_lines(payload: &Payload) -> Vec<String> {
     match payload {
         Payload::System {
             matrix,

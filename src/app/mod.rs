@@ -1,0 +1,527 @@
+//! The egui app: a tab per view, the step panel beside it, presets, scene files, themes and zoom.
+//!
+//! The app only turns state into widgets and input into state changes; every number it shows comes
+//! from the core's solvers and their Trace.
+
+pub mod parallelogram_view;
+pub mod segments_view;
+pub mod step_panel;
+pub mod triangle_view;
+pub mod widgets;
+
+use egui::{RichText, Ui};
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::Precision;
+use crate::scene::{self, Problem, Scene};
+use crate::trace::Trace;
+use parallelogram_view::ParallelogramView;
+use segments_view::SegmentsView;
+use triangle_view::TriangleView;
+
+/// The views, one tab each.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ViewKind {
+    /// Two 2D segments.
+    #[default]
+    Segments,
+    /// A ray and a triangle in 3D.
+    Triangle,
+    /// A ray and a parallelogram in 3D.
+    Parallelogram,
+}
+
+impl ViewKind {
+    /// Every view, in tab order.
+    pub const ALL: [ViewKind; 3] = [
+        ViewKind::Segments,
+        ViewKind::Triangle,
+        ViewKind::Parallelogram,
+    ];
+
+    /// The tab label.
+    pub fn label(self) -> &'static str {
+        match self {
+            ViewKind::Segments => "Segments (2D)",
+            ViewKind::Triangle => "Triangle (3D)",
+            ViewKind::Parallelogram => "Parallelogram",
+        }
+    }
+}
+
+/// Everything that persists across restarts.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(default)]
+pub struct AppState {
+    /// The open tab.
+    pub view: ViewKind,
+    /// The step panel's arithmetic.
+    pub precision: Precision,
+    /// Show the step panel.
+    pub show_steps: bool,
+    /// The Segments view.
+    pub segments: SegmentsView,
+    /// The Triangle view.
+    pub triangle: TriangleView,
+    /// The Parallelogram view.
+    pub parallelogram: ParallelogramView,
+    /// Title and note of the scene last loaded, per view.
+    pub titles: [(String, String); 3],
+    /// The path in the open / save dialog.
+    pub scene_path: String,
+}
+
+impl Default for AppState {
+    fn default() -> AppState {
+        let presets = scene::built_in();
+        let first_of = |kind: ViewKind| {
+            presets
+                .iter()
+                .find(|s| view_of(&s.problem) == kind)
+                .map(|s| (s.title.clone(), s.note.clone()))
+                .unwrap_or_default()
+        };
+        AppState {
+            view: ViewKind::Segments,
+            precision: Precision::Exact,
+            show_steps: true,
+            segments: SegmentsView::default(),
+            triangle: TriangleView::default(),
+            parallelogram: ParallelogramView::default(),
+            titles: ViewKind::ALL.map(first_of),
+            scene_path: default_scene_path(),
+        }
+    }
+}
+
+fn default_scene_path() -> String {
+    std::env::var("HOME")
+        .map(|home| format!("{home}/raylab-scene.ron"))
+        .unwrap_or_else(|_| "raylab-scene.ron".into())
+}
+
+fn view_of(problem: &Problem) -> ViewKind {
+    match problem {
+        Problem::Segments(_) => ViewKind::Segments,
+        Problem::Triangle(_) => ViewKind::Triangle,
+        Problem::Parallelogram(_) => ViewKind::Parallelogram,
+    }
+}
+
+/// The open or save dialog.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Dialog {
+    Open,
+    Save,
+}
+
+/// A message in the status line: what was loaded or saved, or what went wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Notice {
+    /// The text.
+    pub text: String,
+    /// True for an error.
+    pub error: bool,
+}
+
+/// The eframe app.
+pub struct RaylabApp {
+    /// The persistent state.
+    pub state: AppState,
+    presets: Vec<Scene>,
+    dialog: Option<Dialog>,
+    /// The last notice.
+    pub notice: Option<Notice>,
+}
+
+/// The storage key of the state.
+const STATE_KEY: &str = "raylab-state";
+
+/// One frame's solve of the open view.
+enum ActiveSolve {
+    Segments(segments_view::Solved),
+    Triangle(triangle_view::Solved),
+    Parallelogram(parallelogram_view::Solved),
+}
+
+impl ActiveSolve {
+    fn trace(&self) -> &Trace {
+        match self {
+            ActiveSolve::Segments(s) => &s.trace,
+            ActiveSolve::Triangle(s) => &s.trace,
+            ActiveSolve::Parallelogram(s) => &s.trace,
+        }
+    }
+}
+
+impl RaylabApp {
+    /// The app with default state (tests, first start).
+    pub fn new() -> RaylabApp {
+        RaylabApp {
+            state: AppState::default(),
+            presets: scene::built_in(),
+            dialog: None,
+            notice: None,
+        }
+    }
+
+    /// The app as eframe starts it: projector-friendly text, and the state of the last session.
+    pub fn from_creation_context(cc: &eframe::CreationContext<'_>) -> RaylabApp {
+        set_style(&cc.egui_ctx);
+        let mut app = RaylabApp::new();
+        if let Some(storage) = cc.storage
+            && let Some(state) = eframe::get_value::<AppState>(storage, STATE_KEY)
+        {
+            app.state = state;
+        }
+        app
+    }
+
+    /// Loads a scene into its view and switches to it.
+    pub fn load_scene(&mut self, scene: &Scene) {
+        let kind = view_of(&scene.problem);
+        match &scene.problem {
+            Problem::Segments(s) => self.state.segments.load(s.clone()),
+            Problem::Triangle(t) => self.state.triangle.load(t.clone()),
+            Problem::Parallelogram(p) => self.state.parallelogram.load(p.clone()),
+        }
+        self.state.titles[kind as usize] = (scene.title.clone(), scene.note.clone());
+        self.state.view = kind;
+    }
+
+    /// The open view's inputs as a scene, for saving.
+    pub fn current_scene(&self) -> Scene {
+        let (title, note) = self.state.titles[self.state.view as usize].clone();
+        let problem = match self.state.view {
+            ViewKind::Segments => Problem::Segments(self.state.segments.scene.clone()),
+            ViewKind::Triangle => Problem::Triangle(self.state.triangle.scene.clone()),
+            ViewKind::Parallelogram => {
+                Problem::Parallelogram(self.state.parallelogram.scene.clone())
+            }
+        };
+        Scene {
+            title,
+            note,
+            problem,
+        }
+    }
+
+    fn solve(&self) -> ActiveSolve {
+        let precision = self.state.precision;
+        match self.state.view {
+            ViewKind::Segments => ActiveSolve::Segments(self.state.segments.solve(precision)),
+            ViewKind::Triangle => ActiveSolve::Triangle(self.state.triangle.solve(precision)),
+            ViewKind::Parallelogram => {
+                ActiveSolve::Parallelogram(self.state.parallelogram.solve(precision))
+            }
+        }
+    }
+
+    /// A cheap fingerprint of everything a solve depends on.
+    fn fingerprint(&self) -> String {
+        let s = &self.state;
+        format!(
+            "{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
+            s.view,
+            s.precision,
+            s.segments.scene,
+            (s.segments.t, s.segments.s),
+            s.triangle.scene,
+            (s.triangle.beta, s.triangle.gamma, s.triangle.t),
+            s.parallelogram.scene,
+            (
+                s.parallelogram.alpha,
+                s.parallelogram.beta,
+                s.parallelogram.t
+            ),
+            s.segments.show_lines,
+            s.titles
+        )
+    }
+
+    fn top_bar(&mut self, ui: &mut Ui) {
+        egui::MenuBar::new().ui(ui, |ui| {
+            ui.menu_button("Presets", |ui| {
+                let mut chosen = None;
+                for (index, preset) in self.presets.iter().enumerate() {
+                    if ui
+                        .button(&preset.title)
+                        .on_hover_text(&preset.note)
+                        .clicked()
+                    {
+                        chosen = Some(index);
+                    }
+                }
+                if let Some(index) = chosen {
+                    let preset = self.presets[index].clone();
+                    self.load_scene(&preset);
+                    self.notice = Some(Notice {
+                        text: format!("Loaded “{}”", preset.title),
+                        error: false,
+                    });
+                    ui.close();
+                }
+            });
+            ui.menu_button("File", |ui| {
+                if ui
+                    .button("Open scene…")
+                    .on_hover_text("Load a scene file (.ron)")
+                    .clicked()
+                {
+                    self.dialog = Some(Dialog::Open);
+                    ui.close();
+                }
+                if ui
+                    .button("Save scene as…")
+                    .on_hover_text("Save the open view's inputs as a .ron scene file")
+                    .clicked()
+                {
+                    self.dialog = Some(Dialog::Save);
+                    ui.close();
+                }
+            });
+            ui.separator();
+            for kind in ViewKind::ALL {
+                ui.selectable_value(
+                    &mut self.state.view,
+                    kind,
+                    RichText::new(kind.label()).strong(),
+                );
+            }
+            ui.separator();
+            ui.toggle_value(&mut self.state.show_steps, "Steps")
+                .on_hover_text("Show or hide the step panel");
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                theme_buttons(ui);
+                ui.separator();
+                let zoom = ui.ctx().zoom_factor();
+                if ui.button("+").on_hover_text("Zoom in (Ctrl +)").clicked() {
+                    ui.ctx().set_zoom_factor((zoom + 0.1).min(3.0));
+                }
+                ui.label(format!("{:.0}%", zoom * 100.0))
+                    .on_hover_text("Zoom (Ctrl + / Ctrl − / Ctrl 0)");
+                if ui.button("−").on_hover_text("Zoom out (Ctrl −)").clicked() {
+                    ui.ctx().set_zoom_factor((zoom - 0.1).max(0.5));
+                }
+            });
+        });
+        let (title, note) = &self.state.titles[self.state.view as usize];
+        ui.horizontal_wrapped(|ui| {
+            ui.label(RichText::new(title).strong());
+            ui.label(RichText::new(note).weak());
+            if let Some(notice) = &self.notice {
+                let color = if notice.error {
+                    widgets::palette::OUTSIDE
+                } else {
+                    widgets::palette::INSIDE
+                };
+                ui.label(RichText::new(&notice.text).color(color));
+            }
+        });
+    }
+
+    fn dialog_ui(&mut self, ctx: &egui::Context) {
+        let Some(dialog) = self.dialog else {
+            return;
+        };
+        let title = match dialog {
+            Dialog::Open => "Open scene",
+            Dialog::Save => "Save scene as",
+        };
+        let mut open = true;
+        let mut done = false;
+        egui::Window::new(title)
+            .open(&mut open)
+            .collapsible(false)
+            .resizable(false)
+            .show(ctx, |ui| {
+                ui.label("Path of a .ron scene file:");
+                ui.add(egui::TextEdit::singleline(&mut self.state.scene_path).desired_width(420.0));
+                let action = match dialog {
+                    Dialog::Open => "Open",
+                    Dialog::Save => "Save",
+                };
+                if ui.button(action).clicked() {
+                    self.notice = Some(self.run_dialog(dialog));
+                    done = true;
+                }
+            });
+        if !open || done {
+            self.dialog = None;
+        }
+    }
+
+    /// Opens or saves the scene at the dialog's path; the current scene is kept if opening fails.
+    pub fn run_dialog_path(&mut self, save: bool) -> Notice {
+        self.run_dialog(if save { Dialog::Save } else { Dialog::Open })
+    }
+
+    fn run_dialog(&mut self, dialog: Dialog) -> Notice {
+        let path = std::path::PathBuf::from(self.state.scene_path.trim());
+        match dialog {
+            Dialog::Open => match Scene::load(&path) {
+                Ok(scene) => {
+                    self.load_scene(&scene);
+                    Notice {
+                        text: format!("Opened {}", path.display()),
+                        error: false,
+                    }
+                }
+                Err(error) => Notice {
+                    text: format!("Could not open: {error} (the current scene is kept)"),
+                    error: true,
+                },
+            },
+            Dialog::Save => match self.current_scene().save(&path) {
+                Ok(()) => Notice {
+                    text: format!("Saved {}", path.display()),
+                    error: false,
+                },
+                Err(error) => Notice {
+                    text: format!("Could not save {}: {error}", path.display()),
+                    error: true,
+                },
+            },
+        }
+    }
+}
+
+impl Default for RaylabApp {
+    fn default() -> RaylabApp {
+        RaylabApp::new()
+    }
+}
+
+impl eframe::App for RaylabApp {
+    fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
+        let before = self.fingerprint();
+        let solved = self.solve();
+        egui::Panel::top("top-bar").show(ui, |ui| self.top_bar(ui));
+        if self.state.show_steps {
+            egui::Panel::right("steps")
+                .resizable(true)
+                .default_size(400.0)
+                .min_size(260.0)
+                .show(ui, |ui| {
+                    step_panel::ui(ui, solved.trace(), &mut self.state.precision)
+                });
+        }
+        egui::CentralPanel::default().show(ui, |ui| match &solved {
+            ActiveSolve::Segments(s) if self.state.view == ViewKind::Segments => {
+                self.state.segments.ui(ui, s)
+            }
+            ActiveSolve::Triangle(s) if self.state.view == ViewKind::Triangle => {
+                self.state.triangle.ui(ui, s)
+            }
+            ActiveSolve::Parallelogram(s) if self.state.view == ViewKind::Parallelogram => {
+                self.state.parallelogram.ui(ui, s)
+            }
+            // The tab changed this frame: draw the new view next frame.
+            _ => ui.ctx().request_repaint(),
+        });
+        self.dialog_ui(&ui.ctx().clone());
+        // The step panel was drawn before this frame's drags: draw once more so it catches up.
+        if self.fingerprint() != before {
+            ui.ctx().request_repaint();
+        }
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, STATE_KEY, &self.state);
+    }
+}
+
+/// Light, dark, or follow the system.
+fn theme_buttons(ui: &mut Ui) {
+    use egui::ThemePreference;
+    let mut preference = ui.ctx().options(|o| o.theme_preference);
+    let before = preference;
+    for (value, label, tip) in [
+        (
+            ThemePreference::Light,
+            "Light",
+            "Light theme: dark text on white, best on most projectors",
+        ),
+        (ThemePreference::Dark, "Dark", "Dark theme"),
+        (
+            ThemePreference::System,
+            "System",
+            "Follow the system's theme",
+        ),
+    ]
+    .into_iter()
+    .rev()
+    {
+        ui.selectable_value(&mut preference, value, label)
+            .on_hover_text(tip);
+    }
+    if preference != before {
+        ui.ctx().set_theme(preference);
+    }
+}
+
+/// Fonts shipped with raylab (DejaVu, for the math symbols egui's default fonts lack: ✓ ✗ ≤ ≠ √ ∥ ᵀ),
+/// and larger text than egui's default, readable on a projector.
+pub fn set_style(ctx: &egui::Context) {
+    use egui::{FontData, FontDefinitions, FontFamily, FontId, TextStyle};
+    let mut fonts = FontDefinitions::default();
+    for (name, bytes, family) in [
+        (
+            "DejaVuSans",
+            &include_bytes!("../../assets/fonts/DejaVuSans.ttf")[..],
+            FontFamily::Proportional,
+        ),
+        (
+            "DejaVuSansMono",
+            &include_bytes!("../../assets/fonts/DejaVuSansMono.ttf")[..],
+            FontFamily::Monospace,
+        ),
+    ] {
+        fonts.font_data.insert(
+            name.into(),
+            std::sync::Arc::new(FontData::from_static(bytes)),
+        );
+        // After egui's own fonts, so DejaVu only fills in the glyphs they lack.
+        fonts.families.entry(family).or_default().push(name.into());
+    }
+    ctx.set_fonts(fonts);
+    ctx.all_styles_mut(|style| {
+        style.text_styles = [
+            (
+                TextStyle::Heading,
+                FontId::new(22.0, FontFamily::Proportional),
+            ),
+            (TextStyle::Body, FontId::new(16.0, FontFamily::Proportional)),
+            (
+                TextStyle::Monospace,
+                FontId::new(15.0, FontFamily::Monospace),
+            ),
+            (
+                TextStyle::Button,
+                FontId::new(16.0, FontFamily::Proportional),
+            ),
+            (
+                TextStyle::Small,
+                FontId::new(13.0, FontFamily::Proportional),
+            ),
+        ]
+        .into();
+        style.spacing.slider_width = 160.0;
+    });
+}
+
+/// Opens the app window.
+pub fn run() -> eframe::Result {
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("raylab")
+            .with_inner_size([1280.0, 800.0])
+            .with_min_inner_size([640.0, 420.0]),
+        ..Default::default()
+    };
+    eframe::run_native(
+        "raylab",
+        options,
+        Box::new(|cc| Ok(Box::new(RaylabApp::from_creation_context(cc)))),
+    )
+}

@@ -1,0 +1,652 @@
+//! The Segments view (seed 000): two 2D segments with draggable endpoints, and draggable handles for t on
+//! segment A and s on segment B that slide along their lines — beyond [0, 1] onto the faded lines too.
+//!
+//! A handle dropped within a few pixels of the crossing snaps onto it exactly (hold Shift to move
+//! freely), so a drag can land on t = 17/22; "Go to intersection" slides both handles there.
+
+use egui::{Color32, FontId, Pos2, Rect, RichText, Sense, Shape, Stroke, Ui, Vec2, pos2, vec2};
+use glam::DVec2;
+use serde::{Deserialize, Serialize};
+
+use super::widgets::palette::{self, faded};
+use super::widgets::{snap, vector_editor};
+use crate::exact::Exact;
+use crate::geometry::segments::{self, SegmentsOutcome, SegmentsSolution};
+use crate::geometry::{Precision, Reading};
+use crate::scene::SegmentsScene;
+use crate::trace::{Trace, format_float};
+
+/// Something a drag can move.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Handle {
+    /// An endpoint: 0 = A1, 1 = A2, 2 = B1, 3 = B2.
+    Endpoint(usize),
+    /// The t handle on segment A.
+    T,
+    /// The s handle on segment B.
+    S,
+    /// The background: pans the view.
+    Pan,
+}
+
+/// How close (in points) a dragged handle must come to the crossing to snap onto it.
+pub const SNAP_POINTS: f32 = 10.0;
+
+/// World to screen for the 2D plot: a uniform scale, y up.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame2d {
+    /// The plot area.
+    pub rect: Rect,
+    /// The world point at the centre of the plot.
+    pub center: DVec2,
+    /// Screen points per world unit.
+    pub scale: f64,
+}
+
+impl Frame2d {
+    /// World to screen.
+    pub fn screen_from_world(&self, p: DVec2) -> Pos2 {
+        let offset = (p - self.center) * self.scale;
+        self.rect.center() + vec2(offset.x as f32, -offset.y as f32)
+    }
+
+    /// Screen to world.
+    pub fn world_from_screen(&self, p: Pos2) -> DVec2 {
+        let offset = p - self.rect.center();
+        self.center + DVec2::new(offset.x as f64, -offset.y as f64) / self.scale
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+struct Animation {
+    from: [f64; 2],
+    to: [f64; 2],
+    started: f64,
+}
+
+/// Everything the Segments view remembers.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SegmentsView {
+    /// The inputs.
+    pub scene: SegmentsScene,
+    /// The t handle (on A).
+    pub t: f64,
+    /// The s handle (on B).
+    pub s: f64,
+    /// Draw the lines beyond [0, 1], faded.
+    pub show_lines: bool,
+    /// Draw k evenly spaced samples along each segment (seed 000's k = 32).
+    pub show_samples: bool,
+    /// How many samples.
+    pub samples: usize,
+    /// The world point at the centre of the plot.
+    pub center: [f64; 2],
+    /// The half-height of the plot, in world units.
+    pub half_extent: f64,
+    #[serde(skip)]
+    grab: Option<Handle>,
+    /// The last frame's world-to-screen mapping (tests use it to find handles).
+    #[serde(skip)]
+    pub frame: Option<Frame2d>,
+    #[serde(skip)]
+    animation: Option<Animation>,
+}
+
+impl Default for SegmentsView {
+    fn default() -> SegmentsView {
+        let scene = crate::scene::built_in()
+            .into_iter()
+            .find_map(|s| match s.problem {
+                crate::scene::Problem::Segments(s) => Some(s),
+                _ => None,
+            })
+            .expect("a segments scene ships");
+        let mut view = SegmentsView {
+            scene: scene.clone(),
+            t: 0.0,
+            s: 0.0,
+            show_lines: true,
+            show_samples: false,
+            samples: 32,
+            center: [0.0, 0.0],
+            half_extent: 4.0,
+            grab: None,
+            frame: None,
+            animation: None,
+        };
+        view.load(scene);
+        view
+    }
+}
+
+/// The solves one frame needs.
+pub struct Solved {
+    /// The f64 solve.
+    pub float: SegmentsSolution<f64>,
+    /// The exact solve of the inputs as written.
+    pub exact: SegmentsSolution<Exact>,
+    /// The trace in the step panel's precision.
+    pub trace: Trace,
+}
+
+impl SegmentsView {
+    /// Loads a scene: new segments, handles at the start, view fitted.
+    pub fn load(&mut self, scene: SegmentsScene) {
+        self.scene = scene;
+        self.t = 0.25;
+        self.s = 0.25;
+        self.animation = None;
+        self.fit();
+    }
+
+    /// Fits the plot around both segments (and the origin).
+    pub fn fit(&mut self) {
+        let points = self.points();
+        let (mut min, mut max) = (DVec2::ZERO, DVec2::ZERO);
+        for p in points.iter().filter(|p| p.is_finite()) {
+            min = min.min(*p);
+            max = max.max(*p);
+        }
+        self.center = ((min + max) / 2.0).to_array();
+        self.half_extent = ((max - min).max_element() / 2.0 + 1.0).max(1.0);
+    }
+
+    fn points(&self) -> [DVec2; 4] {
+        let s = &self.scene;
+        [s.a1, s.a2, s.b1, s.b2].map(DVec2::from)
+    }
+
+    /// Solves the current inputs.
+    pub fn solve(&self, precision: Precision) -> Solved {
+        let points = self.points();
+        let trace = match precision {
+            Precision::F32 => segments::solve_inputs::<f32>(Reading::AsWritten, points, true).trace,
+            Precision::F64 => segments::solve_inputs::<f64>(Reading::AsWritten, points, true).trace,
+            Precision::Exact => {
+                segments::solve_inputs::<Exact>(Reading::AsWritten, points, true).trace
+            }
+        };
+        Solved {
+            float: segments::solve_inputs(Reading::AsWritten, points, false),
+            exact: segments::solve_inputs(Reading::AsWritten, points, false),
+            trace: trace.expect("recorded"),
+        }
+    }
+
+    /// The view: controls below, the plot above.
+    pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.animate(ui);
+        egui::Panel::bottom("segments-controls")
+            .resizable(false)
+            .show(ui, |ui| self.controls_ui(ui, solved));
+        egui::CentralPanel::default().show(ui, |ui| self.plot_ui(ui, solved));
+    }
+
+    fn animate(&mut self, ui: &Ui) {
+        let Some(animation) = &self.animation else {
+            return;
+        };
+        let k = ((ui.input(|i| i.time) - animation.started) / 0.8).clamp(0.0, 1.0);
+        let eased = k * k * (3.0 - 2.0 * k);
+        if k >= 1.0 {
+            [self.t, self.s] = animation.to;
+            self.animation = None;
+        } else {
+            self.t = animation.from[0] + (animation.to[0] - animation.from[0]) * eased;
+            self.s = animation.from[1] + (animation.to[1] - animation.from[1]) * eased;
+            ui.ctx().request_repaint();
+        }
+    }
+
+    fn controls_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        let target = solved.float.t.zip(solved.float.s);
+        ui.add_space(4.0);
+        ui.horizontal_wrapped(|ui| {
+            let go = ui
+                .add_enabled(target.is_some(), egui::Button::new("Go to intersection"))
+                .on_hover_text("Slide both handles to where the lines cross")
+                .on_disabled_hover_text(
+                    "The lines are parallel (|M| = 0): they have no single crossing",
+                );
+            if go.clicked()
+                && let Some((t, s)) = target
+            {
+                self.animation = Some(Animation {
+                    from: [self.t, self.s],
+                    to: [t, s],
+                    started: ui.input(|i| i.time),
+                });
+            }
+            ui.add(
+                egui::Slider::new(&mut self.t, -1.0..=2.0)
+                    .text("t")
+                    .clamping(egui::SliderClamping::Never)
+                    .max_decimals(4),
+            )
+            .on_hover_text("A(t) = A1 + t(A2−A1): 0 at A1, 1 at A2");
+            ui.add(
+                egui::Slider::new(&mut self.s, -1.0..=2.0)
+                    .text("s")
+                    .clamping(egui::SliderClamping::Never)
+                    .max_decimals(4),
+            )
+            .on_hover_text("B(s) = B1 + s(B2−B1): 0 at B1, 1 at B2");
+            ui.checkbox(&mut self.show_lines, "Whole lines")
+                .on_hover_text("Draw the lines beyond [0, 1], faded: lines know no bounds");
+            ui.checkbox(&mut self.show_samples, "Samples")
+                .on_hover_text(
+                    "k evenly spaced points along each segment, as seed 000 samples them",
+                );
+            if self.show_samples {
+                ui.add(egui::Slider::new(&mut self.samples, 2..=64).text("k"));
+            }
+            if ui
+                .button("Fit")
+                .on_hover_text("Fit the plot around both segments")
+                .clicked()
+            {
+                self.fit();
+            }
+        });
+        self.status_ui(ui, solved);
+        egui::CollapsingHeader::new("Inputs: A1, A2, B1, B2")
+            .default_open(false)
+            .show(ui, |ui| {
+                let s = &mut self.scene;
+                vector_editor(
+                    ui,
+                    "A1",
+                    Some(palette::SEGMENT_A),
+                    "Start of segment A",
+                    &mut s.a1,
+                    0.05,
+                );
+                vector_editor(
+                    ui,
+                    "A2",
+                    Some(palette::SEGMENT_A),
+                    "End of segment A",
+                    &mut s.a2,
+                    0.05,
+                );
+                vector_editor(
+                    ui,
+                    "B1",
+                    Some(palette::SEGMENT_B),
+                    "Start of segment B",
+                    &mut s.b1,
+                    0.05,
+                );
+                vector_editor(
+                    ui,
+                    "B2",
+                    Some(palette::SEGMENT_B),
+                    "End of segment B",
+                    &mut s.b2,
+                    0.05,
+                );
+            });
+    }
+
+    fn exploration(&self) -> segments::Exploration<f64> {
+        let pair =
+            segments::SegmentPair::<f64>::from_f64(self.points()).expect("f64 holds every f64");
+        segments::explore(&pair, &self.t, &self.s)
+    }
+
+    fn status_ui(&self, ui: &mut Ui, solved: &Solved) {
+        let explored = self.exploration();
+        ui.horizontal(|ui| {
+            let t_text = shown(self.t, solved.float.t, solved.exact.t.as_ref());
+            let s_text = shown(self.s, solved.float.s, solved.exact.s.as_ref());
+            ui.label(
+                RichText::new(format!("t = {t_text}"))
+                    .strong()
+                    .color(palette::SEGMENT_A),
+            );
+            ui.label(
+                RichText::new(format!("s = {s_text}"))
+                    .strong()
+                    .color(palette::SEGMENT_B),
+            );
+            let point = |p: [f64; 2]| {
+                format!(
+                    "({}, {})",
+                    format_float(p[0], Precision::F64),
+                    format_float(p[1], Precision::F64)
+                )
+            };
+            ui.label(format!("A(t) = {}", point(explored.a_at_t)));
+            ui.label(format!("B(s) = {}", point(explored.b_at_s)));
+        });
+        // A line of its own, so the plot above does not jump when the text changes length.
+        ui.horizontal(|ui| {
+            // At the solution the handles meet exactly (in f64 the two points may differ in the last bit).
+            let at_solution = solved.float.t == Some(self.t) && solved.float.s == Some(self.s);
+            if at_solution || explored.gap == 0.0 {
+                ui.label(
+                    RichText::new("A(t) = B(s): the handles meet")
+                        .strong()
+                        .color(palette::SOLUTION),
+                );
+            } else {
+                ui.label(format!(
+                    "distance |A(t) − B(s)| = {}",
+                    format_float(explored.gap, Precision::F64)
+                ))
+                .on_hover_text(
+                    "Drag the t and s handles together: the distance is zero only at the crossing",
+                );
+            }
+        });
+    }
+
+    /// Where a handle was drawn last frame.
+    pub fn handle_on_screen(&self, handle: Handle) -> Option<Pos2> {
+        let frame = self.frame.as_ref()?;
+        let explored = self.exploration();
+        let world = match handle {
+            Handle::Endpoint(i) => self.points()[i],
+            Handle::T => DVec2::from(explored.a_at_t),
+            Handle::S => DVec2::from(explored.b_at_s),
+            Handle::Pan => return None,
+        };
+        Some(frame.screen_from_world(world))
+    }
+
+    /// Where the lines cross, on screen (last frame).
+    pub fn crossing_on_screen(&self, solved: &Solved) -> Option<Pos2> {
+        let point = solved.float.point?;
+        Some(self.frame.as_ref()?.screen_from_world(DVec2::from(point)))
+    }
+
+    fn plot_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
+        let rect = response.rect;
+        let frame = Frame2d {
+            rect,
+            center: DVec2::from(self.center),
+            scale: rect.height().min(rect.width()).max(10.0) as f64 / (2.0 * self.half_extent),
+        };
+        self.frame = Some(frame.clone());
+        self.handle_input(ui, &response, &frame, solved);
+        self.draw(ui, &painter, &frame, solved);
+    }
+
+    fn handle_input(
+        &mut self,
+        ui: &Ui,
+        response: &egui::Response,
+        frame: &Frame2d,
+        solved: &Solved,
+    ) {
+        let pointer = response.interact_pointer_pos();
+        if response.drag_started() {
+            // Where the button went down, not where the drag was recognised a few points later.
+            let pressed = ui.input(|i| i.pointer.press_origin()).or(pointer);
+            let order = [
+                Handle::T,
+                Handle::S,
+                Handle::Endpoint(0),
+                Handle::Endpoint(1),
+                Handle::Endpoint(2),
+                Handle::Endpoint(3),
+            ];
+            let near = order.into_iter().find(|h| {
+                matches!((self.handle_on_screen(*h), pressed), (Some(a), Some(p)) if a.distance(p) < 14.0)
+            });
+            self.grab = Some(near.unwrap_or(Handle::Pan));
+            self.animation = None;
+        }
+        if response.dragged()
+            && let Some(pointer) = pointer
+        {
+            let world = frame.world_from_screen(pointer);
+            let free = ui.input(|i| i.modifiers.shift);
+            let crossing = self
+                .crossing_on_screen(solved)
+                .filter(|c| !free && c.distance(pointer) < SNAP_POINTS);
+            let [a1, a2, b1, b2] = self.points().map(|p| p.to_array());
+            match self.grab {
+                Some(Handle::T) => {
+                    self.t = match (crossing, solved.float.t) {
+                        (Some(_), Some(t)) => t,
+                        _ => segments::nearest_parameter(&a1, &a2, &world.to_array()),
+                    };
+                }
+                Some(Handle::S) => {
+                    self.s = match (crossing, solved.float.s) {
+                        (Some(_), Some(s)) => s,
+                        _ => segments::nearest_parameter(&b1, &b2, &world.to_array()),
+                    };
+                }
+                Some(Handle::Endpoint(i)) => {
+                    let target = [
+                        &mut self.scene.a1,
+                        &mut self.scene.a2,
+                        &mut self.scene.b1,
+                        &mut self.scene.b2,
+                    ];
+                    let snapped = if free {
+                        world.to_array()
+                    } else {
+                        world.to_array().map(|x| snap(x, 0.25))
+                    };
+                    if let Some(point) = target.into_iter().nth(i) {
+                        *point = snapped;
+                    }
+                }
+                Some(Handle::Pan) | None => {
+                    let delta = response.drag_delta();
+                    self.center[0] -= delta.x as f64 / frame.scale;
+                    self.center[1] += delta.y as f64 / frame.scale;
+                }
+            }
+        }
+        if response.drag_stopped() {
+            self.grab = None;
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                self.half_extent =
+                    (self.half_extent * (-scroll as f64 * 0.002).exp()).clamp(0.05, 1e6);
+            }
+        }
+    }
+
+    fn draw(&self, ui: &Ui, painter: &egui::Painter, frame: &Frame2d, solved: &Solved) {
+        let text = ui.visuals().text_color();
+        draw_grid(painter, frame, text);
+        let [a1, a2, b1, b2] = self.points();
+        let to_screen = |p: DVec2| frame.screen_from_world(p);
+        let far = 1e3 * self.half_extent.max(1.0);
+        for (p1, p2, color, name) in [
+            (a1, a2, palette::SEGMENT_A, "A"),
+            (b1, b2, palette::SEGMENT_B, "B"),
+        ] {
+            let direction = p2 - p1;
+            if self.show_lines && direction.length() > 0.0 {
+                let unit = direction / direction.length();
+                painter.line_segment(
+                    [to_screen(p1 - unit * far), to_screen(p2 + unit * far)],
+                    Stroke::new(1.5, faded(color, 70)),
+                );
+            }
+            painter.line_segment([to_screen(p1), to_screen(p2)], Stroke::new(4.0, color));
+            if self.show_samples {
+                for i in 0..self.samples {
+                    let u = i as f64 / (self.samples.max(2) - 1) as f64;
+                    painter.circle_filled(to_screen(p1 + u * direction), 3.0, color);
+                }
+            }
+            for (p, suffix) in [(p1, "1"), (p2, "2")] {
+                painter.circle_filled(to_screen(p), 7.0, color);
+                painter.text(
+                    to_screen(p) + vec2(9.0, -9.0),
+                    egui::Align2::LEFT_BOTTOM,
+                    format!("{name}{suffix}"),
+                    FontId::proportional(18.0),
+                    color,
+                );
+            }
+        }
+        self.draw_solution(painter, frame, solved);
+        let explored = self.exploration();
+        let at_t = to_screen(DVec2::from(explored.a_at_t));
+        let at_s = to_screen(DVec2::from(explored.b_at_s));
+        if explored.gap > 0.0 {
+            painter.extend(Shape::dashed_line(
+                &[at_t, at_s],
+                Stroke::new(1.0, faded(text, 150)),
+                6.0,
+                4.0,
+            ));
+        }
+        for (at, color, label, offset) in [
+            (at_t, palette::SEGMENT_A, "A(t)", vec2(12.0, 12.0)),
+            (at_s, palette::SEGMENT_B, "B(s)", vec2(12.0, -28.0)),
+        ] {
+            painter.circle(
+                at,
+                9.0,
+                ui.visuals().extreme_bg_color,
+                Stroke::new(3.0, color),
+            );
+            painter.text(
+                at + offset,
+                egui::Align2::LEFT_TOP,
+                label,
+                FontId::proportional(17.0),
+                color,
+            );
+        }
+        let verdict = solved.trace.verdict().map_or("", |v| v.message.as_str());
+        painter.text(
+            frame.rect.left_top() + vec2(8.0, 6.0),
+            egui::Align2::LEFT_TOP,
+            verdict,
+            FontId::proportional(17.0),
+            super::step_panel::verdict_color(solved.float.outcome.status()),
+        );
+    }
+
+    fn draw_solution(&self, painter: &egui::Painter, frame: &Frame2d, solved: &Solved) {
+        let font = FontId::proportional(16.0);
+        let s = &solved.float;
+        match &s.outcome {
+            SegmentsOutcome::Crossing | SegmentsOutcome::Touching => {
+                if let Some(p) = s.point {
+                    painter.circle_filled(
+                        frame.screen_from_world(DVec2::from(p)),
+                        6.0,
+                        palette::SOLUTION,
+                    );
+                }
+            }
+            SegmentsOutcome::LinesCrossOutside { .. } => {
+                if let Some(p) = s.point {
+                    let at = frame.screen_from_world(DVec2::from(p));
+                    painter.circle_stroke(at, 8.0, Stroke::new(2.0, palette::OUTSIDE));
+                    painter.text(
+                        at + vec2(10.0, 4.0),
+                        egui::Align2::LEFT_TOP,
+                        "lines cross here, off a segment",
+                        font,
+                        palette::OUTSIDE,
+                    );
+                }
+            }
+            SegmentsOutcome::CollinearOverlap => {
+                if let Some([from, to]) = s.overlap {
+                    let [a1, a2] = [DVec2::from(self.scene.a1), DVec2::from(self.scene.a2)];
+                    let at = |u: f64| frame.screen_from_world(a1 + u * (a2 - a1));
+                    painter.line_segment(
+                        [at(from), at(to)],
+                        Stroke::new(9.0, faded(palette::SOLUTION, 170)),
+                    );
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// The value, or its exact fraction when the handle sits exactly on the solution.
+fn shown(value: f64, solution: Option<f64>, exact: Option<&Exact>) -> String {
+    match (solution, exact) {
+        (Some(s), Some(e)) if s == value && e.is_short() => e.fraction(),
+        _ => format_float(value, Precision::F64),
+    }
+}
+
+/// A grid at round world units with labelled axes.
+fn draw_grid(painter: &egui::Painter, frame: &Frame2d, text: Color32) {
+    let rect = frame.rect;
+    let world_min = frame.world_from_screen(rect.left_bottom());
+    let world_max = frame.world_from_screen(rect.right_top());
+    // A spacing of 1, 2 or 5 times a power of ten, about 60 points apart.
+    let raw = 60.0 / frame.scale;
+    let power = 10f64.powf(raw.log10().floor());
+    let spacing = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * power)
+        .find(|s| *s >= raw)
+        .unwrap_or(raw);
+    let font = FontId::proportional(13.0);
+    let grid = Stroke::new(1.0, faded(text, 25));
+    let axis = Stroke::new(1.5, faded(text, 120));
+    let mut x = (world_min.x / spacing).floor() * spacing;
+    while x <= world_max.x {
+        let top = frame.screen_from_world(DVec2::new(x, world_max.y));
+        let bottom = frame.screen_from_world(DVec2::new(x, world_min.y));
+        painter.line_segment([top, bottom], if x == 0.0 { axis } else { grid });
+        let label_at = frame
+            .screen_from_world(DVec2::new(x, 0.0))
+            .y
+            .clamp(rect.top() + 2.0, rect.bottom() - 16.0);
+        painter.text(
+            pos2(top.x + 3.0, label_at + 2.0),
+            egui::Align2::LEFT_TOP,
+            format_float(x, Precision::F64),
+            font.clone(),
+            faded(text, 150),
+        );
+        x += spacing;
+    }
+    let mut y = (world_min.y / spacing).floor() * spacing;
+    while y <= world_max.y {
+        let left = frame.screen_from_world(DVec2::new(world_min.x, y));
+        let right = frame.screen_from_world(DVec2::new(world_max.x, y));
+        painter.line_segment([left, right], if y == 0.0 { axis } else { grid });
+        if y != 0.0 {
+            let label_at = frame
+                .screen_from_world(DVec2::new(0.0, y))
+                .x
+                .clamp(rect.left() + 2.0, rect.right() - 30.0);
+            painter.text(
+                pos2(label_at + 3.0, left.y - 2.0),
+                egui::Align2::LEFT_BOTTOM,
+                format_float(y, Precision::F64),
+                font.clone(),
+                faded(text, 150),
+            );
+        }
+        y += spacing;
+    }
+    painter.text(
+        rect.right_center() + Vec2::new(-14.0, 0.0),
+        egui::Align2::RIGHT_BOTTOM,
+        "x",
+        FontId::proportional(16.0),
+        text,
+    );
+    painter.text(
+        rect.center_top() + Vec2::new(6.0, 4.0),
+        egui::Align2::LEFT_TOP,
+        "y",
+        FontId::proportional(16.0),
+        text,
+    );
+}

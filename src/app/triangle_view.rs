@@ -1,0 +1,574 @@
+//! The Triangle view: a 3D triangle with its plane, the ray L + tD, and sliders for β, γ and t.
+//!
+//! The sliders move P(β, γ) = A + β(B−A) + γ(C−A) (drawn as the two legs from A, green inside and red
+//! outside) and L + tD along the ray; "Solve" slides all three to the solution, where they meet. A, B
+//! and C can be dragged in the plane facing the camera; the background orbits, the wheel zooms.
+
+use egui::{FontId, Pos2, RichText, Sense, Stroke, Ui};
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::widgets::palette::{self, faded};
+use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
+use super::widgets::{snap, vector_editor};
+use crate::exact::Exact;
+use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome, TriangleSolution};
+use crate::geometry::{Precision, Reading};
+use crate::scene::TriangleScene;
+use crate::trace::{Trace, format_float};
+
+/// A drag in the canvas: a vertex, or the camera.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Grab {
+    Vertex(usize),
+    Orbit,
+}
+
+/// Sliders moving to a target over a short time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Animation {
+    from: [f64; 3],
+    to: [f64; 3],
+    started: f64,
+}
+
+/// How long "Solve" takes to slide to the solution, seconds.
+const ANIMATION_SECONDS: f64 = 0.8;
+
+/// Everything the Triangle view remembers.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(default)]
+pub struct TriangleView {
+    /// The inputs.
+    pub scene: TriangleScene,
+    /// The β slider.
+    pub beta: f64,
+    /// The γ slider.
+    pub gamma: f64,
+    /// The t slider.
+    pub t: f64,
+    /// The camera.
+    pub camera: OrbitCamera,
+    #[serde(skip)]
+    grab: Option<Grab>,
+    /// The last frame's projection (tests use it to find handles on screen).
+    #[serde(skip)]
+    pub projector: Option<Projector>,
+    /// The running "Solve" animation, if any.
+    #[serde(skip)]
+    pub animation: Option<Animation>,
+}
+
+impl Default for TriangleView {
+    fn default() -> TriangleView {
+        let scene = crate::scene::built_in()
+            .into_iter()
+            .find_map(|s| match s.problem {
+                crate::scene::Problem::Triangle(t) => Some(t),
+                _ => None,
+            })
+            .expect("a triangle scene ships");
+        let mut view = TriangleView {
+            scene: scene.clone(),
+            beta: 0.0,
+            gamma: 0.0,
+            t: 0.0,
+            camera: OrbitCamera::default(),
+            grab: None,
+            projector: None,
+            animation: None,
+        };
+        view.load(scene);
+        view
+    }
+}
+
+/// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
+pub struct Solved {
+    /// The f64 solve of the inputs.
+    pub float: TriangleSolution<f64>,
+    /// The exact solve of the inputs as written.
+    pub exact: TriangleSolution<Exact>,
+    /// The trace in the step panel's precision.
+    pub trace: Trace,
+}
+
+impl TriangleView {
+    /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.
+    pub fn load(&mut self, scene: TriangleScene) {
+        self.camera = OrbitCamera::framing(&self.points_of(&scene));
+        self.scene = scene;
+        self.beta = 0.2;
+        self.gamma = 0.2;
+        self.t = 0.5;
+        self.animation = None;
+    }
+
+    fn points_of(&self, s: &TriangleScene) -> Vec<DVec3> {
+        let mut points: Vec<DVec3> = [s.a, s.b, s.c, s.origin]
+            .iter()
+            .map(|p| DVec3::from(*p))
+            .collect();
+        points.push(DVec3::ZERO);
+        points
+    }
+
+    fn vectors(&self) -> [DVec3; 5] {
+        let s = &self.scene;
+        [s.a, s.b, s.c, s.origin, s.dir].map(DVec3::from)
+    }
+
+    /// Solves the current inputs.
+    pub fn solve(&self, precision: Precision) -> Solved {
+        let (vectors, t_min) = (self.vectors(), self.scene.t_min);
+        let traced = |p: Precision| match p {
+            Precision::F32 => {
+                triangle::solve_inputs::<f32>(Reading::AsWritten, vectors, t_min, true).trace
+            }
+            Precision::F64 => {
+                triangle::solve_inputs::<f64>(Reading::AsWritten, vectors, t_min, true).trace
+            }
+            Precision::Exact => {
+                triangle::solve_inputs::<Exact>(Reading::AsWritten, vectors, t_min, true).trace
+            }
+        };
+        Solved {
+            float: triangle::solve_inputs(Reading::AsWritten, vectors, t_min, false),
+            exact: triangle::solve_inputs(Reading::AsWritten, vectors, t_min, false),
+            trace: traced(precision).expect("recorded"),
+        }
+    }
+
+    /// The view: controls below, the 3D canvas above.
+    pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.animate(ui);
+        egui::Panel::bottom("triangle-controls")
+            .resizable(false)
+            .show(ui, |ui| self.controls_ui(ui, solved));
+        egui::CentralPanel::default().show(ui, |ui| self.canvas_ui(ui, solved));
+    }
+
+    fn animate(&mut self, ui: &Ui) {
+        let Some(animation) = &self.animation else {
+            return;
+        };
+        let now = ui.input(|i| i.time);
+        let k = ((now - animation.started) / ANIMATION_SECONDS).clamp(0.0, 1.0);
+        let eased = k * k * (3.0 - 2.0 * k);
+        let at = |i: usize| animation.from[i] + (animation.to[i] - animation.from[i]) * eased;
+        if k >= 1.0 {
+            [self.beta, self.gamma, self.t] = animation.to;
+            self.animation = None;
+        } else {
+            [self.beta, self.gamma, self.t] = [at(0), at(1), at(2)];
+            ui.ctx().request_repaint();
+        }
+    }
+
+    fn controls_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        let target = solved
+            .float
+            .solution
+            .as_ref()
+            .map(|s| [s.beta, s.gamma, s.t]);
+        ui.add_space(4.0);
+        ui.horizontal_wrapped(|ui| {
+            let solve = ui
+                .add_enabled(target.is_some(), egui::Button::new("Solve"))
+                .on_hover_text(
+                    "Slide β, γ and t to the solution of M X = Y, where P(β, γ) meets L + tD",
+                )
+                .on_disabled_hover_text(
+                    "M X = Y has no unique solution (|M| = 0): nothing to slide to",
+                );
+            if solve.clicked()
+                && let Some(to) = target
+            {
+                self.animation = Some(Animation {
+                    from: [self.beta, self.gamma, self.t],
+                    to,
+                    started: ui.input(|i| i.time),
+                });
+            }
+            if ui
+                .button("Reset view")
+                .on_hover_text("Frame the triangle and the ray again")
+                .clicked()
+            {
+                self.camera = OrbitCamera::framing(&self.points_of(&self.scene));
+            }
+            let slider = |ui: &mut Ui,
+                          value: &mut f64,
+                          range: std::ops::RangeInclusive<f64>,
+                          name: &str,
+                          tip: &str| {
+                ui.add(
+                    egui::Slider::new(value, range)
+                        .text(name)
+                        .clamping(egui::SliderClamping::Never)
+                        .max_decimals(4),
+                )
+                .on_hover_text(tip)
+            };
+            slider(
+                ui,
+                &mut self.beta,
+                -0.5..=1.5,
+                "β",
+                "How far along B−A from A",
+            );
+            slider(
+                ui,
+                &mut self.gamma,
+                -0.5..=1.5,
+                "γ",
+                "How far along C−A from A",
+            );
+            let t_span = target.map_or(4.0, |[_, _, t]| 2.0 * t.abs() + 1.0);
+            slider(
+                ui,
+                &mut self.t,
+                -t_span..=t_span,
+                "t",
+                "How far along the ray, in steps of D",
+            );
+        });
+        self.status_ui(ui, solved);
+        egui::CollapsingHeader::new("Inputs: A, B, C, L, D")
+            .default_open(false)
+            .show(ui, |ui| self.inputs_ui(ui));
+    }
+
+    fn status_ui(&self, ui: &mut Ui, solved: &Solved) {
+        let explored = self.exploration();
+        let exact = solved.exact.solution.as_ref();
+        let float = solved.float.solution.as_ref();
+        ui.horizontal(|ui| {
+            for (symbol, value, solution, solution_exact) in [
+                (
+                    "β",
+                    self.beta,
+                    float.map(|s| s.beta),
+                    exact.map(|s| &s.beta),
+                ),
+                (
+                    "γ",
+                    self.gamma,
+                    float.map(|s| s.gamma),
+                    exact.map(|s| &s.gamma),
+                ),
+                ("t", self.t, float.map(|s| s.t), exact.map(|s| &s.t)),
+            ] {
+                ui.label(
+                    RichText::new(format!(
+                        "{symbol} = {}",
+                        shown(value, solution, solution_exact)
+                    ))
+                    .strong(),
+                );
+            }
+            let (text, color) = if explored.outside.is_empty() {
+                (
+                    "P(β, γ) is inside the triangle".to_string(),
+                    palette::INSIDE,
+                )
+            } else {
+                let failed: Vec<String> = explored
+                    .outside
+                    .iter()
+                    .map(|e| format!("{} (beyond edge {})", e.inequality(), e.name()))
+                    .collect();
+                (
+                    format!("P(β, γ) is outside: fails {}", failed.join(", ")),
+                    palette::OUTSIDE,
+                )
+            };
+            ui.label(RichText::new(text).color(color));
+        });
+        ui.horizontal(|ui| {
+            let gap = explored.gap;
+            // At the solution the points meet exactly (in f64 they may differ in the last bit).
+            let at_solution = solved
+                .float
+                .solution
+                .as_ref()
+                .is_some_and(|s| [s.beta, s.gamma, s.t] == [self.beta, self.gamma, self.t]);
+            if at_solution || gap == 0.0 {
+                ui.label(
+                    RichText::new("P(β, γ) = L + tD: they meet")
+                        .color(palette::SOLUTION)
+                        .strong(),
+                );
+            } else {
+                ui.label(format!(
+                    "distance |P(β, γ) − (L + tD)| = {}",
+                    format_float(gap, Precision::F64)
+                ))
+                .on_hover_text("Zero only at the solution (β*, γ*, t*); press Solve to get there");
+            }
+            if let Some(s) = exact {
+                let distance = s
+                    .distance_exact
+                    .as_ref()
+                    .and_then(|d| d.short())
+                    .unwrap_or_else(|| format_float(s.distance, Precision::F64));
+                ui.label(format!(
+                    "t* = {}, distance t*·|D| = {distance}",
+                    s.t.display()
+                ))
+                .on_hover_text("t counts steps of D; the distance along the ray is t·|D|");
+            }
+        });
+    }
+
+    fn exploration(&self) -> triangle::Exploration<f64> {
+        let problem = triangle::RayTriangle::<f64>::from_f64(self.vectors(), self.scene.t_min)
+            .expect("f64 holds every f64");
+        triangle::explore(&problem, &self.beta, &self.gamma, &self.t)
+    }
+
+    fn inputs_ui(&mut self, ui: &mut Ui) {
+        let s = &mut self.scene;
+        vector_editor(
+            ui,
+            "A",
+            None,
+            "Vertex A, the corner the legs start from",
+            &mut s.a,
+            0.05,
+        );
+        vector_editor(ui, "B", Some(palette::BETA), "Vertex B", &mut s.b, 0.05);
+        vector_editor(ui, "C", Some(palette::GAMMA), "Vertex C", &mut s.c, 0.05);
+        vector_editor(
+            ui,
+            "L",
+            Some(palette::RAY),
+            "The ray's origin L",
+            &mut s.origin,
+            0.05,
+        );
+        vector_editor(
+            ui,
+            "D",
+            Some(palette::RAY),
+            "The ray's direction D (any length)",
+            &mut s.dir,
+            0.05,
+        );
+        ui.horizontal(|ui| {
+            ui.label("t_min")
+                .on_hover_text("A hit needs t > t_min (open: t = t_min is a miss)");
+            ui.add(egui::DragValue::new(&mut s.t_min).speed(0.05));
+        });
+    }
+
+    /// Where a vertex (0 = A, 1 = B, 2 = C) was drawn last frame.
+    pub fn vertex_on_screen(&self, index: usize) -> Option<Pos2> {
+        let p = DVec3::from([self.scene.a, self.scene.b, self.scene.c][index]);
+        self.projector.as_ref()?.screen_from_world(p)
+    }
+
+    fn canvas_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
+        let rect = response.rect;
+        self.handle_input(ui, &response);
+        let projector = self.camera.projector(rect);
+        let canvas = Canvas {
+            painter: &painter,
+            projector: &projector,
+        };
+        self.draw(ui, &canvas, solved);
+        self.projector = Some(projector);
+    }
+
+    fn handle_input(&mut self, ui: &Ui, response: &egui::Response) {
+        if response.drag_started() {
+            // Where the button went down, not where the drag was recognised a few points later.
+            let pointer = ui
+                .input(|i| i.pointer.press_origin())
+                .or(response.interact_pointer_pos());
+            let near = (0..3).find(|&i| {
+                let at = self.vertex_on_screen(i);
+                matches!((at, pointer), (Some(a), Some(p)) if a.distance(p) < 14.0)
+            });
+            self.grab = Some(near.map_or(Grab::Orbit, Grab::Vertex));
+        }
+        if response.dragged() {
+            let delta = response.drag_delta();
+            match self.grab {
+                Some(Grab::Vertex(i)) => {
+                    if let Some(projector) = &self.projector {
+                        let vertex = [&mut self.scene.a, &mut self.scene.b, &mut self.scene.c]
+                            .into_iter()
+                            .nth(i)
+                            .expect("three vertices");
+                        let moved = DVec3::from(*vertex)
+                            + projector.drag_in_view_plane(DVec3::from(*vertex), delta);
+                        *vertex = moved.to_array();
+                    }
+                }
+                Some(Grab::Orbit) | None => self.camera.orbit(delta),
+            }
+        }
+        if response.drag_stopped() {
+            if let Some(Grab::Vertex(i)) = self.grab {
+                let vertex = [&mut self.scene.a, &mut self.scene.b, &mut self.scene.c]
+                    .into_iter()
+                    .nth(i)
+                    .expect("three vertices");
+                *vertex = vertex.map(|x| snap(x, 0.05));
+            }
+            self.grab = None;
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                self.camera.zoom(scroll);
+            }
+        }
+    }
+
+    fn draw(&self, ui: &Ui, canvas: &Canvas, solved: &Solved) {
+        let visuals = ui.visuals();
+        let text = visuals.text_color();
+        let font = FontId::proportional(16.0);
+        let [a, b, c, l, d] = self.vectors();
+        canvas.axes(&[a, b, c, l], text);
+
+        let degenerate = matches!(
+            solved.float.outcome,
+            TriangleOutcome::Miss(TriangleMiss::DegenerateTriangle)
+        );
+        if !degenerate {
+            // The parametric form covers the whole plane: a faint grid of constant β and γ.
+            let plane = |beta: f64, gamma: f64| a + beta * (b - a) + gamma * (c - a);
+            let grid = Stroke::new(1.0, faded(text, 28));
+            for k in -2..=4 {
+                let u = k as f64 * 0.5;
+                canvas.line(plane(u, -1.0), plane(u, 2.0), grid);
+                canvas.line(plane(-1.0, u), plane(2.0, u), grid);
+            }
+            canvas.polygon(&[a, b, c], faded(palette::BETA, 40), Stroke::new(2.0, text));
+        } else {
+            canvas.line(a, b, Stroke::new(3.0, palette::OUTSIDE));
+            canvas.line(b, c, Stroke::new(3.0, palette::OUTSIDE));
+            canvas.label(
+                a,
+                "degenerate: A, B, C on one line",
+                palette::OUTSIDE,
+                font.clone(),
+            );
+        }
+        for (p, name) in [(a, "A"), (b, "B"), (c, "C")] {
+            canvas.dot(p, 6.0, text);
+            canvas.label(p, name, text, FontId::proportional(18.0));
+        }
+
+        // The two legs from A: β(B−A), then γ(C−A).
+        let explored = self.exploration();
+        let after_beta = a + self.beta * (b - a);
+        let point = DVec3::from(explored.plane_point);
+        canvas.arrow(a, after_beta, Stroke::new(3.0, palette::BETA));
+        canvas.arrow(after_beta, point, Stroke::new(3.0, palette::GAMMA));
+        let inside = explored.outside.is_empty();
+        let p_color = if inside {
+            palette::INSIDE
+        } else {
+            palette::OUTSIDE
+        };
+        canvas.dot(point, 7.0, p_color);
+        canvas.label(point, "P(β, γ)", p_color, font.clone());
+
+        self.draw_ray(canvas, solved, [l, d], &font);
+        let on_ray = DVec3::from(explored.ray_point);
+        if explored.gap > 0.0 {
+            canvas.dashed(point, on_ray, Stroke::new(1.0, faded(text, 140)));
+        }
+        self.draw_solution(canvas, solved, [a, b, c, l], &font);
+        canvas.painter.text(
+            canvas.projector.rect.left_top() + egui::vec2(8.0, 6.0),
+            egui::Align2::LEFT_TOP,
+            solved.trace.verdict().map_or("", |v| v.message.as_str()),
+            FontId::proportional(17.0),
+            super::step_panel::verdict_color(solved.float.outcome.status()),
+        );
+    }
+
+    fn draw_ray(&self, canvas: &Canvas, solved: &Solved, [l, d]: [DVec3; 2], font: &FontId) {
+        let t_star = solved.float.solution.as_ref().map_or(1.0, |s| s.t);
+        let far = t_star.max(self.t).max(1.0) * 1.4;
+        let back = t_star.min(self.t).min(-1.0) * 1.4;
+        canvas.line(l, l + far * d, Stroke::new(2.5, palette::RAY));
+        // Behind the origin (t < 0) the ray is dashed.
+        canvas.dashed(l + back * d, l, Stroke::new(1.5, faded(palette::RAY, 170)));
+        canvas.dot(l, 6.0, palette::RAY);
+        canvas.label(l, "L", palette::RAY, FontId::proportional(18.0));
+        canvas.arrow(l, l + d, Stroke::new(3.0, palette::RAY));
+        canvas.label(l + d, "D", palette::RAY, font.clone());
+        let on_ray = l + self.t * d;
+        canvas.dot(on_ray, 6.0, palette::RAY);
+        canvas.label(on_ray, "L + tD", palette::RAY, font.clone());
+    }
+
+    fn draw_solution(
+        &self,
+        canvas: &Canvas,
+        solved: &Solved,
+        [a, b, c, l]: [DVec3; 4],
+        font: &FontId,
+    ) {
+        let outcome = &solved.float.outcome;
+        let Some(s) = solved.float.solution.as_ref() else {
+            if matches!(
+                outcome,
+                TriangleOutcome::Miss(TriangleMiss::Parallel { .. })
+            ) {
+                canvas.label(l, "ray ∥ plane: |M| = 0", palette::OUTSIDE, font.clone());
+            }
+            return;
+        };
+        let hit = DVec3::from(s.point);
+        match outcome {
+            TriangleOutcome::Hit => {
+                canvas.ring(hit, 11.0, Stroke::new(3.0, palette::SOLUTION));
+                canvas.label(hit, "hit", palette::SOLUTION, font.clone());
+            }
+            TriangleOutcome::Miss(TriangleMiss::Behind) => {
+                canvas.ring(hit, 11.0, Stroke::new(2.0, faded(palette::OUTSIDE, 200)));
+                canvas.label(
+                    hit,
+                    "ghost hit behind L (t ≤ t_min)",
+                    palette::OUTSIDE,
+                    font.clone(),
+                );
+            }
+            TriangleOutcome::Miss(TriangleMiss::Outside { edges }) => {
+                canvas.ring(hit, 11.0, Stroke::new(2.0, palette::OUTSIDE));
+                let names: Vec<&str> = edges.iter().map(|e| e.name()).collect();
+                canvas.label(
+                    hit,
+                    &format!("misses: beyond {}", names.join(", ")),
+                    palette::OUTSIDE,
+                    font.clone(),
+                );
+                for edge in edges {
+                    let (from, to) = match edge {
+                        Edge::Ca => (c, a),
+                        Edge::Ab => (a, b),
+                        Edge::Bc => (b, c),
+                    };
+                    canvas.line(from, to, Stroke::new(4.0, palette::OUTSIDE));
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// The value, or its exact fraction when the slider sits exactly on the solution.
+fn shown(value: f64, solution: Option<f64>, exact: Option<&Exact>) -> String {
+    match (solution, exact) {
+        (Some(s), Some(e)) if s == value && e.is_short() => e.fraction(),
+        _ => format_float(value, Precision::F64),
+    }
+}

@@ -1,0 +1,335 @@
+//! A small 3D canvas on egui's painter: an orbit camera (drag to orbit, scroll to zoom), a projection
+//! from world to screen, and drawing helpers that clip at the near plane and skip non-finite points.
+
+use egui::{Color32, Pos2, Rect, Shape, Stroke, Vec2};
+use glam::{DMat4, DVec3, DVec4};
+use serde::{Deserialize, Serialize};
+
+/// An orbit camera around a target point, z up.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OrbitCamera {
+    /// Angle around the z axis, radians.
+    pub yaw: f64,
+    /// Angle above the xy plane, radians.
+    pub pitch: f64,
+    /// Distance from the target.
+    pub distance: f64,
+    /// The point looked at.
+    pub target: [f64; 3],
+}
+
+impl Default for OrbitCamera {
+    fn default() -> OrbitCamera {
+        OrbitCamera {
+            yaw: 0.7,
+            pitch: 0.45,
+            distance: 12.0,
+            target: [1.0, 1.0, 1.0],
+        }
+    }
+}
+
+/// Vertical field of view.
+const FOV_Y: f64 = 0.8;
+
+impl OrbitCamera {
+    /// A camera framing a set of points.
+    pub fn framing(points: &[DVec3]) -> OrbitCamera {
+        let finite: Vec<DVec3> = points.iter().copied().filter(|p| p.is_finite()).collect();
+        if finite.is_empty() {
+            return OrbitCamera::default();
+        }
+        let center = finite.iter().copied().sum::<DVec3>() / finite.len() as f64;
+        let radius = finite
+            .iter()
+            .map(|p| p.distance(center))
+            .fold(1.0f64, f64::max);
+        OrbitCamera {
+            target: center.to_array(),
+            distance: (radius * 2.8).clamp(0.5, 1e6),
+            ..OrbitCamera::default()
+        }
+    }
+
+    /// The eye position.
+    pub fn eye(&self) -> DVec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        DVec3::from(self.target) + self.distance * DVec3::new(cp * cy, cp * sy, sp)
+    }
+
+    /// Orbits by a screen drag.
+    pub fn orbit(&mut self, drag: Vec2) {
+        self.yaw -= drag.x as f64 * 0.008;
+        self.pitch = (self.pitch + drag.y as f64 * 0.008).clamp(-1.5, 1.5);
+    }
+
+    /// Zooms by a scroll amount (positive scrolls in).
+    pub fn zoom(&mut self, scroll: f32) {
+        self.distance = (self.distance * (-scroll as f64 * 0.002).exp()).clamp(0.2, 1e6);
+    }
+
+    /// The projection for a viewport.
+    pub fn projector(&self, rect: Rect) -> Projector {
+        let aspect = (rect.width() / rect.height().max(1.0)) as f64;
+        let eye = self.eye();
+        let view = glam::dcamera::rh::view::look_at_mat4(eye, DVec3::from(self.target), DVec3::Z);
+        let near = (self.distance * 0.01).max(1e-6);
+        let projection = glam::dcamera::rh::proj::opengl::perspective(
+            FOV_Y,
+            aspect.max(0.01),
+            near,
+            self.distance * 100.0,
+        );
+        Projector {
+            rect,
+            clip_from_world: projection * view,
+            eye,
+            right: view.row(0).truncate(),
+            up: view.row(1).truncate(),
+        }
+    }
+}
+
+/// World to screen for one frame.
+#[derive(Clone, Debug)]
+pub struct Projector {
+    /// The viewport.
+    pub rect: Rect,
+    /// Projection times view.
+    pub clip_from_world: DMat4,
+    /// The camera position.
+    pub eye: DVec3,
+    /// The camera's right vector in world space.
+    pub right: DVec3,
+    /// The camera's up vector in world space.
+    pub up: DVec3,
+}
+
+/// Points closer than this (in clip w) are behind the camera.
+const NEAR_W: f64 = 1e-6;
+
+impl Projector {
+    fn clip(&self, p: DVec3) -> DVec4 {
+        self.clip_from_world * p.extend(1.0)
+    }
+
+    fn screen_from_clip(&self, c: DVec4) -> Pos2 {
+        let ndc = c.truncate() / c.w;
+        Pos2::new(
+            self.rect.center().x + (ndc.x as f32) * self.rect.width() / 2.0,
+            self.rect.center().y - (ndc.y as f32) * self.rect.height() / 2.0,
+        )
+    }
+
+    /// The screen position of a world point, `None` behind the camera or for non-finite input.
+    pub fn screen_from_world(&self, p: DVec3) -> Option<Pos2> {
+        let c = self.clip(p);
+        (p.is_finite() && c.w > NEAR_W).then(|| self.screen_from_clip(c))
+    }
+
+    /// The segment clipped to the front of the camera, on screen.
+    pub fn segment(&self, a: DVec3, b: DVec3) -> Option<[Pos2; 2]> {
+        if !a.is_finite() || !b.is_finite() {
+            return None;
+        }
+        let (mut ca, mut cb) = (self.clip(a), self.clip(b));
+        if ca.w <= NEAR_W && cb.w <= NEAR_W {
+            return None;
+        }
+        // Cut the part behind the camera at w = NEAR_W.
+        let cut =
+            |from: DVec4, to: DVec4| from + (to - from) * ((NEAR_W - from.w) / (to.w - from.w));
+        if ca.w <= NEAR_W {
+            ca = cut(ca, cb);
+        } else if cb.w <= NEAR_W {
+            cb = cut(cb, ca);
+        }
+        let (pa, pb) = (self.screen_from_clip(ca), self.screen_from_clip(cb));
+        // Far off-screen coordinates confuse the tessellator: clip to a generous frame.
+        let bound = self.rect.expand(self.rect.width().max(self.rect.height()));
+        clip_to_rect(pa, pb, bound)
+    }
+
+    /// World units per screen point at the depth of `p` (for dragging in the camera's plane).
+    pub fn world_per_point(&self, p: DVec3) -> f64 {
+        let depth = (p - self.eye).length().max(1e-9);
+        2.0 * depth * (FOV_Y / 2.0).tan() / self.rect.height().max(1.0) as f64
+    }
+
+    /// The world displacement of a screen drag, in the plane facing the camera at `p`.
+    pub fn drag_in_view_plane(&self, p: DVec3, drag: Vec2) -> DVec3 {
+        let k = self.world_per_point(p);
+        (self.right * drag.x as f64 - self.up * drag.y as f64) * k
+    }
+}
+
+/// Liang–Barsky: the part of segment a–b inside the rectangle.
+fn clip_to_rect(a: Pos2, b: Pos2, rect: Rect) -> Option<[Pos2; 2]> {
+    let d = b - a;
+    let (mut enter, mut leave) = (0.0f32, 1.0f32);
+    for (p, q) in [
+        (-d.x, a.x - rect.min.x),
+        (d.x, rect.max.x - a.x),
+        (-d.y, a.y - rect.min.y),
+        (d.y, rect.max.y - a.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                enter = enter.max(r);
+            } else {
+                leave = leave.min(r);
+            }
+        }
+    }
+    (enter <= leave).then(|| [a + d * enter, a + d * leave])
+}
+
+/// Draws in world coordinates through a projector.
+pub struct Canvas<'a> {
+    /// The painter, clipped to the viewport.
+    pub painter: &'a egui::Painter,
+    /// The projection.
+    pub projector: &'a Projector,
+}
+
+impl Canvas<'_> {
+    /// A line.
+    pub fn line(&self, a: DVec3, b: DVec3, stroke: impl Into<Stroke>) {
+        if let Some(points) = self.projector.segment(a, b) {
+            self.painter.line_segment(points, stroke);
+        }
+    }
+
+    /// A dashed line.
+    pub fn dashed(&self, a: DVec3, b: DVec3, stroke: impl Into<Stroke>) {
+        if let Some(points) = self.projector.segment(a, b) {
+            self.painter
+                .extend(Shape::dashed_line(&points, stroke.into(), 7.0, 5.0));
+        }
+    }
+
+    /// An arrow from `from` to `to`, with a head on screen.
+    pub fn arrow(&self, from: DVec3, to: DVec3, stroke: impl Into<Stroke>) {
+        let stroke = stroke.into();
+        let Some([a, b]) = self.projector.segment(from, to) else {
+            return;
+        };
+        self.painter.line_segment([a, b], stroke);
+        let along = b - a;
+        if along.length() < 2.0 {
+            return;
+        }
+        let dir = along.normalized();
+        let head = 11.0f32.min(along.length() * 0.5);
+        let side = Vec2::new(-dir.y, dir.x) * head * 0.45;
+        self.painter.add(Shape::convex_polygon(
+            vec![b, b - dir * head + side, b - dir * head - side],
+            stroke.color,
+            Stroke::NONE,
+        ));
+    }
+
+    /// A filled dot; returns its screen position.
+    pub fn dot(&self, p: DVec3, radius: f32, color: Color32) -> Option<Pos2> {
+        let at = self.projector.screen_from_world(p)?;
+        self.painter.circle_filled(at, radius, color);
+        Some(at)
+    }
+
+    /// A hollow ring (a ghost point).
+    pub fn ring(&self, p: DVec3, radius: f32, stroke: impl Into<Stroke>) -> Option<Pos2> {
+        let at = self.projector.screen_from_world(p)?;
+        self.painter.circle_stroke(at, radius, stroke);
+        Some(at)
+    }
+
+    /// A label next to a world point.
+    pub fn label(&self, p: DVec3, text: &str, color: Color32, font: egui::FontId) {
+        if let Some(at) = self.projector.screen_from_world(p) {
+            self.painter.text(
+                at + Vec2::new(8.0, -8.0),
+                egui::Align2::LEFT_BOTTOM,
+                text,
+                font,
+                color,
+            );
+        }
+    }
+
+    /// A filled polygon (the triangle), translucent.
+    pub fn polygon(&self, points: &[DVec3], fill: Color32, stroke: Stroke) {
+        let screen: Option<Vec<Pos2>> = points
+            .iter()
+            .map(|p| self.projector.screen_from_world(*p))
+            .collect();
+        if let Some(screen) = screen {
+            self.painter
+                .add(Shape::convex_polygon(screen, fill, stroke));
+        }
+    }
+}
+
+impl Canvas<'_> {
+    /// Axes from the origin with labels, long enough to reach the given points.
+    pub fn axes(&self, points: &[DVec3], text: Color32) {
+        let extent = points
+            .iter()
+            .filter(|p| p.is_finite())
+            .map(|p| p.abs().max_element())
+            .fold(1.0f64, f64::max)
+            * 1.2;
+        for (axis, name, color) in [
+            (DVec3::X, "x", Color32::from_rgb(0xc8, 0x50, 0x50)),
+            (DVec3::Y, "y", Color32::from_rgb(0x50, 0xa8, 0x50)),
+            (DVec3::Z, "z", Color32::from_rgb(0x50, 0x70, 0xd0)),
+        ] {
+            let faded = |a: u8| Color32::from_rgba_unmultiplied(color.r(), color.g(), color.b(), a);
+            self.line(DVec3::ZERO, axis * extent, Stroke::new(1.5, faded(200)));
+            self.dashed(
+                -axis * extent * 0.3,
+                DVec3::ZERO,
+                Stroke::new(1.0, faded(90)),
+            );
+            self.label(axis * extent, name, color, egui::FontId::proportional(16.0));
+        }
+        self.label(DVec3::ZERO, "0", text, egui::FontId::proportional(13.0));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn target_projects_to_the_center() {
+        let camera = OrbitCamera::default();
+        let rect = Rect::from_min_size(Pos2::ZERO, Vec2::new(800.0, 600.0));
+        let projector = camera.projector(rect);
+        let center = projector
+            .screen_from_world(DVec3::from(camera.target))
+            .unwrap();
+        assert!((center - rect.center()).length() < 1e-3);
+        // Behind the camera there is nothing to draw.
+        let behind = camera.eye() + (camera.eye() - DVec3::from(camera.target));
+        assert!(projector.screen_from_world(behind).is_none());
+        assert!(projector.screen_from_world(DVec3::NAN).is_none());
+    }
+
+    #[test]
+    fn a_drag_moves_points_across_the_screen_by_the_same_amount() {
+        let camera = OrbitCamera::default();
+        let rect = Rect::from_min_size(Pos2::ZERO, Vec2::new(800.0, 600.0));
+        let projector = camera.projector(rect);
+        let p = DVec3::from(camera.target);
+        let moved = p + projector.drag_in_view_plane(p, Vec2::new(30.0, -20.0));
+        let delta =
+            projector.screen_from_world(moved).unwrap() - projector.screen_from_world(p).unwrap();
+        assert!((delta - Vec2::new(30.0, -20.0)).length() < 0.5, "{delta:?}");
+    }
+}

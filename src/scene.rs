@@ -1,0 +1,268 @@
+//! Scene files (RON): a titled problem the app can load, save and open.
+//!
+//! Every lecture example and hard case ships as a file in `assets/scenes/`, embedded in the binary so the
+//! preset menu works wherever raylab runs. A malformed file is reported with its name, line and column.
+
+use serde::{Deserialize, Serialize};
+
+/// Two 2D segments A1–A2 and B1–B2.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SegmentsScene {
+    /// Start of segment A.
+    pub a1: [f64; 2],
+    /// End of segment A.
+    pub a2: [f64; 2],
+    /// Start of segment B.
+    pub b1: [f64; 2],
+    /// End of segment B.
+    pub b2: [f64; 2],
+}
+
+/// A triangle A, B, C and a ray L + tD.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TriangleScene {
+    /// Vertex A.
+    pub a: [f64; 3],
+    /// Vertex B.
+    pub b: [f64; 3],
+    /// Vertex C.
+    pub c: [f64; 3],
+    /// The ray's origin L.
+    pub origin: [f64; 3],
+    /// The ray's direction D.
+    pub dir: [f64; 3],
+    /// Hits need t > t_min.
+    #[serde(default)]
+    pub t_min: f64,
+}
+
+/// A parallelogram c + α e1 + β e2 and a ray o + t d.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ParallelogramScene {
+    /// The corner c.
+    pub corner: [f64; 3],
+    /// Edge vector e1.
+    pub e1: [f64; 3],
+    /// Edge vector e2.
+    pub e2: [f64; 3],
+    /// The ray's origin o.
+    pub origin: [f64; 3],
+    /// The ray's direction d.
+    pub dir: [f64; 3],
+}
+
+/// The problem a scene sets.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Problem {
+    /// Two 2D segments.
+    Segments(SegmentsScene),
+    /// A ray and a triangle.
+    Triangle(TriangleScene),
+    /// A ray and a parallelogram.
+    Parallelogram(ParallelogramScene),
+}
+
+/// A scene file: a title, a one-line note, and the problem.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Scene {
+    /// Shown in the preset menu.
+    pub title: String,
+    /// One line on what the scene shows.
+    pub note: String,
+    /// The problem.
+    pub problem: Problem,
+}
+
+/// Why a scene could not be read.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SceneError {
+    /// The file name (or `<text>`).
+    pub file: String,
+    /// 1-based line, when known.
+    pub line: Option<usize>,
+    /// 1-based column, when known.
+    pub column: Option<usize>,
+    /// What was wrong or expected.
+    pub message: String,
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match (self.line, self.column) {
+            (Some(line), Some(column)) => {
+                write!(f, "{}:{line}:{column}: {}", self.file, self.message)
+            }
+            _ => write!(f, "{}: {}", self.file, self.message),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+impl Scene {
+    /// Parses RON text; `file` names it in errors.
+    pub fn from_ron(text: &str, file: &str) -> Result<Scene, SceneError> {
+        let scene: Scene = ron::from_str(text).map_err(|e| SceneError {
+            file: file.into(),
+            line: Some(e.span.start.line),
+            column: Some(e.span.start.col),
+            message: e.code.to_string(),
+        })?;
+        scene.check_finite().map_err(|message| SceneError {
+            file: file.into(),
+            line: None,
+            column: None,
+            message,
+        })?;
+        Ok(scene)
+    }
+
+    /// Pretty RON, as saved.
+    pub fn to_ron(&self) -> String {
+        let config = ron::ser::PrettyConfig::new().depth_limit(3);
+        ron::ser::to_string_pretty(self, config).expect("scenes always serialize")
+    }
+
+    /// Reads a scene file from disk.
+    pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+            file: name.clone(),
+            line: None,
+            column: None,
+            message: e.to_string(),
+        })?;
+        Scene::from_ron(&text, &name)
+    }
+
+    /// Writes the scene to disk.
+    pub fn save(&self, path: &std::path::Path) -> std::io::Result<()> {
+        std::fs::write(path, self.to_ron())
+    }
+
+    /// NaN and infinities are not valid coordinates in a file.
+    fn check_finite(&self) -> Result<(), String> {
+        let values: Vec<f64> = match &self.problem {
+            Problem::Segments(s) => [s.a1, s.a2, s.b1, s.b2].concat(),
+            Problem::Triangle(t) => [t.a, t.b, t.c, t.origin, t.dir, [t.t_min; 3]].concat(),
+            Problem::Parallelogram(p) => [p.corner, p.e1, p.e2, p.origin, p.dir].concat(),
+        };
+        match values.iter().find(|v| !v.is_finite()) {
+            Some(bad) => Err(format!("coordinates must be finite numbers, found {bad}")),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The scenes shipped in `assets/scenes/`, embedded at compile time: (file name, RON text).
+pub const BUILT_IN: &[(&str, &str)] = &[
+    (
+        "seed000-segments-cross.ron",
+        include_str!("../assets/scenes/seed000-segments-cross.ron"),
+    ),
+    (
+        "seed000-segments-miss.ron",
+        include_str!("../assets/scenes/seed000-segments-miss.ron"),
+    ),
+    (
+        "segments-touching.ron",
+        include_str!("../assets/scenes/segments-touching.ron"),
+    ),
+    (
+        "segments-parallel.ron",
+        include_str!("../assets/scenes/segments-parallel.ron"),
+    ),
+    (
+        "segments-collinear.ron",
+        include_str!("../assets/scenes/segments-collinear.ron"),
+    ),
+    (
+        "seed000-triangle.ron",
+        include_str!("../assets/scenes/seed000-triangle.ron"),
+    ),
+    (
+        "seed000-alternative-1.ron",
+        include_str!("../assets/scenes/seed000-alternative-1.ron"),
+    ),
+    (
+        "seed000-alternative-2.ron",
+        include_str!("../assets/scenes/seed000-alternative-2.ron"),
+    ),
+    (
+        "seed000-alternative-3.ron",
+        include_str!("../assets/scenes/seed000-alternative-3.ron"),
+    ),
+    (
+        "seed003-ray.ron",
+        include_str!("../assets/scenes/seed003-ray.ron"),
+    ),
+    (
+        "triangle-parallel.ron",
+        include_str!("../assets/scenes/triangle-parallel.ron"),
+    ),
+    (
+        "triangle-behind.ron",
+        include_str!("../assets/scenes/triangle-behind.ron"),
+    ),
+    (
+        "triangle-degenerate.ron",
+        include_str!("../assets/scenes/triangle-degenerate.ron"),
+    ),
+    (
+        "seed001-parallelogram.ron",
+        include_str!("../assets/scenes/seed001-parallelogram.ron"),
+    ),
+];
+
+/// Parses every built-in scene, in menu order.
+pub fn built_in() -> Vec<Scene> {
+    BUILT_IN
+        .iter()
+        .map(|(file, text)| Scene::from_ron(text, file).expect("built-in scenes are valid"))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_built_in_scene_parses_and_round_trips() {
+        for scene in built_in() {
+            assert!(!scene.title.is_empty() && !scene.note.is_empty());
+            let again = Scene::from_ron(&scene.to_ron(), "again").unwrap();
+            assert_eq!(again, scene);
+        }
+    }
+
+    #[test]
+    fn built_in_list_matches_the_folder() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes");
+        let mut on_disk: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|name| name.ends_with(".ron"))
+            .collect();
+        on_disk.sort();
+        let mut listed: Vec<String> = BUILT_IN.iter().map(|(f, _)| f.to_string()).collect();
+        listed.sort();
+        assert_eq!(
+            listed, on_disk,
+            "every scene file is in BUILT_IN, and only those"
+        );
+    }
+
+    #[test]
+    fn malformed_files_name_line_and_column() {
+        let text = "(\n    title: \"x\",\n    note: \"y\",\n    problem: Segments((a1: (1.0, 2.0), a2: (1.0,), b1: (0.0, 0.0), b2: (1.0, 1.0))),\n)";
+        let err = Scene::from_ron(text, "bad.ron").unwrap_err();
+        assert_eq!(err.file, "bad.ron");
+        assert_eq!(err.line, Some(4));
+        assert!(err.to_string().starts_with("bad.ron:4:"), "{err}");
+        let err = Scene::from_ron("(title: \"x\", note: \"y\")", "short.ron").unwrap_err();
+        assert!(err.message.contains("problem"), "{err}");
+        let nan = "(title: \"x\", note: \"y\", problem: Segments((a1: (NaN, 2.0), a2: (1.0, 1.0), b1: (0.0, 0.0), b2: (1.0, 1.0))))";
+        let err = Scene::from_ron(nan, "nan.ron").unwrap_err();
+        assert!(err.message.contains("finite"), "{err}");
+    }
+}
