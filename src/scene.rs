@@ -201,6 +201,10 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         include_str!("../assets/scenes/triangle-parallel.ron"),
     ),
     (
+        "triangle-outside.ron",
+        include_str!("../assets/scenes/triangle-outside.ron"),
+    ),
+    (
         "triangle-behind.ron",
         include_str!("../assets/scenes/triangle-behind.ron"),
     ),

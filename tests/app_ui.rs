@@ -147,3 +147,164 @@ fn a_parallel_ray_shows_its_named_state() {
     // Solve has nothing to slide to.
     assert!(harness.get_by_label("Solve").accesskit_node().is_disabled());
 }
+
+/// Everything the app copied to the clipboard in the last frame.
+fn copied(harness: &Harness<'static, RaylabApp>) -> Vec<String> {
+    harness
+        .output()
+        .platform_output
+        .commands
+        .iter()
+        .filter_map(|c| match c {
+            egui::OutputCommand::CopyText(text) => Some(text.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn copy_as_latex_copies_the_core_latex() {
+    let mut harness = harness();
+    load_preset(&mut harness, "Seed 000: the lecture triangle");
+    harness.get_by_label("Copy all as LaTeX").click();
+    harness.step();
+    let text = copied(&harness).join("\n");
+    assert!(
+        text.contains("\\beta = \\frac{|M_1|}{|M|} = \\frac{9}{27} = \\frac{1}{3}"),
+        "{text}"
+    );
+    // One step: the first "LaTeX" button copies the system M X = Y.
+    harness.get_all_by_label("LaTeX").next().unwrap().click();
+    harness.step();
+    let step = copied(&harness).join("\n");
+    assert!(step.starts_with("M\\,X = Y"), "{step}");
+}
+
+#[test]
+fn the_app_is_idle_without_input() {
+    let mut harness = harness();
+    // With no input, frames stop: run() settles instead of hitting its step limit.
+    assert!(harness.try_run().is_ok());
+    load_preset(&mut harness, "Seed 000: the lecture triangle");
+    harness.get_by_label("Solve").click();
+    // The animation repaints until it ends, then the app is idle again.
+    let steps = harness.try_run().expect("the animation ends");
+    assert!(steps > 3, "the slide is animated ({steps} frames)");
+    assert!(harness.try_run().expect("idle") <= 1);
+}
+
+#[test]
+fn keyboard_zoom_works() {
+    let mut harness = harness();
+    let before = harness.ctx.zoom_factor();
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Plus);
+    harness.run();
+    assert!(harness.ctx.zoom_factor() > before);
+    harness.get_by_label("−").click();
+    harness.run();
+    harness.get_by_label("−").click();
+    harness.run();
+    assert!(harness.ctx.zoom_factor() < before);
+}
+
+#[test]
+fn bad_inputs_never_panic() {
+    let mut harness = harness();
+    let bad_values = [f64::NAN, f64::INFINITY, -f64::INFINITY, 1e300, 0.0];
+    for (round, bad) in bad_values.into_iter().enumerate() {
+        {
+            let state = &mut harness.state_mut().state;
+            state.triangle.scene.dir = [bad, 0.0, 0.0];
+            state.triangle.scene.a[round % 3] = bad;
+            state.triangle.beta = bad;
+            state.segments.scene.a1 = [bad, bad];
+            state.segments.t = bad;
+            state.parallelogram.scene.e1 = [bad; 3];
+            state.parallelogram.t = bad;
+        }
+        for view in ViewKind::ALL {
+            harness.state_mut().state.view = view;
+            for precision in raylab::geometry::Precision::ALL {
+                harness.state_mut().state.precision = precision;
+                harness.run();
+            }
+        }
+    }
+    // A collapsed triangle and a zero direction are named, not crashes.
+    load_preset(&mut harness, "Degenerate triangle");
+    assert!(shows(
+        &harness,
+        "A, B and C are collinear: the triangle has no area"
+    ));
+    harness.state_mut().state.triangle.scene.dir = [0.0; 3];
+    harness.run();
+    assert!(shows(
+        &harness,
+        "the direction D is the zero vector: no ray"
+    ));
+}
+
+#[test]
+fn state_survives_a_restart() {
+    let mut harness = harness();
+    load_preset(&mut harness, "Seed 000: alternative 2");
+    harness.state_mut().state.triangle.beta = 0.125;
+    let saved = ron::to_string(&harness.state().state).unwrap();
+    let restored: raylab::app::AppState = ron::from_str(&saved).unwrap();
+    assert_eq!(restored.view, ViewKind::Triangle);
+    assert_eq!(restored.triangle.scene.dir, [1.0, 0.0, 0.0]);
+    assert_eq!(restored.triangle.beta, 0.125);
+    // Older or partial state files fall back to defaults field by field.
+    let partial: raylab::app::AppState = ron::from_str("(view: Parallelogram)").unwrap();
+    assert_eq!(partial.view, ViewKind::Parallelogram);
+}
+
+#[test]
+fn scenes_save_and_open_and_bad_files_keep_the_scene() {
+    let dir = std::env::temp_dir().join(format!("raylab-ui-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("mine.ron");
+    let mut harness = harness();
+    load_preset(&mut harness, "Seed 000: alternative 3");
+    harness.state_mut().state.triangle.scene.origin = [0.5, 0.25, 0.0];
+    harness.state_mut().state.scene_path = path.display().to_string();
+    // Save through the File menu and its dialog.
+    harness.get_by_label("File").click();
+    harness.run();
+    harness.get_by_label("Save scene as…").click();
+    harness.run();
+    harness.get_by_role_and_label(Role::Button, "Save").click();
+    harness.run();
+    assert!(path.exists());
+    assert!(harness.state().notice.as_ref().is_some_and(|n| !n.error));
+
+    load_preset(&mut harness, "Seed 000: segments that cross");
+    harness.get_by_label("File").click();
+    harness.run();
+    harness.get_by_label("Open scene…").click();
+    harness.run();
+    harness.get_by_role_and_label(Role::Button, "Open").click();
+    harness.run();
+    assert_eq!(harness.state().state.view, ViewKind::Triangle);
+    assert_eq!(
+        harness.state().state.triangle.scene.origin,
+        [0.5, 0.25, 0.0]
+    );
+
+    // A malformed file: the error names file, line and column; nothing the user had is lost.
+    let bad = dir.join("bad.ron");
+    std::fs::write(
+        &bad,
+        "(\n  title: \"x\",\n  note: \"y\",\n  problem: Triangle((a: (1.0, 2.0))),\n)",
+    )
+    .unwrap();
+    harness.state_mut().state.scene_path = bad.display().to_string();
+    let notice = harness.state_mut().run_dialog_path(false);
+    assert!(notice.error);
+    assert!(notice.text.contains("bad.ron:4:"), "{}", notice.text);
+    assert_eq!(
+        harness.state().state.triangle.scene.origin,
+        [0.5, 0.25, 0.0]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

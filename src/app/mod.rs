@@ -335,8 +335,9 @@ impl RaylabApp {
             .collapsible(false)
             .resizable(false)
             .show(ctx, |ui| {
-                ui.label("Path of a .ron scene file:");
-                ui.add(egui::TextEdit::singleline(&mut self.state.scene_path).desired_width(420.0));
+                let label = ui.label("Path of a .ron scene file:");
+                ui.add(egui::TextEdit::singleline(&mut self.state.scene_path).desired_width(420.0))
+                    .labelled_by(label.id);
                 let action = match dialog {
                     Dialog::Open => "Open",
                     Dialog::Save => "Save",
@@ -398,9 +399,11 @@ impl eframe::App for RaylabApp {
         let solved = self.solve();
         egui::Panel::top("top-bar").show(ui, |ui| self.top_bar(ui));
         if self.state.show_steps {
+            // About 40% of the window: wide enough for a 3x3 matrix, narrow enough for the view at 150%.
+            let width = (ui.available_width() * 0.4).clamp(260.0, 420.0);
             egui::Panel::right("steps")
                 .resizable(true)
-                .default_size(400.0)
+                .default_size(width)
                 .min_size(260.0)
                 .show(ui, |ui| {
                     step_panel::ui(ui, solved.trace(), &mut self.state.precision)

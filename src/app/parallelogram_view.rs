@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::widgets::palette::{self, faded};
 use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
-use super::widgets::vector_editor;
+use super::widgets::{ParameterSlider, parameter_sliders, status_line, vector_editor};
 use crate::exact::Exact;
 use crate::geometry::parallelogram::{self, ParallelogramOutcome, ParallelogramSolution};
 use crate::geometry::{Precision, Reading};
@@ -76,7 +76,7 @@ impl ParallelogramView {
             DVec3::from(scene.origin),
             DVec3::ZERO,
         ];
-        self.camera = OrbitCamera::framing(&points);
+        self.camera = OrbitCamera::framing(&points).across(DVec3::from(scene.dir));
         self.scene = scene;
         self.alpha = 0.5;
         self.beta = 0.5;
@@ -126,29 +126,41 @@ impl ParallelogramView {
             {
                 (self.alpha, self.beta, self.t) = (alpha, beta, t);
             }
-            if ui.button("Reset view").clicked() {
+            if ui
+                .button("Reset view")
+                .on_hover_text("Frame the parallelogram and the ray again")
+                .clicked()
+            {
+                let sliders = (self.alpha, self.beta, self.t);
                 self.load(self.scene.clone());
+                (self.alpha, self.beta, self.t) = sliders;
             }
-            for (value, name, tip) in [
-                (&mut self.alpha, "α", "How far along e1 from c"),
-                (&mut self.beta, "β", "How far along e2 from c"),
-            ] {
-                ui.add(
-                    egui::Slider::new(value, -0.5..=1.5)
-                        .text(name)
-                        .clamping(egui::SliderClamping::Never),
-                )
-                .on_hover_text(tip);
-            }
-            ui.add(
-                egui::Slider::new(&mut self.t, -3.0..=3.0)
-                    .text("t")
-                    .clamping(egui::SliderClamping::Never),
-            )
-            .on_hover_text("How far along the ray, in steps of d");
         });
+        parameter_sliders(
+            ui,
+            vec![
+                ParameterSlider {
+                    value: &mut self.alpha,
+                    range: -0.5..=1.5,
+                    name: "α",
+                    tip: "How far along e1 from c",
+                },
+                ParameterSlider {
+                    value: &mut self.beta,
+                    range: -0.5..=1.5,
+                    name: "β",
+                    tip: "How far along e2 from c",
+                },
+                ParameterSlider {
+                    value: &mut self.t,
+                    range: -3.0..=3.0,
+                    name: "t",
+                    tip: "How far along the ray, in steps of d",
+                },
+            ],
+        );
         let explored = self.exploration();
-        ui.horizontal(|ui| {
+        status_line(ui, |ui| {
             let exact = solved.exact.alpha_beta_t.as_ref();
             for (i, (symbol, value)) in [("α", self.alpha), ("β", self.beta), ("t", self.t)]
                 .into_iter()
@@ -161,6 +173,8 @@ impl ParallelogramView {
                 };
                 ui.label(RichText::new(format!("{symbol} = {text}")).strong());
             }
+        });
+        status_line(ui, |ui| {
             let (text, color) = if explored.inside {
                 ("p(α, β) is on the parallelogram", palette::INSIDE)
             } else {
@@ -240,7 +254,7 @@ impl ParallelogramView {
         let text = ui.visuals().text_color();
         let font = FontId::proportional(16.0);
         let [c, e1, e2, o, d] = self.vectors();
-        canvas.axes(&[c, c + e1, c + e2, o], text);
+        canvas.axes(&[c, c + e1, c + e2, o]);
         canvas.polygon(
             &[c, c + e1, c + e1 + e2, c + e2],
             faded(palette::BETA, 40),
@@ -286,13 +300,7 @@ impl ParallelogramView {
             canvas.ring(DVec3::from(point), 11.0, Stroke::new(2.5, color));
             canvas.label(DVec3::from(point), label, color, font.clone());
         }
-        painter.text(
-            response.rect.left_top() + egui::vec2(8.0, 6.0),
-            egui::Align2::LEFT_TOP,
-            solved.trace.verdict().map_or("", |v| v.message.as_str()),
-            FontId::proportional(17.0),
-            super::step_panel::verdict_color(solved.float.outcome.status()),
-        );
+        super::widgets::verdict_overlay(ui, &painter, response.rect, &solved.trace);
         self.projector = Some(projector);
     }
 }

@@ -9,7 +9,7 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use super::widgets::palette::{self, faded};
-use super::widgets::{snap, vector_editor};
+use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::exact::Exact;
 use crate::geometry::segments::{self, SegmentsOutcome, SegmentsSolution};
 use crate::geometry::{Precision, Reading};
@@ -218,20 +218,6 @@ impl SegmentsView {
                     started: ui.input(|i| i.time),
                 });
             }
-            ui.add(
-                egui::Slider::new(&mut self.t, -1.0..=2.0)
-                    .text("t")
-                    .clamping(egui::SliderClamping::Never)
-                    .max_decimals(4),
-            )
-            .on_hover_text("A(t) = A1 + t(A2−A1): 0 at A1, 1 at A2");
-            ui.add(
-                egui::Slider::new(&mut self.s, -1.0..=2.0)
-                    .text("s")
-                    .clamping(egui::SliderClamping::Never)
-                    .max_decimals(4),
-            )
-            .on_hover_text("B(s) = B1 + s(B2−B1): 0 at B1, 1 at B2");
             ui.checkbox(&mut self.show_lines, "Whole lines")
                 .on_hover_text("Draw the lines beyond [0, 1], faded: lines know no bounds");
             ui.checkbox(&mut self.show_samples, "Samples")
@@ -239,7 +225,12 @@ impl SegmentsView {
                     "k evenly spaced points along each segment, as seed 000 samples them",
                 );
             if self.show_samples {
-                ui.add(egui::Slider::new(&mut self.samples, 2..=64).text("k"));
+                ui.add(
+                    egui::DragValue::new(&mut self.samples)
+                        .range(2..=64)
+                        .prefix("k = "),
+                )
+                .on_hover_text("How many samples along each segment");
             }
             if ui
                 .button("Fit")
@@ -249,6 +240,23 @@ impl SegmentsView {
                 self.fit();
             }
         });
+        parameter_sliders(
+            ui,
+            vec![
+                ParameterSlider {
+                    value: &mut self.t,
+                    range: -1.0..=2.0,
+                    name: "t",
+                    tip: "A(t) = A1 + t(A2−A1): 0 at A1, 1 at A2",
+                },
+                ParameterSlider {
+                    value: &mut self.s,
+                    range: -1.0..=2.0,
+                    name: "s",
+                    tip: "B(s) = B1 + s(B2−B1): 0 at B1, 1 at B2",
+                },
+            ],
+        );
         self.status_ui(ui, solved);
         egui::CollapsingHeader::new("Inputs: A1, A2, B1, B2")
             .default_open(false)
@@ -297,7 +305,7 @@ impl SegmentsView {
 
     fn status_ui(&self, ui: &mut Ui, solved: &Solved) {
         let explored = self.exploration();
-        ui.horizontal(|ui| {
+        status_line(ui, |ui| {
             let t_text = shown(self.t, solved.float.t, solved.exact.t.as_ref());
             let s_text = shown(self.s, solved.float.s, solved.exact.s.as_ref());
             ui.label(
@@ -321,7 +329,7 @@ impl SegmentsView {
             ui.label(format!("B(s) = {}", point(explored.b_at_s)));
         });
         // A line of its own, so the plot above does not jump when the text changes length.
-        ui.horizontal(|ui| {
+        status_line(ui, |ui| {
             // At the solution the handles meet exactly (in f64 the two points may differ in the last bit).
             let at_solution = solved.float.t == Some(self.t) && solved.float.s == Some(self.s);
             if at_solution || explored.gap == 0.0 {
@@ -469,12 +477,19 @@ impl SegmentsView {
             let direction = p2 - p1;
             if self.show_lines && direction.length() > 0.0 {
                 let unit = direction / direction.length();
-                painter.line_segment(
+                line(
+                    painter,
+                    frame,
                     [to_screen(p1 - unit * far), to_screen(p2 + unit * far)],
                     Stroke::new(1.5, faded(color, 70)),
                 );
             }
-            painter.line_segment([to_screen(p1), to_screen(p2)], Stroke::new(4.0, color));
+            line(
+                painter,
+                frame,
+                [to_screen(p1), to_screen(p2)],
+                Stroke::new(4.0, color),
+            );
             if self.show_samples {
                 for i in 0..self.samples {
                     let u = i as f64 / (self.samples.max(2) - 1) as f64;
@@ -497,12 +512,12 @@ impl SegmentsView {
         let at_t = to_screen(DVec2::from(explored.a_at_t));
         let at_s = to_screen(DVec2::from(explored.b_at_s));
         if explored.gap > 0.0 {
-            painter.extend(Shape::dashed_line(
-                &[at_t, at_s],
+            dashed(
+                painter,
+                frame,
+                [at_t, at_s],
                 Stroke::new(1.0, faded(text, 150)),
-                6.0,
-                4.0,
-            ));
+            );
         }
         for (at, color, label, offset) in [
             (at_t, palette::SEGMENT_A, "A(t)", vec2(12.0, 12.0)),
@@ -522,14 +537,7 @@ impl SegmentsView {
                 color,
             );
         }
-        let verdict = solved.trace.verdict().map_or("", |v| v.message.as_str());
-        painter.text(
-            frame.rect.left_top() + vec2(8.0, 6.0),
-            egui::Align2::LEFT_TOP,
-            verdict,
-            FontId::proportional(17.0),
-            super::step_panel::verdict_color(solved.float.outcome.status()),
-        );
+        super::widgets::verdict_overlay(ui, painter, frame.rect, &solved.trace);
     }
 
     fn draw_solution(&self, painter: &egui::Painter, frame: &Frame2d, solved: &Solved) {
@@ -562,7 +570,9 @@ impl SegmentsView {
                 if let Some([from, to]) = s.overlap {
                     let [a1, a2] = [DVec2::from(self.scene.a1), DVec2::from(self.scene.a2)];
                     let at = |u: f64| frame.screen_from_world(a1 + u * (a2 - a1));
-                    painter.line_segment(
+                    line(
+                        painter,
+                        frame,
                         [at(from), at(to)],
                         Stroke::new(9.0, faded(palette::SOLUTION, 170)),
                     );
@@ -594,6 +604,11 @@ fn draw_grid(painter: &egui::Painter, frame: &Frame2d, text: Color32) {
         .map(|m| m * power)
         .find(|s| *s >= raw)
         .unwrap_or(raw);
+    // Nothing sensible to draw for a view at infinity or a grid of thousands of lines.
+    let lines = ((world_max - world_min) / spacing).max_element();
+    if !world_min.is_finite() || !world_max.is_finite() || !(0.0..=500.0).contains(&lines) {
+        return;
+    }
     let font = FontId::proportional(13.0);
     let grid = Stroke::new(1.0, faded(text, 25));
     let axis = Stroke::new(1.5, faded(text, 120));
@@ -605,7 +620,8 @@ fn draw_grid(painter: &egui::Painter, frame: &Frame2d, text: Color32) {
         let label_at = frame
             .screen_from_world(DVec2::new(x, 0.0))
             .y
-            .clamp(rect.top() + 2.0, rect.bottom() - 16.0);
+            .max(rect.top() + 2.0)
+            .min(rect.bottom() - 16.0);
         painter.text(
             pos2(top.x + 3.0, label_at + 2.0),
             egui::Align2::LEFT_TOP,
@@ -624,7 +640,8 @@ fn draw_grid(painter: &egui::Painter, frame: &Frame2d, text: Color32) {
             let label_at = frame
                 .screen_from_world(DVec2::new(0.0, y))
                 .x
-                .clamp(rect.left() + 2.0, rect.right() - 30.0);
+                .max(rect.left() + 2.0)
+                .min(rect.right() - 30.0);
             painter.text(
                 pos2(label_at + 3.0, left.y - 2.0),
                 egui::Align2::LEFT_BOTTOM,
@@ -649,4 +666,25 @@ fn draw_grid(painter: &egui::Painter, frame: &Frame2d, text: Color32) {
         FontId::proportional(16.0),
         text,
     );
+}
+
+/// A line clipped to a frame around the plot: far-off or non-finite ends would make the tessellator
+/// work for ever (a dashed line 1e300 points long) or draw nonsense.
+fn line(painter: &egui::Painter, frame: &Frame2d, [a, b]: [Pos2; 2], stroke: Stroke) {
+    let bound = frame
+        .rect
+        .expand(frame.rect.width().max(frame.rect.height()));
+    if let Some(points) = super::widgets::scene3d::clip_to_rect(a, b, bound) {
+        painter.line_segment(points, stroke);
+    }
+}
+
+/// A dashed line, clipped like [`line`].
+fn dashed(painter: &egui::Painter, frame: &Frame2d, [a, b]: [Pos2; 2], stroke: Stroke) {
+    let bound = frame
+        .rect
+        .expand(frame.rect.width().max(frame.rect.height()));
+    if let Some(points) = super::widgets::scene3d::clip_to_rect(a, b, bound) {
+        painter.extend(Shape::dashed_line(&points, stroke, 6.0, 4.0));
+    }
 }

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::widgets::palette::{self, faded};
 use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
-use super::widgets::{snap, vector_editor};
+use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::exact::Exact;
 use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome, TriangleSolution};
 use crate::geometry::{Precision, Reading};
@@ -96,7 +96,7 @@ pub struct Solved {
 impl TriangleView {
     /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.
     pub fn load(&mut self, scene: TriangleScene) {
-        self.camera = OrbitCamera::framing(&self.points_of(&scene));
+        self.camera = OrbitCamera::framing(&self.points_of(&scene)).across(DVec3::from(scene.dir));
         self.scene = scene;
         self.beta = 0.2;
         self.gamma = 0.2;
@@ -195,44 +195,34 @@ impl TriangleView {
                 .on_hover_text("Frame the triangle and the ray again")
                 .clicked()
             {
-                self.camera = OrbitCamera::framing(&self.points_of(&self.scene));
+                self.camera = OrbitCamera::framing(&self.points_of(&self.scene))
+                    .across(DVec3::from(self.scene.dir));
             }
-            let slider = |ui: &mut Ui,
-                          value: &mut f64,
-                          range: std::ops::RangeInclusive<f64>,
-                          name: &str,
-                          tip: &str| {
-                ui.add(
-                    egui::Slider::new(value, range)
-                        .text(name)
-                        .clamping(egui::SliderClamping::Never)
-                        .max_decimals(4),
-                )
-                .on_hover_text(tip)
-            };
-            slider(
-                ui,
-                &mut self.beta,
-                -0.5..=1.5,
-                "β",
-                "How far along B−A from A",
-            );
-            slider(
-                ui,
-                &mut self.gamma,
-                -0.5..=1.5,
-                "γ",
-                "How far along C−A from A",
-            );
-            let t_span = target.map_or(4.0, |[_, _, t]| 2.0 * t.abs() + 1.0);
-            slider(
-                ui,
-                &mut self.t,
-                -t_span..=t_span,
-                "t",
-                "How far along the ray, in steps of D",
-            );
         });
+        let t_span = target.map_or(4.0, |[_, _, t]| 2.0 * t.abs() + 1.0);
+        parameter_sliders(
+            ui,
+            vec![
+                ParameterSlider {
+                    value: &mut self.beta,
+                    range: -0.5..=1.5,
+                    name: "β",
+                    tip: "How far along B−A from A",
+                },
+                ParameterSlider {
+                    value: &mut self.gamma,
+                    range: -0.5..=1.5,
+                    name: "γ",
+                    tip: "How far along C−A from A",
+                },
+                ParameterSlider {
+                    value: &mut self.t,
+                    range: -t_span..=t_span,
+                    name: "t",
+                    tip: "How far along the ray, in steps of D",
+                },
+            ],
+        );
         self.status_ui(ui, solved);
         egui::CollapsingHeader::new("Inputs: A, B, C, L, D")
             .default_open(false)
@@ -243,7 +233,7 @@ impl TriangleView {
         let explored = self.exploration();
         let exact = solved.exact.solution.as_ref();
         let float = solved.float.solution.as_ref();
-        ui.horizontal(|ui| {
+        status_line(ui, |ui| {
             for (symbol, value, solution, solution_exact) in [
                 (
                     "β",
@@ -267,6 +257,8 @@ impl TriangleView {
                     .strong(),
                 );
             }
+        });
+        status_line(ui, |ui| {
             let (text, color) = if explored.outside.is_empty() {
                 (
                     "P(β, γ) is inside the triangle".to_string(),
@@ -285,7 +277,7 @@ impl TriangleView {
             };
             ui.label(RichText::new(text).color(color));
         });
-        ui.horizontal(|ui| {
+        status_line(ui, |ui| {
             let gap = explored.gap;
             // At the solution the points meet exactly (in f64 they may differ in the last bit).
             let at_solution = solved
@@ -306,6 +298,8 @@ impl TriangleView {
                 ))
                 .on_hover_text("Zero only at the solution (β*, γ*, t*); press Solve to get there");
             }
+        });
+        status_line(ui, |ui| {
             if let Some(s) = exact {
                 let distance = s
                     .distance_exact
@@ -313,7 +307,7 @@ impl TriangleView {
                     .and_then(|d| d.short())
                     .unwrap_or_else(|| format_float(s.distance, Precision::F64));
                 ui.label(format!(
-                    "t* = {}, distance t*·|D| = {distance}",
+                    "t* = {} (distance t*·|D| = {distance})",
                     s.t.display()
                 ))
                 .on_hover_text("t counts steps of D; the distance along the ray is t·|D|");
@@ -433,7 +427,7 @@ impl TriangleView {
         let text = visuals.text_color();
         let font = FontId::proportional(16.0);
         let [a, b, c, l, d] = self.vectors();
-        canvas.axes(&[a, b, c, l], text);
+        canvas.axes(&[a, b, c, l]);
 
         let degenerate = matches!(
             solved.float.outcome,
@@ -476,22 +470,21 @@ impl TriangleView {
         } else {
             palette::OUTSIDE
         };
-        canvas.dot(point, 7.0, p_color);
-        canvas.label(point, "P(β, γ)", p_color, font.clone());
-
         self.draw_ray(canvas, solved, [l, d], &font);
         let on_ray = DVec3::from(explored.ray_point);
-        if explored.gap > 0.0 {
+        canvas.dot(on_ray, 6.0, palette::RAY);
+        canvas.dot(point, 7.0, p_color);
+        // Where the two points coincide (at the solution), one label names both.
+        let together = explored.gap <= 1e-9 * (point.length() + 1.0);
+        if together {
+            canvas.label(point, "P(β, γ) = L + tD", p_color, font.clone());
+        } else {
             canvas.dashed(point, on_ray, Stroke::new(1.0, faded(text, 140)));
+            canvas.label(point, "P(β, γ)", p_color, font.clone());
+            canvas.label(on_ray, "L + tD", palette::RAY, font.clone());
         }
         self.draw_solution(canvas, solved, [a, b, c, l], &font);
-        canvas.painter.text(
-            canvas.projector.rect.left_top() + egui::vec2(8.0, 6.0),
-            egui::Align2::LEFT_TOP,
-            solved.trace.verdict().map_or("", |v| v.message.as_str()),
-            FontId::proportional(17.0),
-            super::step_panel::verdict_color(solved.float.outcome.status()),
-        );
+        super::widgets::verdict_overlay(ui, canvas.painter, canvas.projector.rect, &solved.trace);
     }
 
     fn draw_ray(&self, canvas: &Canvas, solved: &Solved, [l, d]: [DVec3; 2], font: &FontId) {
@@ -505,9 +498,6 @@ impl TriangleView {
         canvas.label(l, "L", palette::RAY, FontId::proportional(18.0));
         canvas.arrow(l, l + d, Stroke::new(3.0, palette::RAY));
         canvas.label(l + d, "D", palette::RAY, font.clone());
-        let on_ray = l + self.t * d;
-        canvas.dot(on_ray, 6.0, palette::RAY);
-        canvas.label(on_ray, "L + tD", palette::RAY, font.clone());
     }
 
     fn draw_solution(
@@ -531,11 +521,11 @@ impl TriangleView {
         match outcome {
             TriangleOutcome::Hit => {
                 canvas.ring(hit, 11.0, Stroke::new(3.0, palette::SOLUTION));
-                canvas.label(hit, "hit", palette::SOLUTION, font.clone());
+                canvas.label_below(hit, "hit", palette::SOLUTION, font.clone());
             }
             TriangleOutcome::Miss(TriangleMiss::Behind) => {
                 canvas.ring(hit, 11.0, Stroke::new(2.0, faded(palette::OUTSIDE, 200)));
-                canvas.label(
+                canvas.label_below(
                     hit,
                     "ghost hit behind L (t ≤ t_min)",
                     palette::OUTSIDE,
@@ -545,7 +535,7 @@ impl TriangleView {
             TriangleOutcome::Miss(TriangleMiss::Outside { edges }) => {
                 canvas.ring(hit, 11.0, Stroke::new(2.0, palette::OUTSIDE));
                 let names: Vec<&str> = edges.iter().map(|e| e.name()).collect();
-                canvas.label(
+                canvas.label_below(
                     hit,
                     &format!("misses: beyond {}", names.join(", ")),
                     palette::OUTSIDE,

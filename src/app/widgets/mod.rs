@@ -44,6 +44,72 @@ pub fn vector_editor<const N: usize>(
     changed
 }
 
+/// The verdict in the top-left corner of a canvas, on a backing so it reads over the drawing, wrapped
+/// to the canvas width.
+pub fn verdict_overlay(
+    ui: &Ui,
+    painter: &egui::Painter,
+    rect: egui::Rect,
+    trace: &crate::trace::Trace,
+) {
+    let Some(verdict) = trace.verdict() else {
+        return;
+    };
+    let color = crate::app::step_panel::verdict_color(&verdict.status);
+    let galley = painter.layout(
+        verdict.message.clone(),
+        egui::FontId::proportional(17.0),
+        color,
+        (rect.width() - 24.0).max(50.0),
+    );
+    let at = rect.left_top() + egui::vec2(8.0, 6.0);
+    let backing = egui::Rect::from_min_size(at, galley.size()).expand(4.0);
+    let fill = ui.visuals().extreme_bg_color.gamma_multiply(0.85);
+    painter.rect_filled(backing, 4.0, fill);
+    painter.galley(at, galley, color);
+}
+
+/// A parameter slider: the value, its range, its symbol and what it means.
+pub struct ParameterSlider<'a> {
+    /// The parameter.
+    pub value: &'a mut f64,
+    /// The slider's range (typing or animating can go beyond it).
+    pub range: std::ops::RangeInclusive<f64>,
+    /// The symbol, e.g. `β`: also the slider's accessible label.
+    pub name: &'a str,
+    /// The tooltip.
+    pub tip: &'a str,
+}
+
+/// The parameter sliders in one row when the view is wide enough, else one per row (a slider is a
+/// composite widget, so a wrapping row cannot wrap it).
+pub fn parameter_sliders(ui: &mut Ui, sliders: Vec<ParameterSlider<'_>>) {
+    let one_row = ui.available_width() >= 270.0 * sliders.len() as f32;
+    let add = |ui: &mut Ui, slider: ParameterSlider<'_>| {
+        ui.add(
+            egui::Slider::new(slider.value, slider.range)
+                .text(slider.name)
+                .clamping(egui::SliderClamping::Never)
+                .max_decimals(4),
+        )
+        .on_hover_text(slider.tip);
+    };
+    if one_row {
+        ui.horizontal(|ui| sliders.into_iter().for_each(|s| add(ui, s)));
+    } else {
+        ui.vertical(|ui| sliders.into_iter().for_each(|s| add(ui, s)));
+    }
+}
+
+/// One line of status text that never wraps: labels that do not fit are cut with "…", so the line's
+/// height, and the plot above it, stay put while the numbers change.
+pub fn status_line(ui: &mut Ui, add_contents: impl FnOnce(&mut Ui)) {
+    ui.horizontal(|ui| {
+        ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Truncate);
+        add_contents(ui);
+    });
+}
+
 /// Rounds to a multiple of `step`, then to the float whose shortest decimal is that multiple
 /// (so 0.30000000000000004 becomes 0.3).
 pub fn snap(value: f64, step: f64) -> f64 {

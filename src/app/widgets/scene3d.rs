@@ -51,6 +51,18 @@ impl OrbitCamera {
         }
     }
 
+    /// Turns the camera to look at the scene side-on to a ray with direction `dir`, so the ray is
+    /// drawn along its length instead of end-on.
+    pub fn across(mut self, dir: DVec3) -> OrbitCamera {
+        if dir.is_finite() && dir.x.hypot(dir.y) > 1e-9 * dir.length() {
+            // 55° around from the ray's heading, a little above: the ray is seen along its length
+            // and a triangle facing it (as in the lecture) is still seen at an angle, not edge-on.
+            self.yaw = dir.y.atan2(dir.x) + 55f64.to_radians();
+            self.pitch = 0.35;
+        }
+        self
+    }
+
     /// The eye position.
     pub fn eye(&self) -> DVec3 {
         let (sy, cy) = self.yaw.sin_cos();
@@ -164,8 +176,11 @@ impl Projector {
     }
 }
 
-/// Liang–Barsky: the part of segment a–b inside the rectangle.
-fn clip_to_rect(a: Pos2, b: Pos2, rect: Rect) -> Option<[Pos2; 2]> {
+/// Liang–Barsky: the part of segment a–b inside the rectangle (`None` for non-finite ends).
+pub fn clip_to_rect(a: Pos2, b: Pos2, rect: Rect) -> Option<[Pos2; 2]> {
+    if !(a.x.is_finite() && a.y.is_finite() && b.x.is_finite() && b.y.is_finite()) {
+        return None;
+    }
     let d = b - a;
     let (mut enter, mut leave) = (0.0f32, 1.0f32);
     for (p, q) in [
@@ -262,6 +277,19 @@ impl Canvas<'_> {
         }
     }
 
+    /// A label below-left of a world point (for a mark whose neighbours label up and right).
+    pub fn label_below(&self, p: DVec3, text: &str, color: Color32, font: egui::FontId) {
+        if let Some(at) = self.projector.screen_from_world(p) {
+            self.painter.text(
+                at + Vec2::new(-10.0, 12.0),
+                egui::Align2::RIGHT_TOP,
+                text,
+                font,
+                color,
+            );
+        }
+    }
+
     /// A filled polygon (the triangle), translucent.
     pub fn polygon(&self, points: &[DVec3], fill: Color32, stroke: Stroke) {
         let screen: Option<Vec<Pos2>> = points
@@ -277,7 +305,7 @@ impl Canvas<'_> {
 
 impl Canvas<'_> {
     /// Axes from the origin with labels, long enough to reach the given points.
-    pub fn axes(&self, points: &[DVec3], text: Color32) {
+    pub fn axes(&self, points: &[DVec3]) {
         let extent = points
             .iter()
             .filter(|p| p.is_finite())
@@ -298,7 +326,6 @@ impl Canvas<'_> {
             );
             self.label(axis * extent, name, color, egui::FontId::proportional(16.0));
         }
-        self.label(DVec3::ZERO, "0", text, egui::FontId::proportional(13.0));
     }
 }
 

@@ -1,0 +1,100 @@
+//! Pictures of the app, rendered on the CPU (wgpu on Mesa's lavapipe): image snapshots that fail when a
+//! view changes, and the README's screenshots.
+//!
+//! `RAYLAB_SCREENSHOTS=1 cargo test --test screenshots` rewrites `assets/screenshots/*.png`;
+//! `UPDATE_SNAPSHOTS=1 cargo test --test screenshots` accepts changed snapshots in `tests/snapshots/`.
+
+use egui::Vec2;
+use egui::accesskit::Role;
+use egui_kittest::kittest::Queryable;
+use egui_kittest::{Harness, SnapshotOptions};
+use raylab::app::RaylabApp;
+
+fn harness(size: Vec2, pixels_per_point: f32, theme: egui::Theme) -> Harness<'static, RaylabApp> {
+    Harness::builder()
+        .with_size(size)
+        .with_pixels_per_point(pixels_per_point)
+        .with_theme(theme)
+        .with_max_steps(200)
+        .wgpu()
+        .build_eframe(|cc| {
+            raylab::app::set_style(&cc.egui_ctx);
+            RaylabApp::new()
+        })
+}
+
+fn load(harness: &mut Harness<'static, RaylabApp>, title: &str) {
+    harness.get_by_label("Presets").click();
+    harness.run();
+    harness.get_by_role_and_label(Role::Button, title).click();
+    harness.run();
+}
+
+/// The preset each view is shown with, and what is done before the picture.
+const VIEWS: [(&str, &str, Option<&str>); 4] = [
+    (
+        "segments",
+        "Seed 000: segments that cross",
+        Some("Go to intersection"),
+    ),
+    ("triangle", "Seed 000: the lecture triangle", None),
+    (
+        "triangle-outside",
+        "Ray missing the triangle",
+        Some("Solve"),
+    ),
+    ("parallelogram", "Seed 001: ray and parallelogram", None),
+];
+
+fn prepare(harness: &mut Harness<'static, RaylabApp>, title: &str, button: Option<&str>) {
+    load(harness, title);
+    if let Some(button) = button {
+        harness.get_by_label(button).click();
+        harness.run();
+    }
+    harness.remove_cursor();
+    harness.run();
+}
+
+#[test]
+fn views_match_their_snapshots() {
+    let options = SnapshotOptions::default()
+        .threshold(2.0)
+        .max_failed_pixels(400);
+    let mut results = egui_kittest::SnapshotResults::new();
+    for (name, title, button) in VIEWS {
+        let mut harness = harness(Vec2::new(1280.0, 800.0), 1.0, egui::Theme::Dark);
+        prepare(&mut harness, title, button);
+        harness.snapshot_options(name, &options);
+        results.extend_harness(&mut harness);
+    }
+    results.unwrap();
+}
+
+#[test]
+fn readme_screenshots() {
+    let write = std::env::var_os("RAYLAB_SCREENSHOTS").is_some();
+    let folder = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/screenshots");
+    let shots = [
+        ("segments", VIEWS[0], 1.0, egui::Theme::Light),
+        ("triangle", VIEWS[1], 1.0, egui::Theme::Light),
+        ("triangle-outside", VIEWS[2], 1.0, egui::Theme::Dark),
+        ("parallelogram", VIEWS[3], 1.0, egui::Theme::Light),
+        // A 1280x800 projector at 150%: the same window, 853x533 points.
+        ("projector-150", VIEWS[1], 1.5, egui::Theme::Light),
+    ];
+    for (file, (_, title, button), scale, theme) in shots {
+        let size = Vec2::new(1280.0, 800.0) / scale;
+        let mut harness = harness(size, scale, theme);
+        prepare(&mut harness, title, button);
+        let image = harness.render().expect("the CPU renderer draws");
+        assert_eq!(image.width(), 1280);
+        // Not a blank picture: many distinct colours.
+        let distinct: std::collections::HashSet<[u8; 4]> = image.pixels().map(|p| p.0).collect();
+        assert!(distinct.len() > 50, "{file} looks blank");
+        if write {
+            std::fs::create_dir_all(folder).unwrap();
+            image.save(format!("{folder}/{file}.png")).unwrap();
+        }
+    }
+}
