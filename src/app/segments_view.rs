@@ -4,7 +4,7 @@
 //! A handle dropped within a few pixels of the crossing snaps onto it exactly (hold Shift to move
 //! freely), so a drag can land on t = 17/22; "Go to intersection" slides both handles there.
 
-use egui::{Color32, FontId, Pos2, Rect, RichText, Sense, Shape, Stroke, Ui, Vec2, pos2, vec2};
+use egui::{Color32, FontId, Pos2, Rect, RichText, Sense, Shape, Stroke, Ui, pos2, vec2};
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
@@ -652,15 +652,19 @@ fn draw_grid(painter: &egui::Painter, frame: &Frame2d, text: Color32) {
         }
         y += spacing;
     }
+    // The axis names sit at the ends of the axes (or at the edge when an axis is off screen).
+    let origin = frame.screen_from_world(DVec2::ZERO);
+    let x_axis_y = origin.y.max(rect.top() + 20.0).min(rect.bottom() - 4.0);
+    let y_axis_x = origin.x.max(rect.left() + 4.0).min(rect.right() - 20.0);
     painter.text(
-        rect.right_center() + Vec2::new(-14.0, 0.0),
+        pos2(rect.right() - 8.0, x_axis_y - 4.0),
         egui::Align2::RIGHT_BOTTOM,
         "x",
         FontId::proportional(16.0),
         text,
     );
     painter.text(
-        rect.center_top() + Vec2::new(6.0, 4.0),
+        pos2(y_axis_x + 8.0, rect.top() + 4.0),
         egui::Align2::LEFT_TOP,
         "y",
         FontId::proportional(16.0),

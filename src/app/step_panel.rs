@@ -95,6 +95,7 @@ fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload) {
         Payload::Matrix(matrix) => {
             matrix_ui(ui, id, matrix, false);
         }
+        Payload::Determinant(det) => determinant_ui(ui, det),
         Payload::Check(check) => {
             let (mark, color) = if check.passed {
                 ("✓", palette::INSIDE)
@@ -130,6 +131,67 @@ fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload) {
                 ui.label(RichText::new(line).monospace());
             }
         }
+    }
+}
+
+/// A determinant's expansion one term per line, so a 3x3 expansion fits a narrow panel:
+/// |M| = a·|…| / − b·|…| / + c·|…| / = products / = value.
+fn determinant_ui(ui: &mut Ui, det: &crate::trace::Determinant) {
+    let name = format!("|{}| ", det.of);
+    let pad = " ".repeat(name.chars().count());
+    let signed = |i: usize, sign: i8| match (i, sign < 0) {
+        (0, false) => "= ".to_string(),
+        (0, true) => "= −".to_string(),
+        (_, true) => "  − ".to_string(),
+        (_, false) => "  + ".to_string(),
+    };
+    let shown = |n: &Number| {
+        let text = n.shown();
+        if text.starts_with('-') {
+            format!("({text})")
+        } else {
+            text
+        }
+    };
+    let mut lines = Vec::new();
+    for (i, term) in det.terms.iter().enumerate() {
+        let minor = if term.minor.len() == 1 {
+            shown(&term.minor[0][0])
+        } else {
+            let rows: Vec<String> = term
+                .minor
+                .iter()
+                .map(|r| r.iter().map(Number::shown).collect::<Vec<_>>().join(" "))
+                .collect();
+            format!("|{}|", rows.join("; "))
+        };
+        let lead = if i == 0 { name.clone() } else { pad.clone() };
+        lines.push(format!(
+            "{lead}{}{}·{minor}",
+            signed(i, term.sign),
+            shown(&term.element)
+        ));
+    }
+    if det.terms.first().is_some_and(|t| t.minor.len() > 1) {
+        let products: Vec<String> = det
+            .terms
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                let sign = match (i, t.sign < 0) {
+                    (0, true) => "−",
+                    (0, false) => "",
+                    (_, true) => " − ",
+                    (_, false) => " + ",
+                };
+                format!("{sign}{}·{}", shown(&t.element), shown(&t.minor_det))
+            })
+            .collect();
+        lines.push(format!("{pad}= {}", products.concat()));
+    }
+    lines.push(format!("{pad}= {}", det.value.shown()));
+    for line in lines {
+        ui.label(RichText::new(line).monospace());
     }
 }
 
