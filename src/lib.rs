@@ -3,9 +3,11 @@
 //! The pure core (`geometry`, `exact`, `trace`) never imports a UI crate; the command line in `cli`
 //! reads and prints the core's [`trace::Trace`].
 
+pub mod accuracy;
 pub mod app;
 pub mod cli;
 pub mod exact;
 pub mod geometry;
+pub mod platform;
 pub mod scene;
 pub mod trace;

@@ -32,7 +32,23 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Solve one intersection problem and print every step (M X = Y, determinants, checks, verdict).
-    Solve(SolveArgs),
+    Solve(Box<SolveArgs>),
+    /// Measure what accuracy costs: every method in f32 and f64 on hard ray families, against exact.
+    Bench(BenchArgs),
+}
+
+/// `raylab bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// A small run (well under 30 s) instead of the full one (a few minutes).
+    #[arg(long)]
+    pub quick: bool,
+    /// Write results.json and results.csv into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<std::path::PathBuf>,
+    /// The random seed of the ray families.
+    #[arg(long, default_value_t = 2019)]
+    pub seed: u64,
 }
 
 /// How to print a result.
@@ -214,7 +230,8 @@ pub fn parse_or_exit() -> Cli {
 /// Runs a parsed command line; returns the process exit code.
 pub fn run(cli: Cli) -> i32 {
     match cli.command {
-        Some(Command::Solve(args)) => run_solve(args),
+        Some(Command::Solve(args)) => run_solve(*args),
+        Some(Command::Bench(args)) => run_bench(args),
         None => match crate::app::run() {
             Ok(()) => 0,
             Err(error) => {
@@ -223,6 +240,56 @@ pub fn run(cli: Cli) -> i32 {
             }
         },
     }
+}
+
+fn run_bench(args: BenchArgs) -> i32 {
+    use crate::accuracy::study;
+    use std::io::IsTerminal;
+    let mut config = if args.quick {
+        study::Config::quick()
+    } else {
+        study::Config::full()
+    };
+    config.seed = args.seed;
+    let terminal = std::io::stderr().is_terminal();
+    let clock = crate::platform::Stopwatch::start();
+    let records = study::run(&config, |done, total| {
+        if terminal {
+            let width = 40;
+            let filled = width * done / total.max(1);
+            eprint!(
+                "\r[{}{}] {done}/{total} {:.0} s",
+                "#".repeat(filled),
+                " ".repeat(width - filled),
+                clock.seconds()
+            );
+        }
+        true
+    })
+    .expect("the command line never cancels");
+    if terminal {
+        eprintln!();
+    }
+    print!("{}", study::table(&records));
+    println!(
+        "{} tests in {:.1} s",
+        records.iter().map(|r| r.tests).sum::<usize>(),
+        clock.seconds()
+    );
+    if let Some(dir) = args.out {
+        let written = std::fs::create_dir_all(&dir)
+            .and_then(|()| {
+                let json = serde_json::to_string_pretty(&records).expect("records serialize");
+                std::fs::write(dir.join("results.json"), json)
+            })
+            .and_then(|()| std::fs::write(dir.join("results.csv"), study::csv(&records)));
+        if let Err(error) = written {
+            eprintln!("raylab: could not write to {}: {error}", dir.display());
+            return 1;
+        }
+        eprintln!("wrote {0}/results.json and {0}/results.csv", dir.display());
+    }
+    0
 }
 
 fn run_solve(args: SolveArgs) -> i32 {

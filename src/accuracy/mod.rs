@@ -1,0 +1,238 @@
+//! What accuracy costs in time: several ray–triangle methods, each in f32 and f64, judged against the
+//! exact rational solver on seeded families of easy and hard rays.
+//!
+//! Every method answers the same question with the same rules as the lecture — hit if and only if
+//! β ≥ 0, γ ≥ 0, β + γ ≤ 1 and t > t_min, edges included — so any disagreement with the exact reference
+//! is a rounding error, never a difference of convention.
+
+pub mod cramer;
+pub mod families;
+pub mod inverse;
+pub mod moller_trumbore;
+pub mod normal_equations;
+pub mod plane;
+pub mod reference;
+pub mod study;
+pub mod watertight;
+
+use serde::{Deserialize, Serialize};
+
+use crate::exact::Exact;
+use crate::geometry::Real;
+use crate::geometry::linalg::V3;
+use crate::geometry::triangle::{self, RayTriangle};
+
+/// A float precision a method can run in.
+pub trait Float: Real + Copy + Send + Sync + 'static {
+    /// Machine epsilon.
+    const EPS: Self;
+    /// Converts, rounding to nearest.
+    fn of(x: f64) -> Self;
+    /// The square root.
+    fn sqrt(self) -> Self;
+    /// The larger of two.
+    fn max(self, other: Self) -> Self;
+    /// `self / other` (IEEE: ±inf or NaN on zero).
+    fn div(self, other: Self) -> Self;
+}
+
+macro_rules! float_impl {
+    ($t:ty) => {
+        impl Float for $t {
+            const EPS: $t = <$t>::EPSILON;
+            fn of(x: f64) -> $t {
+                x as $t
+            }
+            fn sqrt(self) -> $t {
+                <$t>::sqrt(self)
+            }
+            fn max(self, other: $t) -> $t {
+                <$t>::max(self, other)
+            }
+            fn div(self, other: $t) -> $t {
+                self / other
+            }
+        }
+    };
+}
+
+float_impl!(f32);
+float_impl!(f64);
+
+/// A ray and a triangle, in one precision.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Case<F> {
+    /// Vertices A, B, C.
+    pub tri: [V3<F>; 3],
+    /// The ray's origin.
+    pub origin: V3<F>,
+    /// The ray's direction.
+    pub dir: V3<F>,
+}
+
+impl Case<f64> {
+    /// Rounds every coordinate to f32 (f32 runs and their exact judge both see these numbers).
+    pub fn to_f32(&self) -> Case<f32> {
+        let r = |v: V3<f64>| v.map(|x| x as f32);
+        Case {
+            tri: self.tri.map(r),
+            origin: r(self.origin),
+            dir: r(self.dir),
+        }
+    }
+}
+
+/// A method's answer: hit with its parameters, or miss.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Answer<F> {
+    /// The decision.
+    pub hit: bool,
+    /// t, β, γ when the method computed them (even for a miss, where meaningful).
+    pub values: Option<[F; 3]>,
+    /// True when the method handed the case to exact arithmetic (the watertight method does near zero).
+    pub exact_fallback: bool,
+}
+
+impl<F> Answer<F> {
+    /// A miss with no values (parallel, degenerate, rejected early).
+    pub fn miss() -> Answer<F> {
+        Answer {
+            hit: false,
+            values: None,
+            exact_fallback: false,
+        }
+    }
+
+    /// A decision with its values.
+    pub fn with(hit: bool, values: [F; 3]) -> Answer<F> {
+        Answer {
+            hit,
+            values: Some(values),
+            exact_fallback: false,
+        }
+    }
+}
+
+/// The methods compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// The lecture's Cramer's rule: four 3x3 determinants.
+    Cramer,
+    /// Möller–Trumbore: Cramer with the common terms collected.
+    MollerTrumbore,
+    /// Plane intersection, then the inside-outside edge test (seed 003, `or` fixed).
+    Plane,
+    /// Barycentrics by the 2x2 system of dot products (seed 004).
+    NormalEquations,
+    /// M X = Y solved with glam's matrix inverse.
+    Inverse,
+    /// Woop, Benthin and Wald's watertight test, with exact fallbacks near zero.
+    Watertight,
+    /// The exact rational reference.
+    Exact,
+}
+
+impl Method {
+    /// Every method, the reference last.
+    pub const ALL: [Method; 7] = [
+        Method::Cramer,
+        Method::MollerTrumbore,
+        Method::Plane,
+        Method::NormalEquations,
+        Method::Inverse,
+        Method::Watertight,
+        Method::Exact,
+    ];
+
+    /// The float methods.
+    pub const FLOAT: [Method; 6] = [
+        Method::Cramer,
+        Method::MollerTrumbore,
+        Method::Plane,
+        Method::NormalEquations,
+        Method::Inverse,
+        Method::Watertight,
+    ];
+
+    /// The name on the command line and in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Cramer => "cramer",
+            Method::MollerTrumbore => "moller-trumbore",
+            Method::Plane => "plane",
+            Method::NormalEquations => "normal-equations",
+            Method::Inverse => "inverse",
+            Method::Watertight => "watertight",
+            Method::Exact => "exact",
+        }
+    }
+
+    /// Runs the method in precision F.
+    pub fn run<F: Float + InverseSolve>(self, case: &Case<F>) -> Answer<F> {
+        match self {
+            Method::Cramer => cramer::intersect(case),
+            Method::MollerTrumbore => moller_trumbore::intersect(case),
+            Method::Plane => plane::intersect(case),
+            Method::NormalEquations => normal_equations::intersect(case),
+            Method::Inverse => inverse::intersect(case),
+            Method::Watertight => watertight::intersect(case),
+            Method::Exact => {
+                let exact = exact_answer(case);
+                Answer {
+                    hit: exact.hit,
+                    values: exact.values.map(|v| v.map(|x| F::of(x.to_f64()))),
+                    exact_fallback: false,
+                }
+            }
+        }
+    }
+}
+
+impl std::str::FromStr for Method {
+    type Err = String;
+    fn from_str(text: &str) -> Result<Method, String> {
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == text)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+                format!("unknown method '{text}' (expected {})", names.join(", "))
+            })
+    }
+}
+
+pub use inverse::InverseSolve;
+
+/// The exact reference on the very numbers a float case holds: (t, β, γ) as exact rationals.
+pub fn exact_answer<F: Float>(case: &Case<F>) -> Answer<Exact> {
+    let e = |v: &V3<F>| v.map(|x| Exact::from_f64(x.to_f64()).expect("cases are finite"));
+    let problem = RayTriangle {
+        a: e(&case.tri[0]),
+        b: e(&case.tri[1]),
+        c: e(&case.tri[2]),
+        origin: e(&case.origin),
+        dir: e(&case.dir),
+        t_min: Exact::from_int(0),
+    };
+    let solved = triangle::solve(&problem, false);
+    Answer {
+        hit: solved.outcome.is_hit(),
+        values: solved.solution.map(|s| [s.t, s.beta, s.gamma]),
+        exact_fallback: false,
+    }
+}
+
+/// True if every coordinate of the case is finite.
+pub fn finite<F: Float>(case: &Case<F>) -> bool {
+    case.tri
+        .iter()
+        .chain([&case.origin, &case.dir])
+        .all(|v| v.iter().all(|x| x.is_finite()))
+}
+
+/// The lecture's inclusive test on computed barycentrics and t (t_min = 0, open).
+pub fn decide<F: Float>(t: F, beta: F, gamma: F) -> bool {
+    let zero = F::zero();
+    beta >= zero && gamma >= zero && beta + gamma <= F::one() && t > zero
+}

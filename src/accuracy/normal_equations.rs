@@ -1,0 +1,31 @@
+//! Seed 004's barycentrics by a 2x2 system of dot products: intersect the plane for P, then solve
+//! [e1·e1 e1·e2; e2·e1 e2·e2] (β, γ) = ((P − A)·e1, (P − A)·e2) by Cramer's rule.
+
+use super::{Answer, Case, Float, decide};
+use crate::geometry::linalg::{add, cross, dot, scale, sub};
+
+/// Intersects the plane, then solves the normal equations for β and γ.
+pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
+    let [a, b, c] = &case.tri;
+    let e1 = sub(b, a);
+    let e2 = sub(c, a);
+    // Plane hit.
+    let n = cross(&e1, &e2);
+    let n_dot_d = dot(&n, &case.dir);
+    if n_dot_d == F::zero() {
+        return Answer::miss();
+    }
+    let t = dot(&n, &sub(a, &case.origin)).div(n_dot_d);
+    let p = add(&case.origin, &scale(&t, &case.dir));
+    // The 2x2 system of dot products.
+    let (d11, d12, d22) = (dot(&e1, &e1), dot(&e1, &e2), dot(&e2, &e2));
+    let ap = sub(&p, a);
+    let (c1, c2) = (dot(&ap, &e1), dot(&ap, &e2));
+    let det = d11 * d22 - d12 * d12;
+    if det == F::zero() {
+        return Answer::miss();
+    }
+    let beta = (c1 * d22 - d12 * c2).div(det);
+    let gamma = (d11 * c2 - d12 * c1).div(det);
+    Answer::with(decide(t, beta, gamma), [t, beta, gamma])
+}
