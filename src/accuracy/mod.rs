@@ -7,6 +7,7 @@
 
 pub mod cramer;
 pub mod families;
+pub mod hard_cases;
 pub mod inverse;
 pub mod moller_trumbore;
 pub mod normal_equations;
@@ -91,6 +92,8 @@ pub struct Answer<F> {
     pub values: Option<[F; 3]>,
     /// True when the method handed the case to exact arithmetic (the watertight method does near zero).
     pub exact_fallback: bool,
+    /// True when the method refused the input as outside its range (NaN, infinities).
+    pub invalid_input: bool,
 }
 
 impl<F> Answer<F> {
@@ -100,6 +103,7 @@ impl<F> Answer<F> {
             hit: false,
             values: None,
             exact_fallback: false,
+            invalid_input: false,
         }
     }
 
@@ -109,6 +113,7 @@ impl<F> Answer<F> {
             hit,
             values: Some(values),
             exact_fallback: false,
+            invalid_input: false,
         }
     }
 }
@@ -183,6 +188,7 @@ impl Method {
                     hit: exact.hit,
                     values: exact.values.map(|v| v.map(|x| F::of(x.to_f64()))),
                     exact_fallback: false,
+                    invalid_input: false,
                 }
             }
         }
@@ -220,6 +226,7 @@ pub fn exact_answer<F: Float>(case: &Case<F>) -> Answer<Exact> {
         hit: solved.outcome.is_hit(),
         values: solved.solution.map(|s| [s.t, s.beta, s.gamma]),
         exact_fallback: false,
+        invalid_input: false,
     }
 }
 

@@ -12,7 +12,7 @@
 //! [`Answer::exact_fallback`] says when that happened.
 
 use super::reference::reference;
-use super::{Answer, Case, Float};
+use super::{Answer, Case, Float, finite};
 
 /// One sheared vertex: (x, y, z) with the ray along z, and the magnitudes that bound the error of x, y.
 struct Sheared<F> {
@@ -27,6 +27,13 @@ struct Sheared<F> {
 
 /// Intersects watertightly; decides in exact arithmetic where rounding could flip the answer.
 pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
+    // NaN and infinities are outside the method's range: say so, and miss.
+    if !finite(case) {
+        return Answer {
+            invalid_input: true,
+            ..Answer::miss()
+        };
+    }
     match float_path(case) {
         Some(answer) => answer,
         None => {
@@ -36,6 +43,7 @@ pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
                 hit: exact.hit,
                 values: exact.values.map(|v| v.map(F::of)),
                 exact_fallback: true,
+                invalid_input: false,
             }
         }
     }

@@ -49,6 +49,9 @@ pub struct BenchArgs {
     /// The random seed of the ray families.
     #[arg(long, default_value_t = 2019)]
     pub seed: u64,
+    /// Print the hard-case gallery instead: what every method decides on each named case.
+    #[arg(long)]
+    pub hard_cases: bool,
 }
 
 /// How to print a result.
@@ -242,8 +245,40 @@ pub fn run(cli: Cli) -> i32 {
     }
 }
 
+fn print_hard_cases() -> i32 {
+    use crate::accuracy::hard_cases::{gallery, verdicts};
+    for hard in gallery() {
+        let verdicts = verdicts(&hard.case());
+        let exact = verdicts.first().is_some_and(|v| v.exact_hit);
+        println!("{} — {}", hard.name, hard.note);
+        let wrong: Vec<String> = verdicts
+            .iter()
+            .filter(|v| v.hit != v.exact_hit)
+            .map(|v| format!("{} says {}", v.who, if v.hit { "hit" } else { "miss" }))
+            .collect();
+        let exact = if exact { "hit" } else { "miss" };
+        let refused: Vec<&str> = verdicts
+            .iter()
+            .filter(|v| v.invalid_input)
+            .map(|v| v.who.as_str())
+            .collect();
+        if !refused.is_empty() {
+            println!("    input out of range for: {}", refused.join(", "));
+        }
+        if wrong.is_empty() {
+            println!("    exact: {exact}; every method agrees");
+        } else {
+            println!("    exact: {exact}; wrong: {}", wrong.join(", "));
+        }
+    }
+    0
+}
+
 fn run_bench(args: BenchArgs) -> i32 {
     use crate::accuracy::study;
+    if args.hard_cases {
+        return print_hard_cases();
+    }
     use std::io::IsTerminal;
     let mut config = if args.quick {
         study::Config::quick()
