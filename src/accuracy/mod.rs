@@ -5,6 +5,7 @@
 //! β ≥ 0, γ ≥ 0, β + γ ≤ 1 and t > t_min, edges included — so any disagreement with the exact reference
 //! is a rounding error, never a difference of convention.
 
+pub mod batch;
 pub mod cramer;
 pub mod families;
 pub mod hard_cases;

@@ -1,0 +1,100 @@
+//! A batched, SIMD-friendly f32 Möller–Trumbore: one ray against many triangles stored as a structure
+//! of arrays, with no branches in the loop, so the compiler vectorises it (4 or 8 lanes).
+//!
+//! Per triangle it costs 27 multiplications and 18 additions or subtractions (45 flops) and one
+//! division; `cargo bench --bench methods` compares its time per test with that floor.
+
+/// Triangles as a structure of arrays: vertex A and the edges e1 = B − A, e2 = C − A.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TrianglesSoA {
+    /// A's coordinates.
+    pub a: [Vec<f32>; 3],
+    /// e1's coordinates.
+    pub e1: [Vec<f32>; 3],
+    /// e2's coordinates.
+    pub e2: [Vec<f32>; 3],
+}
+
+impl TrianglesSoA {
+    /// Packs triangles (A, B, C).
+    pub fn new(triangles: &[[[f32; 3]; 3]]) -> TrianglesSoA {
+        let mut soa = TrianglesSoA::default();
+        for [a, b, c] in triangles {
+            for k in 0..3 {
+                soa.a[k].push(a[k]);
+                soa.e1[k].push(b[k] - a[k]);
+                soa.e2[k].push(c[k] - a[k]);
+            }
+        }
+        soa
+    }
+
+    /// How many triangles.
+    pub fn len(&self) -> usize {
+        self.a[0].len()
+    }
+
+    /// True if there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Writes t for every triangle the ray hits (β ≥ 0, γ ≥ 0, β + γ ≤ 1, t > 0) and +∞ for the others.
+pub fn intersect(origin: [f32; 3], dir: [f32; 3], triangles: &TrianglesSoA, t_out: &mut [f32]) {
+    let n = triangles.len().min(t_out.len());
+    // Slices of exactly n elements: the compiler can then drop the bounds checks and vectorise.
+    let [ax, ay, az] = cut(&triangles.a, n);
+    let [e1x, e1y, e1z] = cut(&triangles.e1, n);
+    let [e2x, e2y, e2z] = cut(&triangles.e2, n);
+    let t_out = &mut t_out[..n];
+    let [dx, dy, dz] = dir;
+    for i in 0..n {
+        // p = D × e2, det = e1 · p
+        let px = dy * e2z[i] - dz * e2y[i];
+        let py = dz * e2x[i] - dx * e2z[i];
+        let pz = dx * e2y[i] - dy * e2x[i];
+        let det = e1x[i] * px + e1y[i] * py + e1z[i] * pz;
+        let inv = 1.0 / det;
+        // s = L − A, β = s · p / det
+        let sx = origin[0] - ax[i];
+        let sy = origin[1] - ay[i];
+        let sz = origin[2] - az[i];
+        let beta = (sx * px + sy * py + sz * pz) * inv;
+        // q = s × e1, γ = D · q / det, t = e2 · q / det
+        let qx = sy * e1z[i] - sz * e1y[i];
+        let qy = sz * e1x[i] - sx * e1z[i];
+        let qz = sx * e1y[i] - sy * e1x[i];
+        let gamma = (dx * qx + dy * qy + dz * qz) * inv;
+        let t = (e2x[i] * qx + e2y[i] * qy + e2z[i] * qz) * inv;
+        // A select, not a branch: NaN from det = 0 fails every comparison and becomes a miss.
+        let hit = beta >= 0.0 && gamma >= 0.0 && beta + gamma <= 1.0 && t > 0.0;
+        t_out[i] = if hit { t } else { f32::INFINITY };
+    }
+}
+
+fn cut(v: &[Vec<f32>; 3], n: usize) -> [&[f32]; 3] {
+    [&v[0][..n], &v[1][..n], &v[2][..n]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accuracy::families::{Family, generate};
+    use crate::accuracy::moller_trumbore;
+
+    #[test]
+    fn agrees_with_the_scalar_method() {
+        for probe in generate(Family::Random, 400, 4) {
+            let case = probe.cases[0].to_f32();
+            let soa = TrianglesSoA::new(&[case.tri]);
+            let mut t = [0.0f32];
+            intersect(case.origin, case.dir, &soa, &mut t);
+            let scalar = moller_trumbore::intersect(&case);
+            assert_eq!(t[0].is_finite(), scalar.hit);
+            if scalar.hit {
+                assert_eq!(t[0], scalar.values.unwrap()[0]);
+            }
+        }
+    }
+}
