@@ -344,3 +344,49 @@ fn the_lecture_examples_file_solves_as_the_readme_says() {
     ];
     assert_eq!(statuses, expected.map(|s| format!("\"{s}\"")));
 }
+
+#[test]
+fn solve_runs_any_study_method_with_its_trace() {
+    let mut args = LECTURE_TRIANGLE.to_vec();
+    args.extend(["--method", "watertight", "--format", "json"]);
+    let result = json(&args);
+    assert_eq!(result["method"], "watertight");
+    assert_eq!(result["status"], "hit");
+    assert_eq!(result["t"], 1.0);
+    assert!(result["trace"]["steps"].as_array().unwrap().len() > 5);
+    for method in [
+        "cramer",
+        "moller-trumbore",
+        "plane",
+        "normal-equations",
+        "inverse",
+        "exact",
+    ] {
+        let mut args = LECTURE_TRIANGLE.to_vec();
+        args.extend(["--method", method, "--format", "json", "--precision", "f32"]);
+        let result = json(&args);
+        assert_eq!(result["status"], "hit", "{method}");
+    }
+    expect_one_line_error(
+        &[
+            &LECTURE_TRIANGLE[..],
+            &["--method", "plane", "--precision", "exact"],
+        ]
+        .concat(),
+        &["--method exact"],
+    );
+    expect_one_line_error(
+        &[&LECTURE_TRIANGLE[..], &["--method", "fast"]].concat(),
+        &["--method", "watertight"],
+    );
+}
+
+#[test]
+fn bench_prints_the_hard_case_gallery() {
+    let output = raylab(&["bench", "--hard-cases"]);
+    assert!(output.status.success());
+    let text = stdout(&output);
+    assert!(text.contains("through a vertex at a slant"));
+    assert!(text.contains("wrong: cramer/f32 says miss"));
+    assert!(text.contains("input out of range for: watertight/f64"));
+}

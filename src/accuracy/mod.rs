@@ -196,6 +196,109 @@ impl Method {
     }
 }
 
+impl Method {
+    /// Runs the method in precision F and records its steps.
+    ///
+    /// Cramer's rule and the exact reference show the lecture's full trace (M, M1–M3, expansions);
+    /// Möller–Trumbore shows its shared cross products; the others show their inputs, the t, β, γ they
+    /// computed, the four checks and how they decided.
+    pub fn trace<F: Float + InverseSolve>(self, case: &Case<F>) -> crate::trace::Trace {
+        use crate::trace::Recorder;
+        let lecture = |c: &Case<F>| {
+            let problem = RayTriangle {
+                a: c.tri[0],
+                b: c.tri[1],
+                c: c.tri[2],
+                origin: c.origin,
+                dir: c.dir,
+                t_min: F::zero(),
+            };
+            triangle::solve(&problem, true).trace.expect("recorded")
+        };
+        match self {
+            Method::Cramer => lecture(case),
+            Method::Exact => {
+                let e = |v: &V3<F>| v.map(|x| Exact::from_f64(x.to_f64()));
+                let parts = [
+                    e(&case.tri[0]),
+                    e(&case.tri[1]),
+                    e(&case.tri[2]),
+                    e(&case.origin),
+                    e(&case.dir),
+                ];
+                let vectors: Option<Vec<V3<Exact>>> = parts
+                    .iter()
+                    .map(|v| Some([v[0].clone()?, v[1].clone()?, v[2].clone()?]))
+                    .collect();
+                match vectors {
+                    Some(v) => {
+                        let problem = RayTriangle {
+                            a: v[0].clone(),
+                            b: v[1].clone(),
+                            c: v[2].clone(),
+                            origin: v[3].clone(),
+                            dir: v[4].clone(),
+                            t_min: Exact::from_int(0),
+                        };
+                        triangle::solve(&problem, true).trace.expect("recorded")
+                    }
+                    None => {
+                        let mut rec =
+                            Recorder::new(true, "exact", crate::geometry::Precision::Exact);
+                        record::outcome::<F>(
+                            &mut rec,
+                            &Answer {
+                                invalid_input: true,
+                                ..Answer::miss()
+                            },
+                        );
+                        rec.finish().expect("recorded")
+                    }
+                }
+            }
+            Method::MollerTrumbore => {
+                let mut rec = Recorder::new(true, self.name(), F::PRECISION);
+                moller_trumbore::intersect_recorded(case, &mut rec);
+                rec.finish().expect("recorded")
+            }
+            _ => {
+                let mut rec = Recorder::new(true, self.name(), F::PRECISION);
+                for (id, v) in ["A", "B", "C", "L", "D"].into_iter().zip([
+                    &case.tri[0],
+                    &case.tri[1],
+                    &case.tri[2],
+                    &case.origin,
+                    &case.dir,
+                ]) {
+                    record::vector(&mut rec, id, id, "An input, in this precision.", v);
+                }
+                let answer = self.run(case);
+                if let Some([t, beta, gamma]) = answer.values {
+                    record::scalar(&mut rec, "t", "t", "As this method computed it.", "t", t);
+                    record::scalar(
+                        &mut rec,
+                        "beta",
+                        "β",
+                        "As this method computed it.",
+                        "β",
+                        beta,
+                    );
+                    record::scalar(
+                        &mut rec,
+                        "gamma",
+                        "γ",
+                        "As this method computed it.",
+                        "γ",
+                        gamma,
+                    );
+                }
+                record::outcome(&mut rec, &answer);
+                rec.finish().expect("recorded")
+            }
+        }
+    }
+}
+
 impl std::str::FromStr for Method {
     type Err = String;
     fn from_str(text: &str) -> Result<Method, String> {
@@ -243,4 +346,96 @@ pub fn finite<F: Float>(case: &Case<F>) -> bool {
 pub fn decide<F: Float>(t: F, beta: F, gamma: F) -> bool {
     let zero = F::zero();
     beta >= zero && gamma >= zero && beta + gamma <= F::one() && t > zero
+}
+
+/// Recording helpers shared by the methods: a vector, a scalar, and the closing checks and verdict.
+pub(crate) mod record {
+    use super::{Answer, Float};
+    use crate::geometry::linalg::V3;
+    use crate::trace::{Check, Number, Payload, Recorder, Scalar, Step, Vector, Verdict};
+
+    /// Records a named vector.
+    pub fn vector<F: Float>(rec: &mut Recorder, id: &str, title: &str, note: &str, v: &V3<F>) {
+        rec.push(|| Step::new(id, title, note, Payload::Vector(Vector::of(id, id, v))));
+    }
+
+    /// Records a named scalar.
+    pub fn scalar<F: Float>(
+        rec: &mut Recorder,
+        id: &str,
+        title: &str,
+        note: &str,
+        symbol: &str,
+        value: F,
+    ) {
+        rec.push(|| {
+            Step::new(
+                id,
+                title,
+                note,
+                Payload::Scalar(Scalar {
+                    symbol: symbol.into(),
+                    latex: symbol.into(),
+                    formula: None,
+                    value: Number::of(&value),
+                    closed_form: None,
+                }),
+            )
+        });
+    }
+
+    /// Records the lecture's four checks on the method's values, and the verdict.
+    pub fn outcome<F: Float>(rec: &mut Recorder, answer: &Answer<F>) {
+        if let Some([t, beta, gamma]) = answer.values {
+            let zero = F::zero();
+            let checks = [
+                ("check_ca", "β ≥ 0", "\\beta \\ge 0", beta, beta >= zero),
+                ("check_ab", "γ ≥ 0", "\\gamma \\ge 0", gamma, gamma >= zero),
+                (
+                    "check_bc",
+                    "β + γ ≤ 1",
+                    "\\beta + \\gamma \\le 1",
+                    beta + gamma,
+                    beta + gamma <= F::one(),
+                ),
+                ("check_t", "t > 0", "t > 0", t, t > zero),
+            ];
+            for (id, text, latex, value, passed) in checks {
+                rec.push(|| {
+                    Step::new(
+                        id,
+                        format!("Check {text}"),
+                        "Computed by this method, in its precision.",
+                        Payload::Check(Check {
+                            inequality: text.into(),
+                            latex: latex.into(),
+                            value: Number::of(&value),
+                            passed,
+                            meaning: "this inequality fails".into(),
+                        }),
+                    )
+                });
+            }
+        }
+        let how = if answer.invalid_input {
+            "the input is outside the method's range (NaN or infinite): a miss"
+        } else if answer.exact_fallback {
+            "decided in exact arithmetic: a value was within its rounding bound of zero"
+        } else if answer.values.is_none() {
+            "rejected before solving (a zero determinant or direction)"
+        } else {
+            "decided in floating point"
+        };
+        rec.push(|| {
+            Step::new(
+                "verdict",
+                "Verdict",
+                how,
+                Payload::Verdict(Verdict {
+                    status: if answer.hit { "hit" } else { "miss" }.into(),
+                    message: how.into(),
+                }),
+            )
+        });
+    }
 }

@@ -1,11 +1,17 @@
 //! Möller–Trumbore (1997): Cramer's rule with the common terms collected (seed 002's advice). The
 //! determinants become scalar triple products sharing the cross products p = D × e2 and q = s × e1.
 
-use super::{Answer, Case, Float, decide};
+use super::{Answer, Case, Float, decide, record};
 use crate::geometry::linalg::{cross, dot, sub};
+use crate::trace::Recorder;
 
 /// Intersects by Möller–Trumbore.
 pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
+    intersect_recorded(case, &mut Recorder::new(false, "", F::PRECISION))
+}
+
+/// Intersects, recording the steps.
+pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut Recorder) -> Answer<F> {
     let [a, b, c] = &case.tri;
     // Edge vectors from A.
     let e1 = sub(b, a);
@@ -13,9 +19,26 @@ pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
     // Determinant: |M| up to sign, as D · (e2 × ... ) collected into p.
     let p = cross(&case.dir, &e2);
     let det = dot(&e1, &p);
+    record::vector(
+        rec,
+        "p",
+        "p = D × e2",
+        "The cross product shared by |M| and β.",
+        &p,
+    );
+    record::scalar(
+        rec,
+        "det",
+        "det = e1 · p",
+        "Equals |M| of the lecture's system.",
+        "det",
+        det,
+    );
     // Reject parallel (only an exact zero: no tolerance).
     if det == F::zero() {
-        return Answer::miss();
+        let answer = Answer::miss();
+        record::outcome(rec, &answer);
+        return answer;
     }
     let inv_det = F::one().div(det);
     // Barycentric β from the vector s = L − A.
@@ -25,5 +48,11 @@ pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
     let q = cross(&s, &e1);
     let gamma = dot(&case.dir, &q) * inv_det;
     let t = dot(&e2, &q) * inv_det;
-    Answer::with(decide(t, beta, gamma), [t, beta, gamma])
+    record::vector(rec, "q", "q = s × e1", "Shared by γ and t; s = L − A.", &q);
+    record::scalar(rec, "beta", "β = s · p / det", "", "β", beta);
+    record::scalar(rec, "gamma", "γ = D · q / det", "", "γ", gamma);
+    record::scalar(rec, "t", "t = e2 · q / det", "", "t", t);
+    let answer = Answer::with(decide(t, beta, gamma), [t, beta, gamma]);
+    record::outcome(rec, &answer);
+    answer
 }

@@ -149,6 +149,10 @@ pub enum Problem {
         /// A hit needs t > tmin (open: t = tmin is a miss).
         #[arg(long, value_name = "T", value_parser = parse_literal, default_value = "0", allow_hyphen_values = true)]
         tmin: Literal,
+        /// Which method solves it: cramer (the lecture's, default), moller-trumbore, plane,
+        /// normal-equations, inverse, watertight, exact.
+        #[arg(long, value_name = "NAME")]
+        method: Option<crate::accuracy::Method>,
     },
     /// A ray o + t d against the parallelogram c + α e1 + β e2 (seed 001).
     Parallelogram {
@@ -183,6 +187,7 @@ impl Problem {
                 origin,
                 dir,
                 tmin,
+                ..
             } => Case::Triangle {
                 vectors: [a, b, c, origin, dir],
                 t_min: tmin,
@@ -219,7 +224,7 @@ pub fn parse_or_exit() -> Cli {
             .lines()
             .map(str::trim)
             .take_while(|line| !line.starts_with("Usage:"))
-            .filter(|line| !line.is_empty())
+            .filter(|line| !line.is_empty() && !line.starts_with("For more information"))
             .collect();
         let message = message.join(" ");
         eprintln!(
@@ -359,7 +364,27 @@ fn run_solve(args: SolveArgs) -> i32 {
         );
         return 2;
     };
-    let report = solve::run(&problem.into_case(), precision);
+    let report = match &problem {
+        Problem::Triangle {
+            a,
+            b,
+            c,
+            origin,
+            dir,
+            method: Some(method),
+            ..
+        } => {
+            let vectors = [a.clone(), b.clone(), c.clone(), origin.clone(), dir.clone()];
+            match solve::method_report(&vectors, *method, precision) {
+                Ok(report) => report,
+                Err(message) => {
+                    eprintln!("raylab: {message}");
+                    return 2;
+                }
+            }
+        }
+        _ => solve::run(&problem.into_case(), precision),
+    };
     let output = match args.format.unwrap_or(Format::Text) {
         Format::Text => trace::to_text(&report.trace),
         Format::Json => format!(

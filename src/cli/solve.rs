@@ -317,3 +317,71 @@ fn insert_message(fields: &mut Map<String, Value>, trace: Option<&Trace>) {
         fields.insert("message".into(), json!(verdict.message));
     }
 }
+
+/// Runs one of the accuracy study's methods on a triangle case (`raylab solve triangle --method`).
+///
+/// `cramer` is the lecture's solver (the default); `exact` is the same in exact arithmetic; the others
+/// run in f32 or f64 and report what they decided, with their own trace. t_min is 0 for them.
+pub fn method_report(
+    vectors: &[Coords<3>; 5],
+    method: crate::accuracy::Method,
+    precision: Precision,
+) -> Result<Report, String> {
+    use crate::accuracy::Method;
+    match (method, precision) {
+        (Method::Exact, _) => Ok(run(&triangle_case(vectors), Precision::Exact)),
+        (Method::Cramer, p) => Ok(run(&triangle_case(vectors), p)),
+        (_, Precision::Exact) => Err(format!(
+            "--method {} runs in f32 or f64; use --method exact for exact arithmetic",
+            method.name()
+        )),
+        (_, Precision::F32) => Ok(float_method_report::<f32>(vectors, method)),
+        (_, Precision::F64) => Ok(float_method_report::<f64>(vectors, method)),
+    }
+}
+
+fn triangle_case(vectors: &[Coords<3>; 5]) -> Case {
+    Case::Triangle {
+        vectors: vectors.clone(),
+        t_min: Literal::parse("0").expect("0 is a number"),
+    }
+}
+
+fn float_method_report<F: crate::accuracy::Float + crate::accuracy::InverseSolve>(
+    vectors: &[Coords<3>; 5],
+    method: crate::accuracy::Method,
+) -> Report {
+    let v = |i: usize| convert::<F, 3>(&vectors[i]);
+    let case = crate::accuracy::Case {
+        tri: [v(0), v(1), v(2)],
+        origin: v(3),
+        dir: v(4),
+    };
+    let answer = method.run(&case);
+    let trace = method.trace(&case);
+    let status = match answer.values {
+        _ if answer.hit => "hit",
+        _ if answer.invalid_input => "invalid-input",
+        None => "parallel",
+        Some([_, beta, gamma]) => {
+            let outside = beta < F::zero() || gamma < F::zero() || beta + gamma > F::one();
+            if outside {
+                "miss-outside"
+            } else {
+                "miss-behind"
+            }
+        }
+    };
+    let mut fields = Map::new();
+    fields.insert("kind".into(), json!("triangle"));
+    fields.insert("method".into(), json!(method.name()));
+    fields.insert("precision".into(), json!(F::PRECISION.name()));
+    fields.insert("status".into(), json!(status));
+    insert_message(&mut fields, Some(&trace));
+    let values = answer.values;
+    fields.insert("t".into(), optional(values.as_ref().map(|v| &v[0])));
+    fields.insert("beta".into(), optional(values.as_ref().map(|v| &v[1])));
+    fields.insert("gamma".into(), optional(values.as_ref().map(|v| &v[2])));
+    fields.insert("exact_fallback".into(), json!(answer.exact_fallback));
+    Report { fields, trace }
+}
