@@ -308,3 +308,76 @@ fn scenes_save_and_open_and_bad_files_keep_the_scene() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_accuracy_view_runs_in_the_background_and_loads_hard_cases() {
+    let mut harness = harness();
+    harness.state_mut().accuracy.config_override = Some(raylab::accuracy::study::Config {
+        rays: 40,
+        shared_rays: 40,
+        seed: 1,
+        timing_seconds: 0.0,
+    });
+    harness.get_by_label("Accuracy").click();
+    harness.run();
+    harness.get_by_label("Run").click();
+    harness.step();
+    // The UI keeps drawing frames while the named worker thread measures.
+    let started = std::time::Instant::now();
+    while harness.state().accuracy.is_running() {
+        assert!(
+            started.elapsed().as_secs() < 120,
+            "the study did not finish"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        harness.step();
+    }
+    harness.run();
+    assert!(!harness.state().accuracy.records.is_empty());
+    assert!(shows(
+        &harness,
+        "Largest relative error of t against time per test"
+    ));
+    assert!(
+        harness.query_all_by_label("seam").count() > 1,
+        "the picker and the table list the seam sweep"
+    );
+    // A hard case loads into the Triangle view with its trace.
+    harness
+        .get_all_by_label("Load")
+        .next()
+        .unwrap()
+        .scroll_to_me();
+    harness.run();
+    harness.get_all_by_label("Load").next().unwrap().click();
+    harness.run();
+    assert_eq!(harness.state().state.view, ViewKind::Triangle);
+    assert!(shows(&harness, "Hard case: through an edge"));
+}
+
+#[test]
+fn a_running_study_can_be_cancelled() {
+    let mut harness = harness();
+    harness.state_mut().accuracy.config_override = Some(raylab::accuracy::study::Config {
+        rays: 3000,
+        shared_rays: 3000,
+        seed: 1,
+        timing_seconds: 0.05,
+    });
+    harness.get_by_label("Accuracy").click();
+    harness.run();
+    harness.get_by_label("Run").click();
+    harness.step();
+    harness.get_by_label("Cancel").click();
+    let started = std::time::Instant::now();
+    while harness.state().accuracy.is_running() {
+        assert!(
+            started.elapsed().as_secs() < 120,
+            "cancel did not stop the study"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        harness.step();
+    }
+    harness.run();
+    assert!(harness.state().accuracy.status.contains("cancelled"));
+}

@@ -76,6 +76,10 @@ pub struct Record {
     pub exact_fallbacks: usize,
     /// Time per ray–triangle test, nanoseconds.
     pub ns_per_test: f64,
+    /// For families with a knob (grazing angle, offset, scale, aspect): (knob, largest relative error of
+    /// t) for each knob value, ascending.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub error_by_parameter: Vec<[f64; 2]>,
 }
 
 /// One family's rays with their exact verdicts, in both precisions.
@@ -190,6 +194,7 @@ fn measure_exact(prepared: &Prepared, config: &Config) -> Record {
         max_eps_err_barycentric: 0.0,
         exact_fallbacks: 0,
         ns_per_test: ns,
+        error_by_parameter: Vec::new(),
     }
 }
 
@@ -231,8 +236,16 @@ fn measure<F: Float + InverseSolve>(
         max_eps_err_barycentric: 0.0,
         exact_fallbacks: 0,
         ns_per_test,
+        error_by_parameter: Vec::new(),
     };
-    for (answer, exact) in answers.iter().zip(refs) {
+    let mut by_parameter: std::collections::BTreeMap<u64, (f64, f64)> = Default::default();
+    let parameters: Vec<f64> = prepared
+        .spans
+        .iter()
+        .zip(&prepared.probes)
+        .flat_map(|(span, probe)| std::iter::repeat_n(probe.parameter, span.len()))
+        .collect();
+    for ((answer, exact), parameter) in answers.iter().zip(refs).zip(&parameters) {
         record.wrong_decisions += usize::from(answer.hit != exact.hit);
         record.exact_fallbacks += usize::from(answer.exact_fallback);
         if let (Some(values), Some(truth)) = (answer.values, exact.values) {
@@ -243,7 +256,12 @@ fn measure<F: Float + InverseSolve>(
             let t_err = (t - truth[0]).abs();
             // Relative error and ulps are measured where t is not zero (a ray starting on the plane).
             if truth[0] != 0.0 {
-                record.max_rel_err_t = record.max_rel_err_t.max(t_err / truth[0].abs());
+                let relative = t_err / truth[0].abs();
+                record.max_rel_err_t = record.max_rel_err_t.max(relative);
+                let slot = by_parameter
+                    .entry(parameter.to_bits())
+                    .or_insert((*parameter, 0.0));
+                slot.1 = slot.1.max(relative);
                 record.max_ulps_t = record.max_ulps_t.max(t_err / ulp::<F>(truth[0]));
             }
             let bary_err = (beta - truth[1]).abs().max((gamma - truth[2]).abs());
@@ -251,6 +269,11 @@ fn measure<F: Float + InverseSolve>(
                 .max_eps_err_barycentric
                 .max(bary_err / F::EPS.to_f64());
         }
+    }
+    if by_parameter.len() > 1 && !prepared.family.shares_geometry() {
+        let mut points: Vec<[f64; 2]> = by_parameter.values().map(|(p, e)| [*p, *e]).collect();
+        points.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        record.error_by_parameter = points;
     }
     if prepared.family.shares_geometry() {
         for span in &prepared.spans {

@@ -3,6 +3,7 @@
 //! The app only turns state into widgets and input into state changes; every number it shows comes
 //! from the core's solvers and their Trace.
 
+pub mod accuracy_view;
 pub mod parallelogram_view;
 pub mod segments_view;
 pub mod step_panel;
@@ -29,11 +30,21 @@ pub enum ViewKind {
     Triangle,
     /// A ray and a parallelogram in 3D.
     Parallelogram,
+    /// What accuracy costs: methods × precisions against exact.
+    Accuracy,
 }
 
 impl ViewKind {
     /// Every view, in tab order.
-    pub const ALL: [ViewKind; 3] = [
+    pub const ALL: [ViewKind; 4] = [
+        ViewKind::Segments,
+        ViewKind::Triangle,
+        ViewKind::Parallelogram,
+        ViewKind::Accuracy,
+    ];
+
+    /// The views that solve one problem (and have a scene to save).
+    pub const PROBLEMS: [ViewKind; 3] = [
         ViewKind::Segments,
         ViewKind::Triangle,
         ViewKind::Parallelogram,
@@ -45,6 +56,7 @@ impl ViewKind {
             ViewKind::Segments => "Segments (2D)",
             ViewKind::Triangle => "Triangle (3D)",
             ViewKind::Parallelogram => "Parallelogram",
+            ViewKind::Accuracy => "Accuracy",
         }
     }
 }
@@ -88,7 +100,7 @@ impl Default for AppState {
             segments: SegmentsView::default(),
             triangle: TriangleView::default(),
             parallelogram: ParallelogramView::default(),
-            titles: ViewKind::ALL.map(first_of),
+            titles: ViewKind::PROBLEMS.map(first_of),
             scene_path: default_scene_path(),
         }
     }
@@ -105,6 +117,17 @@ fn view_of(problem: &Problem) -> ViewKind {
         Problem::Segments(_) => ViewKind::Segments,
         Problem::Triangle(_) => ViewKind::Triangle,
         Problem::Parallelogram(_) => ViewKind::Parallelogram,
+    }
+}
+
+/// The title and note shown for a view.
+fn heading(state: &AppState) -> (String, String) {
+    match state.view {
+        ViewKind::Accuracy => (
+            "What accuracy costs".into(),
+            "Every method in f32 and f64 on easy and hard rays, judged by exact arithmetic.".into(),
+        ),
+        view => state.titles[view as usize].clone(),
     }
 }
 
@@ -132,6 +155,8 @@ pub struct RaylabApp {
     dialog: Option<Dialog>,
     /// The last notice.
     pub notice: Option<Notice>,
+    /// The Accuracy view (its results are not persisted).
+    pub accuracy: accuracy_view::AccuracyView,
 }
 
 /// The storage key of the state.
@@ -142,14 +167,17 @@ enum ActiveSolve {
     Segments(segments_view::Solved),
     Triangle(triangle_view::Solved),
     Parallelogram(parallelogram_view::Solved),
+    /// The Accuracy view solves nothing itself.
+    Nothing,
 }
 
 impl ActiveSolve {
-    fn trace(&self) -> &Trace {
+    fn trace(&self) -> Option<&Trace> {
         match self {
-            ActiveSolve::Segments(s) => &s.trace,
-            ActiveSolve::Triangle(s) => &s.trace,
-            ActiveSolve::Parallelogram(s) => &s.trace,
+            ActiveSolve::Segments(s) => Some(&s.trace),
+            ActiveSolve::Triangle(s) => Some(&s.trace),
+            ActiveSolve::Parallelogram(s) => Some(&s.trace),
+            ActiveSolve::Nothing => None,
         }
     }
 }
@@ -162,6 +190,7 @@ impl RaylabApp {
             presets: scene::built_in(),
             dialog: None,
             notice: None,
+            accuracy: accuracy_view::AccuracyView::default(),
         }
     }
 
@@ -190,20 +219,21 @@ impl RaylabApp {
     }
 
     /// The open view's inputs as a scene, for saving.
-    pub fn current_scene(&self) -> Scene {
-        let (title, note) = self.state.titles[self.state.view as usize].clone();
+    pub fn current_scene(&self) -> Option<Scene> {
         let problem = match self.state.view {
             ViewKind::Segments => Problem::Segments(self.state.segments.scene.clone()),
             ViewKind::Triangle => Problem::Triangle(self.state.triangle.scene.clone()),
             ViewKind::Parallelogram => {
                 Problem::Parallelogram(self.state.parallelogram.scene.clone())
             }
+            ViewKind::Accuracy => return None,
         };
-        Scene {
+        let (title, note) = self.state.titles[self.state.view as usize].clone();
+        Some(Scene {
             title,
             note,
             problem,
-        }
+        })
     }
 
     fn solve(&self) -> ActiveSolve {
@@ -214,6 +244,7 @@ impl RaylabApp {
             ViewKind::Parallelogram => {
                 ActiveSolve::Parallelogram(self.state.parallelogram.solve(precision))
             }
+            ViewKind::Accuracy => ActiveSolve::Nothing,
         }
     }
 
@@ -305,7 +336,7 @@ impl RaylabApp {
                 }
             });
         });
-        let (title, note) = &self.state.titles[self.state.view as usize];
+        let (title, note) = &heading(&self.state);
         ui.horizontal_wrapped(|ui| {
             ui.label(RichText::new(title).strong());
             ui.label(RichText::new(note).weak());
@@ -373,13 +404,18 @@ impl RaylabApp {
                     error: true,
                 },
             },
-            Dialog::Save => match self.current_scene().save(&path) {
-                Ok(()) => Notice {
+            Dialog::Save => match self.current_scene().map(|scene| scene.save(&path)) {
+                Some(Ok(())) => Notice {
                     text: format!("Saved {}", path.display()),
                     error: false,
                 },
-                Err(error) => Notice {
+                Some(Err(error)) => Notice {
                     text: format!("Could not save {}: {error}", path.display()),
+                    error: true,
+                },
+                None => Notice {
+                    text: "Open a Segments, Triangle or Parallelogram view to save its scene"
+                        .into(),
                     error: true,
                 },
             },
@@ -405,8 +441,12 @@ impl eframe::App for RaylabApp {
                 .resizable(true)
                 .default_size(width)
                 .min_size(260.0)
-                .show(ui, |ui| {
-                    step_panel::ui(ui, solved.trace(), &mut self.state.precision)
+                .show(ui, |ui| match solved.trace() {
+                    Some(trace) => step_panel::ui(ui, trace, &mut self.state.precision),
+                    None => {
+                        ui.heading("Steps");
+                        ui.label("Load a hard case from the gallery to see its steps in the Triangle view.");
+                    }
                 });
         }
         egui::CentralPanel::default().show(ui, |ui| match &solved {
@@ -418,6 +458,17 @@ impl eframe::App for RaylabApp {
             }
             ActiveSolve::Parallelogram(s) if self.state.view == ViewKind::Parallelogram => {
                 self.state.parallelogram.ui(ui, s)
+            }
+            ActiveSolve::Nothing if self.state.view == ViewKind::Accuracy => {
+                if let Some(accuracy_view::Action::LoadTriangle(scene, title, note)) =
+                    self.accuracy.ui(ui)
+                {
+                    self.load_scene(&Scene {
+                        title,
+                        note,
+                        problem: Problem::Triangle(scene),
+                    });
+                }
             }
             // The tab changed this frame: draw the new view next frame.
             _ => ui.ctx().request_repaint(),

@@ -1,0 +1,418 @@
+//! The Accuracy view: what accuracy costs in time. Runs the study on a named background thread (with a
+//! progress bar and Cancel), plots error against time per test for every method × precision and error
+//! against the grazing angle, shows the table, and a gallery of hard cases that load into the Triangle
+//! view with what each method decides.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+
+use egui::{Color32, RichText, Ui};
+use egui_plot::{Legend, Line, MarkerShape, Plot, PlotPoints, Points};
+
+use super::widgets::palette;
+use crate::accuracy::hard_cases::{HardCase, gallery, verdicts};
+use crate::accuracy::study::{self, Config, Record};
+use crate::accuracy::{Method, families::Family};
+use crate::scene::TriangleScene;
+
+/// A study running on its thread.
+struct Running {
+    done: Arc<AtomicUsize>,
+    total: Arc<AtomicUsize>,
+    cancel: Arc<AtomicBool>,
+    result: Arc<Mutex<Option<Option<Vec<Record>>>>>,
+}
+
+/// The Accuracy view's state (results are not persisted: a run takes seconds).
+#[derive(Default)]
+pub struct AccuracyView {
+    /// The last finished study.
+    pub records: Vec<Record>,
+    running: Option<Running>,
+    /// The family the table and the scatter show (`None`: the worst over all families).
+    pub family: Option<Family>,
+    full: bool,
+    gallery: Vec<HardCase>,
+    /// A message about the last run.
+    pub status: String,
+    /// A study size to use instead of quick/full (tests use a tiny one).
+    pub config_override: Option<Config>,
+}
+
+/// What the view asks the app to do.
+pub enum Action {
+    /// Load this case into the Triangle view.
+    LoadTriangle(TriangleScene, String, String),
+}
+
+/// A colour per method, for the legend.
+fn method_color(name: &str) -> Color32 {
+    match name {
+        "cramer" => palette::BETA,
+        "moller-trumbore" => palette::OUTSIDE,
+        "plane" => palette::GAMMA,
+        "normal-equations" => palette::RHS,
+        "inverse" => Color32::from_rgb(0x80, 0x80, 0x80),
+        "watertight" => palette::INSIDE,
+        _ => palette::RAY,
+    }
+}
+
+impl AccuracyView {
+    /// True while a study runs.
+    pub fn is_running(&self) -> bool {
+        self.running.is_some()
+    }
+
+    /// Starts the study on a named thread; the UI is woken as it progresses.
+    pub fn start(&mut self, ctx: &egui::Context) {
+        if self.running.is_some() {
+            return;
+        }
+        let config = if self.full {
+            Config::full()
+        } else {
+            Config::quick()
+        };
+        let running = Running {
+            done: Arc::default(),
+            total: Arc::new(AtomicUsize::new(1)),
+            cancel: Arc::default(),
+            result: Arc::default(),
+        };
+        let (done, total, cancel, result) = (
+            running.done.clone(),
+            running.total.clone(),
+            running.cancel.clone(),
+            running.result.clone(),
+        );
+        let ctx = ctx.clone();
+        let spawned = std::thread::Builder::new()
+            .name("raylab-accuracy-study".into())
+            .spawn(move || {
+                let records = study::run(&config, |d, t| {
+                    done.store(d, Ordering::Relaxed);
+                    total.store(t, Ordering::Relaxed);
+                    ctx.request_repaint();
+                    !cancel.load(Ordering::Relaxed)
+                });
+                *result.lock().expect("not poisoned") = Some(records);
+                ctx.request_repaint();
+            });
+        match spawned {
+            Ok(_) => {
+                self.status = "running…".into();
+                self.running = Some(running);
+            }
+            Err(error) => self.status = format!("could not start the study: {error}"),
+        }
+    }
+
+    /// Takes the result when the thread has finished.
+    fn poll(&mut self) {
+        let finished = self
+            .running
+            .as_ref()
+            .and_then(|r| r.result.lock().ok().and_then(|mut slot| slot.take()));
+        if let Some(outcome) = finished {
+            self.running = None;
+            match outcome {
+                Some(records) => {
+                    self.status = format!(
+                        "{} tests measured",
+                        records.iter().map(|r| r.tests).sum::<usize>()
+                    );
+                    self.records = records;
+                }
+                None => self.status = "cancelled; the previous results are kept".into(),
+            }
+        }
+    }
+
+    /// The view.
+    pub fn ui(&mut self, ui: &mut Ui) -> Option<Action> {
+        self.poll();
+        let mut action = None;
+        egui::ScrollArea::vertical().auto_shrink([false, false]).show(ui, |ui| {
+            self.controls_ui(ui);
+            if self.records.is_empty() {
+                ui.label("Press Run to measure every method in f32 and f64 against exact arithmetic.");
+            } else {
+                self.family_picker(ui);
+                ui.columns(2, |columns| {
+                    self.scatter_ui(&mut columns[0]);
+                    self.grazing_ui(&mut columns[1]);
+                });
+                self.table_ui(ui);
+            }
+            ui.separator();
+            action = self.gallery_ui(ui);
+        });
+        action
+    }
+
+    fn controls_ui(&mut self, ui: &mut Ui) {
+        ui.horizontal_wrapped(|ui| {
+            ui.heading("What accuracy costs");
+            let running = self.running.is_some();
+            if ui
+                .add_enabled(!running, egui::Button::new("Run"))
+                .on_hover_text("Measure every method in f32 and f64 on the ray families, judged by exact arithmetic")
+                .clicked()
+            {
+                self.start(ui.ctx());
+            }
+            ui.add_enabled(!running, egui::Checkbox::new(&mut self.full, "Full run"))
+                .on_hover_text("More rays (a minute or more) instead of the quick run (seconds)");
+            if let Some(run) = &self.running {
+                let (done, total) = (run.done.load(Ordering::Relaxed), run.total.load(Ordering::Relaxed));
+                ui.add(
+                    egui::ProgressBar::new(done as f32 / total.max(1) as f32)
+                        .desired_width(220.0)
+                        .text(format!("{done} / {total}")),
+                );
+                if ui.button("Cancel").on_hover_text("Stop the run and keep the last results").clicked() {
+                    run.cancel.store(true, Ordering::Relaxed);
+                }
+            }
+            ui.label(RichText::new(&self.status).weak());
+        });
+    }
+
+    fn family_picker(&mut self, ui: &mut Ui) {
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Family:");
+            ui.selectable_value(&mut self.family, None, "all (worst)")
+                .on_hover_text("The largest error over every family, and the mean time");
+            for family in Family::ALL {
+                ui.selectable_value(&mut self.family, Some(family), family.name());
+            }
+        });
+    }
+
+    /// One point per method × precision: (ns per test, largest relative error of t) for the family.
+    fn points(&self) -> Vec<(String, String, f64, f64, usize)> {
+        let mut out = Vec::new();
+        for method in Method::FLOAT {
+            for precision in ["f32", "f64"] {
+                let rows: Vec<&Record> = self
+                    .records
+                    .iter()
+                    .filter(|r| r.method == method.name() && r.precision == precision)
+                    .filter(|r| self.family.is_none_or(|f| r.family == f.name()))
+                    .collect();
+                if rows.is_empty() {
+                    continue;
+                }
+                let ns = rows.iter().map(|r| r.ns_per_test).sum::<f64>() / rows.len() as f64;
+                let error = rows.iter().map(|r| r.max_rel_err_t).fold(0.0, f64::max);
+                let wrong = rows.iter().map(|r| r.wrong_decisions).sum();
+                out.push((
+                    method.name().to_string(),
+                    precision.to_string(),
+                    ns,
+                    error,
+                    wrong,
+                ));
+            }
+        }
+        out
+    }
+
+    fn scatter_ui(&self, ui: &mut Ui) {
+        ui.label(RichText::new("Largest relative error of t against time per test").strong());
+        let points = self.points();
+        let log = |x: f64| x.max(1e-18).log10();
+        Plot::new("error-vs-time")
+            .height(280.0)
+            .legend(Legend::default())
+            .x_axis_label("ns per test (log)")
+            .y_axis_label("max relative error of t (log)")
+            .x_axis_formatter(|mark, _| format!("{:.0}", 10f64.powf(mark.value)))
+            .y_axis_formatter(|mark, _| format!("1e{:.0}", mark.value))
+            .label_formatter(|hover| match hover {
+                egui_plot::HoverPosition::NearDataPoint {
+                    plot_name,
+                    position,
+                    ..
+                } => Some(format!(
+                    "{plot_name}\n{:.1} ns per test\nlargest relative error of t {:.2e}",
+                    10f64.powf(position.x),
+                    10f64.powf(position.y)
+                )),
+                _ => None,
+            })
+            .show(ui, |plot| {
+                for (method, precision, ns, error, _) in &points {
+                    let shape = if precision == "f32" {
+                        MarkerShape::Square
+                    } else {
+                        MarkerShape::Circle
+                    };
+                    plot.points(
+                        Points::new(
+                            format!("{method} {precision}"),
+                            PlotPoints::from(vec![[log(*ns), log(*error)]]),
+                        )
+                        .shape(shape)
+                        .radius(6.0)
+                        .filled(true)
+                        .color(method_color(method)),
+                    );
+                }
+            });
+        ui.label(
+            RichText::new("Squares are f32, circles f64. Errors of 0 are drawn at 1e-18.").weak(),
+        );
+    }
+
+    fn grazing_ui(&self, ui: &mut Ui) {
+        ui.label(RichText::new("Relative error of t against the grazing angle").strong());
+        let log = |x: f64| x.max(1e-18).log10();
+        Plot::new("error-vs-angle")
+            .height(280.0)
+            .legend(Legend::default())
+            .x_axis_label("angle to the plane, radians (log)")
+            .y_axis_label("max relative error of t (log)")
+            .x_axis_formatter(|mark, _| format!("1e{:.0}", mark.value))
+            .y_axis_formatter(|mark, _| format!("1e{:.0}", mark.value))
+            .show(ui, |plot| {
+                for record in self
+                    .records
+                    .iter()
+                    .filter(|r| r.family == "grazing" && !r.error_by_parameter.is_empty())
+                {
+                    let series: Vec<[f64; 2]> = record
+                        .error_by_parameter
+                        .iter()
+                        .map(|[angle, error]| [log(*angle), log(*error)])
+                        .collect();
+                    let mut line = Line::new(
+                        format!("{} {}", record.method, record.precision),
+                        PlotPoints::from(series),
+                    )
+                    .color(method_color(&record.method));
+                    if record.precision == "f32" {
+                        line = line.style(egui_plot::LineStyle::dashed_loose());
+                    }
+                    plot.line(line);
+                }
+            });
+        ui.label(RichText::new("Dashed lines are f32. Smaller angles are harder.").weak());
+    }
+
+    fn table_ui(&self, ui: &mut Ui) {
+        ui.label(RichText::new("The table").strong());
+        egui::Grid::new("accuracy-table")
+            .striped(true)
+            .show(ui, |ui| {
+                for head in [
+                    "method",
+                    "precision",
+                    "family",
+                    "tests",
+                    "wrong",
+                    "cracks",
+                    "double",
+                    "rel err t",
+                    "ulps t",
+                    "exact",
+                    "ns/test",
+                ] {
+                    ui.label(RichText::new(head).strong());
+                }
+                ui.end_row();
+                for r in self
+                    .records
+                    .iter()
+                    .filter(|r| self.family.is_none_or(|f| r.family == f.name()))
+                {
+                    ui.label(RichText::new(&r.method).color(method_color(&r.method)));
+                    ui.label(&r.precision);
+                    ui.label(&r.family);
+                    ui.label(r.tests.to_string());
+                    let wrong = RichText::new(r.wrong_decisions.to_string());
+                    ui.label(if r.wrong_decisions > 0 {
+                        wrong.color(palette::OUTSIDE)
+                    } else {
+                        wrong
+                    });
+                    let cracks = RichText::new(r.cracks.to_string());
+                    ui.label(if r.cracks > 0 {
+                        cracks.color(palette::OUTSIDE).strong()
+                    } else {
+                        cracks
+                    });
+                    ui.label(r.double_hits.to_string());
+                    ui.label(format!("{:.1e}", r.max_rel_err_t));
+                    ui.label(format!("{:.1e}", r.max_ulps_t));
+                    ui.label(r.exact_fallbacks.to_string());
+                    ui.label(format!("{:.1}", r.ns_per_test));
+                    ui.end_row();
+                }
+            });
+    }
+
+    fn gallery_ui(&mut self, ui: &mut Ui) -> Option<Action> {
+        ui.heading("Hard cases");
+        ui.label(RichText::new("Each case against the exact reference; Load opens it in the Triangle view with its trace.").weak());
+        if self.gallery.is_empty() {
+            self.gallery = gallery();
+        }
+        let mut action = None;
+        for hard in &self.gallery {
+            ui.horizontal_wrapped(|ui| {
+                if ui
+                    .button("Load")
+                    .on_hover_text("Open this case in the Triangle view")
+                    .clicked()
+                {
+                    let scene = TriangleScene {
+                        a: hard.a,
+                        b: hard.b,
+                        c: hard.c,
+                        origin: hard.origin,
+                        dir: hard.dir,
+                        t_min: 0.0,
+                    };
+                    action = Some(Action::LoadTriangle(
+                        scene,
+                        format!("Hard case: {}", hard.name),
+                        hard.note.clone(),
+                    ));
+                }
+                ui.label(RichText::new(&hard.name).strong());
+                ui.label(RichText::new(&hard.note).weak());
+            });
+            let verdicts = verdicts(&hard.case());
+            ui.horizontal_wrapped(|ui| {
+                ui.add_space(24.0);
+                for v in &verdicts {
+                    let (mark, color) = if v.hit == v.exact_hit {
+                        ("✓", palette::INSIDE)
+                    } else {
+                        ("✗", palette::OUTSIDE)
+                    };
+                    let said = if v.invalid_input {
+                        "out of range"
+                    } else if v.hit {
+                        "hit"
+                    } else {
+                        "miss"
+                    };
+                    ui.label(
+                        RichText::new(format!("{mark} {} {said}", v.who))
+                            .color(color)
+                            .small(),
+                    )
+                    .on_hover_text(if v.exact_hit {
+                        "exact: hit"
+                    } else {
+                        "exact: miss"
+                    });
+                }
+            });
+        }
+        action
+    }
+}
