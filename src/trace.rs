@@ -412,6 +412,33 @@ impl Trace {
     }
 }
 
+/// Somewhere steps can go: a [`Recorder`], or `()` which drops them at no cost (the compiler removes
+/// the calls entirely), for hot loops that must not pay for tracing.
+pub trait StepSink {
+    /// True if steps are kept.
+    fn is_recording(&self) -> bool;
+    /// Adds a step built by `build`, which runs only when recording.
+    fn push(&mut self, build: impl FnOnce() -> Step);
+}
+
+impl StepSink for () {
+    #[inline(always)]
+    fn is_recording(&self) -> bool {
+        false
+    }
+    #[inline(always)]
+    fn push(&mut self, _build: impl FnOnce() -> Step) {}
+}
+
+impl StepSink for Recorder {
+    fn is_recording(&self) -> bool {
+        Recorder::is_recording(self)
+    }
+    fn push(&mut self, build: impl FnOnce() -> Step) {
+        Recorder::push(self, build)
+    }
+}
+
 /// Collects steps when a trace was asked for, and costs nothing (not even formatting) when not.
 #[derive(Debug)]
 pub struct Recorder {
@@ -432,6 +459,7 @@ impl Recorder {
     }
 
     /// Adds a step; `build` runs only when recording, so a solve without a trace formats nothing.
+    #[inline(always)]
     pub fn push(&mut self, build: impl FnOnce() -> Step) {
         if let Some(trace) = &mut self.trace {
             trace.steps.push(build());

@@ -352,16 +352,18 @@ pub fn decide<F: Float>(t: F, beta: F, gamma: F) -> bool {
 pub(crate) mod record {
     use super::{Answer, Float};
     use crate::geometry::linalg::V3;
-    use crate::trace::{Check, Number, Payload, Recorder, Scalar, Step, Vector, Verdict};
+    use crate::trace::{Check, Number, Payload, Scalar, Step, StepSink, Vector, Verdict};
 
     /// Records a named vector.
-    pub fn vector<F: Float>(rec: &mut Recorder, id: &str, title: &str, note: &str, v: &V3<F>) {
+    #[inline(always)]
+    pub fn vector<F: Float>(rec: &mut impl StepSink, id: &str, title: &str, note: &str, v: &V3<F>) {
         rec.push(|| Step::new(id, title, note, Payload::Vector(Vector::of(id, id, v))));
     }
 
     /// Records a named scalar.
+    #[inline(always)]
     pub fn scalar<F: Float>(
-        rec: &mut Recorder,
+        rec: &mut impl StepSink,
         id: &str,
         title: &str,
         note: &str,
@@ -385,7 +387,11 @@ pub(crate) mod record {
     }
 
     /// Records the lecture's four checks on the method's values, and the verdict.
-    pub fn outcome<F: Float>(rec: &mut Recorder, answer: &Answer<F>) {
+    #[inline(always)]
+    pub fn outcome<F: Float>(rec: &mut impl StepSink, answer: &Answer<F>) {
+        if !rec.is_recording() {
+            return;
+        }
         if let Some([t, beta, gamma]) = answer.values {
             let zero = F::zero();
             let checks = [

@@ -3,15 +3,15 @@
 
 use super::{Answer, Case, Float, decide, record};
 use crate::geometry::linalg::{cross, dot, sub};
-use crate::trace::Recorder;
+use crate::trace::StepSink;
 
 /// Intersects by Möller–Trumbore.
 pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
-    intersect_recorded(case, &mut Recorder::new(false, "", F::PRECISION))
+    intersect_recorded(case, &mut ())
 }
 
-/// Intersects, recording the steps.
-pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut Recorder) -> Answer<F> {
+/// Intersects, sending the steps to `rec` (a `Recorder`, or `()` for none at no cost).
+pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> Answer<F> {
     let [a, b, c] = &case.tri;
     // Edge vectors from A.
     let e1 = sub(b, a);

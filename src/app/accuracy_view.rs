@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 use egui::{Color32, RichText, Ui};
-use egui_plot::{Legend, Line, MarkerShape, Plot, PlotPoints, Points};
+use egui_plot::{Line, MarkerShape, Plot, PlotPoints, Points};
 
 use super::widgets::palette;
 use crate::accuracy::hard_cases::{HardCase, gallery, verdicts};
@@ -56,6 +56,20 @@ fn method_color(name: &str) -> Color32 {
         "watertight" => palette::INSIDE,
         _ => palette::RAY,
     }
+}
+
+/// The plots' shared legend: one colour per method (squares and dashes are f32).
+fn legend_ui(ui: &mut Ui) {
+    ui.horizontal_wrapped(|ui| {
+        for method in Method::FLOAT {
+            ui.label(
+                RichText::new(format!("● {}", method.name())).color(method_color(method.name())),
+            );
+        }
+        ui.label(
+            RichText::new("(squares and dashed lines: f32; circles and solid lines: f64)").weak(),
+        );
+    });
 }
 
 impl AccuracyView {
@@ -139,6 +153,7 @@ impl AccuracyView {
                 ui.label("Press Run to measure every method in f32 and f64 against exact arithmetic.");
             } else {
                 self.family_picker(ui);
+                legend_ui(ui);
                 ui.columns(2, |columns| {
                     self.scatter_ui(&mut columns[0]);
                     self.grazing_ui(&mut columns[1]);
@@ -225,7 +240,6 @@ impl AccuracyView {
         let log = |x: f64| x.max(1e-18).log10();
         Plot::new("error-vs-time")
             .height(280.0)
-            .legend(Legend::default())
             .x_axis_label("ns per test (log)")
             .y_axis_label("max relative error of t (log)")
             .x_axis_formatter(|mark, _| format!("{:.0}", 10f64.powf(mark.value)))
@@ -249,9 +263,10 @@ impl AccuracyView {
                     } else {
                         MarkerShape::Circle
                     };
+                    // One legend entry per method: f32 and f64 share the name (and colour).
                     plot.points(
                         Points::new(
-                            format!("{method} {precision}"),
+                            method.clone(),
                             PlotPoints::from(vec![[log(*ns), log(*error)]]),
                         )
                         .shape(shape)
@@ -271,7 +286,6 @@ impl AccuracyView {
         let log = |x: f64| x.max(1e-18).log10();
         Plot::new("error-vs-angle")
             .height(280.0)
-            .legend(Legend::default())
             .x_axis_label("angle to the plane, radians (log)")
             .y_axis_label("max relative error of t (log)")
             .x_axis_formatter(|mark, _| format!("1e{:.0}", mark.value))
@@ -287,18 +301,17 @@ impl AccuracyView {
                         .iter()
                         .map(|[angle, error]| [log(*angle), log(*error)])
                         .collect();
-                    let mut line = Line::new(
-                        format!("{} {}", record.method, record.precision),
-                        PlotPoints::from(series),
-                    )
-                    .color(method_color(&record.method));
+                    let mut line = Line::new(record.method.clone(), PlotPoints::from(series))
+                        .color(method_color(&record.method));
                     if record.precision == "f32" {
                         line = line.style(egui_plot::LineStyle::dashed_loose());
                     }
                     plot.line(line);
                 }
             });
-        ui.label(RichText::new("Dashed lines are f32. Smaller angles are harder.").weak());
+        ui.label(
+            RichText::new("Smaller angles are harder: the ray nearly lies in the plane.").weak(),
+        );
     }
 
     fn table_ui(&self, ui: &mut Ui) {
