@@ -161,3 +161,32 @@ fn the_quick_study_produces_every_record() {
         assert!(json[0].get(field).is_some(), "JSON lacks {field}");
     }
 }
+
+#[test]
+fn every_method_traces_its_own_steps() {
+    let lecture = Case {
+        tri: [[3.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 3.0]],
+        origin: [0.0; 3],
+        dir: [1.0, 1.0, 1.0],
+    };
+    let own_step = [
+        (Method::Cramer, "det_M1"),
+        (Method::MollerTrumbore, "p"),
+        (Method::Plane, "n"),
+        (Method::NormalEquations, "gram"),
+        (Method::Inverse, "Y"),
+        (Method::Watertight, "UVW"),
+        (Method::Exact, "det_M3"),
+    ];
+    for (method, id) in own_step {
+        for trace in [method.trace(&lecture), method.trace(&lecture.to_f32())] {
+            assert!(
+                trace.step(id).is_some(),
+                "{} lacks step {id}",
+                method.name()
+            );
+            let verdict = trace.verdict().expect("a verdict");
+            assert_eq!(verdict.status, "hit", "{}", method.name());
+        }
+    }
+}

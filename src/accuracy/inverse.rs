@@ -2,8 +2,9 @@
 
 use glam::{DMat3, DVec3, Mat3, Vec3};
 
-use super::{Answer, Case, Float, decide};
+use super::{Answer, Case, Float, decide, record};
 use crate::geometry::linalg::sub;
+use crate::trace::StepSink;
 
 /// Solving a 3x3 system through glam's inverse, in the precision's own matrix type.
 pub trait InverseSolve: Float {
@@ -27,10 +28,25 @@ impl InverseSolve for f64 {
 
 /// Intersects by inverting M.
 pub fn intersect<F: InverseSolve>(case: &Case<F>) -> Answer<F> {
+    intersect_recorded(case, &mut ())
+}
+
+/// Intersects, sending the steps to `rec` (`()` records nothing, at no cost).
+pub fn intersect_recorded<F: InverseSolve>(case: &Case<F>, rec: &mut impl StepSink) -> Answer<F> {
     let [a, b, c] = &case.tri;
     let columns = [sub(a, b), sub(a, c), case.dir];
-    match F::solve_by_inverse(columns, sub(a, &case.origin)) {
+    let y = sub(a, &case.origin);
+    record::vector(
+        rec,
+        "Y",
+        "Y = A − L",
+        "M = [A−B | A−C | D] goes to glam as three columns.",
+        &y,
+    );
+    let answer = match F::solve_by_inverse(columns, y) {
         Some([beta, gamma, t]) => Answer::with(decide(t, beta, gamma), [t, beta, gamma]),
         None => Answer::miss(),
-    }
+    };
+    record::outcome(rec, &answer);
+    answer
 }

@@ -199,9 +199,10 @@ impl Method {
 impl Method {
     /// Runs the method in precision F and records its steps.
     ///
-    /// Cramer's rule and the exact reference show the lecture's full trace (M, M1–M3, expansions);
-    /// Möller–Trumbore shows its shared cross products; the others show their inputs, the t, β, γ they
-    /// computed, the four checks and how they decided.
+    /// Cramer's rule and the exact reference show the lecture's full trace (M, M1–M3, expansions); each
+    /// other method shows its own intermediate values (Möller–Trumbore's shared cross products, the
+    /// plane's normal and hit point, the normal equations' matrix, the watertight shear and edge
+    /// functions with their bounds), then the four checks and whether floats or exact arithmetic decided.
     pub fn trace<F: Float + InverseSolve>(self, case: &Case<F>) -> crate::trace::Trace {
         use crate::trace::Recorder;
         let lecture = |c: &Case<F>| {
@@ -256,12 +257,11 @@ impl Method {
                     }
                 }
             }
-            Method::MollerTrumbore => {
-                let mut rec = Recorder::new(true, self.name(), F::PRECISION);
-                moller_trumbore::intersect_recorded(case, &mut rec);
-                rec.finish().expect("recorded")
-            }
-            _ => {
+            Method::MollerTrumbore
+            | Method::Plane
+            | Method::NormalEquations
+            | Method::Inverse
+            | Method::Watertight => {
                 let mut rec = Recorder::new(true, self.name(), F::PRECISION);
                 for (id, v) in ["A", "B", "C", "L", "D"].into_iter().zip([
                     &case.tri[0],
@@ -272,27 +272,13 @@ impl Method {
                 ]) {
                     record::vector(&mut rec, id, id, "An input, in this precision.", v);
                 }
-                let answer = self.run(case);
-                if let Some([t, beta, gamma]) = answer.values {
-                    record::scalar(&mut rec, "t", "t", "As this method computed it.", "t", t);
-                    record::scalar(
-                        &mut rec,
-                        "beta",
-                        "β",
-                        "As this method computed it.",
-                        "β",
-                        beta,
-                    );
-                    record::scalar(
-                        &mut rec,
-                        "gamma",
-                        "γ",
-                        "As this method computed it.",
-                        "γ",
-                        gamma,
-                    );
-                }
-                record::outcome(&mut rec, &answer);
+                match self {
+                    Method::MollerTrumbore => moller_trumbore::intersect_recorded(case, &mut rec),
+                    Method::Plane => plane::intersect_recorded(case, &mut rec),
+                    Method::NormalEquations => normal_equations::intersect_recorded(case, &mut rec),
+                    Method::Inverse => inverse::intersect_recorded(case, &mut rec),
+                    _ => watertight::intersect_recorded(case, &mut rec),
+                };
                 rec.finish().expect("recorded")
             }
         }

@@ -1,11 +1,17 @@
 //! Seed 004's barycentrics by a 2x2 system of dot products: intersect the plane for P, then solve
 //! [e1·e1 e1·e2; e2·e1 e2·e2] (β, γ) = ((P − A)·e1, (P − A)·e2) by Cramer's rule.
 
-use super::{Answer, Case, Float, decide};
+use super::{Answer, Case, Float, decide, record};
 use crate::geometry::linalg::{add, cross, dot, scale, sub};
+use crate::trace::StepSink;
 
 /// Intersects the plane, then solves the normal equations for β and γ.
 pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
+    intersect_recorded(case, &mut ())
+}
+
+/// Intersects, sending the steps to `rec` (`()` records nothing, at no cost).
+pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> Answer<F> {
     let [a, b, c] = &case.tri;
     let e1 = sub(b, a);
     let e2 = sub(c, a);
@@ -13,7 +19,9 @@ pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
     let n = cross(&e1, &e2);
     let n_dot_d = dot(&n, &case.dir);
     if n_dot_d == F::zero() {
-        return Answer::miss();
+        let answer = Answer::miss();
+        record::outcome(rec, &answer);
+        return answer;
     }
     let t = dot(&n, &sub(a, &case.origin)).div(n_dot_d);
     let p = add(&case.origin, &scale(&t, &case.dir));
@@ -22,10 +30,30 @@ pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
     let ap = sub(&p, a);
     let (c1, c2) = (dot(&ap, &e1), dot(&ap, &e2));
     let det = d11 * d22 - d12 * d12;
+    record::vector(rec, "P", "P = L + tD", "The plane hit, as in seed 003.", &p);
+    record::vector(
+        rec,
+        "gram",
+        "e1·e1, e1·e2, e2·e2",
+        "The 2x2 system's matrix (symmetric).",
+        &[d11, d12, d22],
+    );
+    record::scalar(
+        rec,
+        "det",
+        "det = (e1·e1)(e2·e2) − (e1·e2)²",
+        "Zero for a degenerate triangle.",
+        "det",
+        det,
+    );
     if det == F::zero() {
-        return Answer::miss();
+        let answer = Answer::miss();
+        record::outcome(rec, &answer);
+        return answer;
     }
     let beta = (c1 * d22 - d12 * c2).div(det);
     let gamma = (d11 * c2 - d12 * c1).div(det);
-    Answer::with(decide(t, beta, gamma), [t, beta, gamma])
+    let answer = Answer::with(decide(t, beta, gamma), [t, beta, gamma]);
+    record::outcome(rec, &answer);
+    answer
 }

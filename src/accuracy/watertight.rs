@@ -12,7 +12,8 @@
 //! [`Answer::exact_fallback`] says when that happened.
 
 use super::reference::reference;
-use super::{Answer, Case, Float, finite};
+use super::{Answer, Case, Float, finite, record};
+use crate::trace::StepSink;
 
 /// One sheared vertex: (x, y, z) with the ray along z, and the magnitudes that bound the error of x, y.
 struct Sheared<F> {
@@ -27,6 +28,17 @@ struct Sheared<F> {
 
 /// Intersects watertightly; decides in exact arithmetic where rounding could flip the answer.
 pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
+    intersect_recorded(case, &mut ())
+}
+
+/// Intersects, sending the steps to `rec` (`()` records nothing, at no cost).
+pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> Answer<F> {
+    let answer = decide_case(case, rec);
+    record::outcome(rec, &answer);
+    answer
+}
+
+fn decide_case<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> Answer<F> {
     // NaN and infinities are outside the method's range: say so, and miss.
     if !finite(case) {
         return Answer {
@@ -34,7 +46,7 @@ pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
             ..Answer::miss()
         };
     }
-    match float_path(case) {
+    match float_path(case, rec) {
         Some(answer) => answer,
         None => {
             // Exact big-integer determinants on the very same float inputs.
@@ -50,7 +62,7 @@ pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
 }
 
 /// The float computation, or `None` when a value is too close to zero (or not finite) to trust.
-fn float_path<F: Float>(case: &Case<F>) -> Option<Answer<F>> {
+fn float_path<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> Option<Answer<F>> {
     let d = case.dir;
     // Permute: z is the direction's largest component; swap x and y to keep the winding when dz < 0.
     let kz = (0..3).max_by(|&i, &j| {
@@ -93,6 +105,40 @@ fn float_path<F: Float>(case: &Case<F>) -> Option<Answer<F>> {
     let bound = |p: &Sheared<F>, q: &Sheared<F>| unit * (p.mag_x * q.mag_y + p.mag_y * q.mag_x);
     let (u, v, w) = (edge(&c, &b), edge(&a, &c), edge(&b, &a));
     let (bu, bv, bw) = (bound(&c, &b), bound(&a, &c), bound(&b, &a));
+    record::vector(
+        rec,
+        "shear",
+        "Shear (Sx, Sy, Sz)",
+        "After permuting so z is the direction's largest axis: the ray becomes (0, 0, 1).",
+        &[sx, sy, sz],
+    );
+    for (id, title, v) in [
+        ("A'", "A sheared", &a),
+        ("B'", "B sheared", &b),
+        ("C'", "C sheared", &c),
+    ] {
+        record::vector(
+            rec,
+            id,
+            title,
+            "The vertex relative to the ray's origin, in the sheared space.",
+            &[v.x, v.y, v.z],
+        );
+    }
+    record::vector(
+        rec,
+        "UVW",
+        "Edge functions U, V, W",
+        "Each from the two vertices of one edge, so shared edges agree: all ≥ 0 or all ≤ 0 is inside.",
+        &[u, v, w],
+    );
+    record::vector(
+        rec,
+        "bounds",
+        "Their rounding bounds",
+        "A value within its bound of zero is decided in exact arithmetic.",
+        &[bu, bv, bw],
+    );
     let all = [u, v, w, bu, bv, bw, a.z, b.z, c.z];
     if all.iter().any(|x| !x.is_finite()) {
         return None;
