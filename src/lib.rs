@@ -9,5 +9,6 @@ pub mod cli;
 pub mod exact;
 pub mod geometry;
 pub mod platform;
+pub mod render;
 pub mod scene;
 pub mod trace;

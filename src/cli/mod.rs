@@ -35,6 +35,24 @@ pub enum Command {
     Solve(Box<SolveArgs>),
     /// Measure what accuracy costs: every method in f32 and f64 on hard ray families, against exact.
     Bench(BenchArgs),
+    /// Render a scene file (RON) to a PNG, one ray per pixel, computing only the scene's effects.
+    Render(RenderArgs),
+}
+
+/// `raylab render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// The scene file (see assets/render/).
+    pub scene: std::path::PathBuf,
+    /// The PNG to write.
+    #[arg(short, long, value_name = "PNG")]
+    pub output: std::path::PathBuf,
+    /// The intersection method (default: watertight).
+    #[arg(long, value_name = "NAME", default_value = "watertight")]
+    pub method: crate::accuracy::Method,
+    /// Print the work done (rays, triangle tests, hits, interpolations, shading) and the render time.
+    #[arg(long)]
+    pub stats: bool,
 }
 
 /// `raylab bench`.
@@ -240,6 +258,7 @@ pub fn run(cli: Cli) -> i32 {
     match cli.command {
         Some(Command::Solve(args)) => run_solve(*args),
         Some(Command::Bench(args)) => run_bench(args),
+        Some(Command::Render(args)) => run_render(args),
         None => match crate::app::run() {
             Ok(()) => 0,
             Err(error) => {
@@ -248,6 +267,53 @@ pub fn run(cli: Cli) -> i32 {
             }
         },
     }
+}
+
+fn run_render(args: RenderArgs) -> i32 {
+    use crate::render::{RenderScene, render};
+    let name = args.scene.display().to_string();
+    let scene: RenderScene = match std::fs::read_to_string(&args.scene)
+        .map_err(|e| e.to_string())
+        .and_then(|text| {
+            ron::from_str(&text)
+                .map_err(|e| format!("{}:{}: {}", e.span.start.line, e.span.start.col, e.code))
+        }) {
+        Ok(scene) => scene,
+        Err(message) => {
+            eprintln!("raylab: {name}:{message}");
+            return 1;
+        }
+    };
+    let clock = crate::platform::Stopwatch::start();
+    let (image, stats) = render(&scene, args.method);
+    let seconds = clock.seconds();
+    let buffer =
+        image::RgbImage::from_raw(image.width as u32, image.height as u32, image.to_rgb8());
+    let written = buffer
+        .ok_or_else(|| "the image has no pixels".to_string())
+        .and_then(|b| b.save(&args.output).map_err(|e| e.to_string()));
+    if let Err(message) = written {
+        eprintln!(
+            "raylab: could not write {}: {message}",
+            args.output.display()
+        );
+        return 1;
+    }
+    if args.stats {
+        println!(
+            "{}x{} with {}: {:.2} ms in-process, covered pixels {}",
+            image.width,
+            image.height,
+            args.method.name(),
+            seconds * 1e3,
+            image.covered_pixels()
+        );
+        println!(
+            "rays {}, triangle tests {}, hits {}, interpolations {}, shading {}",
+            stats.rays, stats.triangle_tests, stats.hits, stats.interpolations, stats.shading
+        );
+    }
+    0
 }
 
 fn print_hard_cases() -> i32 {
