@@ -77,6 +77,74 @@ fn cut(v: &[Vec<f32>; 3], n: usize) -> [&[f32]; 3] {
     [&v[0][..n], &v[1][..n], &v[2][..n]]
 }
 
+/// Many rays (structure of arrays) against one triangle: for each ray whose test hits and is nearer
+/// than `nearest[i]`, writes t, β, γ and `index` into the outputs. The loop has no branches, so it
+/// vectorises over the rays (the renderer's coverage pass).
+pub struct RayBatch<'a> {
+    /// Origins' x, y, z.
+    pub origin: [&'a [f32]; 3],
+    /// Directions' x, y, z.
+    pub dir: [&'a [f32]; 3],
+}
+
+/// The nearest hits so far, per ray.
+pub struct Nearest<'a> {
+    /// t of the nearest hit (+∞ when none).
+    pub t: &'a mut [f32],
+    /// β of the nearest hit.
+    pub beta: &'a mut [f32],
+    /// γ of the nearest hit.
+    pub gamma: &'a mut [f32],
+    /// The triangle of the nearest hit (`u32::MAX` when none).
+    pub index: &'a mut [u32],
+}
+
+/// Tests every ray of the batch against one triangle (A, B, C) and keeps the nearest hits.
+pub fn intersect_rays(
+    triangle: [[f32; 3]; 3],
+    index: u32,
+    rays: &RayBatch<'_>,
+    nearest: &mut Nearest<'_>,
+) {
+    let n = rays.origin[0].len().min(nearest.t.len());
+    let [a, b, c] = triangle;
+    let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let (ox, oy, oz) = (
+        &rays.origin[0][..n],
+        &rays.origin[1][..n],
+        &rays.origin[2][..n],
+    );
+    let (dx, dy, dz) = (&rays.dir[0][..n], &rays.dir[1][..n], &rays.dir[2][..n]);
+    let (t_out, beta_out) = (&mut nearest.t[..n], &mut nearest.beta[..n]);
+    let (gamma_out, index_out) = (&mut nearest.gamma[..n], &mut nearest.index[..n]);
+    for i in 0..n {
+        // p = D × e2, det = e1 · p
+        let px = dy[i] * e2[2] - dz[i] * e2[1];
+        let py = dz[i] * e2[0] - dx[i] * e2[2];
+        let pz = dx[i] * e2[1] - dy[i] * e2[0];
+        let det = e1[0] * px + e1[1] * py + e1[2] * pz;
+        let inv = 1.0 / det;
+        // s = L − A; β = s · p / det
+        let sx = ox[i] - a[0];
+        let sy = oy[i] - a[1];
+        let sz = oz[i] - a[2];
+        let beta = (sx * px + sy * py + sz * pz) * inv;
+        // q = s × e1; γ = D · q / det; t = e2 · q / det
+        let qx = sy * e1[2] - sz * e1[1];
+        let qy = sz * e1[0] - sx * e1[2];
+        let qz = sx * e1[1] - sy * e1[0];
+        let gamma = (dx[i] * qx + dy[i] * qy + dz[i] * qz) * inv;
+        let t = (e2[0] * qx + e2[1] * qy + e2[2] * qz) * inv;
+        let nearer = beta >= 0.0 && gamma >= 0.0 && beta + gamma <= 1.0 && t > 0.0 && t < t_out[i];
+        // Selects, not branches.
+        t_out[i] = if nearer { t } else { t_out[i] };
+        beta_out[i] = if nearer { beta } else { beta_out[i] };
+        gamma_out[i] = if nearer { gamma } else { gamma_out[i] };
+        index_out[i] = if nearer { index } else { index_out[i] };
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -210,9 +210,11 @@ fn probe(family: Family, index: usize, rng: &mut Pcg64) -> Probe {
             );
             let dir = sub(&centre, &origin);
             Probe {
+                // The shared vertex is each triangle's C, not A: with A = centre the lecture's
+                // Y = A − L would equal D bit for bit, and the test would be trivially exact.
                 cases: (0..k)
                     .map(|i| Case {
-                        tri: [centre, ring[i], ring[(i + 1) % k]],
+                        tri: [ring[i], ring[(i + 1) % k], centre],
                         origin,
                         dir,
                     })

@@ -28,6 +28,8 @@ use crate::geometry::triangle::{self, RayTriangle};
 pub trait Float: Real + Copy + Send + Sync + 'static {
     /// Machine epsilon.
     const EPS: Self;
+    /// The smallest positive normal number.
+    const MIN_POSITIVE: Self;
     /// Converts, rounding to nearest.
     fn of(x: f64) -> Self;
     /// The square root.
@@ -42,6 +44,7 @@ macro_rules! float_impl {
     ($t:ty) => {
         impl Float for $t {
             const EPS: $t = <$t>::EPSILON;
+            const MIN_POSITIVE: $t = <$t>::MIN_POSITIVE;
             fn of(x: f64) -> $t {
                 x as $t
             }
@@ -363,13 +366,24 @@ pub(crate) mod record {
                 note,
                 Payload::Scalar(Scalar {
                     symbol: symbol.into(),
-                    latex: symbol.into(),
+                    latex: latex_symbol(symbol),
                     formula: None,
                     value: Number::of(&value),
                     closed_form: None,
                 }),
             )
         });
+    }
+
+    /// The LaTeX for a symbol the methods use (Greek letters and products spelled out).
+    fn latex_symbol(symbol: &str) -> String {
+        symbol
+            .replace('β', "\\beta ")
+            .replace('γ', "\\gamma ")
+            .replace('α', "\\alpha ")
+            .replace('·', " \\cdot ")
+            .trim()
+            .to_string()
     }
 
     /// Records the lecture's four checks on the method's values, and the verdict.

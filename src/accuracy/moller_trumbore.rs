@@ -30,7 +30,7 @@ pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> 
         rec,
         "det",
         "det = e1 · p",
-        "Equals |M| of the lecture's system.",
+        "Equals −|M| of the lecture's system (M = [A−B | A−C | D] = [−e1 | −e2 | D]).",
         "det",
         det,
     );

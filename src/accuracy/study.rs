@@ -286,6 +286,47 @@ fn measure<F: Float + InverseSolve>(
     record
 }
 
+/// One point of the error-against-time plot: a method in a precision, over one family or all.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Summary {
+    /// The method.
+    pub method: String,
+    /// f32 or f64.
+    pub precision: String,
+    /// Time per test: the mean over the families' rows.
+    pub ns_per_test: f64,
+    /// The largest relative error of t over the families.
+    pub max_rel_err_t: f64,
+    /// Wrong decisions, summed.
+    pub wrong_decisions: usize,
+}
+
+/// The float methods' rows for one family (or, with `None`, summarised over all families: worst
+/// error, summed wrong decisions, mean time).
+pub fn summary(records: &[Record], family: Option<&str>) -> Vec<Summary> {
+    let mut out = Vec::new();
+    for method in Method::FLOAT {
+        for precision in ["f32", "f64"] {
+            let rows: Vec<&Record> = records
+                .iter()
+                .filter(|r| r.method == method.name() && r.precision == precision)
+                .filter(|r| family.is_none_or(|f| r.family == f))
+                .collect();
+            if rows.is_empty() {
+                continue;
+            }
+            out.push(Summary {
+                method: method.name().into(),
+                precision: precision.into(),
+                ns_per_test: rows.iter().map(|r| r.ns_per_test).sum::<f64>() / rows.len() as f64,
+                max_rel_err_t: rows.iter().map(|r| r.max_rel_err_t).fold(0.0, f64::max),
+                wrong_decisions: rows.iter().map(|r| r.wrong_decisions).sum(),
+            });
+        }
+    }
+    out
+}
+
 /// The spacing of floats of precision F at x (for errors in ulps).
 fn ulp<F: Float>(x: f64) -> f64 {
     if F::PRECISION == Precision::F32 {

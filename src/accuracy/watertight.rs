@@ -143,6 +143,21 @@ fn float_path<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> Option<Answe
     if all.iter().any(|x| !x.is_finite()) {
         return None;
     }
+    // The bounds are relative: near underflow (subnormal products) they no longer hold, so any
+    // nonzero magnitude that small is decided exactly instead.
+    let floor = F::MIN_POSITIVE.div(F::EPS);
+    let tiny = |x: F| x != F::zero() && x.abs() < floor;
+    let magnitudes = [
+        a.mag_x, a.mag_y, a.z, b.mag_x, b.mag_y, b.z, c.mag_x, c.mag_y, c.z,
+    ];
+    let products = [
+        c.mag_x * b.mag_y + c.mag_y * b.mag_x,
+        a.mag_x * c.mag_y + a.mag_y * c.mag_x,
+        b.mag_x * a.mag_y + b.mag_y * a.mag_x,
+    ];
+    if magnitudes.into_iter().chain(products).any(tiny) {
+        return None;
+    }
     // Too close to an edge to trust the sign: decide exactly.
     if u.abs() <= bu || v.abs() <= bv || w.abs() <= bw {
         return None;
@@ -163,7 +178,7 @@ fn float_path<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> Option<Answe
     if negative && positive {
         return Some(Answer::with(false, values));
     }
-    if scaled_t.abs() <= t_bound || !values.iter().all(|x| x.is_finite()) {
+    if scaled_t.abs() <= t_bound || tiny(scaled_t) || !values.iter().all(|x| x.is_finite()) {
         return None;
     }
     // t > 0 exactly when the scaled t has the determinant's sign.

@@ -83,10 +83,10 @@ impl AccuracyView {
         if self.running.is_some() {
             return;
         }
-        let config = if self.full {
-            Config::full()
-        } else {
-            Config::quick()
+        let config = match &self.config_override {
+            Some(config) => config.clone(),
+            None if self.full => Config::full(),
+            None => Config::quick(),
         };
         let running = Running {
             done: Arc::default(),
@@ -205,38 +205,9 @@ impl AccuracyView {
         });
     }
 
-    /// One point per method × precision: (ns per test, largest relative error of t) for the family.
-    fn points(&self) -> Vec<(String, String, f64, f64, usize)> {
-        let mut out = Vec::new();
-        for method in Method::FLOAT {
-            for precision in ["f32", "f64"] {
-                let rows: Vec<&Record> = self
-                    .records
-                    .iter()
-                    .filter(|r| r.method == method.name() && r.precision == precision)
-                    .filter(|r| self.family.is_none_or(|f| r.family == f.name()))
-                    .collect();
-                if rows.is_empty() {
-                    continue;
-                }
-                let ns = rows.iter().map(|r| r.ns_per_test).sum::<f64>() / rows.len() as f64;
-                let error = rows.iter().map(|r| r.max_rel_err_t).fold(0.0, f64::max);
-                let wrong = rows.iter().map(|r| r.wrong_decisions).sum();
-                out.push((
-                    method.name().to_string(),
-                    precision.to_string(),
-                    ns,
-                    error,
-                    wrong,
-                ));
-            }
-        }
-        out
-    }
-
     fn scatter_ui(&self, ui: &mut Ui) {
         ui.label(RichText::new("Largest relative error of t against time per test").strong());
-        let points = self.points();
+        let points = study::summary(&self.records, self.family.map(Family::name));
         let log = |x: f64| x.max(1e-18).log10();
         Plot::new("error-vs-time")
             .height(280.0)
@@ -257,7 +228,9 @@ impl AccuracyView {
                 _ => None,
             })
             .show(ui, |plot| {
-                for (method, precision, ns, error, _) in &points {
+                for point in &points {
+                    let (method, precision) = (&point.method, &point.precision);
+                    let (ns, error) = (&point.ns_per_test, &point.max_rel_err_t);
                     let shape = if precision == "f32" {
                         MarkerShape::Square
                     } else {

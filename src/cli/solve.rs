@@ -324,26 +324,30 @@ fn insert_message(fields: &mut Map<String, Value>, trace: Option<&Trace>) {
 /// run in f32 or f64 and report what they decided, with their own trace. t_min is 0 for them.
 pub fn method_report(
     vectors: &[Coords<3>; 5],
+    t_min: &Literal,
     method: crate::accuracy::Method,
     precision: Precision,
 ) -> Result<Report, String> {
     use crate::accuracy::Method;
+    let lecture = || Case::Triangle {
+        vectors: vectors.clone(),
+        t_min: t_min.clone(),
+    };
+    if !t_min.exact.is_zero() && !matches!(method, Method::Cramer | Method::Exact) {
+        return Err(format!(
+            "--method {} tests t > 0; --tmin applies to cramer and exact only",
+            method.name()
+        ));
+    }
     match (method, precision) {
-        (Method::Exact, _) => Ok(run(&triangle_case(vectors), Precision::Exact)),
-        (Method::Cramer, p) => Ok(run(&triangle_case(vectors), p)),
+        (Method::Exact, _) => Ok(run(&lecture(), Precision::Exact)),
+        (Method::Cramer, p) => Ok(run(&lecture(), p)),
         (_, Precision::Exact) => Err(format!(
             "--method {} runs in f32 or f64; use --method exact for exact arithmetic",
             method.name()
         )),
         (_, Precision::F32) => Ok(float_method_report::<f32>(vectors, method)),
         (_, Precision::F64) => Ok(float_method_report::<f64>(vectors, method)),
-    }
-}
-
-fn triangle_case(vectors: &[Coords<3>; 5]) -> Case {
-    Case::Triangle {
-        vectors: vectors.clone(),
-        t_min: Literal::parse("0").expect("0 is a number"),
     }
 }
 

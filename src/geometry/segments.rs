@@ -378,10 +378,20 @@ fn parallel_case<R: Real>(
     // Project B1 and B2 onto line A: t = (P − A1)·(A2−A1) / |A2−A1|².
     let length_squared = dot(d_a, d_a);
     let b2_minus_a1 = sub(&p.b2, &p.a1);
+    // |A2−A1|² can underflow to 0 for a segment of length ~1e-30 in f32: say so rather than divide.
+    if length_squared.is_zero() {
+        return SegmentsSolution::new(SegmentsOutcome::InvalidInput(InvalidInput {
+            field: "A1, A2".into(),
+            problem: format!(
+                "segment A is too short for {}: its squared length underflows to 0",
+                R::PRECISION.name()
+            ),
+        }));
+    }
     let t_of = |v: &V2<R>| {
         dot(v, d_a)
             .checked_div(&length_squared)
-            .expect("segment A has a length")
+            .expect("the squared length was checked to be nonzero")
     };
     let (t_b1, t_b2) = (t_of(b1_minus_a1), t_of(&b2_minus_a1));
     for (id, point, point_latex, value) in

@@ -480,7 +480,7 @@ fn record_system<R: Real>(rec: &mut Recorder, m: &super::linalg::M3<R>, y: &V3<R
         Step::new(
             "Y",
             "Y = A − L",
-            "The right-hand side: from the ray's origin L to the vertex A, reversed.",
+            "The right-hand side: the vector from the ray's origin L to the vertex A.",
             Payload::Vector(Vector::of("Y", "Y", y)),
         )
     });
@@ -670,10 +670,10 @@ fn verdict_message<R: Real>(outcome: &TriangleOutcome, s: Option<&Barycentric<R>
                 t_text()
             ),
             TriangleMiss::Parallel { in_plane: true } => {
-                "the ray is parallel to the triangle's plane and lies in it (|M| = 0)".into()
+                "the ray is parallel to the triangle's plane and lies in it (|M| = 0, or negligible in floats)".into()
             }
             TriangleMiss::Parallel { in_plane: false } => {
-                "the ray is parallel to the triangle's plane and never meets it (|M| = 0)".into()
+                "the ray is parallel to the triangle's plane and never meets it (|M| = 0, or negligible in floats)".into()
             }
             TriangleMiss::DegenerateTriangle => {
                 "A, B and C are collinear: the triangle has no area".into()

@@ -239,10 +239,17 @@ fn normalize(v: V3<f64>) -> V3<f64> {
 }
 
 /// Renders the scene with a method, computing only what its effects need.
+///
+/// `moller-trumbore` takes the batched path: each row's rays are tested against each triangle by the
+/// vectorised f32 kernel ([`crate::accuracy::batch::intersect_rays`]). Every other method tests ray by
+/// ray in f64 through the study's implementation.
 pub fn render(scene: &RenderScene, method: Method) -> (Image, Stats) {
+    if method == Method::MollerTrumbore {
+        return render_batched(scene);
+    }
     let (width, height) = (scene.width, scene.height);
     let wants = |e: Effect| scene.effects.contains(&e);
-    let rows: Vec<(Vec<[f32; 3]>, Vec<bool>, Stats)> = (0..height)
+    let rows: Vec<Row> = (0..height)
         .into_par_iter()
         .map(|row| {
             let mut stats = Stats::default();
@@ -264,6 +271,10 @@ pub fn render(scene: &RenderScene, method: Method) -> (Image, Stats) {
             (pixels, covered, stats)
         })
         .collect();
+    assemble(width, height, rows)
+}
+
+fn assemble(width: usize, height: usize, rows: Vec<Row>) -> (Image, Stats) {
     let mut image = Image {
         width,
         height,
@@ -277,6 +288,124 @@ pub fn render(scene: &RenderScene, method: Method) -> (Image, Stats) {
         stats = stats.add(row_stats);
     }
     (image, stats)
+}
+
+/// One rendered row: colours, coverage, and the work it took.
+type Row = (Vec<[f32; 3]>, Vec<bool>, Stats);
+
+/// One row of rays in f32, as structures of arrays.
+struct RowRays {
+    origin: [Vec<f32>; 3],
+    dir: [Vec<f32>; 3],
+}
+
+fn row_rays(camera: &Camera, width: usize, height: usize, row: usize) -> RowRays {
+    let mut rays = RowRays {
+        origin: std::array::from_fn(|_| vec![0.0; width]),
+        dir: std::array::from_fn(|_| vec![0.0; width]),
+    };
+    match camera {
+        // The image plane row in one vectorisable loop: x moves, y and z are fixed.
+        Camera::ImagePlane { x, y, z } => {
+            let along_y = if height <= 1 {
+                y.0
+            } else {
+                y.0 + (y.1 - y.0) * row as f64 / (height - 1) as f64
+            };
+            let step = if width <= 1 {
+                0.0
+            } else {
+                (x.1 - x.0) / (width - 1) as f64
+            };
+            let (py, pz) = (along_y as f32, *z as f32);
+            let [ox, oy, oz] = &mut rays.origin;
+            let [dx, dy, dz] = &mut rays.dir;
+            for i in 0..width {
+                let px = (x.0 + step * i as f64) as f32;
+                let inverse_length = 1.0 / (px * px + py * py + pz * pz).sqrt();
+                (ox[i], oy[i], oz[i]) = (px, py, pz);
+                (dx[i], dy[i], dz[i]) = (
+                    px * inverse_length,
+                    py * inverse_length,
+                    pz * inverse_length,
+                );
+            }
+        }
+        Camera::Pinhole { .. } => {
+            for column in 0..width {
+                let (origin, dir) = camera_ray(camera, width, height, row, column);
+                for k in 0..3 {
+                    rays.origin[k][column] = origin[k] as f32;
+                    rays.dir[k][column] = dir[k] as f32;
+                }
+            }
+        }
+    }
+    rays
+}
+
+/// The batched path: rows in parallel, each row's rays against each triangle in one vector loop.
+fn render_batched(scene: &RenderScene) -> (Image, Stats) {
+    use crate::accuracy::batch::{Nearest, RayBatch, intersect_rays};
+    let (width, height) = (scene.width, scene.height);
+    let wants = |e: Effect| scene.effects.contains(&e);
+    let triangles: Vec<[[f32; 3]; 3]> = scene
+        .triangles
+        .iter()
+        .map(|t| t.vertices.map(|v| v.map(|c| c as f32)))
+        .collect();
+    let rows: Vec<Row> = (0..height)
+        .into_par_iter()
+        .map(|row| {
+            let rays = row_rays(&scene.camera, width, height, row);
+            let (mut t, mut beta, mut gamma) = (
+                vec![f32::INFINITY; width],
+                vec![0.0; width],
+                vec![0.0; width],
+            );
+            let mut index = vec![u32::MAX; width];
+            let batch = RayBatch {
+                origin: [&rays.origin[0], &rays.origin[1], &rays.origin[2]],
+                dir: [&rays.dir[0], &rays.dir[1], &rays.dir[2]],
+            };
+            let mut nearest = Nearest {
+                t: &mut t,
+                beta: &mut beta,
+                gamma: &mut gamma,
+                index: &mut index,
+            };
+            for (i, triangle) in triangles.iter().enumerate() {
+                intersect_rays(*triangle, i as u32, &batch, &mut nearest);
+            }
+            let mut stats = Stats {
+                rays: width as u64,
+                triangle_tests: (width * triangles.len()) as u64,
+                ..Stats::default()
+            };
+            let mut pixels = vec![[0.0f32; 3]; width];
+            let covered: Vec<bool> = index.iter().map(|i| *i != u32::MAX).collect();
+            for column in 0..width {
+                if covered[column] {
+                    stats.hits += 1;
+                    let hit = Hit {
+                        triangle: index[column] as usize,
+                        t: t[column] as f64,
+                        beta: beta[column] as f64,
+                        gamma: gamma[column] as f64,
+                    };
+                    let dir = [
+                        rays.dir[0][column],
+                        rays.dir[1][column],
+                        rays.dir[2][column],
+                    ]
+                    .map(f64::from);
+                    pixels[column] = shade(scene, &hit, dir, &wants, &mut stats);
+                }
+            }
+            (pixels, covered, stats)
+        })
+        .collect();
+    assemble(width, height, rows)
 }
 
 /// The nearest hit along a ray.

@@ -238,6 +238,8 @@ fn escape_text(text: &str) -> String {
             '·' => out.push_str("$\\cdot$"),
             '√' => out.push_str("$\\surd$"),
             '|' => out.push_str("$|$"),
+            '<' => out.push_str("$<$"),
+            '>' => out.push_str("$>$"),
             _ => out.push(ch),
         }
     }
