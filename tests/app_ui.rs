@@ -353,6 +353,11 @@ fn the_accuracy_view_runs_in_the_background_and_loads_hard_cases() {
     harness.run();
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
     assert!(shows(&harness, "Hard case: through an edge"));
+    // Judged as the gallery judges it: exact arithmetic on the float values.
+    assert_eq!(
+        harness.state().state.triangle.reading,
+        raylab::geometry::Reading::FloatValue
+    );
 }
 
 #[test]

@@ -305,7 +305,13 @@ pub use inverse::InverseSolve;
 
 /// The exact reference on the very numbers a float case holds: (t, β, γ) as exact rationals.
 pub fn exact_answer<F: Float>(case: &Case<F>) -> Answer<Exact> {
-    let e = |v: &V3<F>| v.map(|x| Exact::from_f64(x.to_f64()).expect("cases are finite"));
+    if !finite(case) {
+        return Answer {
+            invalid_input: true,
+            ..Answer::miss()
+        };
+    }
+    let e = |v: &V3<F>| v.map(|x| Exact::from_f64(x.to_f64()).expect("checked finite above"));
     let problem = RayTriangle {
         a: e(&case.tri[0]),
         b: e(&case.tri[1]),

@@ -468,6 +468,8 @@ impl eframe::App for RaylabApp {
                         note,
                         problem: Problem::Triangle(scene),
                     });
+                    // Judge it as the gallery does: exact arithmetic on the float values themselves.
+                    self.state.triangle.reading = crate::geometry::Reading::FloatValue;
                 }
             }
             // The tab changed this frame: draw the new view next frame.

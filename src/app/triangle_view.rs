@@ -49,6 +49,9 @@ pub struct TriangleView {
     pub t: f64,
     /// The camera.
     pub camera: OrbitCamera,
+    /// How exact arithmetic reads the inputs: as typed (0.1 is 1/10), or as the floats they are (the
+    /// accuracy study's judge; hard cases load this way).
+    pub reading: Reading,
     #[serde(skip)]
     grab: Option<Grab>,
     /// The last frame's projection (tests use it to find handles on screen).
@@ -74,6 +77,7 @@ impl Default for TriangleView {
             gamma: 0.0,
             t: 0.0,
             camera: OrbitCamera::default(),
+            reading: Reading::AsWritten,
             grab: None,
             projector: None,
             animation: None,
@@ -98,6 +102,7 @@ impl TriangleView {
     pub fn load(&mut self, scene: TriangleScene) {
         self.camera = OrbitCamera::framing(&self.points_of(&scene)).across(DVec3::from(scene.dir));
         self.scene = scene;
+        self.reading = Reading::AsWritten;
         self.beta = 0.2;
         self.gamma = 0.2;
         self.t = 0.5;
@@ -123,18 +128,18 @@ impl TriangleView {
         let (vectors, t_min) = (self.vectors(), self.scene.t_min);
         let traced = |p: Precision| match p {
             Precision::F32 => {
-                triangle::solve_inputs::<f32>(Reading::AsWritten, vectors, t_min, true).trace
+                triangle::solve_inputs::<f32>(self.reading, vectors, t_min, true).trace
             }
             Precision::F64 => {
-                triangle::solve_inputs::<f64>(Reading::AsWritten, vectors, t_min, true).trace
+                triangle::solve_inputs::<f64>(self.reading, vectors, t_min, true).trace
             }
             Precision::Exact => {
-                triangle::solve_inputs::<Exact>(Reading::AsWritten, vectors, t_min, true).trace
+                triangle::solve_inputs::<Exact>(self.reading, vectors, t_min, true).trace
             }
         };
         Solved {
-            float: triangle::solve_inputs(Reading::AsWritten, vectors, t_min, false),
-            exact: triangle::solve_inputs(Reading::AsWritten, vectors, t_min, false),
+            float: triangle::solve_inputs(self.reading, vectors, t_min, false),
+            exact: triangle::solve_inputs(self.reading, vectors, t_min, false),
             trace: traced(precision).expect("recorded"),
         }
     }
@@ -322,6 +327,17 @@ impl TriangleView {
     }
 
     fn inputs_ui(&mut self, ui: &mut Ui) {
+        let mut as_typed = self.reading == Reading::AsWritten;
+        ui.checkbox(&mut as_typed, "Exact arithmetic reads the numbers as typed (0.1 is 1/10)")
+            .on_hover_text(
+                "Off: exact arithmetic uses the exact value of each float (0.1 is 3602879701896397/2^55), \
+                 as the accuracy study does when it judges float methods",
+            );
+        self.reading = if as_typed {
+            Reading::AsWritten
+        } else {
+            Reading::FloatValue
+        };
         let s = &mut self.scene;
         vector_editor(
             ui,

@@ -366,7 +366,9 @@ fn float_method_report<F: crate::accuracy::Float + crate::accuracy::InverseSolve
     let status = match answer.values {
         _ if answer.hit => "hit",
         _ if answer.invalid_input => "invalid-input",
-        None => "parallel",
+        // The method gave up before solving: the exact solver says why (parallel, degenerate, D = 0).
+        None => unsolved_status(&case),
+        Some(values) if values.iter().any(|x| !x.is_finite()) => "invalid-input",
         Some([_, beta, gamma]) => {
             let outside = beta < F::zero() || gamma < F::zero() || beta + gamma > F::one();
             if outside {
@@ -388,4 +390,39 @@ fn float_method_report<F: crate::accuracy::Float + crate::accuracy::InverseSolve
     fields.insert("gamma".into(), optional(values.as_ref().map(|v| &v[2])));
     fields.insert("exact_fallback".into(), json!(answer.exact_fallback));
     Report { fields, trace }
+}
+
+/// Why a float method found no solution, in the triangle status words, as the exact solver sees it.
+fn unsolved_status<F: crate::accuracy::Float>(case: &crate::accuracy::Case<F>) -> &'static str {
+    let e = |v: &[F; 3]| v.map(|x| Exact::from_f64(x.to_f64()));
+    let parts = [
+        e(&case.tri[0]),
+        e(&case.tri[1]),
+        e(&case.tri[2]),
+        e(&case.origin),
+        e(&case.dir),
+    ];
+    let vectors: Option<Vec<[Exact; 3]>> = parts
+        .into_iter()
+        .map(|[x, y, z]| Some([x?, y?, z?]))
+        .collect();
+    let Some(v) = vectors else {
+        return "invalid-input";
+    };
+    let problem = RayTriangle {
+        a: v[0].clone(),
+        b: v[1].clone(),
+        c: v[2].clone(),
+        origin: v[3].clone(),
+        dir: v[4].clone(),
+        t_min: Exact::from_int(0),
+    };
+    match triangle::solve(&problem, false).outcome {
+        TriangleOutcome::Miss(TriangleMiss::DegenerateTriangle) => "degenerate-triangle",
+        TriangleOutcome::Miss(TriangleMiss::ZeroDirection | TriangleMiss::InvalidInput(_)) => {
+            "invalid-input"
+        }
+        // Exactly solvable, but this method's own rounding found |M| = 0.
+        _ => "parallel",
+    }
 }

@@ -24,7 +24,7 @@ impl std::fmt::Display for InvalidInput {
 }
 
 /// How float inputs become solver numbers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum Reading {
     /// The float's own value (exact for [`crate::exact::Exact`]: 0.1 is 3602879701896397/2^55).
     #[default]
