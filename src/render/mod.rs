@@ -248,7 +248,7 @@ pub fn render(scene: &RenderScene, method: Method) -> (Image, Stats) {
         return render_batched(scene);
     }
     let (width, height) = (scene.width, scene.height);
-    let wants = |e: Effect| scene.effects.contains(&e);
+    let shader = Shader::new(scene);
     let rows: Vec<Row> = (0..height)
         .into_par_iter()
         .map(|row| {
@@ -264,7 +264,7 @@ pub fn render(scene: &RenderScene, method: Method) -> (Image, Stats) {
                     None => [0.0; 3],
                     Some(hit) => {
                         stats.hits += 1;
-                        shade(scene, &hit, dir, &wants, &mut stats)
+                        shader.shade(scene, &hit, dir, &mut stats)
                     }
                 });
             }
@@ -348,7 +348,7 @@ fn row_rays(camera: &Camera, width: usize, height: usize, row: usize) -> RowRays
 fn render_batched(scene: &RenderScene) -> (Image, Stats) {
     use crate::accuracy::batch::{Nearest, RayBatch, intersect_rays};
     let (width, height) = (scene.width, scene.height);
-    let wants = |e: Effect| scene.effects.contains(&e);
+    let shader = Shader::new(scene);
     let triangles: Vec<[[f32; 3]; 3]> = scene
         .triangles
         .iter()
@@ -399,7 +399,7 @@ fn render_batched(scene: &RenderScene) -> (Image, Stats) {
                         rays.dir[2][column],
                     ]
                     .map(f64::from);
-                    pixels[column] = shade(scene, &hit, dir, &wants, &mut stats);
+                    pixels[column] = shader.shade(scene, &hit, dir, &mut stats);
                 }
             }
             (pixels, covered, stats)
@@ -446,37 +446,64 @@ fn nearest_hit(
     best
 }
 
-fn shade(
-    scene: &RenderScene,
-    hit: &Hit,
-    dir: V3<f64>,
-    wants: &impl Fn(Effect) -> bool,
-    stats: &mut Stats,
-) -> [f32; 3] {
-    let triangle = &scene.triangles[hit.triangle];
-    let mut color = [1.0f64; 3];
-    if wants(Effect::Depth) {
-        let distance = hit.t * dot(&dir, &dir).sqrt();
-        let grey = 1.0 / (1.0 + 0.1 * distance);
-        color = [grey; 3];
+/// What the effects need at a hit, decided once per render: which effects, and each triangle's unit
+/// normal (only when facing-ratio is called for).
+struct Shader {
+    depth: bool,
+    color: bool,
+    facing: bool,
+    normals: Vec<V3<f64>>,
+}
+
+impl Shader {
+    fn new(scene: &RenderScene) -> Shader {
+        let wants = |e: Effect| scene.effects.contains(&e);
+        let facing = wants(Effect::FacingRatio);
+        let normals = if facing {
+            scene
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = &t.vertices;
+                    normalize(cross(&sub(b, a), &sub(c, a)))
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Shader {
+            depth: wants(Effect::Depth),
+            color: wants(Effect::BarycentricColor),
+            facing,
+            normals,
+        }
     }
-    if wants(Effect::BarycentricColor)
-        && let Some(colors) = triangle.colors
-    {
-        stats.interpolations += 1;
-        let alpha = 1.0 - hit.beta - hit.gamma;
-        color = std::array::from_fn(|k| {
-            alpha * colors[0][k] + hit.beta * colors[1][k] + hit.gamma * colors[2][k]
-        });
+
+    /// The colour of a hit; counts the interpolations and shading it does.
+    fn shade(&self, scene: &RenderScene, hit: &Hit, dir: V3<f64>, stats: &mut Stats) -> [f32; 3] {
+        let triangle = &scene.triangles[hit.triangle];
+        let mut color = [1.0f64; 3];
+        if self.depth {
+            let distance = hit.t * dot(&dir, &dir).sqrt();
+            color = [1.0 / (1.0 + 0.1 * distance); 3];
+        }
+        if self.color
+            && let Some(colors) = triangle.colors
+        {
+            stats.interpolations += 1;
+            let alpha = 1.0 - hit.beta - hit.gamma;
+            color = std::array::from_fn(|k| {
+                alpha * colors[0][k] + hit.beta * colors[1][k] + hit.gamma * colors[2][k]
+            });
+        }
+        if self.facing {
+            stats.shading += 1;
+            // The facing ratio n̂ · (−ê) of seed 003, with ê the unit ray direction.
+            let facing = -dot(&self.normals[hit.triangle], &dir) / dot(&dir, &dir).sqrt();
+            color = std::array::from_fn(|k| triangle.color[k] * facing.max(0.0));
+        }
+        color.map(|c| c as f32)
     }
-    if wants(Effect::FacingRatio) {
-        stats.shading += 1;
-        let [a, b, c] = &triangle.vertices;
-        let n = normalize(cross(&sub(b, a), &sub(c, a)));
-        let facing = -dot(&n, &normalize(dir));
-        color = std::array::from_fn(|k| triangle.color[k] * facing.max(0.0));
-    }
-    color.map(|c| c as f32)
 }
 
 #[cfg(test)]
