@@ -390,3 +390,39 @@ fn bench_prints_the_hard_case_gallery() {
     assert!(text.contains("wrong: cramer/f32 says miss"));
     assert!(text.contains("input out of range for: watertight/f64"));
 }
+
+#[test]
+fn render_writes_a_png_and_names_bad_scene_files() {
+    let dir = std::env::temp_dir().join(format!("raylab-render-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("facing.png");
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/render/seed003-facing.ron"
+    );
+    let output = raylab(&[
+        "render",
+        scene,
+        "-o",
+        png.to_str().unwrap(),
+        "--stats",
+        "--method",
+        "moller-trumbore",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(
+        stdout(&output).contains("covered pixels 38737"),
+        "{}",
+        stdout(&output)
+    );
+    assert!(stdout(&output).contains("interpolations 0"));
+    assert!(std::fs::metadata(&png).unwrap().len() > 1000);
+    let bad = dir.join("bad.ron");
+    std::fs::write(&bad, "(title: \"x\",\n note: \"y\",\n width: 4, height: 4,\n camera: Sideways,\n triangles: [], effects: [])").unwrap();
+    let output = raylab(&["render", bad.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    assert!(!output.status.success());
+    let message = stderr(&output);
+    assert_eq!(message.trim_end().lines().count(), 1, "{message}");
+    assert!(message.contains("bad.ron:4:"), "{message}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -6,6 +6,15 @@ pub mod batch;
 pub mod input;
 pub mod solve;
 
+/// Prints a line to standard output, ignoring a closed pipe (`raylab bench | head` must not panic,
+/// as `println!` does).
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+
 use std::io::Write;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -311,7 +320,7 @@ fn run_render(args: RenderArgs) -> i32 {
         return 1;
     }
     if args.stats {
-        println!(
+        out!(
             "{}x{} with {}: median {:.3} ms in-process over {} render(s), covered pixels {}",
             image.width,
             image.height,
@@ -320,9 +329,13 @@ fn run_render(args: RenderArgs) -> i32 {
             args.repeat,
             image.covered_pixels()
         );
-        println!(
+        out!(
             "rays {}, triangle tests {}, hits {}, interpolations {}, shading {}",
-            stats.rays, stats.triangle_tests, stats.hits, stats.interpolations, stats.shading
+            stats.rays,
+            stats.triangle_tests,
+            stats.hits,
+            stats.interpolations,
+            stats.shading
         );
     }
     0
@@ -333,7 +346,7 @@ fn print_hard_cases() -> i32 {
     for hard in gallery() {
         let verdicts = verdicts(&hard.case());
         let exact = verdicts.first().is_some_and(|v| v.exact_hit);
-        println!("{} — {}", hard.name, hard.note);
+        out!("{} — {}", hard.name, hard.note);
         let wrong: Vec<String> = verdicts
             .iter()
             .filter(|v| v.hit != v.exact_hit)
@@ -346,12 +359,12 @@ fn print_hard_cases() -> i32 {
             .map(|v| v.who.as_str())
             .collect();
         if !refused.is_empty() {
-            println!("    input out of range for: {}", refused.join(", "));
+            out!("    input out of range for: {}", refused.join(", "));
         }
         if wrong.is_empty() {
-            println!("    exact: {exact}; every method agrees");
+            out!("    exact: {exact}; every method agrees");
         } else {
-            println!("    exact: {exact}; wrong: {}", wrong.join(", "));
+            out!("    exact: {exact}; wrong: {}", wrong.join(", "));
         }
     }
     0
@@ -388,8 +401,8 @@ fn run_bench(args: BenchArgs) -> i32 {
     if terminal {
         eprintln!();
     }
-    print!("{}", study::table(&records));
-    println!(
+    out!("{}", study::table(&records).trim_end());
+    out!(
         "{} tests in {:.1} s",
         records.iter().map(|r| r.tests).sum::<usize>(),
         clock.seconds()
