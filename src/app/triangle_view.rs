@@ -284,13 +284,7 @@ impl TriangleView {
         });
         status_line(ui, |ui| {
             let gap = explored.gap;
-            // At the solution the points meet exactly (in f64 they may differ in the last bit).
-            let at_solution = solved
-                .float
-                .solution
-                .as_ref()
-                .is_some_and(|s| [s.beta, s.gamma, s.t] == [self.beta, self.gamma, self.t]);
-            if at_solution || gap == 0.0 {
+            if self.points_meet(solved, gap) {
                 ui.label(
                     RichText::new("P(β, γ) = L + tD: they meet")
                         .color(palette::SOLUTION)
@@ -318,6 +312,17 @@ impl TriangleView {
                 .on_hover_text("t counts steps of D; the distance along the ray is t·|D|");
             }
         });
+    }
+
+    /// True when P(β, γ) and L + tD are the same point: the sliders sit on the solution (where in f64
+    /// the two points may still differ in the last bit), or the gap is exactly zero.
+    fn points_meet(&self, solved: &Solved, gap: f64) -> bool {
+        let at_solution = solved
+            .float
+            .solution
+            .as_ref()
+            .is_some_and(|s| [s.beta, s.gamma, s.t] == [self.beta, self.gamma, self.t]);
+        at_solution || gap == 0.0
     }
 
     fn exploration(&self) -> triangle::Exploration<f64> {
@@ -491,7 +496,7 @@ impl TriangleView {
         canvas.dot(on_ray, 6.0, palette::RAY);
         canvas.dot(point, 7.0, p_color);
         // Where the two points coincide (at the solution), one label names both.
-        let together = explored.gap <= 1e-9 * (point.length() + 1.0);
+        let together = self.points_meet(solved, explored.gap);
         if together {
             canvas.label(point, "P(β, γ) = L + tD", p_color, font.clone());
         } else {

@@ -339,9 +339,13 @@ pub fn method_report(
             method.name()
         ));
     }
+    let named = |mut report: Report| {
+        report.fields.insert("method".into(), json!(method.name()));
+        report
+    };
     match (method, precision) {
-        (Method::Exact, _) => Ok(run(&lecture(), Precision::Exact)),
-        (Method::Cramer, p) => Ok(run(&lecture(), p)),
+        (Method::Exact, _) => Ok(named(run(&lecture(), Precision::Exact))),
+        (Method::Cramer, p) => Ok(named(run(&lecture(), p))),
         (_, Precision::Exact) => Err(format!(
             "--method {} runs in f32 or f64; use --method exact for exact arithmetic",
             method.name()
