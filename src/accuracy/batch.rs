@@ -118,30 +118,45 @@ pub fn intersect_rays(
     let (dx, dy, dz) = (&rays.dir[0][..n], &rays.dir[1][..n], &rays.dir[2][..n]);
     let (t_out, beta_out) = (&mut nearest.t[..n], &mut nearest.beta[..n]);
     let (gamma_out, index_out) = (&mut nearest.gamma[..n], &mut nearest.index[..n]);
+    // Two passes, each a plain vector loop: the test (t, β, γ per ray, +∞ for a miss), then the merge
+    // into the nearest hits. One fused loop with four conditional stores did not vectorise.
+    let mut t_new = vec![0.0f32; n];
+    let mut beta_new = vec![0.0f32; n];
+    let mut gamma_new = vec![0.0f32; n];
+    {
+        let (t_new, beta_new, gamma_new) =
+            (&mut t_new[..n], &mut beta_new[..n], &mut gamma_new[..n]);
+        for i in 0..n {
+            // p = D × e2, det = e1 · p
+            let px = dy[i] * e2[2] - dz[i] * e2[1];
+            let py = dz[i] * e2[0] - dx[i] * e2[2];
+            let pz = dx[i] * e2[1] - dy[i] * e2[0];
+            let det = e1[0] * px + e1[1] * py + e1[2] * pz;
+            let inv = 1.0 / det;
+            // s = L − A; β = s · p / det
+            let sx = ox[i] - a[0];
+            let sy = oy[i] - a[1];
+            let sz = oz[i] - a[2];
+            let beta = (sx * px + sy * py + sz * pz) * inv;
+            // q = s × e1; γ = D · q / det; t = e2 · q / det
+            let qx = sy * e1[2] - sz * e1[1];
+            let qy = sz * e1[0] - sx * e1[2];
+            let qz = sx * e1[1] - sy * e1[0];
+            let gamma = (dx[i] * qx + dy[i] * qy + dz[i] * qz) * inv;
+            let t = (e2[0] * qx + e2[1] * qy + e2[2] * qz) * inv;
+            let hit = beta >= 0.0 && gamma >= 0.0 && beta + gamma <= 1.0 && t > 0.0;
+            t_new[i] = if hit { t } else { f32::INFINITY };
+            beta_new[i] = beta;
+            gamma_new[i] = gamma;
+        }
+    }
     for i in 0..n {
-        // p = D × e2, det = e1 · p
-        let px = dy[i] * e2[2] - dz[i] * e2[1];
-        let py = dz[i] * e2[0] - dx[i] * e2[2];
-        let pz = dx[i] * e2[1] - dy[i] * e2[0];
-        let det = e1[0] * px + e1[1] * py + e1[2] * pz;
-        let inv = 1.0 / det;
-        // s = L − A; β = s · p / det
-        let sx = ox[i] - a[0];
-        let sy = oy[i] - a[1];
-        let sz = oz[i] - a[2];
-        let beta = (sx * px + sy * py + sz * pz) * inv;
-        // q = s × e1; γ = D · q / det; t = e2 · q / det
-        let qx = sy * e1[2] - sz * e1[1];
-        let qy = sz * e1[0] - sx * e1[2];
-        let qz = sx * e1[1] - sy * e1[0];
-        let gamma = (dx[i] * qx + dy[i] * qy + dz[i] * qz) * inv;
-        let t = (e2[0] * qx + e2[1] * qy + e2[2] * qz) * inv;
-        let nearer = beta >= 0.0 && gamma >= 0.0 && beta + gamma <= 1.0 && t > 0.0 && t < t_out[i];
-        // Selects, not branches.
-        t_out[i] = if nearer { t } else { t_out[i] };
-        beta_out[i] = if nearer { beta } else { beta_out[i] };
-        gamma_out[i] = if nearer { gamma } else { gamma_out[i] };
-        index_out[i] = if nearer { index } else { index_out[i] };
+        if t_new[i] < t_out[i] {
+            t_out[i] = t_new[i];
+            beta_out[i] = beta_new[i];
+            gamma_out[i] = gamma_new[i];
+            index_out[i] = index;
+        }
     }
 }
 
@@ -162,6 +177,47 @@ mod tests {
             assert_eq!(t[0].is_finite(), scalar.hit);
             if scalar.hit {
                 assert_eq!(t[0], scalar.values.unwrap()[0]);
+            }
+        }
+    }
+
+    #[test]
+    fn many_rays_keep_the_nearest_scalar_hit() {
+        let probes = generate(Family::Random, 300, 6);
+        let cases: Vec<_> = probes.iter().map(|p| p.cases[0].to_f32()).collect();
+        let columns = |f: &dyn Fn(&crate::accuracy::Case<f32>) -> [f32; 3]| -> [Vec<f32>; 3] {
+            std::array::from_fn(|k| cases.iter().map(|c| f(c)[k]).collect())
+        };
+        let origin = columns(&|c| c.origin);
+        let dir = columns(&|c| c.dir);
+        let rays = RayBatch {
+            origin: [&origin[0], &origin[1], &origin[2]],
+            dir: [&dir[0], &dir[1], &dir[2]],
+        };
+        let n = cases.len();
+        let (mut t, mut beta, mut gamma, mut index) = (
+            vec![f32::INFINITY; n],
+            vec![0.0; n],
+            vec![0.0; n],
+            vec![u32::MAX; n],
+        );
+        let mut nearest = Nearest {
+            t: &mut t,
+            beta: &mut beta,
+            gamma: &mut gamma,
+            index: &mut index,
+        };
+        // One triangle against every ray: the batch must decide, and find t, as the scalar method does.
+        let triangle = cases[0].tri;
+        intersect_rays(triangle, 7, &rays, &mut nearest);
+        for (i, case) in cases.iter().enumerate() {
+            let scalar = moller_trumbore::intersect(&crate::accuracy::Case {
+                tri: triangle,
+                ..*case
+            });
+            assert_eq!(index[i] == 7, scalar.hit, "ray {i}");
+            if scalar.hit {
+                assert_eq!(t[i], scalar.values.unwrap()[0]);
             }
         }
     }

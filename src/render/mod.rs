@@ -320,15 +320,18 @@ fn row_rays(camera: &Camera, width: usize, height: usize, row: usize) -> RowRays
             let (py, pz) = (along_y as f32, *z as f32);
             let [ox, oy, oz] = &mut rays.origin;
             let [dx, dy, dz] = &mut rays.dir;
+            // Every slice exactly `width` long, so the loop has no bounds checks and vectorises.
+            let (ox, oy, oz) = (&mut ox[..width], &mut oy[..width], &mut oz[..width]);
+            let (dx, dy, dz) = (&mut dx[..width], &mut dy[..width], &mut dz[..width]);
             for i in 0..width {
                 let px = (x.0 + step * i as f64) as f32;
                 let inverse_length = 1.0 / (px * px + py * py + pz * pz).sqrt();
-                (ox[i], oy[i], oz[i]) = (px, py, pz);
-                (dx[i], dy[i], dz[i]) = (
-                    px * inverse_length,
-                    py * inverse_length,
-                    pz * inverse_length,
-                );
+                ox[i] = px;
+                oy[i] = py;
+                oz[i] = pz;
+                dx[i] = px * inverse_length;
+                dy[i] = py * inverse_length;
+                dz[i] = pz * inverse_length;
             }
         }
         Camera::Pinhole { .. } => {
