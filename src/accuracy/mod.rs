@@ -221,45 +221,18 @@ impl Method {
         };
         match self {
             Method::Cramer => lecture(case),
-            Method::Exact => {
-                let e = |v: &V3<F>| v.map(|x| Exact::from_f64(x.to_f64()));
-                let parts = [
-                    e(&case.tri[0]),
-                    e(&case.tri[1]),
-                    e(&case.tri[2]),
-                    e(&case.origin),
-                    e(&case.dir),
-                ];
-                let vectors: Option<Vec<V3<Exact>>> = parts
-                    .iter()
-                    .map(|v| Some([v[0].clone()?, v[1].clone()?, v[2].clone()?]))
-                    .collect();
-                match vectors {
-                    Some(v) => {
-                        let problem = RayTriangle {
-                            a: v[0].clone(),
-                            b: v[1].clone(),
-                            c: v[2].clone(),
-                            origin: v[3].clone(),
-                            dir: v[4].clone(),
-                            t_min: Exact::from_int(0),
-                        };
-                        triangle::solve(&problem, true).trace.expect("recorded")
-                    }
-                    None => {
-                        let mut rec =
-                            Recorder::new(true, "exact", crate::geometry::Precision::Exact);
-                        record::outcome::<F>(
-                            &mut rec,
-                            &Answer {
-                                invalid_input: true,
-                                ..Answer::miss()
-                            },
-                        );
-                        rec.finish().expect("recorded")
-                    }
+            Method::Exact => match exact_problem(case) {
+                Some(problem) => triangle::solve(&problem, true).trace.expect("recorded"),
+                None => {
+                    let mut rec = Recorder::new(true, "exact", crate::geometry::Precision::Exact);
+                    let refused = Answer {
+                        invalid_input: true,
+                        ..Answer::miss()
+                    };
+                    record::outcome::<F>(&mut rec, &refused);
+                    rec.finish().expect("recorded")
                 }
-            }
+            },
             Method::MollerTrumbore
             | Method::Plane
             | Method::NormalEquations
@@ -305,20 +278,11 @@ pub use inverse::InverseSolve;
 
 /// The exact reference on the very numbers a float case holds: (t, β, γ) as exact rationals.
 pub fn exact_answer<F: Float>(case: &Case<F>) -> Answer<Exact> {
-    if !finite(case) {
+    let Some(problem) = exact_problem(case) else {
         return Answer {
             invalid_input: true,
             ..Answer::miss()
         };
-    }
-    let e = |v: &V3<F>| v.map(|x| Exact::from_f64(x.to_f64()).expect("checked finite above"));
-    let problem = RayTriangle {
-        a: e(&case.tri[0]),
-        b: e(&case.tri[1]),
-        c: e(&case.tri[2]),
-        origin: e(&case.origin),
-        dir: e(&case.dir),
-        t_min: Exact::from_int(0),
     };
     let solved = triangle::solve(&problem, false);
     Answer {
@@ -327,6 +291,26 @@ pub fn exact_answer<F: Float>(case: &Case<F>) -> Answer<Exact> {
         exact_fallback: false,
         invalid_input: false,
     }
+}
+
+/// The case as the lecture's problem in exact arithmetic, on the exact values of its floats (t_min = 0);
+/// `None` if a coordinate is NaN or infinite.
+pub fn exact_problem<F: Float>(case: &Case<F>) -> Option<RayTriangle<Exact>> {
+    let e = |v: &V3<F>| -> Option<V3<Exact>> {
+        Some([
+            Exact::from_f64(v[0].to_f64())?,
+            Exact::from_f64(v[1].to_f64())?,
+            Exact::from_f64(v[2].to_f64())?,
+        ])
+    };
+    Some(RayTriangle {
+        a: e(&case.tri[0])?,
+        b: e(&case.tri[1])?,
+        c: e(&case.tri[2])?,
+        origin: e(&case.origin)?,
+        dir: e(&case.dir)?,
+        t_min: Exact::from_int(0),
+    })
 }
 
 /// True if every coordinate of the case is finite.

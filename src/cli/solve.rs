@@ -398,28 +398,8 @@ fn float_method_report<F: crate::accuracy::Float + crate::accuracy::InverseSolve
 
 /// Why a float method found no solution, in the triangle status words, as the exact solver sees it.
 fn unsolved_status<F: crate::accuracy::Float>(case: &crate::accuracy::Case<F>) -> &'static str {
-    let e = |v: &[F; 3]| v.map(|x| Exact::from_f64(x.to_f64()));
-    let parts = [
-        e(&case.tri[0]),
-        e(&case.tri[1]),
-        e(&case.tri[2]),
-        e(&case.origin),
-        e(&case.dir),
-    ];
-    let vectors: Option<Vec<[Exact; 3]>> = parts
-        .into_iter()
-        .map(|[x, y, z]| Some([x?, y?, z?]))
-        .collect();
-    let Some(v) = vectors else {
+    let Some(problem) = crate::accuracy::exact_problem(case) else {
         return "invalid-input";
-    };
-    let problem = RayTriangle {
-        a: v[0].clone(),
-        b: v[1].clone(),
-        c: v[2].clone(),
-        origin: v[3].clone(),
-        dir: v[4].clone(),
-        t_min: Exact::from_int(0),
     };
     match triangle::solve(&problem, false).outcome {
         TriangleOutcome::Miss(TriangleMiss::DegenerateTriangle) => "degenerate-triangle",
