@@ -299,11 +299,7 @@ struct RowRays {
     dir: [Vec<f32>; 3],
 }
 
-fn row_rays(camera: &Camera, width: usize, height: usize, row: usize) -> RowRays {
-    let mut rays = RowRays {
-        origin: std::array::from_fn(|_| vec![0.0; width]),
-        dir: std::array::from_fn(|_| vec![0.0; width]),
-    };
+fn fill_row_rays(camera: &Camera, width: usize, height: usize, row: usize, rays: &mut RowRays) {
     match camera {
         // The image plane row in one vectorisable loop: x moves, y and z are fixed.
         Camera::ImagePlane { x, y, z } => {
@@ -344,7 +340,6 @@ fn row_rays(camera: &Camera, width: usize, height: usize, row: usize) -> RowRays
             }
         }
     }
-    rays
 }
 
 /// The batched path: rows in parallel, each row's rays against each triangle in one vector loop.
@@ -357,58 +352,99 @@ fn render_batched(scene: &RenderScene) -> (Image, Stats) {
         .iter()
         .map(|t| t.vertices.map(|v| v.map(|c| c as f32)))
         .collect();
-    let rows: Vec<Row> = (0..height)
-        .into_par_iter()
-        .map(|row| {
-            let rays = row_rays(&scene.camera, width, height, row);
-            let (mut t, mut beta, mut gamma) = (
-                vec![f32::INFINITY; width],
-                vec![0.0; width],
-                vec![0.0; width],
-            );
-            let mut index = vec![u32::MAX; width];
-            let batch = RayBatch {
-                origin: [&rays.origin[0], &rays.origin[1], &rays.origin[2]],
-                dir: [&rays.dir[0], &rays.dir[1], &rays.dir[2]],
-            };
-            let mut nearest = Nearest {
-                t: &mut t,
-                beta: &mut beta,
-                gamma: &mut gamma,
-                index: &mut index,
-            };
-            for (i, triangle) in triangles.iter().enumerate() {
-                intersect_rays(*triangle, i as u32, &batch, &mut nearest);
-            }
-            let mut stats = Stats {
-                rays: width as u64,
-                triangle_tests: (width * triangles.len()) as u64,
-                ..Stats::default()
-            };
-            let mut pixels = vec![[0.0f32; 3]; width];
-            let covered: Vec<bool> = index.iter().map(|i| *i != u32::MAX).collect();
-            for column in 0..width {
-                if covered[column] {
-                    stats.hits += 1;
-                    let hit = Hit {
-                        triangle: index[column] as usize,
-                        t: t[column] as f64,
-                        beta: beta[column] as f64,
-                        gamma: gamma[column] as f64,
-                    };
-                    let dir = [
-                        rays.dir[0][column],
-                        rays.dir[1][column],
-                        rays.dir[2][column],
-                    ]
-                    .map(f64::from);
-                    pixels[column] = shader.shade(scene, &hit, dir, &mut stats);
+    let mut pixels = vec![[0.0f32; 3]; width * height];
+    let mut covered = vec![false; width * height];
+    // Rows write straight into the image; each worker thread reuses one set of row buffers.
+    let stats = pixels
+        .par_chunks_mut(width.max(1))
+        .zip(covered.par_chunks_mut(width.max(1)))
+        .enumerate()
+        .map_init(
+            || RowBuffers::new(width),
+            |buffers, (row, (pixels, covered))| {
+                buffers.reset();
+                fill_row_rays(&scene.camera, width, height, row, &mut buffers.rays);
+                let rays = &buffers.rays;
+                let batch = RayBatch {
+                    origin: [&rays.origin[0], &rays.origin[1], &rays.origin[2]],
+                    dir: [&rays.dir[0], &rays.dir[1], &rays.dir[2]],
+                };
+                let mut nearest = Nearest {
+                    t: &mut buffers.t,
+                    beta: &mut buffers.beta,
+                    gamma: &mut buffers.gamma,
+                    index: &mut buffers.index,
+                };
+                for (i, triangle) in triangles.iter().enumerate() {
+                    intersect_rays(*triangle, i as u32, &batch, &mut nearest);
                 }
-            }
-            (pixels, covered, stats)
-        })
-        .collect();
-    assemble(width, height, rows)
+                let mut stats = Stats {
+                    rays: width as u64,
+                    triangle_tests: (width * triangles.len()) as u64,
+                    ..Stats::default()
+                };
+                for column in 0..width {
+                    let index = buffers.index[column];
+                    covered[column] = index != u32::MAX;
+                    if index != u32::MAX {
+                        stats.hits += 1;
+                        let hit = Hit {
+                            triangle: index as usize,
+                            t: buffers.t[column] as f64,
+                            beta: buffers.beta[column] as f64,
+                            gamma: buffers.gamma[column] as f64,
+                        };
+                        let dir = [
+                            rays.dir[0][column],
+                            rays.dir[1][column],
+                            rays.dir[2][column],
+                        ]
+                        .map(f64::from);
+                        pixels[column] = shader.shade(scene, &hit, dir, &mut stats);
+                    }
+                }
+                stats
+            },
+        )
+        .reduce(Stats::default, |a, b| a.add(b));
+    (
+        Image {
+            width,
+            height,
+            pixels,
+            covered,
+        },
+        stats,
+    )
+}
+
+/// One worker's buffers for a row: its rays and the nearest hits so far.
+struct RowBuffers {
+    rays: RowRays,
+    t: Vec<f32>,
+    beta: Vec<f32>,
+    gamma: Vec<f32>,
+    index: Vec<u32>,
+}
+
+impl RowBuffers {
+    fn new(width: usize) -> RowBuffers {
+        RowBuffers {
+            rays: RowRays {
+                origin: std::array::from_fn(|_| vec![0.0; width]),
+                dir: std::array::from_fn(|_| vec![0.0; width]),
+            },
+            t: vec![f32::INFINITY; width],
+            beta: vec![0.0; width],
+            gamma: vec![0.0; width],
+            index: vec![u32::MAX; width],
+        }
+    }
+
+    fn reset(&mut self) {
+        self.t.fill(f32::INFINITY);
+        self.index.fill(u32::MAX);
+    }
 }
 
 /// The nearest hit along a ray.
