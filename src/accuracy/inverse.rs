@@ -47,6 +47,5 @@ pub fn intersect_recorded<F: InverseSolve>(case: &Case<F>, rec: &mut impl StepSi
         Some([beta, gamma, t]) => Answer::with(decide(t, beta, gamma), [t, beta, gamma]),
         None => Answer::miss(),
     };
-    record::outcome(rec, &answer);
-    answer
+    record::finish(rec, answer)
 }

@@ -376,6 +376,13 @@ pub(crate) mod record {
             .to_string()
     }
 
+    /// Records the checks and the verdict of an answer, and returns it (every method ends with this).
+    #[inline(always)]
+    pub fn finish<F: Float>(rec: &mut impl StepSink, answer: Answer<F>) -> Answer<F> {
+        outcome(rec, &answer);
+        answer
+    }
+
     /// Records the lecture's four checks on the method's values, and the verdict.
     #[inline(always)]
     pub fn outcome<F: Float>(rec: &mut impl StepSink, answer: &Answer<F>) {

@@ -36,9 +36,7 @@ pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> 
     );
     // Reject parallel (only an exact zero: no tolerance).
     if det == F::zero() {
-        let answer = Answer::miss();
-        record::outcome(rec, &answer);
-        return answer;
+        return record::finish(rec, Answer::miss());
     }
     let inv_det = F::one().div(det);
     // Barycentric β from the vector s = L − A.
@@ -52,7 +50,5 @@ pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> 
     record::scalar(rec, "beta", "β = s · p / det", "", "β", beta);
     record::scalar(rec, "gamma", "γ = D · q / det", "", "γ", gamma);
     record::scalar(rec, "t", "t = e2 · q / det", "", "t", t);
-    let answer = Answer::with(decide(t, beta, gamma), [t, beta, gamma]);
-    record::outcome(rec, &answer);
-    answer
+    record::finish(rec, Answer::with(decide(t, beta, gamma), [t, beta, gamma]))
 }

@@ -1,8 +1,9 @@
 //! Seed 004's barycentrics by a 2x2 system of dot products: intersect the plane for P, then solve
 //! [e1·e1 e1·e2; e2·e1 e2·e2] (β, γ) = ((P − A)·e1, (P − A)·e2) by Cramer's rule.
 
+use super::plane::{PlaneHit, plane_hit};
 use super::{Answer, Case, Float, decide, record};
-use crate::geometry::linalg::{add, cross, dot, scale, sub};
+use crate::geometry::linalg::{dot, sub};
 use crate::trace::StepSink;
 
 /// Intersects the plane, then solves the normal equations for β and γ.
@@ -15,22 +16,16 @@ pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> 
     let [a, b, c] = &case.tri;
     let e1 = sub(b, a);
     let e2 = sub(c, a);
-    // Plane hit.
-    let n = cross(&e1, &e2);
-    let n_dot_d = dot(&n, &case.dir);
-    if n_dot_d == F::zero() {
-        let answer = Answer::miss();
-        record::outcome(rec, &answer);
-        return answer;
-    }
-    let t = dot(&n, &sub(a, &case.origin)).div(n_dot_d);
-    let p = add(&case.origin, &scale(&t, &case.dir));
+    // Plane hit, as in seed 003.
+    let Some(PlaneHit { t, point: p, .. }) = plane_hit(case, rec) else {
+        return record::finish(rec, Answer::miss());
+    };
     // The 2x2 system of dot products.
     let (d11, d12, d22) = (dot(&e1, &e1), dot(&e1, &e2), dot(&e2, &e2));
     let ap = sub(&p, a);
     let (c1, c2) = (dot(&ap, &e1), dot(&ap, &e2));
     let det = d11 * d22 - d12 * d12;
-    record::vector(rec, "P", "P = L + tD", "The plane hit, as in seed 003.", &p);
+
     record::vector(
         rec,
         "gram",
@@ -47,13 +42,9 @@ pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> 
         det,
     );
     if det == F::zero() {
-        let answer = Answer::miss();
-        record::outcome(rec, &answer);
-        return answer;
+        return record::finish(rec, Answer::miss());
     }
     let beta = (c1 * d22 - d12 * c2).div(det);
     let gamma = (d11 * c2 - d12 * c1).div(det);
-    let answer = Answer::with(decide(t, beta, gamma), [t, beta, gamma]);
-    record::outcome(rec, &answer);
-    answer
+    record::finish(rec, Answer::with(decide(t, beta, gamma), [t, beta, gamma]))
 }

@@ -168,34 +168,54 @@ pub fn run(config: &Config, mut progress: impl FnMut(usize, usize) -> bool) -> O
     Some(records)
 }
 
+/// Nanoseconds per test: whole passes over `tests` tests until the time is up (at least one pass).
+fn ns_per_test(seconds: f64, tests: usize, mut pass: impl FnMut()) -> f64 {
+    let clock = Stopwatch::start();
+    let mut passes = 0;
+    while passes == 0 || clock.seconds() < seconds {
+        pass();
+        passes += 1;
+    }
+    clock.seconds() * 1e9 / (passes * tests).max(1) as f64
+}
+
+impl Record {
+    /// A row with its time and no errors yet.
+    fn new(
+        method: Method,
+        precision: &str,
+        prepared: &Prepared,
+        tests: usize,
+        ns_per_test: f64,
+    ) -> Record {
+        Record {
+            method: method.name().into(),
+            precision: precision.into(),
+            family: prepared.family.name().into(),
+            rays: prepared.probes.len(),
+            tests,
+            wrong_decisions: 0,
+            cracks: 0,
+            double_hits: 0,
+            max_rel_err_t: 0.0,
+            max_ulps_t: 0.0,
+            max_eps_err_barycentric: 0.0,
+            exact_fallbacks: 0,
+            ns_per_test,
+            error_by_parameter: Vec::new(),
+        }
+    }
+}
+
 /// Times the exact reference itself (its answers are right by definition).
 fn measure_exact(prepared: &Prepared, config: &Config) -> Record {
     let sample = &prepared.cases64[..prepared.cases64.len().min(500)];
-    let clock = Stopwatch::start();
-    let mut passes = 0;
-    while passes == 0 || clock.seconds() < config.timing_seconds {
+    let ns = ns_per_test(config.timing_seconds, sample.len(), || {
         for case in sample {
             std::hint::black_box(super::exact_answer(std::hint::black_box(case)));
         }
-        passes += 1;
-    }
-    let ns = clock.seconds() * 1e9 / (passes * sample.len()).max(1) as f64;
-    Record {
-        method: Method::Exact.name().into(),
-        precision: "exact".into(),
-        family: prepared.family.name().into(),
-        rays: prepared.probes.len(),
-        tests: prepared.cases64.len(),
-        wrong_decisions: 0,
-        cracks: 0,
-        double_hits: 0,
-        max_rel_err_t: 0.0,
-        max_ulps_t: 0.0,
-        max_eps_err_barycentric: 0.0,
-        exact_fallbacks: 0,
-        ns_per_test: ns,
-        error_by_parameter: Vec::new(),
-    }
+    });
+    Record::new(Method::Exact, "exact", prepared, prepared.cases64.len(), ns)
 }
 
 fn measure<F: Float + InverseSolve>(
@@ -206,38 +226,12 @@ fn measure<F: Float + InverseSolve>(
     config: &Config,
 ) -> Record {
     let answers: Vec<Answer<F>> = cases.iter().map(|c| method.run(c)).collect();
-    // Timing: whole passes over the family until the time is up.
-    let clock = Stopwatch::start();
-    let mut passes = 0;
-    while passes == 0 || clock.seconds() < config.timing_seconds {
+    let ns = ns_per_test(config.timing_seconds, cases.len(), || {
         for case in cases {
             std::hint::black_box(method.run(std::hint::black_box(case)));
         }
-        passes += 1;
-    }
-    let ns_per_test = clock.seconds() * 1e9 / (passes * cases.len()).max(1) as f64;
-
-    let mut record = Record {
-        method: method.name().into(),
-        precision: if F::PRECISION == Precision::F32 {
-            "f32"
-        } else {
-            "f64"
-        }
-        .into(),
-        family: prepared.family.name().into(),
-        rays: prepared.probes.len(),
-        tests: cases.len(),
-        wrong_decisions: 0,
-        cracks: 0,
-        double_hits: 0,
-        max_rel_err_t: 0.0,
-        max_ulps_t: 0.0,
-        max_eps_err_barycentric: 0.0,
-        exact_fallbacks: 0,
-        ns_per_test,
-        error_by_parameter: Vec::new(),
-    };
+    });
+    let mut record = Record::new(method, F::PRECISION.name(), prepared, cases.len(), ns);
     let mut by_parameter: std::collections::BTreeMap<u64, (f64, f64)> = Default::default();
     let parameters: Vec<f64> = prepared
         .spans

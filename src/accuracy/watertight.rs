@@ -34,8 +34,7 @@ pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {
 /// Intersects, sending the steps to `rec` (`()` records nothing, at no cost).
 pub fn intersect_recorded<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> Answer<F> {
     let answer = decide_case(case, rec);
-    record::outcome(rec, &answer);
-    answer
+    record::finish(rec, answer)
 }
 
 fn decide_case<F: Float>(case: &Case<F>, rec: &mut impl StepSink) -> Answer<F> {
