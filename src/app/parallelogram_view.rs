@@ -229,10 +229,12 @@ impl ParallelogramView {
             });
     }
 
+    fn problem(&self) -> parallelogram::RayParallelogram<f64> {
+        parallelogram::RayParallelogram::from_f64(self.vectors()).expect("f64 holds every f64")
+    }
+
     fn exploration(&self) -> parallelogram::Exploration<f64> {
-        let problem = parallelogram::RayParallelogram::<f64>::from_f64(self.vectors())
-            .expect("f64 holds every f64");
-        parallelogram::explore(&problem, &self.alpha, &self.beta, &self.t)
+        parallelogram::explore(&self.problem(), &self.alpha, &self.beta, &self.t)
     }
 
     fn canvas_ui(&mut self, ui: &mut Ui, solved: &Solved) {
@@ -253,17 +255,22 @@ impl ParallelogramView {
         };
         let text = ui.visuals().text_color();
         let font = FontId::proportional(16.0);
-        let [c, e1, e2, o, d] = self.vectors();
-        canvas.axes(&[c, c + e1, c + e2, o]);
+        let [c, _, _, o, d] = self.vectors();
+        // The corners p(0,0), p(1,0), p(1,1), p(0,1) from the core's parametric form.
+        let problem = self.problem();
+        let corner =
+            |alpha: f64, beta: f64| DVec3::from(parallelogram::point_at(&problem, &alpha, &beta));
+        let (c_e1, c_e1_e2, c_e2) = (corner(1.0, 0.0), corner(1.0, 1.0), corner(0.0, 1.0));
+        canvas.axes(&[c, c_e1, c_e2, o]);
         canvas.polygon(
-            &[c, c + e1, c + e1 + e2, c + e2],
+            &[c, c_e1, c_e1_e2, c_e2],
             faded(palette::BETA, 40),
             Stroke::new(2.0, text),
         );
-        canvas.arrow(c, c + e1, Stroke::new(3.0, palette::BETA));
-        canvas.label(c + e1, "e1", palette::BETA, font.clone());
-        canvas.arrow(c, c + e2, Stroke::new(3.0, palette::GAMMA));
-        canvas.label(c + e2, "e2", palette::GAMMA, font.clone());
+        canvas.arrow(c, c_e1, Stroke::new(3.0, palette::BETA));
+        canvas.label(c_e1, "e1", palette::BETA, font.clone());
+        canvas.arrow(c, c_e2, Stroke::new(3.0, palette::GAMMA));
+        canvas.label(c_e2, "e2", palette::GAMMA, font.clone());
         canvas.label(c, "c", text, font.clone());
         let explored = self.exploration();
         let p = DVec3::from(explored.plane_point);

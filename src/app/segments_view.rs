@@ -493,7 +493,8 @@ impl SegmentsView {
             if self.show_samples {
                 for i in 0..self.samples {
                     let u = i as f64 / (self.samples.max(2) - 1) as f64;
-                    painter.circle_filled(to_screen(p1 + u * direction), 3.0, color);
+                    let sample = segments::point_on(&p1.to_array(), &p2.to_array(), &u);
+                    painter.circle_filled(to_screen(DVec2::from(sample)), 3.0, color);
                 }
             }
             for (p, suffix) in [(p1, "1"), (p2, "2")] {
@@ -568,8 +569,10 @@ impl SegmentsView {
             }
             SegmentsOutcome::CollinearOverlap => {
                 if let Some([from, to]) = s.overlap {
-                    let [a1, a2] = [DVec2::from(self.scene.a1), DVec2::from(self.scene.a2)];
-                    let at = |u: f64| frame.screen_from_world(a1 + u * (a2 - a1));
+                    let (a1, a2) = (&self.scene.a1, &self.scene.a2);
+                    let at = |u: f64| {
+                        frame.screen_from_world(DVec2::from(segments::point_on(a1, a2, &u)))
+                    };
                     line(
                         painter,
                         frame,

@@ -325,10 +325,13 @@ impl TriangleView {
         at_solution || gap == 0.0
     }
 
+    fn problem(&self) -> triangle::RayTriangle<f64> {
+        triangle::RayTriangle::from_f64(self.vectors(), self.scene.t_min)
+            .expect("f64 holds every f64")
+    }
+
     fn exploration(&self) -> triangle::Exploration<f64> {
-        let problem = triangle::RayTriangle::<f64>::from_f64(self.vectors(), self.scene.t_min)
-            .expect("f64 holds every f64");
-        triangle::explore(&problem, &self.beta, &self.gamma, &self.t)
+        triangle::explore(&self.problem(), &self.beta, &self.gamma, &self.t)
     }
 
     fn inputs_ui(&mut self, ui: &mut Ui) {
@@ -456,7 +459,9 @@ impl TriangleView {
         );
         if !degenerate {
             // The parametric form covers the whole plane: a faint grid of constant β and γ.
-            let plane = |beta: f64, gamma: f64| a + beta * (b - a) + gamma * (c - a);
+            let problem = self.problem();
+            let plane =
+                |beta: f64, gamma: f64| DVec3::from(triangle::point_at(&problem, &beta, &gamma));
             let grid = Stroke::new(1.0, faded(text, 28));
             for k in -2..=4 {
                 let u = k as f64 * 0.5;
@@ -481,7 +486,7 @@ impl TriangleView {
 
         // The two legs from A: β(B−A), then γ(C−A).
         let explored = self.exploration();
-        let after_beta = a + self.beta * (b - a);
+        let after_beta = DVec3::from(explored.beta_end);
         let point = DVec3::from(explored.plane_point);
         canvas.arrow(a, after_beta, Stroke::new(3.0, palette::BETA));
         canvas.arrow(after_beta, point, Stroke::new(3.0, palette::GAMMA));

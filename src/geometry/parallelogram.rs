@@ -470,12 +470,15 @@ pub struct Exploration<R> {
     pub inside: bool,
 }
 
+/// The parametric form p(α, β) = c + α e1 + β e2: any point of the parallelogram's plane.
+pub fn point_at<R: Real>(p: &RayParallelogram<R>, alpha: &R, beta: &R) -> V3<R> {
+    let along = super::linalg::add(&scale(alpha, &p.e1), &scale(beta, &p.e2));
+    super::linalg::add(&p.corner, &along)
+}
+
 /// Evaluates both parametric forms.
 pub fn explore<R: Real>(p: &RayParallelogram<R>, alpha: &R, beta: &R, t: &R) -> Exploration<R> {
-    let plane_point = super::linalg::add(
-        &super::linalg::add(&p.corner, &scale(alpha, &p.e1)),
-        &scale(beta, &p.e2),
-    );
+    let plane_point = point_at(p, alpha, beta);
     let ray_point = super::linalg::add(&p.origin, &scale(t, &p.dir));
     let gap = norm_f64(&sub(&plane_point, &ray_point));
     let unit = |x: &R| x >= &R::zero() && x <= &R::one();

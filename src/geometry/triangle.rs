@@ -690,10 +690,8 @@ fn verdict_message<R: Real>(outcome: &TriangleOutcome, s: Option<&Barycentric<R>
 /// (β*, γ*, t*) the gap is zero.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Exploration<R> {
-    /// β(B−A): the first leg from A.
-    pub beta_leg: V3<R>,
-    /// γ(C−A): the second leg.
-    pub gamma_leg: V3<R>,
+    /// A + β(B−A): the end of the first leg from A (the second leg, γ(C−A), ends at P).
+    pub beta_end: V3<R>,
     /// P(β, γ) = A + β(B−A) + γ(C−A).
     pub plane_point: V3<R>,
     /// L + tD.
@@ -706,19 +704,26 @@ pub struct Exploration<R> {
 
 /// Evaluates both parametric forms at the given parameters.
 pub fn explore<R: Real>(p: &RayTriangle<R>, beta: &R, gamma: &R, t: &R) -> Exploration<R> {
-    let beta_leg = scale(beta, &sub(&p.b, &p.a));
-    let gamma_leg = scale(gamma, &sub(&p.c, &p.a));
-    let plane_point = super::linalg::add(&super::linalg::add(&p.a, &beta_leg), &gamma_leg);
+    let beta_end = point_at(p, beta, &R::zero());
+    let plane_point = point_at(p, beta, gamma);
     let ray_point = super::linalg::add(&p.origin, &scale(t, &p.dir));
     let gap = norm_f64(&sub(&plane_point, &ray_point));
     Exploration {
-        beta_leg,
-        gamma_leg,
+        beta_end,
         plane_point,
         ray_point,
         gap,
         outside: edges_failed(beta, gamma),
     }
+}
+
+/// The triangle's parametric form P(β, γ) = A + β(B−A) + γ(C−A): any point of its plane.
+pub fn point_at<R: Real>(p: &RayTriangle<R>, beta: &R, gamma: &R) -> V3<R> {
+    let legs = super::linalg::add(
+        &scale(beta, &sub(&p.b, &p.a)),
+        &scale(gamma, &sub(&p.c, &p.a)),
+    );
+    super::linalg::add(&p.a, &legs)
 }
 
 /// The edges a point with barycentrics (β, γ) is beyond (β < 0: CA, γ < 0: AB, β + γ > 1: BC).
