@@ -374,9 +374,11 @@ impl TriangleView {
             0.05,
         );
         ui.horizontal(|ui| {
-            ui.label("t_min")
+            let label = ui
+                .label("t_min")
                 .on_hover_text("A hit needs t > t_min (open: t = t_min is a miss)");
-            ui.add(egui::DragValue::new(&mut s.t_min).speed(0.05));
+            ui.add(egui::DragValue::new(&mut s.t_min).speed(0.05))
+                .labelled_by(label.id);
         });
     }
 
@@ -514,7 +516,8 @@ impl TriangleView {
     }
 
     fn draw_ray(&self, canvas: &Canvas, solved: &Solved, [l, d]: [DVec3; 2], font: &FontId) {
-        let t_star = solved.float.solution.as_ref().map_or(1.0, |s| s.t);
+        // With no solution (parallel), draw the ray a few steps of D long.
+        let t_star = solved.float.solution.as_ref().map_or(3.0, |s| s.t);
         let far = t_star.max(self.t).max(1.0) * 1.4;
         let back = t_star.min(self.t).min(-1.0) * 1.4;
         canvas.line(l, l + far * d, Stroke::new(2.5, palette::RAY));
@@ -539,7 +542,7 @@ impl TriangleView {
                 outcome,
                 TriangleOutcome::Miss(TriangleMiss::Parallel { .. })
             ) {
-                canvas.label(l, "ray ∥ plane: |M| = 0", palette::OUTSIDE, font.clone());
+                canvas.label_below(l, "ray ∥ plane: |M| ≈ 0", palette::OUTSIDE, font.clone());
             }
             return;
         };
