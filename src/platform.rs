@@ -1,7 +1,11 @@
-//! The one place the pure core touches the platform: a monotonic clock for timing.
+//! The one place the code touches the platform: a monotonic clock for timing, and background jobs.
 //!
-//! Everything else in `geometry`, `exact` and `accuracy` is plain computation, so it also builds for a
-//! web page; a web build swaps the clock here.
+//! Everything else in `geometry`, `exact`, `accuracy` and `render` is plain computation, so it also
+//! builds for a web page. A web build has neither `std::time::Instant` nor threads: it swaps the clock
+//! here, and runs a [`Job`] in slices from the UI's frames instead of on a thread.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 
 /// A started stopwatch.
 #[derive(Clone, Copy, Debug)]
@@ -16,5 +20,184 @@ impl Stopwatch {
     /// Seconds since the start.
     pub fn seconds(&self) -> f64 {
         self.0.elapsed().as_secs_f64()
+    }
+}
+
+/// Where a sliced computation stands after one slice.
+pub enum Progress<T> {
+    /// Not finished: `done` of `total` units.
+    Working {
+        /// Units done.
+        done: usize,
+        /// Units in all.
+        total: usize,
+    },
+    /// Finished, with its result.
+    Finished(T),
+}
+
+/// A long computation cut into slices of a few milliseconds each, so it can run on a thread or,
+/// where there are none, a slice per UI frame.
+pub trait Sliced: Send + 'static {
+    /// What it computes.
+    type Output: Send + 'static;
+    /// Does one slice of the work.
+    fn step(&mut self) -> Progress<Self::Output>;
+}
+
+/// What a job's two sides share.
+struct Shared<T> {
+    done: AtomicUsize,
+    total: AtomicUsize,
+    cancel: AtomicBool,
+    result: Mutex<Option<T>>,
+}
+
+/// A running [`Sliced`] computation: on a named thread natively, in slices from [`Job::poll`] on the
+/// web. Dropping or cancelling it stops the work at the next slice.
+pub struct Job<T> {
+    shared: Arc<Shared<T>>,
+    /// The web's stepper, advanced from `poll` (there are no threads there).
+    #[cfg(target_arch = "wasm32")]
+    stepper: Option<Box<dyn Sliced<Output = T>>>,
+}
+
+impl<T: Send + 'static> Job<T> {
+    /// Starts `work`; `wake` is called (from the worker) whenever there is progress to show.
+    pub fn start(
+        name: &str,
+        work: impl Sliced<Output = T>,
+        wake: impl Fn() + Send + 'static,
+    ) -> Result<Job<T>, String> {
+        let shared = Arc::new(Shared {
+            done: AtomicUsize::new(0),
+            total: AtomicUsize::new(1),
+            cancel: AtomicBool::new(false),
+            result: Mutex::new(None),
+        });
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let worker = shared.clone();
+            let mut work = work;
+            std::thread::Builder::new()
+                .name(name.into())
+                .spawn(move || {
+                    while !worker.cancel.load(Ordering::Relaxed) {
+                        if worker.record(work.step()) {
+                            break;
+                        }
+                        wake();
+                    }
+                    wake();
+                })
+                .map_err(|error| format!("could not start {name}: {error}"))?;
+            Ok(Job { shared })
+        }
+        #[cfg(target_arch = "wasm32")]
+        {
+            let _ = (name, wake);
+            Ok(Job {
+                shared,
+                stepper: Some(Box::new(work)),
+            })
+        }
+    }
+
+    /// Takes the result once it is finished. On the web this is where the work runs: slices for up
+    /// to about 12 ms per call, so the page stays responsive (the caller asks for another frame while
+    /// [`Job::poll`] returns `None`).
+    pub fn poll(&mut self) -> Option<T> {
+        #[cfg(target_arch = "wasm32")]
+        if let Some(stepper) = self.stepper.as_mut() {
+            let clock = Stopwatch::start();
+            while !self.shared.cancel.load(Ordering::Relaxed) {
+                if self.shared.record(stepper.step()) {
+                    self.stepper = None;
+                    break;
+                }
+                if clock.seconds() > 0.012 {
+                    break;
+                }
+            }
+        }
+        self.shared.result.lock().ok().and_then(|mut r| r.take())
+    }
+
+    /// `(done, total)` units so far.
+    pub fn progress(&self) -> (usize, usize) {
+        (
+            self.shared.done.load(Ordering::Relaxed),
+            self.shared.total.load(Ordering::Relaxed).max(1),
+        )
+    }
+
+    /// Asks the work to stop at its next slice; [`Job::poll`] then never returns a result.
+    pub fn cancel(&self) {
+        self.shared.cancel.store(true, Ordering::Relaxed);
+    }
+}
+
+impl<T> Drop for Job<T> {
+    fn drop(&mut self) {
+        self.shared.cancel.store(true, Ordering::Relaxed);
+    }
+}
+
+impl<T> Shared<T> {
+    /// Records one slice's outcome; true when the work is finished.
+    fn record(&self, progress: Progress<T>) -> bool {
+        match progress {
+            Progress::Working { done, total } => {
+                self.done.store(done, Ordering::Relaxed);
+                self.total.store(total, Ordering::Relaxed);
+                false
+            }
+            Progress::Finished(result) => {
+                self.done
+                    .store(self.total.load(Ordering::Relaxed), Ordering::Relaxed);
+                if let Ok(mut slot) = self.result.lock() {
+                    *slot = Some(result);
+                }
+                true
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Counts to a number, one per slice.
+    struct CountTo(usize, usize);
+
+    impl Sliced for CountTo {
+        type Output = usize;
+        fn step(&mut self) -> Progress<usize> {
+            self.0 += 1;
+            if self.0 == self.1 {
+                Progress::Finished(self.0)
+            } else {
+                Progress::Working {
+                    done: self.0,
+                    total: self.1,
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_job_runs_to_its_result() {
+        let mut job = Job::start("count", CountTo(0, 1000), || {}).unwrap();
+        let clock = Stopwatch::start();
+        let result = loop {
+            if let Some(result) = job.poll() {
+                break result;
+            }
+            assert!(clock.seconds() < 10.0, "the job never finished");
+            std::thread::yield_now();
+        };
+        assert_eq!(result, 1000);
+        assert_eq!(job.progress(), (1000, 1000));
     }
 }
