@@ -60,6 +60,8 @@ pub enum Problem {
     Triangle(TriangleScene),
     /// A ray and a parallelogram.
     Parallelogram(ParallelogramScene),
+    /// A per-pixel render: camera, objects and effects.
+    Render(crate::render::RenderScene),
 }
 
 /// A scene file: a title, a one-line note, and the problem.
@@ -146,6 +148,7 @@ impl Scene {
             Problem::Segments(s) => [s.a1, s.a2, s.b1, s.b2].concat(),
             Problem::Triangle(t) => [t.a, t.b, t.c, t.origin, t.dir, [t.t_min; 3]].concat(),
             Problem::Parallelogram(p) => [p.corner, p.e1, p.e2, p.origin, p.dir].concat(),
+            Problem::Render(render) => return render.check(),
         };
         match values.iter().find(|v| !v.is_finite()) {
             Some(bad) => Err(format!("coordinates must be finite numbers, found {bad}")),
@@ -215,6 +218,30 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     (
         "seed001-parallelogram.ron",
         include_str!("../assets/scenes/seed001-parallelogram.ron"),
+    ),
+    (
+        "seed003-facing.ron",
+        include_str!("../assets/scenes/seed003-facing.ron"),
+    ),
+    (
+        "seed003-barycentric.ron",
+        include_str!("../assets/scenes/seed003-barycentric.ron"),
+    ),
+    (
+        "render-textured-quad.ron",
+        include_str!("../assets/scenes/render-textured-quad.ron"),
+    ),
+    (
+        "render-transformed.ron",
+        include_str!("../assets/scenes/render-transformed.ron"),
+    ),
+    (
+        "render-mesh.ron",
+        include_str!("../assets/scenes/render-mesh.ron"),
+    ),
+    (
+        "render-common-bugs.ron",
+        include_str!("../assets/scenes/render-common-bugs.ron"),
     ),
 ];
 

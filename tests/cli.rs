@@ -398,7 +398,7 @@ fn render_writes_a_png_and_names_bad_scene_files() {
     let png = dir.join("facing.png");
     let scene = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/assets/render/seed003-facing.ron"
+        "/assets/scenes/seed003-facing.ron"
     );
     let output = raylab(&[
         "render",
@@ -415,14 +415,23 @@ fn render_writes_a_png_and_names_bad_scene_files() {
         "{}",
         stdout(&output)
     );
-    assert!(stdout(&output).contains("interpolations 0"));
+    assert!(stdout(&output).contains("colour interpolations 0"));
     assert!(std::fs::metadata(&png).unwrap().len() > 1000);
     let bad = dir.join("bad.ron");
-    std::fs::write(&bad, "(title: \"x\",\n note: \"y\",\n width: 4, height: 4,\n camera: Sideways,\n triangles: [], effects: [])").unwrap();
+    std::fs::write(&bad, "(title: \"x\",\n note: \"y\",\n problem: Render((width: 4, height: 4,\n camera: Sideways,\n objects: [], effects: [])))").unwrap();
     let output = raylab(&["render", bad.to_str().unwrap(), "-o", png.to_str().unwrap()]);
     assert!(!output.status.success());
     let message = stderr(&output);
     assert_eq!(message.trim_end().lines().count(), 1, "{message}");
     assert!(message.contains("bad.ron:4:"), "{message}");
+    // A scene that parses but names a mesh that is not there: the file and what is missing.
+    std::fs::write(&bad, "(title: \"x\", note: \"y\", problem: Render((width: 4, height: 4, camera: ImagePlane(x: (1.0, -1.0), y: (1.0, -1.0), z: 1.0), objects: [(shape: Mesh(obj: \"meshes/missing.obj\"))], effects: [\"coverage\"])))").unwrap();
+    let output = raylab(&["render", bad.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    assert!(!output.status.success());
+    let message = stderr(&output);
+    assert!(
+        message.contains("object 1: cannot find 'meshes/missing.obj'"),
+        "{message}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -5,6 +5,7 @@
 
 pub mod accuracy_view;
 pub mod parallelogram_view;
+pub mod render_view;
 pub mod segments_view;
 pub mod step_panel;
 pub mod triangle_view;
@@ -17,6 +18,7 @@ use crate::geometry::Precision;
 use crate::scene::{self, Problem, Scene};
 use crate::trace::Trace;
 use parallelogram_view::ParallelogramView;
+use render_view::RenderView;
 use segments_view::SegmentsView;
 use triangle_view::TriangleView;
 
@@ -30,24 +32,28 @@ pub enum ViewKind {
     Triangle,
     /// A ray and a parallelogram in 3D.
     Parallelogram,
+    /// A per-pixel render with effects, a pixel probe and common bugs.
+    Render,
     /// What accuracy costs: methods × precisions against exact.
     Accuracy,
 }
 
 impl ViewKind {
     /// Every view, in tab order.
-    pub const ALL: [ViewKind; 4] = [
+    pub const ALL: [ViewKind; 5] = [
         ViewKind::Segments,
         ViewKind::Triangle,
         ViewKind::Parallelogram,
+        ViewKind::Render,
         ViewKind::Accuracy,
     ];
 
     /// The views that solve one problem (and have a scene to save).
-    pub const PROBLEMS: [ViewKind; 3] = [
+    pub const PROBLEMS: [ViewKind; 4] = [
         ViewKind::Segments,
         ViewKind::Triangle,
         ViewKind::Parallelogram,
+        ViewKind::Render,
     ];
 
     /// The tab label.
@@ -56,6 +62,7 @@ impl ViewKind {
             ViewKind::Segments => "Segments (2D)",
             ViewKind::Triangle => "Triangle (3D)",
             ViewKind::Parallelogram => "Parallelogram",
+            ViewKind::Render => "Render",
             ViewKind::Accuracy => "Accuracy",
         }
     }
@@ -77,8 +84,10 @@ pub struct AppState {
     pub triangle: TriangleView,
     /// The Parallelogram view.
     pub parallelogram: ParallelogramView,
+    /// The Render view.
+    pub render: RenderView,
     /// Title and note of the scene last loaded, per view.
-    pub titles: [(String, String); 3],
+    pub titles: [(String, String); 4],
     /// The path in the open / save dialog.
     pub scene_path: String,
 }
@@ -100,6 +109,7 @@ impl Default for AppState {
             segments: SegmentsView::default(),
             triangle: TriangleView::default(),
             parallelogram: ParallelogramView::default(),
+            render: RenderView::default(),
             titles: ViewKind::PROBLEMS.map(first_of),
             scene_path: default_scene_path(),
         }
@@ -117,6 +127,7 @@ fn view_of(problem: &Problem) -> ViewKind {
         Problem::Segments(_) => ViewKind::Segments,
         Problem::Triangle(_) => ViewKind::Triangle,
         Problem::Parallelogram(_) => ViewKind::Parallelogram,
+        Problem::Render(_) => ViewKind::Render,
     }
 }
 
@@ -206,16 +217,43 @@ impl RaylabApp {
         app
     }
 
-    /// Loads a scene into its view and switches to it.
-    pub fn load_scene(&mut self, scene: &Scene) {
+    /// Loads a scene into its view and switches to it; a render scene whose meshes or textures
+    /// cannot be read is refused, and the scene on screen is kept.
+    pub fn load_scene(&mut self, scene: &Scene) -> Result<(), String> {
         let kind = view_of(&scene.problem);
         match &scene.problem {
             Problem::Segments(s) => self.state.segments.load(s.clone()),
             Problem::Triangle(t) => self.state.triangle.load(t.clone()),
             Problem::Parallelogram(p) => self.state.parallelogram.load(p.clone()),
+            Problem::Render(r) => self.state.render.load(r.clone())?,
         }
         self.state.titles[kind as usize] = (scene.title.clone(), scene.note.clone());
         self.state.view = kind;
+        Ok(())
+    }
+
+    /// Carries out what the Render view asked for: a probed ray into the Triangle or Parallelogram
+    /// view (its steps then show in the panel), or a switch of view.
+    fn render_action(&mut self, action: render_view::Action) {
+        let (row, column) = self.state.render.probed.unwrap_or_default();
+        let title = format!(
+            "Pixel ({row}, {column}) of “{}”",
+            self.state.titles[ViewKind::Render as usize].0
+        );
+        let note = "The ray the renderer cast through that pixel, and what it met.".to_string();
+        match action {
+            render_view::Action::Triangle(scene) => {
+                self.state.triangle.load(scene);
+                // Judge the probe as the renderer saw it: exact arithmetic on the floats themselves.
+                self.state.triangle.reading = crate::geometry::Reading::FloatValue;
+                self.state.titles[ViewKind::Triangle as usize] = (title, note);
+            }
+            render_view::Action::Parallelogram(scene) => {
+                self.state.parallelogram.load(scene);
+                self.state.titles[ViewKind::Parallelogram as usize] = (title, note);
+            }
+            render_view::Action::Open(kind) => self.state.view = kind,
+        }
     }
 
     /// The open view's inputs as a scene, for saving.
@@ -226,6 +264,7 @@ impl RaylabApp {
             ViewKind::Parallelogram => {
                 Problem::Parallelogram(self.state.parallelogram.scene.clone())
             }
+            ViewKind::Render => Problem::Render(self.state.render.scene.clone()),
             ViewKind::Accuracy => return None,
         };
         let (title, note) = self.state.titles[self.state.view as usize].clone();
@@ -244,6 +283,16 @@ impl RaylabApp {
             ViewKind::Parallelogram => {
                 ActiveSolve::Parallelogram(self.state.parallelogram.solve(precision))
             }
+            // The step panel shows the probed pixel's ray against what it met.
+            ViewKind::Render => match self.state.render.probe() {
+                Some(probe) if probe.triangle.is_some() => {
+                    ActiveSolve::Triangle(self.state.triangle.solve(precision))
+                }
+                Some(probe) if probe.hit.is_some() => {
+                    ActiveSolve::Parallelogram(self.state.parallelogram.solve(precision))
+                }
+                _ => ActiveSolve::Nothing,
+            },
             ViewKind::Accuracy => ActiveSolve::Nothing,
         }
     }
@@ -252,8 +301,9 @@ impl RaylabApp {
     fn fingerprint(&self) -> String {
         let s = &self.state;
         format!(
-            "{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
+            "{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
             s.view,
+            s.render.probed,
             s.precision,
             s.segments.scene,
             (s.segments.t, s.segments.s),
@@ -285,10 +335,15 @@ impl RaylabApp {
                 }
                 if let Some(index) = chosen {
                     let preset = self.presets[index].clone();
-                    self.load_scene(&preset);
-                    self.notice = Some(Notice {
-                        text: format!("Loaded “{}”", preset.title),
-                        error: false,
+                    self.notice = Some(match self.load_scene(&preset) {
+                        Ok(()) => Notice {
+                            text: format!("Loaded “{}”", preset.title),
+                            error: false,
+                        },
+                        Err(error) => Notice {
+                            text: format!("Could not load “{}”: {error}", preset.title),
+                            error: true,
+                        },
                     });
                     ui.close();
                 }
@@ -391,14 +446,16 @@ impl RaylabApp {
     fn run_dialog(&mut self, dialog: Dialog) -> Notice {
         let path = std::path::PathBuf::from(self.state.scene_path.trim());
         match dialog {
-            Dialog::Open => match Scene::load(&path) {
-                Ok(scene) => {
-                    self.load_scene(&scene);
-                    Notice {
-                        text: format!("Opened {}", path.display()),
-                        error: false,
-                    }
-                }
+            Dialog::Open => match Scene::load(&path)
+                .map_err(|e| e.to_string())
+                .and_then(|scene| {
+                    self.load_scene(&scene)
+                        .map_err(|e| format!("{}: {e}", path.display()))
+                }) {
+                Ok(()) => Notice {
+                    text: format!("Opened {}", path.display()),
+                    error: false,
+                },
                 Err(error) => Notice {
                     text: format!("Could not open: {error} (the current scene is kept)"),
                     error: true,
@@ -414,8 +471,9 @@ impl RaylabApp {
                     error: true,
                 },
                 None => Notice {
-                    text: "Open a Segments, Triangle or Parallelogram view to save its scene"
-                        .into(),
+                    text:
+                        "Open a Segments, Triangle, Parallelogram or Render view to save its scene"
+                            .into(),
                     error: true,
                 },
             },
@@ -443,6 +501,10 @@ impl eframe::App for RaylabApp {
                 .min_size(260.0)
                 .show(ui, |ui| match solved.trace() {
                     Some(trace) => step_panel::ui(ui, trace, &mut self.state.precision),
+                    None if self.state.view == ViewKind::Render => {
+                        ui.heading("Steps");
+                        ui.label("Click a pixel of the render: the steps of its ray against the triangle it hit (or came nearest to) show here.");
+                    }
                     None => {
                         ui.heading("Steps");
                         ui.label("Load a hard case from the gallery to see its steps in the Triangle view.");
@@ -450,6 +512,11 @@ impl eframe::App for RaylabApp {
                 });
         }
         egui::CentralPanel::default().show(ui, |ui| match &solved {
+            _ if self.state.view == ViewKind::Render => {
+                if let Some(action) = self.state.render.ui(ui) {
+                    self.render_action(action);
+                }
+            }
             ActiveSolve::Segments(s) if self.state.view == ViewKind::Segments => {
                 self.state.segments.ui(ui, s)
             }
@@ -463,11 +530,12 @@ impl eframe::App for RaylabApp {
                 if let Some(accuracy_view::Action::LoadTriangle(scene, title, note)) =
                     self.accuracy.ui(ui)
                 {
-                    self.load_scene(&Scene {
+                    let loaded = self.load_scene(&Scene {
                         title,
                         note,
                         problem: Problem::Triangle(scene),
                     });
+                    debug_assert!(loaded.is_ok(), "a triangle always loads");
                     // Judge it as the gallery does: exact arithmetic on the float values themselves.
                     self.state.triangle.reading = crate::geometry::Reading::FloatValue;
                 }

@@ -51,15 +51,22 @@ pub enum Command {
 /// `raylab render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// The scene file (see assets/render/).
+    /// The scene file: a render scene such as assets/scenes/seed003-facing.ron.
     pub scene: std::path::PathBuf,
     /// The PNG to write.
     #[arg(short, long, value_name = "PNG")]
     pub output: std::path::PathBuf,
-    /// The intersection method (default: watertight).
-    #[arg(long, value_name = "NAME", default_value = "watertight")]
-    pub method: crate::accuracy::Method,
-    /// Print the work done (rays, triangle tests, hits, interpolations, shading) and the render time.
+    /// The intersection method (default: the scene's, else watertight for meshes and moller-trumbore
+    /// otherwise).
+    #[arg(long, value_name = "NAME")]
+    pub method: Option<crate::accuracy::Method>,
+    /// Render with a common bug: and-for-or, negative-t, v-instead-of-sum, normalized-direction.
+    #[arg(long, value_name = "BUG")]
+    pub bug: Option<crate::render::Bug>,
+    /// Only these effects instead of the scene's (comma-separated, e.g. coverage,depth).
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub effects: Option<Vec<String>>,
+    /// Print the work done (rays, tests, hits, interpolations, texture samples, shading) and the time.
     #[arg(long)]
     pub stats: bool,
     /// Render this many times and report the median time (as the peer script does).
@@ -283,25 +290,52 @@ pub fn run(cli: Cli) -> i32 {
 }
 
 fn run_render(args: RenderArgs) -> i32 {
-    use crate::render::{RenderScene, render};
+    use crate::render::{Effect, Prepared, assets::OnDisk, render};
+    use crate::scene::{Problem, Scene};
     let name = args.scene.display().to_string();
-    let scene: RenderScene = match std::fs::read_to_string(&args.scene)
-        .map_err(|e| e.to_string())
-        .and_then(|text| {
-            ron::from_str(&text)
-                .map_err(|e| format!("{}:{}: {}", e.span.start.line, e.span.start.col, e.code))
-        }) {
-        Ok(scene) => scene,
-        Err(message) => {
-            eprintln!("raylab: {name}:{message}");
+    let scene = match Scene::load(&args.scene) {
+        Ok(Scene {
+            problem: Problem::Render(scene),
+            ..
+        }) => scene,
+        Ok(_) => {
+            eprintln!("raylab: {name}: not a render scene (its problem is not Render(...))");
+            return 1;
+        }
+        Err(error) => {
+            eprintln!("raylab: {error}");
             return 1;
         }
     };
+    let mut prepared = match Prepared::new(&scene, &OnDisk::beside(&args.scene)) {
+        Ok(prepared) => prepared,
+        Err(message) => {
+            eprintln!("raylab: {name}: {message}");
+            return 1;
+        }
+    };
+    if let Some(method) = args.method {
+        prepared.method = Some(method);
+    }
+    prepared.bug = args.bug;
+    if let Some(names) = &args.effects {
+        match names
+            .iter()
+            .map(|n| Effect::try_from(n.trim().to_string()))
+            .collect::<Result<Vec<_>, _>>()
+        {
+            Ok(effects) => prepared.effects = effects,
+            Err(message) => {
+                eprintln!("raylab: --effects: {message}");
+                return 2;
+            }
+        }
+    }
     let mut times = Vec::new();
     let mut result = None;
     for _ in 0..args.repeat {
         let clock = crate::platform::Stopwatch::start();
-        result = Some(render(&scene, args.method));
+        result = Some(render(&prepared));
         times.push(clock.seconds());
     }
     times.sort_by(f64::total_cmp);
@@ -324,19 +358,17 @@ fn run_render(args: RenderArgs) -> i32 {
             "{}x{} with {}: median {:.3} ms in-process over {} render(s), covered pixels {}",
             image.width,
             image.height,
-            args.method.name(),
+            prepared.method_label(),
             seconds * 1e3,
             args.repeat,
             image.covered_pixels()
         );
-        out!(
-            "rays {}, triangle tests {}, hits {}, interpolations {}, shading {}",
-            stats.rays,
-            stats.triangle_tests,
-            stats.hits,
-            stats.interpolations,
-            stats.shading
-        );
+        let counters: Vec<String> = stats
+            .counters()
+            .iter()
+            .map(|(name, value)| format!("{name} {value}"))
+            .collect();
+        out!("{}", counters.join(", "));
     }
     0
 }

@@ -1,15 +1,30 @@
 //! A CPU ray caster that simulates only the effects a scene calls for (seed 003, seed 004).
 //!
-//! One ray per pixel goes through the core's intersection methods; the nearest hit wins. What happens
-//! after the hit depends on the scene's effects: without an effect that needs barycentrics, none are
-//! interpolated; without shading, nothing is shaded. [`Stats`] counts the work so tests can check that
-//! an effect not called for costs nothing.
+//! One ray per pixel goes into each object's space, through a BVH for meshes, through the core's
+//! intersection method; the nearest hit wins. What happens after the hit depends on the scene's
+//! effects: without an effect that needs barycentrics, none are interpolated; without shading, nothing
+//! is shaded. [`Stats`] counts the work so tests can check that an effect not called for costs nothing.
+
+pub mod assets;
+mod batched;
+pub mod bvh;
+pub mod cast;
+pub mod objects;
+pub mod probe;
+pub mod shade;
+
+use std::sync::Arc;
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::accuracy::{Case, Method};
-use crate::geometry::linalg::{V3, cross, dot, sub};
+use crate::accuracy::Method;
+use crate::geometry::linalg::{V3, cross, sub};
+use crate::platform::{Progress, Sliced, Stopwatch};
+use assets::AssetSource;
+pub use cast::{Bug, Hit};
+use objects::{Geometry, Object, PreparedObject, unit};
+use shade::Shader;
 
 /// A camera: seed 003's image plane, or a pinhole looking at a target.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -40,23 +55,29 @@ pub enum Camera {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", try_from = "String", into = "String")]
 pub enum Effect {
-    /// White where a triangle is hit (a hit mask).
+    /// White where something is hit (a hit mask).
     Coverage,
-    /// Grey by distance: near is bright.
+    /// Darker with distance.
     Depth,
     /// The object's colour times the facing ratio n̂ · (−ê) (seed 003).
     FacingRatio,
     /// Per-vertex colours interpolated with the barycentrics (seed 003, seed 004).
     BarycentricColor,
+    /// Facing ratio with the vertex normals interpolated (seed 004).
+    SmoothNormals,
+    /// A texture sampled at the interpolated texture coordinates (seed 004).
+    Texture,
 }
 
 impl Effect {
     /// Every effect.
-    pub const ALL: [Effect; 4] = [
+    pub const ALL: [Effect; 6] = [
         Effect::Coverage,
         Effect::Depth,
         Effect::FacingRatio,
         Effect::BarycentricColor,
+        Effect::SmoothNormals,
+        Effect::Texture,
     ];
 
     /// The name in scene files.
@@ -66,6 +87,27 @@ impl Effect {
             Effect::Depth => "depth",
             Effect::FacingRatio => "facing-ratio",
             Effect::BarycentricColor => "barycentric-color",
+            Effect::SmoothNormals => "smooth-normals",
+            Effect::Texture => "texture",
+        }
+    }
+
+    /// What it computes, for a tooltip.
+    pub fn explanation(self) -> &'static str {
+        match self {
+            Effect::Coverage => "White where a ray hits: the hit mask, and nothing else computed.",
+            Effect::Depth => "Darker with distance t·|D|: needs only t.",
+            Effect::FacingRatio => {
+                "Colour × n̂ · (−ê), seed 003's facing ratio: one dot product per hit."
+            }
+            Effect::BarycentricColor => {
+                "(1 − β − γ)·C_A + β·C_B + γ·C_C: the vertex colours interpolated per hit."
+            }
+            Effect::SmoothNormals => {
+                "The facing ratio with the vertex normals interpolated by β and γ, then taken to \
+                 world space by the inverse transpose."
+            }
+            Effect::Texture => "The texture sampled at the interpolated (u, v).",
         }
     }
 }
@@ -92,41 +134,88 @@ impl From<Effect> for String {
     }
 }
 
-/// A triangle with an optional colour per vertex.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Triangle {
-    /// The vertices A, B, C.
-    pub vertices: [[f64; 3]; 3],
-    /// The colour of A, B and C (for `barycentric-color`).
-    #[serde(default)]
-    pub colors: Option<[[f64; 3]; 3]>,
-    /// The flat colour (for `facing-ratio`).
-    #[serde(default = "default_color")]
-    pub color: [f64; 3],
+/// A method named in a scene file (`"watertight"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct SceneMethod(pub Method);
+
+impl TryFrom<String> for SceneMethod {
+    type Error = String;
+    fn try_from(name: String) -> Result<SceneMethod, String> {
+        name.parse().map(SceneMethod)
+    }
 }
 
-fn default_color() -> [f64; 3] {
-    [0.8, 0.8, 0.8]
+impl From<SceneMethod> for String {
+    fn from(method: SceneMethod) -> String {
+        method.0.name().into()
+    }
 }
 
-/// A scene to render.
+/// A scene to render (the `Render` problem of a scene file).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RenderScene {
-    /// Shown in menus.
-    pub title: String,
-    /// One line on what it shows.
-    pub note: String,
     /// Image width in pixels.
     pub width: usize,
     /// Image height in pixels.
     pub height: usize,
     /// The camera.
     pub camera: Camera,
-    /// The triangles.
-    pub triangles: Vec<Triangle>,
+    /// The intersection method; by default watertight for meshes and Möller–Trumbore otherwise.
+    #[serde(default)]
+    pub method: Option<SceneMethod>,
+    /// The objects.
+    pub objects: Vec<Object>,
     /// What to compute at a hit.
     pub effects: Vec<Effect>,
 }
+
+impl RenderScene {
+    /// Checks what the file format cannot: finite numbers, a usable size and field of view.
+    pub fn check(&self) -> Result<(), String> {
+        if !(1..=MAX_SIDE).contains(&self.width) || !(1..=MAX_SIDE).contains(&self.height) {
+            return Err(format!(
+                "the image is {}x{}: each side must be 1 to {MAX_SIDE} pixels",
+                self.width, self.height
+            ));
+        }
+        let mut numbers: Vec<f64> = match &self.camera {
+            Camera::ImagePlane { x, y, z } => vec![x.0, x.1, y.0, y.1, *z],
+            Camera::Pinhole {
+                position,
+                target,
+                fov_y,
+            } => {
+                if !(*fov_y > 0.0 && *fov_y < 180.0) {
+                    return Err(format!(
+                        "the field of view is {fov_y}°: it must be between 0° and 180°"
+                    ));
+                }
+                if position == target {
+                    return Err("the camera's position and target are the same point".into());
+                }
+                [*position, *target].concat()
+            }
+        };
+        for (i, object) in self.objects.iter().enumerate() {
+            let before = numbers.len();
+            object.numbers(&mut numbers);
+            if let Some(bad) = numbers[before..].iter().find(|v| !v.is_finite()) {
+                return Err(format!(
+                    "object {}: coordinates must be finite numbers, found {bad}",
+                    i + 1
+                ));
+            }
+        }
+        match numbers.iter().find(|v| !v.is_finite()) {
+            Some(bad) => Err(format!("the camera's numbers must be finite, found {bad}")),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The largest image side a scene may ask for.
+pub const MAX_SIDE: usize = 4096;
 
 /// Work done by a render.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -135,21 +224,52 @@ pub struct Stats {
     pub rays: u64,
     /// Ray–triangle tests.
     pub triangle_tests: u64,
+    /// Ray–parallelogram tests.
+    pub parallelogram_tests: u64,
+    /// Ray–box tests in BVHs.
+    pub box_tests: u64,
+    /// Rays taken into an object's space.
+    pub transforms: u64,
     /// Pixels whose ray hit something.
     pub hits: u64,
-    /// Barycentric interpolations of vertex attributes.
-    pub interpolations: u64,
-    /// Facing-ratio shading evaluations.
+    /// Vertex colours interpolated (`barycentric-color`).
+    pub color_interpolations: u64,
+    /// Vertex normals interpolated (`smooth-normals`).
+    pub normal_interpolations: u64,
+    /// Texture lookups (`texture`).
+    pub texture_samples: u64,
+    /// Facing-ratio evaluations (`facing-ratio`, `smooth-normals`).
     pub shading: u64,
 }
 
 impl Stats {
+    /// Each counter with its name, for printing.
+    pub fn counters(&self) -> [(&'static str, u64); 10] {
+        [
+            ("rays", self.rays),
+            ("triangle tests", self.triangle_tests),
+            ("parallelogram tests", self.parallelogram_tests),
+            ("box tests", self.box_tests),
+            ("transforms", self.transforms),
+            ("hits", self.hits),
+            ("colour interpolations", self.color_interpolations),
+            ("normal interpolations", self.normal_interpolations),
+            ("texture samples", self.texture_samples),
+            ("shading", self.shading),
+        ]
+    }
+
     fn add(self, other: Stats) -> Stats {
         Stats {
             rays: self.rays + other.rays,
             triangle_tests: self.triangle_tests + other.triangle_tests,
+            parallelogram_tests: self.parallelogram_tests + other.parallelogram_tests,
+            box_tests: self.box_tests + other.box_tests,
+            transforms: self.transforms + other.transforms,
             hits: self.hits + other.hits,
-            interpolations: self.interpolations + other.interpolations,
+            color_interpolations: self.color_interpolations + other.color_interpolations,
+            normal_interpolations: self.normal_interpolations + other.normal_interpolations,
+            texture_samples: self.texture_samples + other.texture_samples,
             shading: self.shading + other.shading,
         }
     }
@@ -169,6 +289,15 @@ pub struct Image {
 }
 
 impl Image {
+    fn black(width: usize, height: usize) -> Image {
+        Image {
+            width,
+            height,
+            pixels: vec![[0.0; 3]; width * height],
+            covered: vec![false; width * height],
+        }
+    }
+
     /// How many pixels a triangle covers.
     pub fn covered_pixels(&self) -> usize {
         self.covered.iter().filter(|c| **c).count()
@@ -180,6 +309,185 @@ impl Image {
             .iter()
             .flat_map(|p| p.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8))
             .collect()
+    }
+}
+
+/// A scene ready to render: objects prepared, method and effects chosen. The app changes `effects`,
+/// `method` and `bug` between renders without preparing again.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    /// Image width.
+    pub width: usize,
+    /// Image height.
+    pub height: usize,
+    /// The camera.
+    pub camera: Camera,
+    /// The method for every object; `None`: watertight for meshes, Möller–Trumbore otherwise.
+    pub method: Option<Method>,
+    /// The effects to compute.
+    pub effects: Vec<Effect>,
+    /// A common bug to render with, if any.
+    pub bug: Option<Bug>,
+    /// The objects.
+    pub objects: Vec<PreparedObject>,
+}
+
+impl Prepared {
+    /// Reads the scene's meshes and textures and inverts its transforms.
+    pub fn new(scene: &RenderScene, assets: &dyn AssetSource) -> Result<Prepared, String> {
+        if !(1..=MAX_SIDE).contains(&scene.width) || !(1..=MAX_SIDE).contains(&scene.height) {
+            return Err(format!(
+                "the image is {}x{}: each side must be 1 to {MAX_SIDE} pixels",
+                scene.width, scene.height
+            ));
+        }
+        let objects = scene
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| objects::prepare(o, assets).map_err(|e| format!("object {}: {e}", i + 1)))
+            .collect::<Result<Vec<_>, String>>()?;
+        Ok(Prepared {
+            width: scene.width,
+            height: scene.height,
+            camera: scene.camera.clone(),
+            method: scene.method.map(|m| m.0),
+            effects: scene.effects.clone(),
+            bug: None,
+            objects,
+        })
+    }
+
+    /// The method an object is tested with.
+    pub fn method_for(&self, object: &PreparedObject) -> Method {
+        match self.method {
+            Some(method) => method,
+            None if object.is_mesh => Method::Watertight,
+            None => Method::MollerTrumbore,
+        }
+    }
+
+    /// The method named for display: the scene's, or the per-object default.
+    pub fn method_label(&self) -> String {
+        match self.method {
+            Some(method) => method.name().into(),
+            None => "default (watertight for meshes, moller-trumbore otherwise)".into(),
+        }
+    }
+
+    /// The ray through pixel (row, column).
+    pub fn ray(&self, row: usize, column: usize) -> (V3<f64>, V3<f64>) {
+        camera_ray(&self.camera, self.width, self.height, row, column)
+    }
+
+    /// Renders rows `first..first + pixels.len() / width` into the given slices of the image.
+    fn render_rows(&self, first: usize, pixels: &mut [[f32; 3]], covered: &mut [bool]) -> Stats {
+        let width = self.width;
+        if batched::applies(self) {
+            return batched::render_rows(self, first, pixels, covered);
+        }
+        let shader = Shader::new(&self.effects);
+        let mut stats = Stats::default();
+        for (i, (pixels, covered)) in pixels
+            .chunks_mut(width)
+            .zip(covered.chunks_mut(width))
+            .enumerate()
+        {
+            for column in 0..width {
+                let (origin, dir) = self.ray(first + i, column);
+                stats.rays += 1;
+                if let Some(hit) = cast::nearest_hit(self, origin, dir, &mut stats) {
+                    stats.hits += 1;
+                    covered[column] = true;
+                    let object = &self.objects[hit.object];
+                    pixels[column] = shader.shade(object, &hit, &dir, &mut stats).color;
+                }
+            }
+        }
+        stats
+    }
+
+    /// Renders rows `rows` in parallel (a band of `ROWS_PER_TASK`-row tasks).
+    fn render_band(&self, rows: std::ops::Range<usize>, image: &mut Image) -> Stats {
+        const ROWS_PER_TASK: usize = 4;
+        let width = self.width;
+        let span = rows.start * width..rows.end * width;
+        image.pixels[span.clone()]
+            .par_chunks_mut(width * ROWS_PER_TASK)
+            .zip(image.covered[span].par_chunks_mut(width * ROWS_PER_TASK))
+            .enumerate()
+            .map(|(task, (pixels, covered))| {
+                self.render_rows(rows.start + task * ROWS_PER_TASK, pixels, covered)
+            })
+            .reduce(Stats::default, Stats::add)
+    }
+}
+
+/// Renders the whole image, rows in parallel.
+pub fn render(prepared: &Prepared) -> (Image, Stats) {
+    let mut image = Image::black(prepared.width, prepared.height);
+    let stats = prepared.render_band(0..prepared.height, &mut image);
+    (image, stats)
+}
+
+/// A finished render: the image, the work, and the seconds it took.
+pub struct Rendered {
+    /// The image.
+    pub image: Image,
+    /// The work done.
+    pub stats: Stats,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+/// A render cut into bands of rows, for [`crate::platform::Job`]: on a thread natively, a band per
+/// frame on the web.
+pub struct RenderJob {
+    prepared: Arc<Prepared>,
+    image: Image,
+    stats: Stats,
+    next_row: usize,
+    seconds: f64,
+}
+
+impl RenderJob {
+    /// A job for the whole image.
+    pub fn new(prepared: Arc<Prepared>) -> RenderJob {
+        RenderJob {
+            image: Image::black(prepared.width, prepared.height),
+            prepared,
+            stats: Stats::default(),
+            next_row: 0,
+            seconds: 0.0,
+        }
+    }
+}
+
+impl Sliced for RenderJob {
+    type Output = Rendered;
+
+    fn step(&mut self) -> Progress<Rendered> {
+        // About 64k pixels a slice: a few milliseconds for the simple scenes.
+        let rows = (65_536 / self.prepared.width.max(1)).max(1);
+        let end = (self.next_row + rows).min(self.prepared.height);
+        let clock = Stopwatch::start();
+        let band = self
+            .prepared
+            .render_band(self.next_row..end, &mut self.image);
+        self.seconds += clock.seconds();
+        self.stats = self.stats.add(band);
+        self.next_row = end;
+        if end < self.prepared.height {
+            return Progress::Working {
+                done: end,
+                total: self.prepared.height,
+            };
+        }
+        Progress::Finished(Rendered {
+            image: std::mem::replace(&mut self.image, Image::black(0, 0)),
+            stats: self.stats,
+            seconds: self.seconds,
+        })
     }
 }
 
@@ -206,16 +514,15 @@ pub fn camera_ray(
                 along(y.0, y.1, row, height),
                 *z,
             ];
-            let length = dot(&point, &point).sqrt();
-            (point, point.map(|c| c / length))
+            (point, unit(point))
         }
         Camera::Pinhole {
             position,
             target,
             fov_y,
         } => {
-            let forward = normalize(sub(target, position));
-            let right = normalize(cross(&forward, &[0.0, 0.0, 1.0]));
+            let forward = unit(sub(target, position));
+            let right = unit(cross(&forward, &[0.0, 0.0, 1.0]));
             let up = cross(&right, &forward);
             let half_height = (fov_y.to_radians() / 2.0).tan();
             let half_width = half_height * width as f64 / height.max(1) as f64;
@@ -229,330 +536,25 @@ pub fn camera_ray(
     }
 }
 
-fn normalize(v: V3<f64>) -> V3<f64> {
-    let length = dot(&v, &v).sqrt();
-    if length == 0.0 {
-        v
-    } else {
-        v.map(|c| c / length)
-    }
-}
-
-/// Renders the scene with a method, computing only what its effects need.
-///
-/// `moller-trumbore` takes the batched path: each row's rays are tested against each triangle by the
-/// vectorised f32 kernel ([`crate::accuracy::batch::intersect_rays`]). Every other method tests ray by
-/// ray in f64 through the study's implementation.
-pub fn render(scene: &RenderScene, method: Method) -> (Image, Stats) {
-    if method == Method::MollerTrumbore {
-        return render_batched(scene);
-    }
-    let (width, height) = (scene.width, scene.height);
-    let shader = Shader::new(scene);
-    let rows: Vec<Row> = (0..height)
-        .into_par_iter()
-        .map(|row| {
-            let mut stats = Stats::default();
-            let mut pixels = Vec::with_capacity(width);
-            let mut covered = Vec::with_capacity(width);
-            for column in 0..width {
-                let (origin, dir) = camera_ray(&scene.camera, width, height, row, column);
-                stats.rays += 1;
-                let hit = nearest_hit(scene, method, origin, dir, &mut stats);
-                covered.push(hit.is_some());
-                pixels.push(match hit {
-                    None => [0.0; 3],
-                    Some(hit) => {
-                        stats.hits += 1;
-                        shader.shade(scene, &hit, dir, &mut stats)
-                    }
-                });
-            }
-            (pixels, covered, stats)
-        })
-        .collect();
-    assemble(width, height, rows)
-}
-
-fn assemble(width: usize, height: usize, rows: Vec<Row>) -> (Image, Stats) {
-    let mut image = Image {
-        width,
-        height,
-        pixels: Vec::with_capacity(width * height),
-        covered: Vec::with_capacity(width * height),
-    };
-    let mut stats = Stats::default();
-    for (pixels, covered, row_stats) in rows {
-        image.pixels.extend(pixels);
-        image.covered.extend(covered);
-        stats = stats.add(row_stats);
-    }
-    (image, stats)
-}
-
-/// One rendered row: colours, coverage, and the work it took.
-type Row = (Vec<[f32; 3]>, Vec<bool>, Stats);
-
-/// One row of rays in f32, as structures of arrays.
-struct RowRays {
-    origin: [Vec<f32>; 3],
-    dir: [Vec<f32>; 3],
-}
-
-fn fill_row_rays(camera: &Camera, width: usize, height: usize, row: usize, rays: &mut RowRays) {
-    match camera {
-        // The image plane row in one vectorisable loop: x moves, y and z are fixed.
-        Camera::ImagePlane { x, y, z } => {
-            let along_y = if height <= 1 {
-                y.0
-            } else {
-                y.0 + (y.1 - y.0) * row as f64 / (height - 1) as f64
-            };
-            let step = if width <= 1 {
-                0.0
-            } else {
-                (x.1 - x.0) / (width - 1) as f64
-            };
-            let (py, pz) = (along_y as f32, *z as f32);
-            let [ox, oy, oz] = &mut rays.origin;
-            let [dx, dy, dz] = &mut rays.dir;
-            // Every slice exactly `width` long, so the loop has no bounds checks and vectorises.
-            let (ox, oy, oz) = (&mut ox[..width], &mut oy[..width], &mut oz[..width]);
-            let (dx, dy, dz) = (&mut dx[..width], &mut dy[..width], &mut dz[..width]);
-            for i in 0..width {
-                let px = (x.0 + step * i as f64) as f32;
-                let inverse_length = 1.0 / (px * px + py * py + pz * pz).sqrt();
-                ox[i] = px;
-                oy[i] = py;
-                oz[i] = pz;
-                dx[i] = px * inverse_length;
-                dy[i] = py * inverse_length;
-                dz[i] = pz * inverse_length;
-            }
-        }
-        Camera::Pinhole { .. } => {
-            for column in 0..width {
-                let (origin, dir) = camera_ray(camera, width, height, row, column);
-                for k in 0..3 {
-                    rays.origin[k][column] = origin[k] as f32;
-                    rays.dir[k][column] = dir[k] as f32;
-                }
-            }
-        }
-    }
-}
-
-/// The batched path: rows in parallel, each row's rays against each triangle in one vector loop.
-fn render_batched(scene: &RenderScene) -> (Image, Stats) {
-    use crate::accuracy::batch::{Nearest, RayBatch, intersect_rays};
-    let (width, height) = (scene.width, scene.height);
-    let shader = Shader::new(scene);
-    let triangles: Vec<[[f32; 3]; 3]> = scene
-        .triangles
-        .iter()
-        .map(|t| t.vertices.map(|v| v.map(|c| c as f32)))
-        .collect();
-    let mut pixels = vec![[0.0f32; 3]; width * height];
-    let mut covered = vec![false; width * height];
-    // Rows write straight into the image; each worker thread reuses one set of row buffers.
-    let stats = pixels
-        .par_chunks_mut(width.max(1))
-        .zip(covered.par_chunks_mut(width.max(1)))
-        .enumerate()
-        .map_init(
-            || RowBuffers::new(width),
-            |buffers, (row, (pixels, covered))| {
-                buffers.reset();
-                fill_row_rays(&scene.camera, width, height, row, &mut buffers.rays);
-                let rays = &buffers.rays;
-                let batch = RayBatch {
-                    origin: [&rays.origin[0], &rays.origin[1], &rays.origin[2]],
-                    dir: [&rays.dir[0], &rays.dir[1], &rays.dir[2]],
-                };
-                let mut nearest = Nearest {
-                    t: &mut buffers.t,
-                    beta: &mut buffers.beta,
-                    gamma: &mut buffers.gamma,
-                    index: &mut buffers.index,
-                };
-                for (i, triangle) in triangles.iter().enumerate() {
-                    intersect_rays(*triangle, i as u32, &batch, &mut nearest);
-                }
-                let mut stats = Stats {
-                    rays: width as u64,
-                    triangle_tests: (width * triangles.len()) as u64,
-                    ..Stats::default()
-                };
-                for column in 0..width {
-                    let index = buffers.index[column];
-                    covered[column] = index != u32::MAX;
-                    if index != u32::MAX {
-                        stats.hits += 1;
-                        let hit = Hit {
-                            triangle: index as usize,
-                            t: buffers.t[column] as f64,
-                            beta: buffers.beta[column] as f64,
-                            gamma: buffers.gamma[column] as f64,
-                        };
-                        let dir = [
-                            rays.dir[0][column],
-                            rays.dir[1][column],
-                            rays.dir[2][column],
-                        ]
-                        .map(f64::from);
-                        pixels[column] = shader.shade(scene, &hit, dir, &mut stats);
-                    }
-                }
-                stats
-            },
-        )
-        .reduce(Stats::default, |a, b| a.add(b));
-    (
-        Image {
-            width,
-            height,
-            pixels,
-            covered,
-        },
-        stats,
-    )
-}
-
-/// One worker's buffers for a row: its rays and the nearest hits so far.
-struct RowBuffers {
-    rays: RowRays,
-    t: Vec<f32>,
-    beta: Vec<f32>,
-    gamma: Vec<f32>,
-    index: Vec<u32>,
-}
-
-impl RowBuffers {
-    fn new(width: usize) -> RowBuffers {
-        RowBuffers {
-            rays: RowRays {
-                origin: std::array::from_fn(|_| vec![0.0; width]),
-                dir: std::array::from_fn(|_| vec![0.0; width]),
-            },
-            t: vec![f32::INFINITY; width],
-            beta: vec![0.0; width],
-            gamma: vec![0.0; width],
-            index: vec![u32::MAX; width],
-        }
-    }
-
-    fn reset(&mut self) {
-        self.t.fill(f32::INFINITY);
-        self.index.fill(u32::MAX);
-    }
-}
-
-/// The nearest hit along a ray.
-struct Hit {
-    triangle: usize,
-    t: f64,
-    beta: f64,
-    gamma: f64,
-}
-
-fn nearest_hit(
-    scene: &RenderScene,
-    method: Method,
-    origin: V3<f64>,
-    dir: V3<f64>,
-    stats: &mut Stats,
-) -> Option<Hit> {
-    let mut best: Option<Hit> = None;
-    for (index, triangle) in scene.triangles.iter().enumerate() {
-        stats.triangle_tests += 1;
-        let case = Case {
-            tri: triangle.vertices,
-            origin,
-            dir,
-        };
-        let answer = method.run(&case);
-        if let (true, Some([t, beta, gamma])) = (answer.hit, answer.values)
-            && best.as_ref().is_none_or(|b| t < b.t)
-        {
-            best = Some(Hit {
-                triangle: index,
-                t,
-                beta,
-                gamma,
-            });
-        }
-    }
-    best
-}
-
-/// What the effects need at a hit, decided once per render: which effects, and each triangle's unit
-/// normal (only when facing-ratio is called for).
-struct Shader {
-    depth: bool,
-    color: bool,
-    facing: bool,
-    normals: Vec<V3<f64>>,
-}
-
-impl Shader {
-    fn new(scene: &RenderScene) -> Shader {
-        let wants = |e: Effect| scene.effects.contains(&e);
-        let facing = wants(Effect::FacingRatio);
-        let normals = if facing {
-            scene
-                .triangles
-                .iter()
-                .map(|t| {
-                    let [a, b, c] = &t.vertices;
-                    normalize(cross(&sub(b, a), &sub(c, a)))
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
-        Shader {
-            depth: wants(Effect::Depth),
-            color: wants(Effect::BarycentricColor),
-            facing,
-            normals,
-        }
-    }
-
-    /// The colour of a hit; counts the interpolations and shading it does.
-    fn shade(&self, scene: &RenderScene, hit: &Hit, dir: V3<f64>, stats: &mut Stats) -> [f32; 3] {
-        let triangle = &scene.triangles[hit.triangle];
-        let mut color = [1.0f64; 3];
-        if self.depth {
-            let distance = hit.t * dot(&dir, &dir).sqrt();
-            color = [1.0 / (1.0 + 0.1 * distance); 3];
-        }
-        if self.color
-            && let Some(colors) = triangle.colors
-        {
-            stats.interpolations += 1;
-            let alpha = 1.0 - hit.beta - hit.gamma;
-            color = std::array::from_fn(|k| {
-                alpha * colors[0][k] + hit.beta * colors[1][k] + hit.gamma * colors[2][k]
-            });
-        }
-        if self.facing {
-            stats.shading += 1;
-            // The facing ratio n̂ · (−ê) of seed 003, with ê the unit ray direction.
-            let facing = -dot(&self.normals[hit.triangle], &dir) / dot(&dir, &dir).sqrt();
-            color = std::array::from_fn(|k| triangle.color[k] * facing.max(0.0));
-        }
-        color.map(|c| c as f32)
+/// The world-space vertices of an object's triangle (for the pixel probe and the transform view).
+pub fn world_triangle(object: &PreparedObject, primitive: usize) -> Option<[V3<f64>; 3]> {
+    match &object.geometry {
+        Geometry::Triangles { triangles, .. } => Some(
+            triangles[primitive]
+                .vertices
+                .map(|v| object.object_to_world.transform_point3(v.into()).to_array()),
+        ),
+        Geometry::Parallelogram { .. } => None,
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::objects::{Shape, Transform};
     use super::*;
 
-    fn one_triangle(effects: Vec<Effect>) -> RenderScene {
-        RenderScene {
-            title: "t".into(),
-            note: "n".into(),
+    fn one_triangle(effects: Vec<Effect>) -> Prepared {
+        let scene = RenderScene {
             width: 32,
             height: 16,
             camera: Camera::ImagePlane {
@@ -560,30 +562,50 @@ mod tests {
                 y: (0.5, -0.5),
                 z: 1.0,
             },
-            triangles: vec![Triangle {
-                vertices: [[0.0, 1.25, 3.0], [2.0, -1.25, 3.0], [-2.0, -1.25, 3.0]],
-                colors: Some([[1.0, 0.0, 0.4], [0.4, 1.0, 0.0], [0.0, 0.4, 1.0]]),
+            method: Some(SceneMethod(Method::Watertight)),
+            objects: vec![Object {
+                shape: Shape::Triangle {
+                    vertices: [[0.0, 1.25, 3.0], [2.0, -1.25, 3.0], [-2.0, -1.25, 3.0]],
+                    colors: Some([[1.0, 0.0, 0.4], [0.4, 1.0, 0.0], [0.0, 0.4, 1.0]]),
+                    normals: Some([[0.0, 0.0, -1.0], [0.2, 0.0, -1.0], [-0.2, 0.0, -1.0]]),
+                    uvs: None,
+                },
                 color: [0.15, 0.35, 0.9],
+                texture: Some("textures/checker.png".into()),
+                transform: Transform::default(),
             }],
             effects,
-        }
+        };
+        Prepared::new(&scene, &assets::Embedded).unwrap()
     }
 
     #[test]
     fn effects_not_called_for_cost_nothing() {
-        let (image, coverage) = render(&one_triangle(vec![Effect::Coverage]), Method::Watertight);
+        let (image, coverage) = render(&one_triangle(vec![Effect::Coverage]));
         assert!(image.covered_pixels() > 0);
         assert_eq!(coverage.rays, 32 * 16);
         assert_eq!(coverage.triangle_tests, 32 * 16);
-        assert_eq!((coverage.interpolations, coverage.shading), (0, 0));
-        let (_, colored) = render(
-            &one_triangle(vec![Effect::BarycentricColor]),
-            Method::Watertight,
-        );
-        assert_eq!(colored.interpolations, colored.hits);
-        assert_eq!(colored.shading, 0);
-        let (_, shaded) = render(&one_triangle(vec![Effect::FacingRatio]), Method::Watertight);
-        assert_eq!((shaded.interpolations, shaded.shading), (0, shaded.hits));
+        let work = |s: &Stats| {
+            [
+                s.color_interpolations,
+                s.normal_interpolations,
+                s.texture_samples,
+                s.shading,
+            ]
+        };
+        assert_eq!(work(&coverage), [0; 4]);
+        let hits = coverage.hits;
+        for (effect, expected) in [
+            (Effect::Depth, [0, 0, 0, 0]),
+            (Effect::BarycentricColor, [hits, 0, 0, 0]),
+            (Effect::SmoothNormals, [0, hits, 0, hits]),
+            (Effect::Texture, [0, 0, hits, 0]),
+            (Effect::FacingRatio, [0, 0, 0, hits]),
+        ] {
+            let (_, stats) = render(&one_triangle(vec![effect]));
+            assert_eq!(stats.hits, hits);
+            assert_eq!(work(&stats), expected, "{}", effect.name());
+        }
     }
 
     #[test]
@@ -595,8 +617,21 @@ mod tests {
         };
         let (origin, dir) = camera_ray(&camera, 512, 256, 0, 0);
         assert_eq!(origin, [1.0, 0.5, 1.0]);
-        assert!((dot(&dir, &dir) - 1.0).abs() < 1e-15);
+        assert!((crate::geometry::linalg::dot(&dir, &dir).sqrt() - 1.0).abs() < 1e-15);
         let (origin, _) = camera_ray(&camera, 512, 256, 255, 511);
         assert_eq!(origin, [-1.0, -0.5, 1.0]);
+    }
+
+    #[test]
+    fn a_job_renders_what_render_renders() {
+        let prepared = Arc::new(one_triangle(vec![Effect::BarycentricColor]));
+        let mut job = RenderJob::new(prepared.clone());
+        let rendered = loop {
+            if let Progress::Finished(rendered) = job.step() {
+                break rendered;
+            }
+        };
+        let (image, stats) = render(&prepared);
+        assert_eq!((rendered.image, rendered.stats), (image, stats));
     }
 }

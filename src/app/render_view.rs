@@ -1,0 +1,715 @@
+//! The Render view: a scene rendered one ray per pixel, with the scene's effects as toggles, the method,
+//! the timing and work of the last render, a common bug rendered beside the correct image, a pixel probe
+//! that loads a pixel's ray into the Triangle view, and the probed ray in world and object space.
+//!
+//! Renders run as a [`Job`] (a thread natively, slices of frames on the web) and only when something
+//! they depend on changed.
+
+use std::sync::Arc;
+
+use egui::{Color32, ColorImage, RichText, Sense, Stroke, TextureHandle, TextureOptions, Ui, Vec2};
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::widgets::palette;
+use super::widgets::scene3d::{Canvas, OrbitCamera};
+use crate::accuracy::Method;
+use crate::platform::Job;
+use crate::render::assets::OnDisk;
+use crate::render::objects::Geometry;
+use crate::render::probe::{Probe, probe};
+use crate::render::{Bug, Effect, Prepared, RenderJob, RenderScene, Rendered};
+use crate::scene::{ParallelogramScene, TriangleScene};
+
+/// What the image area shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Mode {
+    /// The rendered image (and a bug's image beside it).
+    #[default]
+    Image,
+    /// The probed ray in world space and in the object's space.
+    Spaces,
+}
+
+/// The Render view's state; the scene and the choices persist, images do not.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(default)]
+pub struct RenderView {
+    /// The scene being rendered.
+    pub scene: RenderScene,
+    /// The effects switched on (a subset of the scene's).
+    pub effects: Vec<Effect>,
+    /// The method, or the scene's.
+    pub method: Option<Method>,
+    /// A bug to render beside the correct image.
+    pub bug: Option<Bug>,
+    /// Image or spaces.
+    pub mode: Mode,
+    /// The last probed pixel (row, column).
+    pub probed: Option<(usize, usize)>,
+    #[serde(skip)]
+    runtime: Runtime,
+}
+
+/// What is not saved: the prepared scene, the jobs, the images, the probe.
+#[derive(Default)]
+struct Runtime {
+    prepared: Option<(String, Result<Arc<Prepared>, String>)>,
+    correct: Slot,
+    buggy: Slot,
+    probe: Option<Probe>,
+}
+
+/// A copy starts without images: they render again when it is shown.
+impl Clone for Runtime {
+    fn clone(&self) -> Runtime {
+        Runtime::default()
+    }
+}
+
+impl std::fmt::Debug for Runtime {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Runtime")
+            .field(
+                "rendering",
+                &(self.correct.running.is_some() || self.buggy.running.is_some()),
+            )
+            .finish_non_exhaustive()
+    }
+}
+
+/// One image: the render in flight and the one shown.
+#[derive(Default)]
+struct Slot {
+    running: Option<(String, Job<Rendered>)>,
+    shown: Option<Shown>,
+    error: Option<String>,
+}
+
+/// A finished render on screen.
+struct Shown {
+    key: String,
+    rendered: Rendered,
+    texture: TextureHandle,
+}
+
+/// What the view asks the app to do.
+pub enum Action {
+    /// Show this probed triangle in the Triangle view (and its steps in the panel).
+    Triangle(TriangleScene),
+    /// Show this probed parallelogram in the Parallelogram view.
+    Parallelogram(ParallelogramScene),
+    /// Switch to the given view.
+    Open(super::ViewKind),
+}
+
+impl Default for RenderView {
+    fn default() -> RenderView {
+        let scene = crate::scene::built_in()
+            .into_iter()
+            .find_map(|s| match s.problem {
+                crate::scene::Problem::Render(r) => Some(r),
+                _ => None,
+            })
+            .expect("a render scene ships");
+        RenderView {
+            effects: scene.effects.clone(),
+            scene,
+            method: None,
+            bug: None,
+            mode: Mode::Image,
+            probed: None,
+            runtime: Runtime::default(),
+        }
+    }
+}
+
+/// Where scene files may find meshes and textures besides the shipped ones.
+fn assets() -> OnDisk {
+    OnDisk(vec![".".into(), "assets".into()])
+}
+
+impl RenderView {
+    /// Loads a scene, or says why it cannot be rendered (the current scene is then kept).
+    pub fn load(&mut self, scene: RenderScene) -> Result<(), String> {
+        let prepared = Prepared::new(&scene, &assets())?;
+        self.effects = scene.effects.clone();
+        self.runtime = Runtime::default();
+        self.runtime.prepared = Some((format!("{scene:?}"), Ok(Arc::new(prepared))));
+        self.scene = scene;
+        self.probed = None;
+        Ok(())
+    }
+
+    /// True while a render runs.
+    pub fn is_rendering(&self) -> bool {
+        self.runtime.correct.running.is_some() || self.runtime.buggy.running.is_some()
+    }
+
+    /// The last finished correct render.
+    pub fn rendered(&self) -> Option<&Rendered> {
+        self.runtime.correct.shown.as_ref().map(|s| &s.rendered)
+    }
+
+    /// The last finished render with the bug.
+    pub fn rendered_with_bug(&self) -> Option<&Rendered> {
+        self.runtime.buggy.shown.as_ref().map(|s| &s.rendered)
+    }
+
+    /// The probe of the last clicked pixel.
+    pub fn probe(&self) -> Option<&Probe> {
+        self.runtime.probe.as_ref()
+    }
+
+    /// The scene prepared with the current choices (and a bug), or why not.
+    fn prepared(&mut self, bug: Option<Bug>) -> Result<Arc<Prepared>, String> {
+        let key = format!("{:?}", self.scene);
+        if self
+            .runtime
+            .prepared
+            .as_ref()
+            .is_none_or(|(k, _)| *k != key)
+        {
+            let prepared = Prepared::new(&self.scene, &assets()).map(Arc::new);
+            self.runtime.prepared = Some((key, prepared));
+        }
+        let (_, prepared) = self.runtime.prepared.as_ref().expect("just prepared");
+        let mut prepared = Prepared::clone(prepared.as_ref().map_err(Clone::clone)?);
+        prepared.effects = self.effects.clone();
+        prepared.method = self.method.or(prepared.method);
+        prepared.bug = bug;
+        Ok(Arc::new(prepared))
+    }
+
+    /// Starts renders whose inputs changed and takes finished ones; asks for frames while running.
+    pub fn update(&mut self, ctx: &egui::Context) {
+        let key = |bug: Option<Bug>| {
+            format!(
+                "{:?}{:?}{:?}{:?}",
+                self.scene, self.effects, self.method, bug
+            )
+        };
+        let correct_key = key(None);
+        let buggy_key = self.bug.map(|b| key(Some(b)));
+        for (which, wanted) in [(false, Some(correct_key)), (true, buggy_key)] {
+            let bug = if which { self.bug } else { None };
+            let Some(wanted) = wanted else {
+                self.runtime.buggy = Slot::default();
+                continue;
+            };
+            let slot = if which {
+                &self.runtime.buggy
+            } else {
+                &self.runtime.correct
+            };
+            let current = slot
+                .running
+                .as_ref()
+                .map(|(k, _)| k)
+                .or(slot.shown.as_ref().map(|s| &s.key));
+            if current != Some(&wanted) {
+                let started = self.prepared(bug).and_then(|prepared| {
+                    let waker = ctx.clone();
+                    Job::start("raylab-render", RenderJob::new(prepared), move || {
+                        waker.request_repaint()
+                    })
+                });
+                let slot = if which {
+                    &mut self.runtime.buggy
+                } else {
+                    &mut self.runtime.correct
+                };
+                match started {
+                    Ok(job) => {
+                        slot.running = Some((wanted, job));
+                        slot.error = None;
+                    }
+                    Err(error) => {
+                        slot.running = None;
+                        slot.error = Some(error);
+                    }
+                }
+            }
+        }
+        for (name, slot) in [
+            ("render", &mut self.runtime.correct),
+            ("render-bug", &mut self.runtime.buggy),
+        ] {
+            let finished = slot.running.as_mut().and_then(|(_, job)| job.poll());
+            if let Some(rendered) = finished {
+                let (key, _) = slot.running.take().expect("running");
+                let image = &rendered.image;
+                let pixels = ColorImage::from_rgb([image.width, image.height], &image.to_rgb8());
+                let texture = ctx.load_texture(name, pixels, TextureOptions::NEAREST);
+                slot.shown = Some(Shown {
+                    key,
+                    rendered,
+                    texture,
+                });
+            }
+        }
+        if self.is_rendering() {
+            ctx.request_repaint();
+        }
+        // A probe follows the choices it was made under.
+        if let Some((row, column)) = self.probed
+            && self
+                .runtime
+                .probe
+                .as_ref()
+                .is_none_or(|p| p.pixel != (row, column))
+        {
+            self.runtime.probe = self
+                .prepared(None)
+                .ok()
+                .filter(|p| row < p.height && column < p.width)
+                .map(|p| probe(&p, row, column));
+        }
+    }
+
+    /// Draws the view.
+    pub fn ui(&mut self, ui: &mut Ui) -> Option<Action> {
+        self.update(ui.ctx());
+        self.controls_ui(ui);
+        let mut action = None;
+        match self.mode {
+            Mode::Image => {
+                self.status_ui(ui);
+                action = self.probe_ui(ui);
+                self.images_ui(ui, &mut action);
+            }
+            Mode::Spaces => self.spaces_ui(ui),
+        }
+        action
+    }
+
+    fn controls_ui(&mut self, ui: &mut Ui) {
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Effects:");
+            for effect in self.scene.effects.clone() {
+                let mut on = self.effects.contains(&effect);
+                if ui
+                    .toggle_value(&mut on, effect.name())
+                    .on_hover_text(effect.explanation())
+                    .changed()
+                {
+                    if on {
+                        self.effects.push(effect);
+                    } else {
+                        self.effects.retain(|e| *e != effect);
+                    }
+                    self.runtime.probe = None;
+                }
+            }
+            ui.separator();
+            let label = ui.label("Method:");
+            let shown = self.method.map_or("scene's", Method::name);
+            egui::ComboBox::from_id_salt("render-method")
+                .selected_text(shown)
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut self.method, None, "scene's")
+                        .on_hover_text(
+                            "The scene's method: watertight for meshes, Möller–Trumbore otherwise",
+                        );
+                    for method in Method::FLOAT {
+                        ui.selectable_value(&mut self.method, Some(method), method.name());
+                    }
+                })
+                .response
+                .labelled_by(label.id)
+                .on_hover_text("The ray–triangle test every pixel uses");
+        });
+        ui.horizontal_wrapped(|ui| {
+            let label = ui.label("Compare with a bug:");
+            egui::ComboBox::from_id_salt("render-bug")
+                .selected_text(self.bug.map_or("none", Bug::name))
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut self.bug, None, "none");
+                    for bug in Bug::ALL {
+                        ui.selectable_value(&mut self.bug, Some(bug), bug.name())
+                            .on_hover_text(bug.sentence());
+                    }
+                })
+                .response
+                .labelled_by(label.id)
+                .on_hover_text(
+                    "Render the same scene with a common mistake, beside the correct image",
+                );
+            ui.separator();
+            ui.selectable_value(&mut self.mode, Mode::Image, "Image")
+                .on_hover_text("The rendered image; click a pixel to probe its ray");
+            ui.selectable_value(&mut self.mode, Mode::Spaces, "World vs object space")
+                .on_hover_text(
+                    "The probed ray and object in world space and in the object's own space",
+                );
+        });
+        if let Some(bug) = self.bug {
+            ui.label(RichText::new(bug.sentence()).color(palette::OUTSIDE));
+        }
+    }
+
+    fn status_ui(&self, ui: &mut Ui) {
+        let slot = &self.runtime.correct;
+        if let Some(error) = slot.error.as_ref().or(self.runtime.buggy.error.as_ref()) {
+            ui.label(RichText::new(format!("Cannot render: {error}")).color(palette::OUTSIDE));
+        }
+        if let Some((_, job)) = &slot.running {
+            let (done, total) = job.progress();
+            ui.add(
+                egui::ProgressBar::new(done as f32 / total as f32)
+                    .text(format!("rendering… row {done} of {total}")),
+            );
+        }
+        let Some(shown) = &slot.shown else {
+            return;
+        };
+        let Rendered {
+            image,
+            stats,
+            seconds,
+        } = &shown.rendered;
+        let method = self
+            .method
+            .map_or_else(|| self.scene_method_label(), |m| m.name().to_string());
+        ui.horizontal_wrapped(|ui| {
+            ui.label(
+                RichText::new(format!(
+                    "{}×{} in {:.1} ms with {method}: {} of {} pixels hit",
+                    image.width,
+                    image.height,
+                    seconds * 1e3,
+                    stats.hits,
+                    stats.rays
+                ))
+                .strong(),
+            );
+            let counters: Vec<String> = stats
+                .counters()
+                .iter()
+                .skip(1)
+                .map(|(name, value)| format!("{name} {value}"))
+                .collect();
+            ui.label(RichText::new(counters.join(" · ")).weak())
+                .on_hover_text("The work the render did: an effect that is off costs zero");
+        });
+    }
+
+    fn scene_method_label(&self) -> String {
+        match self.scene.method {
+            Some(method) => method.0.name().into(),
+            None => "the default (watertight for meshes, moller-trumbore otherwise)".into(),
+        }
+    }
+
+    /// The image (and the bug's image beside it); a click probes a pixel.
+    fn images_ui(&mut self, ui: &mut Ui, action: &mut Option<Action>) {
+        let Some(shown) = &self.runtime.correct.shown else {
+            ui.label("Rendering…");
+            return;
+        };
+        let (width, height) = (shown.rendered.image.width, shown.rendered.image.height);
+        let panes = if self.bug.is_some() { 2.0 } else { 1.0 };
+        let gap = 12.0;
+        let available = ui.available_size() - Vec2::new(0.0, 28.0);
+        let scale = ((available.x - gap * (panes - 1.0)) / panes / width as f32)
+            .min(available.y / height as f32)
+            .max(0.05);
+        let size = Vec2::new(width as f32, height as f32) * scale;
+        let probed = self.probed;
+        let mut clicked = None;
+        ui.horizontal_top(|ui| {
+            ui.spacing_mut().item_spacing.x = gap;
+            for (slot, title) in [
+                (&self.runtime.correct, "Correct".to_string()),
+                (
+                    &self.runtime.buggy,
+                    format!("With the bug: {}", self.bug.map_or("", Bug::name)),
+                ),
+            ] {
+                if title.starts_with("With") && self.bug.is_none() {
+                    continue;
+                }
+                ui.vertical(|ui| {
+                    ui.label(RichText::new(&title).strong());
+                    let Some(shown) = &slot.shown else {
+                        ui.allocate_space(size);
+                        return;
+                    };
+                    let response = ui
+                        .add(egui::Image::new((shown.texture.id(), size)).sense(Sense::click()))
+                        .on_hover_text("Click a pixel to probe its ray");
+                    let to_pixel = |pos: egui::Pos2| {
+                        let local = (pos - response.rect.min) / scale;
+                        let (column, row) = (local.x.floor(), local.y.floor());
+                        (column >= 0.0
+                            && row >= 0.0
+                            && (column as usize) < width
+                            && (row as usize) < height)
+                            .then_some((row as usize, column as usize))
+                    };
+                    if response.clicked()
+                        && let Some(pixel) = response.interact_pointer_pos().and_then(to_pixel)
+                    {
+                        clicked = Some(pixel);
+                    }
+                    if let Some((row, column)) = probed {
+                        let center = response.rect.min
+                            + Vec2::new(column as f32 + 0.5, row as f32 + 0.5) * scale;
+                        let painter = ui.painter_at(response.rect);
+                        painter.circle_stroke(center, 7.0, Stroke::new(2.5, Color32::WHITE));
+                        painter.circle_stroke(center, 9.0, Stroke::new(1.5, Color32::BLACK));
+                    }
+                });
+            }
+        });
+        if let Some(pixel) = clicked {
+            *action = self.probe_pixel(pixel);
+        }
+    }
+
+    /// Probes a pixel; the hit (or nearest missed) primitive goes to its view.
+    pub fn probe_pixel(&mut self, (row, column): (usize, usize)) -> Option<Action> {
+        self.probed = Some((row, column));
+        let prepared = self.prepared(None).ok()?;
+        if row >= prepared.height || column >= prepared.width {
+            return None;
+        }
+        let result = probe(&prepared, row, column);
+        let action = match (&result.triangle, result.hit) {
+            (Some([a, b, c]), _) => Some(Action::Triangle(TriangleScene {
+                a: *a,
+                b: *b,
+                c: *c,
+                origin: result.origin,
+                dir: result.dir,
+                t_min: 0.0,
+            })),
+            (None, Some(hit)) => match &prepared.objects[hit.object].geometry {
+                Geometry::Parallelogram { corner, e1, e2, .. } => {
+                    // The parallelogram in world space: a corner is a point, edges are directions.
+                    let m = prepared.objects[hit.object].object_to_world;
+                    Some(Action::Parallelogram(ParallelogramScene {
+                        corner: m.transform_point3(DVec3::from(*corner)).to_array(),
+                        e1: m.transform_vector3(DVec3::from(*e1)).to_array(),
+                        e2: m.transform_vector3(DVec3::from(*e2)).to_array(),
+                        origin: result.origin,
+                        dir: result.dir,
+                    }))
+                }
+                Geometry::Triangles { .. } => None,
+            },
+            (None, None) => None,
+        };
+        self.runtime.probe = Some(result);
+        action
+    }
+
+    /// What the probe found, and a button to the view that shows its steps.
+    fn probe_ui(&self, ui: &mut Ui) -> Option<Action> {
+        let Some(probe) = &self.runtime.probe else {
+            ui.label(
+                RichText::new(
+                    "Click a pixel: its ray goes into the Triangle view and the step panel.",
+                )
+                .weak(),
+            );
+            return None;
+        };
+        let vector = |v: &[f64; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
+        let (row, column) = probe.pixel;
+        let mut action = None;
+        ui.horizontal_wrapped(|ui| {
+            ui.label(RichText::new(format!("Pixel ({row}, {column})")).strong());
+            ui.label(format!(
+                "O = {}  D = {}",
+                vector(&probe.origin),
+                vector(&probe.dir)
+            ));
+        });
+        ui.horizontal_wrapped(|ui| {
+            match probe.hit {
+                Some(hit) => {
+                    let kind = self.object_kind(hit.object);
+                    let names = if kind == "parallelogram" {
+                        ("α", "β")
+                    } else {
+                        ("β", "γ")
+                    };
+                    ui.label(
+                        RichText::new(format!(
+                            "hit object {} ({kind}), triangle {}: t = {:.6}, {} = {:.6}, {} = {:.6}",
+                            hit.object + 1,
+                            hit.primitive,
+                            hit.t,
+                            names.0,
+                            hit.beta,
+                            names.1,
+                            hit.gamma
+                        ))
+                        .color(palette::INSIDE),
+                    );
+                    if let Some(facing) = probe.facing {
+                        ui.label(format!("facing ratio n̂·(−ê) = {facing:.4}"));
+                    }
+                    let [r, g, b] = probe.color.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+                    ui.label(format!("colour ({r}, {g}, {b})"));
+                    let (rect, _) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::hover());
+                    ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
+                }
+                None => {
+                    let text = match probe.nearest_miss {
+                        Some((object, triangle)) => format!(
+                            "missed everything; the nearest is object {} triangle {triangle}: \
+                             the step panel says why",
+                            object + 1
+                        ),
+                        None => "missed everything: no triangle to show".into(),
+                    };
+                    ui.label(RichText::new(text).color(palette::OUTSIDE));
+                }
+            }
+            let target = match probe.triangle {
+                Some(_) => Some(super::ViewKind::Triangle),
+                None if probe.hit.is_some() => Some(super::ViewKind::Parallelogram),
+                None => None,
+            };
+            if let Some(kind) = target
+                && ui
+                    .button(format!("Open in {} →", kind.label()))
+                    .on_hover_text("The same ray and primitive, with sliders and every step")
+                    .clicked()
+            {
+                action = Some(Action::Open(kind));
+            }
+        });
+        action
+    }
+
+    fn object_kind(&self, index: usize) -> &'static str {
+        match self.scene.objects.get(index).map(|o| &o.shape) {
+            Some(crate::render::objects::Shape::Triangle { .. }) => "triangle",
+            Some(crate::render::objects::Shape::Parallelogram { .. }) => "parallelogram",
+            Some(crate::render::objects::Shape::Mesh { .. }) => "mesh",
+            None => "?",
+        }
+    }
+
+    /// The probed ray and its object in world space and in object space, side by side.
+    fn spaces_ui(&mut self, ui: &mut Ui) {
+        let Some(probe) = self.runtime.probe.clone() else {
+            ui.label("Click a pixel in the image first (try the transformed-object preset): its ray and the triangle it meets are drawn here in both spaces.");
+            return;
+        };
+        let Ok(prepared) = self.prepared(None) else {
+            return;
+        };
+        let target = probe
+            .hit
+            .map(|h| (h.object, h.primitive))
+            .or(probe.nearest_miss);
+        let Some((index, primitive)) = target else {
+            ui.label("The probed ray met no triangle: probe another pixel.");
+            return;
+        };
+        let object = &prepared.objects[index];
+        let object_vertices = match &object.geometry {
+            Geometry::Triangles { triangles, .. } => triangles[primitive].vertices,
+            Geometry::Parallelogram { corner, e1, e2, .. } => [
+                *corner,
+                crate::geometry::linalg::add(corner, e1),
+                crate::geometry::linalg::add(corner, e2),
+            ],
+        };
+        let world_vertices = object_vertices.map(|v| {
+            object
+                .object_to_world
+                .transform_point3(DVec3::from(v))
+                .to_array()
+        });
+        let mut stats = crate::render::Stats::default();
+        let (object_origin, object_dir) =
+            crate::render::cast::to_object_space(object, probe.origin, probe.dir, None, &mut stats);
+        let t = probe.hit.map(|h| h.t);
+        let transformed = object.world_to_object.is_some();
+        ui.label(if transformed {
+            "The ray goes into object space as O' = M⁻¹O (a point) and D' = M⁻¹D (a direction, not normalised), so O' + tD' = M⁻¹(O + tD): the same t in both spaces."
+        } else {
+            "This object has no transform: object space is world space. Probe the stretched sphere of the transformed-object preset to see the two differ."
+        });
+        let half = (ui.available_width() - 12.0) / 2.0;
+        let height = (ui.available_height() - 90.0).max(160.0);
+        ui.horizontal_top(|ui| {
+            for (title, vertices, origin, dir) in [
+                ("World space", world_vertices, probe.origin, probe.dir),
+                ("Object space", object_vertices, object_origin, object_dir),
+            ] {
+                ui.vertical(|ui| {
+                    ui.set_width(half);
+                    ui.label(RichText::new(title).strong());
+                    draw_space(ui, Vec2::new(half, height), vertices, origin, dir, t);
+                    let v = |p: [f64; 3]| format!("({:.3}, {:.3}, {:.3})", p[0], p[1], p[2]);
+                    ui.label(format!(
+                        "origin {}, direction {} (|D| = {:.4})",
+                        v(origin),
+                        v(dir),
+                        length(&dir)
+                    ));
+                    if let Some(t) = t {
+                        let point: [f64; 3] = std::array::from_fn(|k| origin[k] + t * dir[k]);
+                        ui.label(format!("t = {t:.6}, hit point {}", v(point)));
+                    }
+                });
+            }
+        });
+        if let Some(t) = t
+            && transformed
+        {
+            ui.label(
+                RichText::new(format!(
+                    "Normalising D' would make the object-space t read t·|D'| = {:.6} instead of {t:.6}: the bug \"normalising D in object space\".",
+                    t * length(&object_dir)
+                ))
+                .color(palette::OUTSIDE),
+            );
+        }
+    }
+}
+
+fn length(v: &[f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+/// A small 3D drawing: the triangle, the ray from its origin, and the hit point at t.
+fn draw_space(
+    ui: &mut Ui,
+    size: Vec2,
+    vertices: [[f64; 3]; 3],
+    origin: [f64; 3],
+    dir: [f64; 3],
+    t: Option<f64>,
+) {
+    let (response, painter) = ui.allocate_painter(size, Sense::hover());
+    let [a, b, c] = vertices.map(DVec3::from);
+    let (o, d) = (DVec3::from(origin), DVec3::from(dir));
+    let end = o + d * t.unwrap_or(1.0).abs().max(1.0) * 1.15;
+    let camera = OrbitCamera::framing(&[a, b, c, o, end]).across(d);
+    let projector = camera.projector(response.rect);
+    let canvas = Canvas {
+        painter: &painter,
+        projector: &projector,
+    };
+    canvas.axes(&[a, b, c, o]);
+    canvas.polygon(
+        &[a, b, c],
+        palette::faded(palette::BETA, 60),
+        Stroke::new(1.5, palette::BETA),
+    );
+    canvas.line(o, end, Stroke::new(2.0, palette::RAY));
+    canvas.arrow(o, o + d, Stroke::new(3.0, palette::RAY));
+    let font = egui::FontId::proportional(15.0);
+    canvas.label(o, "O", palette::RAY, font.clone());
+    if let Some(t) = t {
+        canvas.dot(o + d * t, 6.0, palette::SOLUTION);
+        canvas.label_below(o + d * t, &format!("t = {t:.4}"), palette::SOLUTION, font);
+    }
+}

@@ -1,0 +1,251 @@
+//! Casting one ray into a prepared scene: into each object's space, through its BVH, through the core's
+//! intersection method; the nearest hit wins. The common bugs the app shows are switched on here.
+
+use serde::{Deserialize, Serialize};
+
+use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
+use super::{Prepared, Stats};
+use crate::accuracy::{Case, Method};
+use crate::geometry::linalg::V3;
+use crate::geometry::parallelogram::{RayParallelogram, solve};
+
+/// A mistake students make, rendered beside the correct image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Bug {
+    /// Seed 003's outside test with `and` where `or` is meant.
+    AndForOr,
+    /// Accepting hits with t < 0.
+    NegativeT,
+    /// Testing v ≤ 1 instead of β + γ ≤ 1.
+    VInsteadOfSum,
+    /// Normalising the direction after transforming into object space.
+    NormalizedDirection,
+}
+
+impl Bug {
+    /// Every bug.
+    pub const ALL: [Bug; 4] = [
+        Bug::AndForOr,
+        Bug::NegativeT,
+        Bug::VInsteadOfSum,
+        Bug::NormalizedDirection,
+    ];
+
+    /// The name on the command line.
+    pub fn key(self) -> &'static str {
+        match self {
+            Bug::AndForOr => "and-for-or",
+            Bug::NegativeT => "negative-t",
+            Bug::VInsteadOfSum => "v-instead-of-sum",
+            Bug::NormalizedDirection => "normalized-direction",
+        }
+    }
+
+    /// A short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Bug::AndForOr => "`and` for `or`",
+            Bug::NegativeT => "accepting t < 0",
+            Bug::VInsteadOfSum => "v ≤ 1 for β + γ ≤ 1",
+            Bug::NormalizedDirection => "normalising D in object space",
+        }
+    }
+
+    /// One sentence on the mistake.
+    pub fn sentence(self) -> &'static str {
+        match self {
+            Bug::AndForOr => {
+                "Seed 003 calls a point outside only when all three edge tests fail (`and`), but one \
+                 failing test is enough (`or`): the whole plane in front of the ray lights up."
+            }
+            Bug::NegativeT => {
+                "Without t > 0 the ray is a line: objects behind the camera are drawn as if in front."
+            }
+            Bug::VInsteadOfSum => {
+                "Checking β ≤ 1 and γ ≤ 1 instead of β + γ ≤ 1 accepts the whole parallelogram \
+                 spanned by the triangle's two edges."
+            }
+            Bug::NormalizedDirection => {
+                "After M⁻¹ the direction must stay as it is: normalised, the object-space t is no \
+                 longer the world t, so depths and which object is in front go wrong under a \
+                 non-uniform scale."
+            }
+        }
+    }
+}
+
+impl std::str::FromStr for Bug {
+    type Err = String;
+    fn from_str(key: &str) -> Result<Bug, String> {
+        Bug::ALL
+            .into_iter()
+            .find(|b| b.key() == key)
+            .ok_or_else(|| {
+                let keys: Vec<&str> = Bug::ALL.iter().map(|b| b.key()).collect();
+                format!("unknown bug '{key}' (expected one of {})", keys.join(", "))
+            })
+    }
+}
+
+/// The nearest hit along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// The object's index in the scene.
+    pub object: usize,
+    /// The triangle's index in the object (0 for a parallelogram).
+    pub primitive: usize,
+    /// The ray parameter (world and object space alike).
+    pub t: f64,
+    /// β for a triangle, α for a parallelogram.
+    pub beta: f64,
+    /// γ for a triangle, β for a parallelogram.
+    pub gamma: f64,
+}
+
+/// The ray in an object's space: O' = M⁻¹ O as a point, D' = M⁻¹ D as a direction, not normalised,
+/// so o' + t d' is M⁻¹ (o + t d) and t means the same in both spaces.
+pub fn to_object_space(
+    object: &PreparedObject,
+    origin: V3<f64>,
+    dir: V3<f64>,
+    bug: Option<Bug>,
+    stats: &mut Stats,
+) -> (V3<f64>, V3<f64>) {
+    let Some(inverse) = object.world_to_object else {
+        return (origin, dir);
+    };
+    stats.transforms += 1;
+    let origin = inverse.transform_point3(origin.into()).to_array();
+    let dir = inverse.transform_vector3(dir.into()).to_array();
+    if bug == Some(Bug::NormalizedDirection) {
+        return (origin, unit(dir));
+    }
+    (origin, dir)
+}
+
+/// Tests one triangle: the method's decision, or a bug's.
+pub fn test_triangle(
+    triangle: &PreparedTriangle,
+    method: Method,
+    bug: Option<Bug>,
+    origin: V3<f64>,
+    dir: V3<f64>,
+) -> Option<[f64; 3]> {
+    let case = Case {
+        tri: triangle.vertices,
+        origin,
+        dir,
+    };
+    let decide_buggy = |bug: Bug| {
+        // The bugs are in the checks, so they take Cramer's t, β, γ and decide wrongly.
+        let [t, beta, gamma] = Method::Cramer.run(&case).values?;
+        let alpha = 1.0 - beta - gamma;
+        let hit = match bug {
+            Bug::AndForOr => t > 0.0 && (alpha >= 0.0 || beta >= 0.0 || gamma >= 0.0),
+            Bug::NegativeT => t != 0.0 && alpha >= 0.0 && beta >= 0.0 && gamma >= 0.0,
+            _ => t > 0.0 && beta >= 0.0 && gamma >= 0.0 && beta <= 1.0 && gamma <= 1.0,
+        };
+        hit.then_some([t, beta, gamma])
+    };
+    match bug {
+        Some(bug @ (Bug::AndForOr | Bug::NegativeT | Bug::VInsteadOfSum)) => decide_buggy(bug),
+        _ => {
+            let answer = method.run(&case);
+            answer.values.filter(|_| answer.hit)
+        }
+    }
+}
+
+/// Tests a parallelogram with the core's solver (seed 001): (α, β, t) or a miss.
+fn test_parallelogram(
+    [corner, e1, e2]: [&V3<f64>; 3],
+    bug: Option<Bug>,
+    origin: V3<f64>,
+    dir: V3<f64>,
+) -> Option<[f64; 3]> {
+    let problem = RayParallelogram {
+        corner: *corner,
+        e1: *e1,
+        e2: *e2,
+        origin,
+        dir,
+    };
+    let solution = solve(&problem, false);
+    let [alpha, beta, t] = solution.alpha_beta_t?;
+    let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
+    let hit = solution.outcome.is_hit() || (bug == Some(Bug::NegativeT) && inside && t != 0.0);
+    hit.then_some([t, alpha, beta])
+}
+
+/// The nearest hit among all objects; ties go to the earlier object and triangle.
+pub fn nearest_hit(
+    prepared: &Prepared,
+    origin: V3<f64>,
+    dir: V3<f64>,
+    stats: &mut Stats,
+) -> Option<Hit> {
+    let mut best: Option<Hit> = None;
+    for (index, object) in prepared.objects.iter().enumerate() {
+        let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
+        let better = |hit: &Hit, best: &Option<Hit>| {
+            best.is_none_or(|b| {
+                hit.t < b.t
+                    || (hit.t == b.t && (hit.object, hit.primitive) < (b.object, b.primitive))
+            })
+        };
+        match &object.geometry {
+            Geometry::Triangles { triangles, bvh } => {
+                let method = prepared.method_for(object);
+                let t_max = best.map_or(f64::INFINITY, |b| b.t);
+                let mut test = |primitive: usize| {
+                    stats.triangle_tests += 1;
+                    let [t, beta, gamma] =
+                        test_triangle(&triangles[primitive], method, prepared.bug, o, d)?;
+                    let hit = Hit {
+                        object: index,
+                        primitive,
+                        t,
+                        beta,
+                        gamma,
+                    };
+                    if better(&hit, &best) {
+                        best = Some(hit);
+                    }
+                    Some(t)
+                };
+                // The BVH only looks ahead (t ≥ 0), so a scene that accepts t < 0 tests everything.
+                match bvh
+                    .as_ref()
+                    .filter(|_| prepared.bug != Some(Bug::NegativeT))
+                {
+                    Some(bvh) => {
+                        let mut box_tests = 0;
+                        bvh.traverse(&o, &d, t_max, &mut box_tests, &mut test);
+                        stats.box_tests += box_tests;
+                    }
+                    None => (0..triangles.len()).for_each(|i| {
+                        test(i);
+                    }),
+                }
+            }
+            Geometry::Parallelogram { corner, e1, e2, .. } => {
+                stats.parallelogram_tests += 1;
+                if let Some([t, alpha, beta]) =
+                    test_parallelogram([corner, e1, e2], prepared.bug, o, d)
+                {
+                    let hit = Hit {
+                        object: index,
+                        primitive: 0,
+                        t,
+                        beta: alpha,
+                        gamma: beta,
+                    };
+                    if better(&hit, &best) {
+                        best = Some(hit);
+                    }
+                }
+            }
+        }
+    }
+    best
+}

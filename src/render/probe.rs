@@ -1,0 +1,85 @@
+//! The pixel probe: what happened to one pixel's ray, for loading into the Triangle view.
+
+use super::cast::{Hit, nearest_hit, to_object_space};
+use super::objects::Geometry;
+use super::shade::Shader;
+use super::{Prepared, Stats, world_triangle};
+use crate::accuracy::Method;
+use crate::geometry::linalg::V3;
+
+/// One pixel's story.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Probe {
+    /// The pixel's row and column.
+    pub pixel: (usize, usize),
+    /// The ray's origin (world).
+    pub origin: V3<f64>,
+    /// The ray's direction through the pixel (world).
+    pub dir: V3<f64>,
+    /// The nearest hit, if any.
+    pub hit: Option<Hit>,
+    /// Without a hit: the triangle it came nearest to, as (object, triangle).
+    pub nearest_miss: Option<(usize, usize)>,
+    /// The triangle (hit or nearest missed) in world space, when it is a triangle.
+    pub triangle: Option<[V3<f64>; 3]>,
+    /// n̂ · (−ê) at the hit, when the scene shades.
+    pub facing: Option<f64>,
+    /// The pixel's colour.
+    pub color: [f32; 3],
+}
+
+/// Casts the ray through (row, column) and reports what it met.
+pub fn probe(prepared: &Prepared, row: usize, column: usize) -> Probe {
+    let (origin, dir) = prepared.ray(row, column);
+    let mut stats = Stats::default();
+    let hit = nearest_hit(prepared, origin, dir, &mut stats);
+    let shading = hit.map(|hit| {
+        Shader::new(&prepared.effects).shade(&prepared.objects[hit.object], &hit, &dir, &mut stats)
+    });
+    let nearest_miss = match hit {
+        Some(_) => None,
+        None => nearest_missed(prepared, origin, dir),
+    };
+    let target = hit.map(|h| (h.object, h.primitive)).or(nearest_miss);
+    Probe {
+        pixel: (row, column),
+        origin,
+        dir,
+        hit,
+        nearest_miss,
+        triangle: target.and_then(|(o, p)| world_triangle(&prepared.objects[o], p)),
+        facing: shading.and_then(|s| s.facing),
+        color: shading.map_or([0.0; 3], |s| s.color),
+    }
+}
+
+/// The triangle whose plane the ray meets closest to the triangle (in barycentric terms: how far
+/// β, γ and 1 − β − γ are below zero), preferring ones in front of the ray.
+fn nearest_missed(prepared: &Prepared, origin: V3<f64>, dir: V3<f64>) -> Option<(usize, usize)> {
+    let mut best: Option<((bool, f64), (usize, usize))> = None;
+    for (o, object) in prepared.objects.iter().enumerate() {
+        let Geometry::Triangles { triangles, .. } = &object.geometry else {
+            continue;
+        };
+        let (ro, rd) = to_object_space(object, origin, dir, None, &mut Stats::default());
+        for (p, triangle) in triangles.iter().enumerate() {
+            let case = crate::accuracy::Case {
+                tri: triangle.vertices,
+                origin: ro,
+                dir: rd,
+            };
+            let Some([t, beta, gamma]) = Method::Cramer.run(&case).values else {
+                continue;
+            };
+            let outside = [beta, gamma, 1.0 - beta - gamma]
+                .iter()
+                .map(|w| (-w).max(0.0))
+                .sum::<f64>();
+            let key = (t <= 0.0, outside);
+            if best.is_none_or(|(b, _)| key < b) {
+                best = Some((key, (o, p)));
+            }
+        }
+    }
+    best.map(|(_, target)| target)
+}

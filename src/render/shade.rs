@@ -1,0 +1,129 @@
+//! The colour of a hit, computing only what the scene's effects call for (seed 003, seed 004).
+
+use super::cast::Hit;
+use super::objects::{Geometry, PreparedObject, unit};
+use super::{Effect, Stats};
+use crate::geometry::linalg::{V3, dot};
+
+/// Which effects are on, decided once per render.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Shader {
+    depth: bool,
+    color: bool,
+    texture: bool,
+    smooth: bool,
+    facing: bool,
+}
+
+/// What shading a hit gave.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shading {
+    /// Linear RGB.
+    pub color: [f32; 3],
+    /// n̂ · (−ê), when a shading effect asked for it.
+    pub facing: Option<f64>,
+}
+
+impl Shader {
+    /// The shader for a list of effects.
+    pub fn new(effects: &[Effect]) -> Shader {
+        let wants = |e: Effect| effects.contains(&e);
+        Shader {
+            depth: wants(Effect::Depth),
+            color: wants(Effect::BarycentricColor),
+            texture: wants(Effect::Texture),
+            smooth: wants(Effect::SmoothNormals),
+            // Smooth normals are a way of shading, so they shade by the facing ratio too.
+            facing: wants(Effect::FacingRatio) || wants(Effect::SmoothNormals),
+        }
+    }
+
+    /// The colour of a hit seen along the world direction `dir`; counts the work in `stats`.
+    pub fn shade(
+        &self,
+        object: &PreparedObject,
+        hit: &Hit,
+        dir: &V3<f64>,
+        stats: &mut Stats,
+    ) -> Shading {
+        let mut color = self.base_color(object, hit, stats);
+        let mut facing = None;
+        if self.facing {
+            stats.shading += 1;
+            let normal = self.world_normal(object, hit, stats);
+            // Seed 003's facing ratio n̂ · (−ê), with ê the unit ray direction; back faces are black.
+            let ratio = -dot(&normal, dir) / dot(dir, dir).sqrt();
+            color = color.map(|c| c * ratio.max(0.0));
+            facing = Some(ratio);
+        }
+        if self.depth {
+            let distance = hit.t.abs() * dot(dir, dir).sqrt();
+            color = color.map(|c| c / (1.0 + 0.1 * distance));
+        }
+        Shading {
+            color: color.map(|c| c as f32),
+            facing,
+        }
+    }
+
+    /// The unshaded colour: a texel, the interpolated vertex colour, the flat colour, or white.
+    fn base_color(&self, object: &PreparedObject, hit: &Hit, stats: &mut Stats) -> V3<f64> {
+        let triangle = match &object.geometry {
+            Geometry::Triangles { triangles, .. } => Some(&triangles[hit.primitive]),
+            Geometry::Parallelogram { .. } => None,
+        };
+        let weights = [1.0 - hit.beta - hit.gamma, hit.beta, hit.gamma];
+        if self.texture
+            && let Some(texture) = &object.texture
+        {
+            stats.texture_samples += 1;
+            // A parallelogram's (α, β) are its texture coordinates; a triangle without UVs uses (β, γ).
+            let [u, v] = match triangle.and_then(|t| t.uvs) {
+                Some(uvs) => interpolate(&weights, &uvs),
+                None => [hit.beta, hit.gamma],
+            };
+            return texture.sample(u, v).map(f64::from);
+        }
+        if self.color
+            && let Some(colors) = triangle.and_then(|t| t.colors)
+        {
+            stats.color_interpolations += 1;
+            return interpolate(&weights, &colors);
+        }
+        if self.facing { object.color } else { [1.0; 3] }
+    }
+
+    /// The world-space unit normal: interpolated from the vertex normals under `smooth-normals`, the
+    /// face's otherwise; through the inverse transpose when the object is transformed.
+    fn world_normal(&self, object: &PreparedObject, hit: &Hit, stats: &mut Stats) -> V3<f64> {
+        let normal = match &object.geometry {
+            Geometry::Triangles { triangles, .. } => {
+                let triangle = &triangles[hit.primitive];
+                match triangle.normals.filter(|_| self.smooth) {
+                    Some(normals) => {
+                        stats.normal_interpolations += 1;
+                        let weights = [1.0 - hit.beta - hit.gamma, hit.beta, hit.gamma];
+                        interpolate(&weights, &normals)
+                    }
+                    None => triangle.face_normal,
+                }
+            }
+            Geometry::Parallelogram { face_normal, .. } => *face_normal,
+        };
+        match object.world_to_object {
+            Some(_) => unit(
+                object
+                    .normal_to_world
+                    .mul_vec3(glam::DVec3::from(normal))
+                    .to_array(),
+            ),
+            None if self.smooth => unit(normal),
+            None => normal,
+        }
+    }
+}
+
+/// Σ wᵢ vᵢ over the three vertices.
+fn interpolate<const N: usize>(weights: &[f64; 3], values: &[[f64; N]; 3]) -> [f64; N] {
+    std::array::from_fn(|k| (0..3).map(|i| weights[i] * values[i][k]).sum())
+}
