@@ -107,15 +107,13 @@ impl Exact {
         small && self.fraction().len() <= LONGEST_FRACTION
     }
 
-    /// For people: the fraction when it is short (`21/22`), else a float marked exact.
+    /// For people: the fraction when it is short (`21/22`), else `≈` and the value to 11 digits (the
+    /// fraction of a float input has a denominator like 2⁵², too long to read).
     pub fn display(&self) -> String {
         if self.is_short() {
             self.fraction()
         } else {
-            format!(
-                "{:.10e} (exact value, fraction too long to show)",
-                self.to_f64()
-            )
+            format!("≈{:.10e}", self.to_f64())
         }
     }
 

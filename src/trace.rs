@@ -23,7 +23,7 @@ pub struct Number {
     /// The exact fraction (`"17/22"`), present only for exact solves.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub exact: Option<String>,
-    /// The exact value as a person should read it: the fraction when short, else a float marked exact.
+    /// The exact value as a person should read it: the fraction when short, else `≈` and the float.
     #[serde(skip)]
     pub exact_shown: Option<String>,
     /// The precision it was computed in (decides how many digits are meaningful).
@@ -65,7 +65,7 @@ impl Number {
     pub fn shown_exactly(&self) -> bool {
         self.exact_shown
             .as_deref()
-            .is_some_and(|s| !s.contains("exact value"))
+            .is_some_and(|s| !s.starts_with('≈'))
     }
 }
 

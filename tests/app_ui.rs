@@ -386,3 +386,167 @@ fn a_running_study_can_be_cancelled() {
     harness.run();
     assert!(harness.state().accuracy.status.contains("cancelled"));
 }
+
+/// Steps frames until the Render view's renders are done (they run on a worker thread).
+fn wait_for_render(harness: &mut Harness<'static, RaylabApp>) {
+    harness.step();
+    harness.step();
+    let started = std::time::Instant::now();
+    while harness.state().state.render.is_rendering() {
+        assert!(
+            started.elapsed().as_secs() < 120,
+            "the render did not finish"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        harness.step();
+    }
+    harness.run();
+}
+
+fn load_render_preset(harness: &mut Harness<'static, RaylabApp>, title: &str) {
+    harness.get_by_label("Presets").click();
+    harness.run();
+    harness.get_by_role_and_label(Role::Button, title).click();
+    wait_for_render(harness);
+}
+
+/// Presses and releases the mouse on the image with this label, at a fraction of its size.
+fn click_image(harness: &mut Harness<'static, RaylabApp>, label: &str, at: Vec2) {
+    let rect = harness.get_by_label(label).rect();
+    let point = rect.min + rect.size() * at;
+    harness.hover_at(point);
+    harness.run();
+    harness.drag_at(point);
+    harness.step();
+    harness.drop_at(point);
+    harness.run();
+}
+
+fn shows_text_containing(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
+    harness
+        .query_all_by(|node| {
+            node.label().is_some_and(|l| l.contains(text))
+                || node.value().is_some_and(|v| v.contains(text))
+        })
+        .next()
+        .is_some()
+}
+
+#[test]
+fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
+    let mut harness = harness();
+    load_render_preset(&mut harness, "Seed 003: facing ratio");
+    assert_eq!(harness.state().state.view, ViewKind::Render);
+    let stats = harness.state().state.render.rendered().unwrap().stats;
+    // The covered pixels of seed 003's own script, and one shading per hit.
+    assert_eq!((stats.hits, stats.shading), (38737, 38737));
+    assert!(shows_text_containing(
+        &harness,
+        "38737 of 131072 pixels hit"
+    ));
+
+    // Turning facing-ratio off renders again without it: the same hits, no shading at all.
+    harness.get_by_label("facing-ratio").click();
+    wait_for_render(&mut harness);
+    let stats = harness.state().state.render.rendered().unwrap().stats;
+    assert_eq!((stats.hits, stats.shading), (38737, 0));
+    harness.get_by_label("facing-ratio").click();
+    wait_for_render(&mut harness);
+
+    // A click in the triangle: its ray goes into the Triangle view and the step panel.
+    click_image(&mut harness, "Correct render", Vec2::new(0.45, 0.5));
+    let probe = harness.state().state.render.probe().cloned().unwrap();
+    let hit = probe
+        .hit
+        .expect("the middle of the image is on the triangle");
+    assert!(shows_text_containing(&harness, "hit object 1 (triangle)"));
+    assert!(shows_text_containing(
+        &harness,
+        &format!("t = {:.6}", hit.t)
+    ));
+    assert!(shows_text_containing(&harness, "facing ratio"));
+    let triangle = &harness.state().state.triangle.scene;
+    assert_eq!((triangle.origin, triangle.dir), (probe.origin, probe.dir));
+    // The step panel shows the probed ray's solve, ending in a hit.
+    assert!(shows(&harness, "1. The system M X = Y"));
+    assert!(shows_text_containing(
+        &harness,
+        "the ray hits the triangle at t ="
+    ));
+    harness.get_by_label("Open in Triangle (3D) →").click();
+    harness.run();
+    assert_eq!(harness.state().state.view, ViewKind::Triangle);
+}
+
+#[test]
+fn a_common_bug_renders_beside_the_correct_image() {
+    let mut harness = harness();
+    load_render_preset(&mut harness, "Render: common bugs");
+    harness.get_by_label("Compare with a bug:").click();
+    harness.run();
+    harness
+        .get_by_role_and_label(Role::Button, "accepting t < 0")
+        .click();
+    wait_for_render(&mut harness);
+    assert!(shows(&harness, "With the bug: accepting t < 0 render"));
+    assert!(shows_text_containing(&harness, "objects behind the camera"));
+    let render = &harness.state().state.render;
+    let (correct, buggy) = (
+        render.rendered().unwrap(),
+        render.rendered_with_bug().unwrap(),
+    );
+    // The triangle behind the camera shows up: more pixels are hit.
+    assert!(
+        buggy.stats.hits > correct.stats.hits + 1000,
+        "{} vs {}",
+        buggy.stats.hits,
+        correct.stats.hits
+    );
+}
+
+#[test]
+fn the_spaces_mode_shows_one_t_in_world_and_object_space() {
+    let mut harness = harness();
+    load_render_preset(&mut harness, "Render: a transformed object");
+    click_image(&mut harness, "Correct render", Vec2::new(0.55, 0.35));
+    let hit = harness.state().state.render.probe().unwrap().hit.unwrap();
+    assert_eq!(hit.object, 0, "the probe is on the stretched sphere");
+    harness.get_by_label("World vs object space").click();
+    harness.run();
+    assert!(shows(&harness, "World space"));
+    assert!(shows(&harness, "Object space"));
+    let t = format!("t = {:.6}", hit.t);
+    let count = harness
+        .query_all_by(|node| {
+            node.label().is_some_and(|l| l.contains(&t))
+                || node.value().is_some_and(|v| v.contains(&t))
+        })
+        .count();
+    assert!(count >= 2, "the same {t} in both spaces ({count} found)");
+    assert!(shows_text_containing(&harness, "Normalising D' would make"));
+}
+
+#[test]
+fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
+    let dir = std::env::temp_dir().join(format!("raylab-ui-render-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("missing-mesh.ron");
+    std::fs::write(
+        &bad,
+        "(title: \"x\", note: \"y\", problem: Render((width: 8, height: 8, camera: ImagePlane(x: (1.0, -1.0), y: (1.0, -1.0), z: 1.0), objects: [(shape: Mesh(obj: \"meshes/nowhere.obj\"))], effects: [\"coverage\"])))",
+    )
+    .unwrap();
+    let mut harness = harness();
+    load_render_preset(&mut harness, "Render: a closed mesh");
+    let before = harness.state().state.render.scene.clone();
+    harness.state_mut().state.scene_path = bad.display().to_string();
+    let notice = harness.state_mut().run_dialog_path(false);
+    assert!(notice.error);
+    assert!(
+        notice.text.contains("meshes/nowhere.obj"),
+        "{}",
+        notice.text
+    );
+    assert_eq!(harness.state().state.render.scene, before);
+    let _ = std::fs::remove_dir_all(&dir);
+}

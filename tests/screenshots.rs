@@ -27,7 +27,8 @@ fn load(harness: &mut Harness<'static, RaylabApp>, title: &str) {
     harness.get_by_label("Presets").click();
     harness.run();
     harness.get_by_role_and_label(Role::Button, title).click();
-    harness.run();
+    // A render preset starts a render: frames keep coming until it is done.
+    wait_for_render(harness);
 }
 
 /// The preset each view is shown with, and what is done before the picture.
@@ -99,6 +100,74 @@ fn readme_screenshots() {
     }
     if write {
         accuracy_screenshot(folder);
+    }
+    render_screenshots(folder, write);
+}
+
+/// Waits until the Render view's images are done.
+fn wait_for_render(harness: &mut Harness<'static, RaylabApp>) {
+    // One frame for the click, one for the view to start its render.
+    harness.step();
+    harness.step();
+    while harness.state().state.render.is_rendering() {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        harness.step();
+    }
+    harness.run();
+}
+
+/// Clicks the image named `label` at a fraction of its width and height.
+fn click_image(harness: &mut Harness<'static, RaylabApp>, label: &str, at: Vec2) {
+    let rect = harness.get_by_label(label).rect();
+    let point = rect.min + rect.size() * at;
+    harness.hover_at(point);
+    harness.run();
+    harness.drag_at(point);
+    harness.step();
+    harness.drop_at(point);
+    harness.run();
+}
+
+/// The Render view: the transformed object probed, a common bug beside the correct image, and a probe
+/// whose ray went into the step panel.
+fn render_screenshots(folder: &str, write: bool) {
+    let shots: [(&str, &str, Option<&str>, Vec2); 3] = [
+        (
+            "render",
+            "Render: a transformed object",
+            None,
+            Vec2::new(0.55, 0.35),
+        ),
+        (
+            "render-bug",
+            "Render: common bugs",
+            Some("accepting t < 0"),
+            Vec2::new(0.3, 0.5),
+        ),
+        (
+            "render-probe",
+            "Seed 003: facing ratio",
+            None,
+            Vec2::new(0.45, 0.5),
+        ),
+    ];
+    for (file, title, bug, at) in shots {
+        let mut harness = harness(Vec2::new(1280.0, 800.0), 1.0, egui::Theme::Light);
+        load(&mut harness, title);
+        wait_for_render(&mut harness);
+        if let Some(bug) = bug {
+            harness.get_by_label("Compare with a bug:").click();
+            harness.run();
+            harness.get_by_role_and_label(Role::Button, bug).click();
+            wait_for_render(&mut harness);
+        }
+        click_image(&mut harness, "Correct render", at);
+        harness.remove_cursor();
+        harness.run();
+        let image = harness.render().expect("the CPU renderer draws");
+        if write {
+            image.save(format!("{folder}/{file}.png")).unwrap();
+        }
     }
 }
 

@@ -438,6 +438,9 @@ impl RenderView {
                     let response = ui
                         .add(egui::Image::new((shown.texture.id(), size)).sense(Sense::click()))
                         .on_hover_text("Click a pixel to probe its ray");
+                    let name = format!("{title} render");
+                    response
+                        .widget_info(|| egui::WidgetInfo::labeled(egui::Role::Image, true, &name));
                     let to_pixel = |pos: egui::Pos2| {
                         let local = (pos - response.rect.min) / scale;
                         let (column, row) = (local.x.floor(), local.y.floor());
@@ -637,7 +640,7 @@ impl RenderView {
             "This object has no transform: object space is world space. Probe the stretched sphere of the transformed-object preset to see the two differ."
         });
         let half = (ui.available_width() - 12.0) / 2.0;
-        let height = (ui.available_height() - 90.0).max(160.0);
+        let height = (ui.available_height() - 130.0).max(160.0);
         ui.horizontal_top(|ui| {
             for (title, vertices, origin, dir) in [
                 ("World space", world_vertices, probe.origin, probe.dir),
@@ -679,7 +682,7 @@ fn length(v: &[f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
-/// A small 3D drawing: the triangle, the ray from its origin, and the hit point at t.
+/// A small 3D drawing framed on the triangle: the triangle, the ray towards it, and the hit at t.
 fn draw_space(
     ui: &mut Ui,
     size: Vec2,
@@ -689,27 +692,50 @@ fn draw_space(
     t: Option<f64>,
 ) {
     let (response, painter) = ui.allocate_painter(size, Sense::hover());
-    let [a, b, c] = vertices.map(DVec3::from);
     let (o, d) = (DVec3::from(origin), DVec3::from(dir));
-    let end = o + d * t.unwrap_or(1.0).abs().max(1.0) * 1.15;
-    let camera = OrbitCamera::framing(&[a, b, c, o, end]).across(d);
+    // A mesh's triangle is small beside the ray: draw around the hit, scaled so the triangle fills
+    // the canvas (only the picture is scaled; the numbers below it are the real ones).
+    let center = o + d * t.unwrap_or(0.0);
+    let size_of = vertices
+        .iter()
+        .map(|v| (DVec3::from(*v) - center).length())
+        .fold(1e-300, f64::max);
+    let local = |p: DVec3| (p - center) / size_of * 2.0;
+    let [a, b, c] = vertices.map(|v| local(DVec3::from(v)));
+    let hit = DVec3::ZERO;
+    let framed = [a, b, c, hit];
+    let camera = OrbitCamera::framing(&framed).across(d);
     let projector = camera.projector(response.rect);
     let canvas = Canvas {
         painter: &painter,
         projector: &projector,
     };
-    canvas.axes(&[a, b, c, o]);
     canvas.polygon(
         &[a, b, c],
-        palette::faded(palette::BETA, 60),
-        Stroke::new(1.5, palette::BETA),
+        palette::faded(palette::BETA, 90),
+        Stroke::new(2.0, palette::BETA),
     );
-    canvas.line(o, end, Stroke::new(2.0, palette::RAY));
-    canvas.arrow(o, o + d, Stroke::new(3.0, palette::RAY));
     let font = egui::FontId::proportional(15.0);
-    canvas.label(o, "O", palette::RAY, font.clone());
-    if let Some(t) = t {
-        canvas.dot(o + d * t, 6.0, palette::SOLUTION);
-        canvas.label_below(o + d * t, &format!("t = {t:.4}"), palette::SOLUTION, font);
+    for (p, name) in [(a, "A"), (b, "B"), (c, "C")] {
+        canvas.label(p, name, palette::BETA, font.clone());
     }
+    // The ray from well before the triangle to a little past it, its direction D drawn at the hit.
+    let reach = (a - hit)
+        .length()
+        .max((b - hit).length())
+        .max((c - hit).length())
+        * 2.0;
+    let step = d.normalize_or_zero() * reach;
+    canvas.line(hit - step, hit + step * 0.5, Stroke::new(2.0, palette::RAY));
+    canvas.arrow(
+        hit - step,
+        hit - step + step * 0.4,
+        Stroke::new(3.0, palette::RAY),
+    );
+    canvas.label(hit - step, "ray", palette::RAY, font.clone());
+    if let Some(t) = t {
+        canvas.dot(hit, 6.0, palette::SOLUTION);
+        canvas.label_below(hit, &format!("t = {t:.4}"), palette::SOLUTION, font);
+    }
+    let _ = response;
 }

@@ -30,7 +30,9 @@ pub fn ui(ui: &mut Ui, trace: &Trace, precision: &mut Precision) {
         }
     });
     ui.separator();
-    egui::ScrollArea::vertical()
+    // Both ways: exact values of float inputs can be wider than the panel, and a wide step must scroll
+    // inside the panel instead of widening it under the view.
+    egui::ScrollArea::both()
         .auto_shrink([false, false])
         .show(ui, |ui| {
             for (index, step) in trace.steps.iter().enumerate() {

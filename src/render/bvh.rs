@@ -52,9 +52,9 @@ impl Bounds {
         }
     }
 
-    /// Whether the ray o + t d meets the box for some t in [0, t_max].
-    fn hit(&self, origin: &V3<f64>, inverse_dir: &V3<f64>, t_max: f64) -> bool {
-        let (mut near, mut far) = (0.0f64, t_max);
+    /// Whether the ray o + t d meets the box for some t in [t_min, t_max].
+    fn hit(&self, origin: &V3<f64>, inverse_dir: &V3<f64>, t_min: f64, t_max: f64) -> bool {
+        let (mut near, mut far) = (t_min, t_max);
         for k in 0..3 {
             if inverse_dir[k].is_infinite() {
                 // Parallel to this slab: inside it or never.
@@ -66,8 +66,9 @@ impl Bounds {
             let t0 = (self.min[k] - origin[k]) * inverse_dir[k];
             let t1 = (self.max[k] - origin[k]) * inverse_dir[k];
             let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-            // Widen the far distance by 2γ₃ so a rounded slab cannot cut off a touching ray.
-            let t1 = t1 * (1.0 + 2.0 * 3.0 * f64::EPSILON);
+            // Widen the distances by 2γ₃ so a rounded slab cannot cut off a touching ray.
+            let widen = 2.0 * 3.0 * f64::EPSILON;
+            let (t0, t1) = (t0 - t0.abs() * widen, t1 + t1.abs() * widen);
             near = near.max(t0);
             far = far.min(t1);
             if near > far {
@@ -146,12 +147,13 @@ impl Bvh {
         self.nodes[index].count = 0;
     }
 
-    /// Visits the triangles whose boxes the ray o + t d meets before the nearest hit so far.
-    /// `test(triangle)` returns the triangle's t when it is hit; `box_tests` counts box tests.
+    /// Visits the triangles whose boxes the ray o + t d meets for t from `t_min` to the nearest hit
+    /// so far. `test(triangle)` returns the triangle's t when it is hit; `box_tests` counts box tests.
     pub fn traverse(
         &self,
         origin: &V3<f64>,
         dir: &V3<f64>,
+        t_min: f64,
         mut t_max: f64,
         box_tests: &mut u64,
         mut test: impl FnMut(usize) -> Option<f64>,
@@ -163,7 +165,7 @@ impl Bvh {
             depth -= 1;
             let node = &self.nodes[stack[depth] as usize];
             *box_tests += 1;
-            if !node.bounds.hit(origin, &inverse_dir, t_max) {
+            if !node.bounds.hit(origin, &inverse_dir, t_min, t_max) {
                 continue;
             }
             if node.count > 0 {
@@ -211,7 +213,7 @@ mod tests {
                 Some(t)
             };
             if through_bvh {
-                bvh.traverse(&origin, &dir, f64::INFINITY, &mut 0, test);
+                bvh.traverse(&origin, &dir, 0.0, f64::INFINITY, &mut 0, test);
             } else {
                 (0..mesh.len()).for_each(|i| {
                     test(i);

@@ -213,14 +213,15 @@ pub fn nearest_hit(
                     }
                     Some(t)
                 };
-                // The BVH only looks ahead (t ≥ 0), so a scene that accepts t < 0 tests everything.
-                match bvh
-                    .as_ref()
-                    .filter(|_| prepared.bug != Some(Bug::NegativeT))
-                {
+                match bvh {
                     Some(bvh) => {
+                        // Accepting t < 0 (a bug) makes the ray a whole line.
+                        let t_min = match prepared.bug {
+                            Some(Bug::NegativeT) => f64::NEG_INFINITY,
+                            _ => 0.0,
+                        };
                         let mut box_tests = 0;
-                        bvh.traverse(&o, &d, t_max, &mut box_tests, &mut test);
+                        bvh.traverse(&o, &d, t_min, t_max, &mut box_tests, &mut test);
                         stats.box_tests += box_tests;
                     }
                     None => (0..triangles.len()).for_each(|i| {
