@@ -1,13 +1,24 @@
-//! The renderer on seed 003's scenes: the same covered pixels as the seed's own method, and only the
-//! work the scene's effects call for.
+//! The renderer, tested without a window: seed 003's covered pixels, effects not called for costing
+//! zero work (read from the statistics), transformed rays giving the world-space t (judged by the
+//! exact reference), and a watertight mesh render without crack pixels.
 
-use raylab::accuracy::Method;
-use raylab::render::{Prepared, RenderScene, assets::Embedded, render};
+use std::path::Path;
+
+use glam::DVec3;
+use raylab::accuracy::reference::reference;
+use raylab::accuracy::{Case, Method};
+use raylab::geometry::linalg::{V3, cross, dot, sub};
+use raylab::render::bvh::Bvh;
+use raylab::render::cast::{nearest_hit, test_triangle, to_object_space};
+use raylab::render::objects::{
+    Geometry, Object, PreparedObject, PreparedTriangle, Shape, Transform, prepare, unit,
+};
+use raylab::render::{Bug, Effect, Image, Prepared, RenderScene, Stats, assets::Embedded, render};
 use raylab::scene::{Problem, Scene};
 
 fn scene(file: &str) -> RenderScene {
     let path = format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
-    match Scene::load(std::path::Path::new(&path)).unwrap().problem {
+    match Scene::load(Path::new(&path)).unwrap().problem {
         Problem::Render(scene) => scene,
         other => panic!("{file} is not a render scene: {other:?}"),
     }
@@ -17,6 +28,73 @@ fn prepared(file: &str, method: Method) -> Prepared {
     let mut prepared = Prepared::new(&scene(file), &Embedded).unwrap();
     prepared.method = Some(method);
     prepared
+}
+
+/// Every shipped scene file whose problem is a render, by file name.
+fn shipped_render_scenes() -> Vec<(String, RenderScene)> {
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let mut files: Vec<_> = std::fs::read_dir(&folder)
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .filter_map(|path| match Scene::load(&path).unwrap().problem {
+            Problem::Render(scene) => {
+                let name = path.file_name().unwrap().to_string_lossy().into_owned();
+                Some((name, scene))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+/// The same camera with each side divided by `k` (the debug profile renders slowly).
+fn shrunk(mut prepared: Prepared, k: usize) -> Prepared {
+    prepared.width = (prepared.width / k).max(1);
+    prepared.height = (prepared.height / k).max(1);
+    prepared
+}
+
+/// The triangles of a triangle object (panics for a parallelogram).
+fn triangles(object: &PreparedObject) -> &[PreparedTriangle] {
+    match &object.geometry {
+        Geometry::Triangles { triangles, .. } => triangles,
+        Geometry::Parallelogram { .. } => panic!("not a triangle object"),
+    }
+}
+
+/// A triangle with its face normal and no attributes.
+fn bare_triangle(vertices: [V3<f64>; 3]) -> PreparedTriangle {
+    let [a, b, c] = &vertices;
+    PreparedTriangle {
+        vertices,
+        face_normal: unit(cross(&sub(b, a), &sub(c, a))),
+        colors: None,
+        normals: None,
+        uvs: None,
+    }
+}
+
+/// The object's triangles moved into world space: M applied to every vertex.
+fn world_triangles(object: &PreparedObject) -> Vec<PreparedTriangle> {
+    triangles(object)
+        .iter()
+        .map(|t| {
+            bare_triangle(t.vertices.map(|v| {
+                object
+                    .object_to_world
+                    .transform_point3(DVec3::from(v))
+                    .to_array()
+            }))
+        })
+        .collect()
+}
+
+fn length(v: &V3<f64>) -> f64 {
+    dot(v, v).sqrt()
 }
 
 #[test]
@@ -45,4 +123,736 @@ fn the_facing_scene_shades_and_never_interpolates() {
     let (_, stats) = render(&prepared("seed003-barycentric.ron", Method::Watertight));
     assert_eq!(stats.shading, 0);
     assert_eq!(stats.color_interpolations, stats.hits);
+}
+
+/// `raylab`'s Möller–Trumbore render of seed 003's facing-ratio scene covers exactly the pixels the peer
+/// script `../shared/peers/seed003_render.py facing` counts (38737, checked against the script).
+#[test]
+fn seed_003_facing_covers_as_many_pixels_as_the_peer_script() {
+    let (image, stats) = render(&prepared("seed003-facing.ron", Method::MollerTrumbore));
+    assert_eq!(image.covered_pixels(), 38_737);
+    assert_eq!(stats.hits, 38_737);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Effects not called for cost zero work.
+
+/// The four counters that belong to effects, and the effects that may make each one non-zero.
+const EFFECT_COUNTERS: [(&str, &[Effect]); 4] = [
+    ("color_interpolations", &[Effect::BarycentricColor]),
+    ("normal_interpolations", &[Effect::SmoothNormals]),
+    ("texture_samples", &[Effect::Texture]),
+    ("shading", &[Effect::FacingRatio, Effect::SmoothNormals]),
+];
+
+fn effect_work(stats: &Stats) -> [u64; 4] {
+    [
+        stats.color_interpolations,
+        stats.normal_interpolations,
+        stats.texture_samples,
+        stats.shading,
+    ]
+}
+
+/// The work that does not depend on the effects: casting and intersecting.
+fn geometry_work(stats: &Stats) -> [u64; 6] {
+    [
+        stats.rays,
+        stats.triangle_tests,
+        stats.parallelogram_tests,
+        stats.box_tests,
+        stats.transforms,
+        stats.hits,
+    ]
+}
+
+/// The effect work one hit on (object, triangle) calls for: a counter counts only where its effect is
+/// on and the hit object has what the effect reads (vertex colours, vertex normals, a texture). A
+/// textured object under `texture` shows its texture, so its vertex colours are not interpolated.
+fn work_for_hit(prepared: &Prepared, object: usize, primitive: usize) -> [u64; 4] {
+    let on = |e: Effect| prepared.effects.contains(&e);
+    let object = &prepared.objects[object];
+    let triangle = match &object.geometry {
+        Geometry::Triangles { triangles, .. } => Some(&triangles[primitive]),
+        Geometry::Parallelogram { .. } => None,
+    };
+    let texture = on(Effect::Texture) && object.texture.is_some();
+    let color =
+        on(Effect::BarycentricColor) && !texture && triangle.is_some_and(|t| t.colors.is_some());
+    let normal = on(Effect::SmoothNormals) && triangle.is_some_and(|t| t.normals.is_some());
+    let shading = on(Effect::FacingRatio) || on(Effect::SmoothNormals);
+    [color, normal, texture, shading].map(u64::from)
+}
+
+/// The (object, triangle) behind each covered pixel.
+fn hit_targets(prepared: &Prepared, covered: &[bool]) -> Vec<(usize, usize)> {
+    let mut targets = Vec::new();
+    for row in 0..prepared.height {
+        for column in 0..prepared.width {
+            if !covered[row * prepared.width + column] {
+                continue;
+            }
+            let (origin, dir) = prepared.ray(row, column);
+            targets.push(
+                match nearest_hit(prepared, origin, dir, &mut Stats::default()) {
+                    Some(hit) => (hit.object, hit.primitive),
+                    // The batched f32 coverage kernel (seed 003's scenes) may cover an edge pixel
+                    // the f64 cast misses; those scenes hold one triangle, so the hit is on it.
+                    None => {
+                        assert_eq!(prepared.objects.len(), 1, "pixel ({row}, {column})");
+                        (0, 0)
+                    }
+                },
+            );
+        }
+    }
+    targets
+}
+
+/// The effect work a render with `prepared.effects` calls for, given what each covered pixel hit.
+fn expected_work(prepared: &Prepared, targets: &[(usize, usize)]) -> [u64; 4] {
+    let mut total = [0; 4];
+    for &(object, primitive) in targets {
+        let work = work_for_hit(prepared, object, primitive);
+        for k in 0..4 {
+            total[k] += work[k];
+        }
+    }
+    total
+}
+
+#[test]
+fn effects_not_called_for_cost_zero_work() {
+    let scenes = shipped_render_scenes();
+    let names: Vec<&str> = scenes.iter().map(|(n, _)| n.as_str()).collect();
+    for expected in [
+        "render-common-bugs.ron",
+        "render-mesh.ron",
+        "render-textured-quad.ron",
+        "render-transformed.ron",
+        "seed003-barycentric.ron",
+        "seed003-facing.ron",
+    ] {
+        assert!(names.contains(&expected), "{expected} not among {names:?}");
+    }
+    for (file, scene) in &scenes {
+        // A quarter of each side: the counting rules do not depend on the resolution.
+        let base = shrunk(Prepared::new(scene, &Embedded).unwrap(), 4);
+        // The scene's effects, each one left out in turn, and coverage alone.
+        let mut subsets = vec![scene.effects.clone()];
+        for left_out in &scene.effects {
+            subsets.push(
+                scene
+                    .effects
+                    .iter()
+                    .copied()
+                    .filter(|e| e != left_out)
+                    .collect(),
+            );
+        }
+        subsets.push(vec![Effect::Coverage]);
+        let mut first: Option<(Image, Stats)> = None;
+        let mut targets = None;
+        for effects in subsets {
+            let mut prepared = base.clone();
+            prepared.effects = effects.clone();
+            let (image, stats) = render(&prepared);
+            let what = format!("{file} with {effects:?}");
+            let work = effect_work(&stats);
+            // An effect not called for: its counter is zero.
+            for (k, (counter, owners)) in EFFECT_COUNTERS.iter().enumerate() {
+                if !owners.iter().any(|e| effects.contains(e)) {
+                    assert_eq!(work[k], 0, "{what}: {counter}");
+                }
+            }
+            assert!(stats.hits > 0, "{what}: nothing hit");
+            // What was hit behind each pixel does not depend on the effects (checked below).
+            let targets = targets.get_or_insert_with(|| hit_targets(&prepared, &image.covered));
+            // Called for: exactly one unit of work per hit on an object that has what it reads.
+            assert_eq!(
+                work,
+                expected_work(&prepared, targets),
+                "{what}: [colour, normal, texture, shading]"
+            );
+            if effects == [Effect::Coverage] {
+                assert_eq!(work, [0; 4], "{what}");
+                // A hit mask and nothing else: white where covered, black elsewhere.
+                for (pixel, covered) in image.pixels.iter().zip(&image.covered) {
+                    assert_eq!(*pixel, [f32::from(u8::from(*covered)); 3], "{what}");
+                }
+            }
+            // Effects change neither what is hit nor how many rays, tests and transforms it took.
+            match &first {
+                None => {
+                    // The scene as shipped: each effect it calls for with a counter does work.
+                    for (k, (counter, owners)) in EFFECT_COUNTERS.iter().enumerate() {
+                        if owners.iter().any(|e| effects.contains(e)) {
+                            assert!(work[k] > 0, "{what}: {counter} is 0");
+                        }
+                    }
+                    first = Some((image, stats));
+                }
+                Some((first_image, first_stats)) => {
+                    assert_eq!(geometry_work(&stats), geometry_work(first_stats), "{what}");
+                    assert_eq!(image.covered, first_image.covered, "{what}");
+                }
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Transformed rays give the same t as world-space intersection.
+
+/// The tolerance on |t_object − t| / t, with t the exact world-space t.
+///
+/// The two problems differ only by roundings: M⁻¹ is computed, O' = M⁻¹O and D' = M⁻¹D are rounded,
+/// and the world vertices M·v are rounded — each moves a point by a few ulps of the coordinates
+/// involved, amplified by κ(M) = ‖M‖·‖M⁻¹‖ (Frobenius norms). Moving the triangle's plane or the
+/// origin by δ moves the hit by δ / |cos θ| along the ray (θ between the ray and the triangle's
+/// normal), so t moves relatively by about κ ε (|O| + |V|) / (t |D| |cos θ|). The bound is 16 times
+/// that: room for the dozen roundings on the way (each ≤ ε/2), at most about 1e-11 for the rays here —
+/// while a real mistake, such as a normalised direction, is off by tens of percent.
+fn t_tolerance(
+    object: &PreparedObject,
+    origin: &V3<f64>,
+    dir: &V3<f64>,
+    world_triangle: &PreparedTriangle,
+    t: f64,
+) -> f64 {
+    let frobenius = |m: glam::DMat3| {
+        (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared()).sqrt()
+    };
+    let m = object.object_to_world.matrix3;
+    let kappa = frobenius(m) * frobenius(m.inverse());
+    let farthest_vertex = world_triangle
+        .vertices
+        .iter()
+        .map(length)
+        .fold(0.0, f64::max);
+    let cos = dot(&world_triangle.face_normal, dir).abs() / length(dir);
+    16.0 * kappa * f64::EPSILON * (length(origin) + farthest_vertex) / (t * length(dir) * cos)
+}
+
+/// A decision is compared with the exact one only where the exact β, γ and 1 − β − γ are all at least
+/// this far from zero: closer, the roundings of the two problems may legitimately decide differently.
+const EDGE_MARGIN: f64 = 1e-9;
+
+/// What [`same_t_in_both_spaces`] saw.
+#[derive(Debug, Default)]
+struct TransformCheck {
+    /// Ray–triangle pairs (hits and near misses) whose decisions were compared with the exact one.
+    decided: usize,
+    /// Hits whose object-space t was compared with the exact world t.
+    hits: usize,
+    /// The largest relative error of the object-space t.
+    worst_t: f64,
+    /// The largest share of its tolerance an error used.
+    worst_share: f64,
+    /// The largest tolerance allowed.
+    largest_tolerance: f64,
+    /// Hits where normalising D' gave a t off by more than 10%.
+    normalised_off: usize,
+}
+
+/// For each ray and each triangle of a transformed object near it: the object-space decision and t (the ray
+/// taken in by `to_object_space`, the object's own triangle, the renderer's method) against the exact
+/// decision and t of the world-space problem (world ray, triangle moved by M).
+fn same_t_in_both_spaces(
+    object: &PreparedObject,
+    method: Method,
+    rays: &[(V3<f64>, V3<f64>)],
+) -> TransformCheck {
+    let world = world_triangles(object);
+    let spheres = bounding_spheres(triangles(object));
+    let mut check = TransformCheck::default();
+    for &(origin, dir) in rays {
+        let (o, d) = to_object_space(object, origin, dir, None, &mut Stats::default());
+        let (o_n, d_n) = to_object_space(
+            object,
+            origin,
+            dir,
+            Some(Bug::NormalizedDirection),
+            &mut Stats::default(),
+        );
+        assert_eq!(o_n, o, "the bug changes only the direction");
+        // The triangles near the ray in object space (see `near_triangles`).
+        let candidates: Vec<usize> = near_triangles(&spheres, o, d, 1e-9).collect();
+        for i in candidates {
+            let (triangle, world_triangle) = (&triangles(object)[i], &world[i]);
+            let in_object = test_triangle(triangle, method, None, o, d);
+            let in_world = test_triangle(world_triangle, method, None, origin, dir);
+            let exact = reference(&Case {
+                tri: world_triangle.vertices,
+                origin,
+                dir,
+            });
+            let Some([t, beta, gamma]) = exact.values else {
+                continue;
+            };
+            let away_from_edges = [beta, gamma, 1.0 - beta - gamma]
+                .iter()
+                .all(|w| w.abs() >= EDGE_MARGIN);
+            if !away_from_edges {
+                continue;
+            }
+            check.decided += 1;
+            let what = format!(
+                "ray {origin:?} + t {dir:?}, triangle {:?}",
+                triangle.vertices
+            );
+            assert_eq!(in_object.is_some(), exact.hit, "object space: {what}");
+            assert_eq!(in_world.is_some(), exact.hit, "world space: {what}");
+            let Some([t_object, _, _]) = in_object else {
+                continue;
+            };
+            check.hits += 1;
+            let error = (t_object - t).abs() / t;
+            let tolerance = t_tolerance(object, &origin, &dir, world_triangle, t);
+            assert!(
+                error <= tolerance,
+                "t {t_object} vs exact {t} (relative {error:e} > {tolerance:e}): {what}"
+            );
+            check.worst_t = check.worst_t.max(error);
+            check.worst_share = check.worst_share.max(error / tolerance);
+            check.largest_tolerance = check.largest_tolerance.max(tolerance);
+            // Normalising D' after the transform: the same point, reached at t·|D'|.
+            let [t_normalised, _, _] =
+                test_triangle(triangle, method, None, o_n, d_n).expect("the same line, a hit");
+            let factor = length(&d);
+            assert!(
+                (t_normalised - t * factor).abs() <= 2.0 * tolerance * t * factor,
+                "normalised t {t_normalised} vs t·|D'| {}: {what}",
+                t * factor
+            );
+            if (t_normalised - t).abs() > 0.1 * t {
+                check.normalised_off += 1;
+            }
+        }
+    }
+    check
+}
+
+/// Camera rays on a grid of every `step`-th pixel.
+fn camera_rays(prepared: &Prepared, step: usize) -> Vec<(V3<f64>, V3<f64>)> {
+    (0..prepared.height)
+        .step_by(step)
+        .flat_map(|row| (0..prepared.width).step_by(step).map(move |c| (row, c)))
+        .map(|(row, column)| prepared.ray(row, column))
+        .collect()
+}
+
+#[test]
+fn transformed_rays_give_the_same_t_as_world_space_intersection() {
+    // The shipped transformed meshes, with their scenes' camera rays; for each, the least share of
+    // hits where a normalised D' is off by more than 10%. Scaled (1.6, 0.6, 0.9) and turned, every
+    // camera direction changes length by more than that; scaled (0.5, 1.5, 0.7) and seen along y,
+    // some directions keep |D'| close to |D|.
+    for (file, index, least_share_off) in [
+        ("render-transformed.ron", 0, 1.0),
+        ("render-common-bugs.ron", 1, 0.4),
+    ] {
+        let prepared = Prepared::new(&scene(file), &Embedded).unwrap();
+        let object = &prepared.objects[index];
+        assert!(object.world_to_object.is_some(), "{file}: not transformed");
+        let check = same_t_in_both_spaces(
+            object,
+            prepared.method_for(object),
+            &camera_rays(&prepared, 12),
+        );
+        eprintln!("{file}: {check:?}");
+        assert!(check.hits > 100, "{file}: {check:?}");
+        assert!(
+            check.decided > 5 * check.hits,
+            "{file}: few misses compared"
+        );
+        assert!(
+            check.normalised_off as f64 >= least_share_off * check.hits as f64,
+            "{file}: {check:?}"
+        );
+    }
+
+    // A triangle turned about all three axes, scaled non-uniformly and moved, with seeded random rays
+    // from all around aimed near it (some just inside, some just outside its edges).
+    let object = Object {
+        shape: Shape::Triangle {
+            vertices: [[-1.0, -0.5, 0.2], [1.3, -0.4, -0.1], [0.1, 1.1, 0.3]],
+            colors: None,
+            normals: None,
+            uvs: None,
+        },
+        color: [0.8; 3],
+        texture: None,
+        transform: Transform {
+            translate: [0.7, -1.9, 2.4],
+            rotate: [35.0, -60.0, 110.0],
+            scale: [3.0, 0.4, 1.7],
+        },
+    };
+    let prepared = prepare(&object, &Embedded).unwrap();
+    let [a, b, c] = world_triangles(&prepared)[0].vertices;
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    let mut uniform = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let rays: Vec<(V3<f64>, V3<f64>)> = (0..2000)
+        .map(|_| {
+            let (beta, gamma) = (uniform() * 1.4 - 0.2, uniform() * 1.4 - 0.2);
+            let target: V3<f64> =
+                std::array::from_fn(|k| a[k] + beta * (b[k] - a[k]) + gamma * (c[k] - a[k]));
+            let origin: V3<f64> = std::array::from_fn(|_| uniform() * 20.0 - 10.0);
+            // Not unit length: t is in units of |D|, as the world ray has it.
+            let scale = 0.5 + uniform() * 2.0;
+            (origin, sub(&target, &origin).map(|x| x * scale))
+        })
+        .collect();
+    let check = same_t_in_both_spaces(&prepared, Method::MollerTrumbore, &rays);
+    eprintln!("rotated triangle: {check:?}");
+    assert!(
+        check.hits > 500 && check.decided > check.hits + 300,
+        "{check:?}"
+    );
+    // Under scale (3, 0.4, 1.7) most directions change length by far more than 10%.
+    assert!(check.normalised_off > check.hits * 3 / 4, "{check:?}");
+}
+
+/// The renderer with transformed rays draws the same depth image as the mesh moved into world space
+/// (no transform at all); normalising D' in object space draws a different one.
+#[test]
+fn normalising_the_object_space_direction_changes_the_depth_image() {
+    let mut correct = shrunk(
+        Prepared::new(&scene("render-transformed.ron"), &Embedded).unwrap(),
+        3,
+    );
+    correct.effects = vec![Effect::Depth];
+    let mesh = 0;
+    assert!(correct.objects[mesh].is_mesh && correct.objects[mesh].world_to_object.is_some());
+
+    // The same scene with the mesh's vertices moved by M and the rays left in world space.
+    let mut world = correct.clone();
+    let moved = world_triangles(&world.objects[mesh]);
+    let object = &mut world.objects[mesh];
+    object.geometry = Geometry::Triangles {
+        bvh: Some(Bvh::build(&moved)),
+        triangles: moved,
+    };
+    object.world_to_object = None;
+    object.object_to_world = glam::DAffine3::IDENTITY;
+
+    let mut buggy = correct.clone();
+    buggy.bug = Some(Bug::NormalizedDirection);
+
+    let (correct_image, correct_stats) = render(&correct);
+    let (world_image, world_stats) = render(&world);
+    let (buggy_image, _) = render(&buggy);
+    assert!(correct_stats.transforms > 0 && world_stats.transforms == 0);
+
+    // Pixels whose nearest hit is the mesh, in the correct render.
+    let mesh_pixels: Vec<usize> = (0..correct.height * correct.width)
+        .filter(|i| {
+            let (origin, dir) = correct.ray(i / correct.width, i % correct.width);
+            nearest_hit(&correct, origin, dir, &mut Stats::default())
+                .is_some_and(|h| h.object == mesh)
+        })
+        .collect();
+    assert!(mesh_pixels.len() > 1000, "{}", mesh_pixels.len());
+
+    // Correct vs world space: the same coverage and, pixel by pixel, the same depth shade up to f32
+    // rounding of the shade (the t's agree to ~1e-15).
+    let differ = |a: &Image, b: &Image, tolerance: f32| {
+        (0..a.pixels.len())
+            .filter(|&i| {
+                a.covered[i] != b.covered[i]
+                    || (0..3).any(|k| (a.pixels[i][k] - b.pixels[i][k]).abs() > tolerance)
+            })
+            .count()
+    };
+    assert_eq!(differ(&correct_image, &world_image, 1e-6), 0);
+    // The buggy render: most of the mesh's pixels get a wrong depth (or are hidden or shown wrongly).
+    let wrong = differ(&correct_image, &buggy_image, 1e-3);
+    eprintln!(
+        "normalised D': {wrong} of {} pixels differ ({} on the mesh)",
+        correct_image.pixels.len(),
+        mesh_pixels.len()
+    );
+    assert!(wrong > mesh_pixels.len() / 2, "{wrong}");
+}
+
+// ---------------------------------------------------------------------------------------------------
+// A watertight mesh render has no crack pixels where the mesh is closed.
+
+/// Distance from the point `p` to the ray's line (plain arithmetic: this runs a lot in debug builds).
+fn distance_to_line(p: &V3<f64>, origin: &V3<f64>, dir: &V3<f64>) -> f64 {
+    let v = [p[0] - origin[0], p[1] - origin[1], p[2] - origin[2]];
+    let c = [
+        v[1] * dir[2] - v[2] * dir[1],
+        v[2] * dir[0] - v[0] * dir[2],
+        v[0] * dir[1] - v[1] * dir[0],
+    ];
+    ((c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+        / (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]))
+        .sqrt()
+}
+
+/// Each triangle's bounding sphere: its centroid and the distance to its farthest vertex.
+fn bounding_spheres(mesh: &[PreparedTriangle]) -> Vec<(V3<f64>, f64)> {
+    mesh.iter()
+        .map(|t| {
+            let centre: V3<f64> =
+                std::array::from_fn(|k| t.vertices.iter().map(|v| v[k]).sum::<f64>() / 3.0);
+            let radius = t
+                .vertices
+                .iter()
+                .map(|v| length(&sub(v, &centre)))
+                .fold(0.0, f64::max);
+            (centre, radius)
+        })
+        .collect()
+}
+
+/// The triangles whose bounding sphere the ray's line passes within `margin` of: a line that misses
+/// a triangle's bounding sphere misses the triangle, so the others need no test.
+fn near_triangles(
+    spheres: &[(V3<f64>, f64)],
+    origin: V3<f64>,
+    dir: V3<f64>,
+    margin: f64,
+) -> impl Iterator<Item = usize> {
+    spheres
+        .iter()
+        .enumerate()
+        .filter(move |(_, (centre, radius))| {
+            distance_to_line(centre, &origin, &dir) <= radius + margin
+        })
+        .map(|(i, _)| i)
+}
+
+/// The octasphere's facts the crack check leans on: every vertex on the unit sphere, and the radius
+/// of the ball around the origin inside every face's plane (the nearest face plane). A ray that
+/// passes closer to the origin than that starts outside the closed mesh and goes in, so it must hit.
+fn octasphere_radii(mesh: &[PreparedTriangle]) -> f64 {
+    for t in mesh {
+        for v in &t.vertices {
+            assert!(
+                (length(v) - 1.0).abs() < 1e-12,
+                "{v:?} is not on the unit sphere"
+            );
+        }
+    }
+    mesh.iter()
+        .map(|t| dot(&t.face_normal, &t.vertices[0]))
+        .inspect(|d| assert!(*d > 0.9, "a face that does not face outward: {d}"))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Crack pixels: not covered, though the exact reference says the pixel's ray hits a triangle.
+///
+/// Only rays within the unit sphere's radius (plus a margin far above f64 rounding) of the origin can
+/// hit (every vertex is on the unit sphere); for those, the triangles near the ray are decided exactly.
+fn crack_pixels(
+    prepared: &Prepared,
+    image: &Image,
+    mesh: &[PreparedTriangle],
+) -> Vec<(usize, usize)> {
+    let spheres = bounding_spheres(mesh);
+    let mut cracks = Vec::new();
+    for row in 0..prepared.height {
+        for column in 0..prepared.width {
+            if image.covered[row * prepared.width + column] {
+                continue;
+            }
+            let (origin, dir) = prepared.ray(row, column);
+            if distance_to_line(&[0.0; 3], &origin, &dir) > 1.0 + 1e-9 {
+                continue;
+            }
+            let hit = near_triangles(&spheres, origin, dir, 1e-9).any(|i| {
+                reference(&Case {
+                    tri: mesh[i].vertices,
+                    origin,
+                    dir,
+                })
+                .hit
+            });
+            if hit {
+                cracks.push((row, column));
+            }
+        }
+    }
+    cracks
+}
+
+/// Pixels whose ray passes within `radius` of the origin but that are not covered.
+fn uncovered_inside(prepared: &Prepared, image: &Image, radius: f64) -> Vec<(usize, usize)> {
+    (0..prepared.height)
+        .flat_map(|row| (0..prepared.width).map(move |column| (row, column)))
+        .filter(|&(row, column)| {
+            let (origin, dir) = prepared.ray(row, column);
+            !image.covered[row * prepared.width + column]
+                && distance_to_line(&[0.0; 3], &origin, &dir) < radius
+        })
+        .collect()
+}
+
+#[test]
+fn a_watertight_mesh_render_has_no_crack_pixels_where_the_mesh_is_closed() {
+    let mut prepared = Prepared::new(&scene("render-mesh.ron"), &Embedded).unwrap();
+    assert_eq!(prepared.method, None, "the scene should use the default");
+    assert_eq!(
+        prepared.method_for(&prepared.objects[0]),
+        Method::Watertight
+    );
+    // Coverage is all the crack check reads (effects change no coverage: see above).
+    prepared.effects = vec![Effect::Coverage];
+    let (width, height) = (prepared.width, prepared.height);
+    assert!(
+        width % 2 == 1 && height % 2 == 1,
+        "the centre rays need an odd size"
+    );
+    let mesh = triangles(&prepared.objects[0]).to_vec();
+    let inradius = octasphere_radii(&mesh);
+    let spheres = bounding_spheres(&mesh);
+
+    let (image, _) = render(&prepared);
+    assert_eq!(crack_pixels(&prepared, &image, &mesh), vec![]);
+    // Every ray that certainly enters the closed mesh is covered.
+    assert_eq!(uncovered_inside(&prepared, &image, inradius - 1e-9), vec![]);
+
+    // The centre row and column run exactly along edges (in the planes z = 0 and x = 0): covered
+    // without a gap across the silhouette.
+    let (centre_row, centre_column) = (height / 2, width / 2);
+    for (name, pixels, plane_axis) in [
+        (
+            "centre row",
+            (0..width).map(|c| (centre_row, c)).collect::<Vec<_>>(),
+            2,
+        ),
+        (
+            "centre column",
+            (0..height).map(|r| (r, centre_column)).collect(),
+            0,
+        ),
+    ] {
+        let mut inside = Vec::new();
+        for &(r, c) in &pixels {
+            let (origin, dir) = prepared.ray(r, c);
+            assert_eq!((origin[plane_axis], dir[plane_axis]), (0.0, 0.0), "{name}");
+            inside.push(distance_to_line(&[0.0; 3], &origin, &dir) < inradius - 1e-9);
+        }
+        let covered: Vec<bool> = pixels
+            .iter()
+            .map(|&(r, c)| image.covered[r * width + c])
+            .collect();
+        let first = covered.iter().position(|c| *c).expect("something covered");
+        let last = covered.iter().rposition(|c| *c).unwrap();
+        assert!(
+            covered[first..=last].iter().all(|c| *c),
+            "{name}: a gap in {first}..={last}"
+        );
+        assert!(inside.iter().filter(|i| **i).count() > 200, "{name}");
+        for (i, inside) in inside.iter().enumerate() {
+            assert!(
+                !inside || covered[i],
+                "{name}: pixel {i} uncovered inside the mesh"
+            );
+        }
+    }
+    // The centre pixel's ray is the y axis itself, through the vertex (0, −1, 0).
+    assert_eq!(prepared.ray(centre_row, centre_column).1, [0.0, 1.0, 0.0]);
+
+    // For comparison (reported, not asserted): Möller–Trumbore in f64 as the renderer runs it, and the
+    // same method in f32 on the centre row and column (the rays along edges), counted the same way.
+    prepared.method = Some(Method::MollerTrumbore);
+    let (mt, _) = render(&prepared);
+    let mt_cracks = crack_pixels(&prepared, &mt, &mesh);
+    eprintln!(
+        "render-mesh: watertight 0 cracks; moller-trumbore f64 {} crack pixels {:?}",
+        mt_cracks.len(),
+        &mt_cracks[..mt_cracks.len().min(8)]
+    );
+    let mut f32_misses = Vec::new();
+    let centre_pixels = (0..width)
+        .map(|c| (centre_row, c))
+        .chain((0..height).map(|r| (r, centre_column)));
+    for (r, c) in centre_pixels {
+        let (origin, dir) = prepared.ray(r, c);
+        if distance_to_line(&[0.0; 3], &origin, &dir) >= inradius - 1e-6 {
+            continue;
+        }
+        // f32 rounding moves the ray and the vertices by less than 1e-6: the margin covers it.
+        let hit = near_triangles(&spheres, origin, dir, 1e-5).any(|i| {
+            let case = Case {
+                tri: mesh[i].vertices,
+                origin,
+                dir,
+            }
+            .to_f32();
+            Method::MollerTrumbore.run(&case).hit
+        });
+        if !hit {
+            f32_misses.push((r, c));
+        }
+    }
+    eprintln!(
+        "render-mesh: moller-trumbore f32 misses {} of the centre row's and column's rays that \
+         certainly enter the mesh: {:?}",
+        f32_misses.len(),
+        &f32_misses[..f32_misses.len().min(8)]
+    );
+}
+
+/// The BVH changes how many triangles are tested, never which one is hit first.
+#[test]
+fn the_bvh_render_equals_a_brute_force_render() {
+    let mut small_mesh = Prepared::new(&scene("render-mesh.ron"), &Embedded).unwrap();
+    // Odd, so the centre row and column still run along the mesh's edges.
+    (small_mesh.width, small_mesh.height) = (21, 21);
+    let small_transformed = shrunk(
+        Prepared::new(&scene("render-transformed.ron"), &Embedded).unwrap(),
+        20,
+    );
+    for with_bvh in [small_mesh, small_transformed] {
+        let mut brute = with_bvh.clone();
+        for object in &mut brute.objects {
+            if let Geometry::Triangles { bvh, .. } = &mut object.geometry {
+                assert!(bvh.take().is_some(), "a mesh without a BVH");
+            }
+        }
+        let (image, stats) = render(&with_bvh);
+        let (brute_image, brute_stats) = render(&brute);
+        assert_eq!(image, brute_image);
+        assert_eq!(stats.hits, brute_stats.hits);
+        assert!(stats.hits > 50, "{stats:?}");
+        assert!(
+            stats.triangle_tests * 4 < brute_stats.triangle_tests,
+            "the BVH saves little: {} vs {} tests",
+            stats.triangle_tests,
+            brute_stats.triangle_tests
+        );
+    }
+    // The full-size mesh scene's centre row and column, where the rays run along edges: the nearest
+    // hit through the BVH is the nearest of every triangle the ray comes near (ties to the lower
+    // index, as the renderer breaks them).
+    let prepared = Prepared::new(&scene("render-mesh.ron"), &Embedded).unwrap();
+    let mesh = triangles(&prepared.objects[0]);
+    let method = prepared.method_for(&prepared.objects[0]);
+    let spheres = bounding_spheres(mesh);
+    let (w, h) = (prepared.width, prepared.height);
+    let mut hits = 0;
+    for (r, c) in (0..w).map(|c| (h / 2, c)).chain((0..h).map(|r| (r, w / 2))) {
+        let (origin, dir) = prepared.ray(r, c);
+        let brute = near_triangles(&spheres, origin, dir, 1e-9)
+            .filter_map(|i| Some((test_triangle(&mesh[i], method, None, origin, dir)?[0], i)))
+            .min_by(|a, b| a.partial_cmp(b).unwrap());
+        let through_bvh = nearest_hit(&prepared, origin, dir, &mut Stats::default());
+        assert_eq!(
+            through_bvh.map(|hit| (hit.t, hit.primitive)),
+            brute,
+            "pixel ({r}, {c})"
+        );
+        hits += usize::from(brute.is_some());
+    }
+    assert!(hits > 400, "{hits}");
 }

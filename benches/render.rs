@@ -1,0 +1,120 @@
+//! What skipping an effect saves: whole-image renders of the same scene with all its effects, with each
+//! one turned off, and with coverage only; and what the BVH saves over testing every triangle.
+//!
+//! `cargo bench --bench render` (about a minute and a half; renders run in parallel over rows).
+
+use std::time::Duration;
+
+use criterion::{
+    BenchmarkGroup, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
+};
+use raylab::render::objects::Geometry;
+use raylab::render::{Effect, Prepared, RenderScene, assets::Embedded, render};
+use raylab::scene::{Problem, Scene};
+
+fn scene(file: &str) -> RenderScene {
+    let path = format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+    match Scene::load(std::path::Path::new(&path)).unwrap().problem {
+        Problem::Render(scene) => scene,
+        other => panic!("{file} is not a render scene: {other:?}"),
+    }
+}
+
+fn names(effects: &[Effect]) -> String {
+    effects
+        .iter()
+        .map(|e| e.name())
+        .collect::<Vec<_>>()
+        .join("+")
+}
+
+fn bench_render(
+    group: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    id: &str,
+    prepared: &Prepared,
+) {
+    group.throughput(Throughput::Elements(
+        (prepared.width * prepared.height) as u64,
+    ));
+    group.bench_function(id, |b| b.iter(|| render(prepared).1.hits));
+}
+
+/// Each scene with all its effects, each one left out, and coverage alone.
+fn effects(c: &mut Criterion) {
+    for file in [
+        "render-transformed.ron",
+        "render-textured-quad.ron",
+        "seed003-barycentric.ron",
+    ] {
+        let scene = scene(file);
+        let prepared = Prepared::new(&scene, &Embedded).unwrap();
+        let mut subsets = vec![("all".to_string(), scene.effects.clone())];
+        for left_out in &scene.effects {
+            let rest: Vec<Effect> = scene
+                .effects
+                .iter()
+                .copied()
+                .filter(|e| e != left_out)
+                .collect();
+            subsets.push((format!("without {}", left_out.name()), rest));
+        }
+        subsets.push(("coverage only".into(), vec![Effect::Coverage]));
+        let mut group = c.benchmark_group(format!("effects/{}", file.trim_end_matches(".ron")));
+        let mut seen = Vec::new();
+        for (label, effects) in subsets {
+            // seed003-barycentric without barycentric-color is coverage only: time it once.
+            if seen.contains(&effects) {
+                continue;
+            }
+            let mut prepared = prepared.clone();
+            prepared.effects = effects.clone();
+            bench_render(
+                &mut group,
+                &format!("{label} ({})", names(&effects)),
+                &prepared,
+            );
+            seen.push(effects);
+        }
+        group.finish();
+    }
+}
+
+/// The meshes through their BVH and with every triangle tested (a smaller image: brute force is
+/// slow), with coverage only, so the intersection is all that is timed.
+fn bvh(c: &mut Criterion) {
+    for (file, width, height) in [
+        ("render-mesh.ron", 81, 81),
+        ("render-transformed.ron", 120, 80),
+    ] {
+        let mut with_bvh = Prepared::new(&scene(file), &Embedded).unwrap();
+        (with_bvh.width, with_bvh.height) = (width, height);
+        with_bvh.effects = vec![Effect::Coverage];
+        let mut brute = with_bvh.clone();
+        for object in &mut brute.objects {
+            if let Geometry::Triangles { bvh, .. } = &mut object.geometry {
+                *bvh = None;
+            }
+        }
+        assert_eq!(render(&with_bvh).0, render(&brute).0, "{file}");
+        let mut group = c.benchmark_group(format!("bvh/{}", file.trim_end_matches(".ron")));
+        // A brute-force render takes a good part of a second: one render a sample.
+        group.sampling_mode(SamplingMode::Flat);
+        bench_render(&mut group, &format!("bvh {width}x{height}"), &with_bvh);
+        bench_render(
+            &mut group,
+            &format!("every triangle {width}x{height}"),
+            &brute,
+        );
+        group.finish();
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    targets = effects, bvh
+}
+criterion_main!(benches);
