@@ -137,20 +137,22 @@ fn seed_003_facing_covers_as_many_pixels_as_the_peer_script() {
 // ---------------------------------------------------------------------------------------------------
 // Effects not called for cost zero work.
 
-/// The four counters that belong to effects, and the effects that may make each one non-zero.
-const EFFECT_COUNTERS: [(&str, &[Effect]); 4] = [
+/// The five counters that belong to effects, and the effects that may make each one non-zero.
+const EFFECT_COUNTERS: [(&str, &[Effect]); 5] = [
     ("color_interpolations", &[Effect::BarycentricColor]),
     ("normal_interpolations", &[Effect::SmoothNormals]),
     ("texture_samples", &[Effect::Texture]),
     ("shading", &[Effect::FacingRatio, Effect::SmoothNormals]),
+    ("depth_fades", &[Effect::Depth]),
 ];
 
-fn effect_work(stats: &Stats) -> [u64; 4] {
+fn effect_work(stats: &Stats) -> [u64; 5] {
     [
         stats.color_interpolations,
         stats.normal_interpolations,
         stats.texture_samples,
         stats.shading,
+        stats.depth_fades,
     ]
 }
 
@@ -169,7 +171,7 @@ fn geometry_work(stats: &Stats) -> [u64; 6] {
 /// The effect work one hit on (object, triangle) calls for: a counter counts only where its effect is
 /// on and the hit object has what the effect reads (vertex colours, vertex normals, a texture). A
 /// textured object under `texture` shows its texture, so its vertex colours are not interpolated.
-fn work_for_hit(prepared: &Prepared, object: usize, primitive: usize) -> [u64; 4] {
+fn work_for_hit(prepared: &Prepared, object: usize, primitive: usize) -> [u64; 5] {
     let on = |e: Effect| prepared.effects.contains(&e);
     let object = &prepared.objects[object];
     let triangle = match &object.geometry {
@@ -181,7 +183,8 @@ fn work_for_hit(prepared: &Prepared, object: usize, primitive: usize) -> [u64; 4
         on(Effect::BarycentricColor) && !texture && triangle.is_some_and(|t| t.colors.is_some());
     let normal = on(Effect::SmoothNormals) && triangle.is_some_and(|t| t.normals.is_some());
     let shading = on(Effect::FacingRatio) || on(Effect::SmoothNormals);
-    [color, normal, texture, shading].map(u64::from)
+    let depth = on(Effect::Depth);
+    [color, normal, texture, shading, depth].map(u64::from)
 }
 
 /// The (object, triangle) behind each covered pixel.
@@ -210,11 +213,11 @@ fn hit_targets(prepared: &Prepared, covered: &[bool]) -> Vec<(usize, usize)> {
 }
 
 /// The effect work a render with `prepared.effects` calls for, given what each covered pixel hit.
-fn expected_work(prepared: &Prepared, targets: &[(usize, usize)]) -> [u64; 4] {
-    let mut total = [0; 4];
+fn expected_work(prepared: &Prepared, targets: &[(usize, usize)]) -> [u64; 5] {
+    let mut total = [0; 5];
     for &(object, primitive) in targets {
         let work = work_for_hit(prepared, object, primitive);
-        for k in 0..4 {
+        for k in 0..5 {
             total[k] += work[k];
         }
     }
@@ -272,10 +275,10 @@ fn effects_not_called_for_cost_zero_work() {
             assert_eq!(
                 work,
                 expected_work(&prepared, targets),
-                "{what}: [colour, normal, texture, shading]"
+                "{what}: [colour, normal, texture, shading, depth]"
             );
             if effects == [Effect::Coverage] {
-                assert_eq!(work, [0; 4], "{what}");
+                assert_eq!(work, [0; 5], "{what}");
                 // A hit mask and nothing else: white where covered, black elsewhere.
                 for (pixel, covered) in image.pixels.iter().zip(&image.covered) {
                     assert_eq!(*pixel, [f32::from(u8::from(*covered)); 3], "{what}");

@@ -25,6 +25,8 @@ pub fn applies(prepared: &Prepared) -> bool {
 struct RowBuffers {
     origin: [Vec<f32>; 3],
     dir: [Vec<f32>; 3],
+    /// 1/|dir| per ray, for shading.
+    inverse_length: Vec<f32>,
     t: Vec<f32>,
     beta: Vec<f32>,
     gamma: Vec<f32>,
@@ -37,7 +39,7 @@ impl RowBuffers {
         for v in self.origin.iter_mut().chain(self.dir.iter_mut()) {
             v.resize(width, 0.0);
         }
-        for v in [&mut self.beta, &mut self.gamma] {
+        for v in [&mut self.beta, &mut self.gamma, &mut self.inverse_length] {
             v.resize(width, 0.0);
         }
         self.t.clear();
@@ -53,6 +55,7 @@ thread_local! {
         RefCell::new(RowBuffers {
             origin: [Vec::new(), Vec::new(), Vec::new()],
             dir: [Vec::new(), Vec::new(), Vec::new()],
+            inverse_length: Vec::new(),
             t: Vec::new(),
             beta: Vec::new(),
             gamma: Vec::new(),
@@ -105,6 +108,16 @@ fn fill_row_rays(camera: &Camera, width: usize, height: usize, row: usize, rays:
     }
 }
 
+/// 1/|dir| for a row of rays, in one vector loop (shading divides by it for every hit).
+fn inverse_lengths(rays: &mut RowBuffers) {
+    let n = rays.inverse_length.len();
+    let [dx, dy, dz] = &rays.dir;
+    let (dx, dy, dz) = (&dx[..n], &dy[..n], &dz[..n]);
+    for (i, out) in rays.inverse_length.iter_mut().enumerate() {
+        *out = 1.0 / (dx[i] * dx[i] + dy[i] * dy[i] + dz[i] * dz[i]).sqrt();
+    }
+}
+
 /// Renders rows from `first` into `pixels` and `covered` (whole rows).
 pub fn render_rows(
     prepared: &Prepared,
@@ -135,9 +148,11 @@ pub fn render_rows(
         {
             buffers.reset(width);
             fill_row_rays(&prepared.camera, width, height, first + i, buffers);
+            inverse_lengths(buffers);
             let RowBuffers {
                 origin,
                 dir,
+                inverse_length,
                 t,
                 beta,
                 gamma,
@@ -175,7 +190,10 @@ pub fn render_rows(
                 };
                 let ray_dir = [dir[0][column], dir[1][column], dir[2][column]].map(f64::from);
                 let object = &prepared.objects[object];
-                pixels[column] = shader.shade(object, &hit, &ray_dir, &mut stats).color;
+                let inverse_length = f64::from(inverse_length[column]);
+                pixels[column] = shader
+                    .shade(object, &hit, &ray_dir, inverse_length, &mut stats)
+                    .color;
             }
         }
     });

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::accuracy::Method;
-use crate::geometry::linalg::{V3, cross, sub};
+use crate::geometry::linalg::{V3, cross, dot, sub};
 use crate::platform::{Progress, Sliced, Stopwatch};
 use assets::AssetSource;
 pub use cast::{Bug, Hit};
@@ -240,11 +240,13 @@ pub struct Stats {
     pub texture_samples: u64,
     /// Facing-ratio evaluations (`facing-ratio`, `smooth-normals`).
     pub shading: u64,
+    /// Distance fades (`depth`).
+    pub depth_fades: u64,
 }
 
 impl Stats {
     /// Each counter with its name, for printing.
-    pub fn counters(&self) -> [(&'static str, u64); 10] {
+    pub fn counters(&self) -> [(&'static str, u64); 11] {
         [
             ("rays", self.rays),
             ("triangle tests", self.triangle_tests),
@@ -256,6 +258,7 @@ impl Stats {
             ("normal interpolations", self.normal_interpolations),
             ("texture samples", self.texture_samples),
             ("shading", self.shading),
+            ("depth fades", self.depth_fades),
         ]
     }
 
@@ -271,6 +274,7 @@ impl Stats {
             normal_interpolations: self.normal_interpolations + other.normal_interpolations,
             texture_samples: self.texture_samples + other.texture_samples,
             shading: self.shading + other.shading,
+            depth_fades: self.depth_fades + other.depth_fades,
         }
     }
 }
@@ -400,7 +404,10 @@ impl Prepared {
                     stats.hits += 1;
                     covered[column] = true;
                     let object = &self.objects[hit.object];
-                    pixels[column] = shader.shade(object, &hit, &dir, &mut stats).color;
+                    let inverse_length = 1.0 / dot(&dir, &dir).sqrt();
+                    pixels[column] = shader
+                        .shade(object, &hit, &dir, inverse_length, &mut stats)
+                        .color;
                 }
             }
         }
@@ -591,16 +598,17 @@ mod tests {
                 s.normal_interpolations,
                 s.texture_samples,
                 s.shading,
+                s.depth_fades,
             ]
         };
-        assert_eq!(work(&coverage), [0; 4]);
+        assert_eq!(work(&coverage), [0; 5]);
         let hits = coverage.hits;
         for (effect, expected) in [
-            (Effect::Depth, [0, 0, 0, 0]),
-            (Effect::BarycentricColor, [hits, 0, 0, 0]),
-            (Effect::SmoothNormals, [0, hits, 0, hits]),
-            (Effect::Texture, [0, 0, hits, 0]),
-            (Effect::FacingRatio, [0, 0, 0, hits]),
+            (Effect::Depth, [0, 0, 0, 0, hits]),
+            (Effect::BarycentricColor, [hits, 0, 0, 0, 0]),
+            (Effect::SmoothNormals, [0, hits, 0, hits, 0]),
+            (Effect::Texture, [0, 0, hits, 0, 0]),
+            (Effect::FacingRatio, [0, 0, 0, hits, 0]),
         ] {
             let (_, stats) = render(&one_triangle(vec![effect]));
             assert_eq!(stats.hits, hits);

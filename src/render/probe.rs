@@ -34,7 +34,14 @@ pub fn probe(prepared: &Prepared, row: usize, column: usize) -> Probe {
     let mut stats = Stats::default();
     let hit = nearest_hit(prepared, origin, dir, &mut stats);
     let shading = hit.map(|hit| {
-        Shader::new(&prepared.effects).shade(&prepared.objects[hit.object], &hit, &dir, &mut stats)
+        let inverse_length = 1.0 / crate::geometry::linalg::dot(&dir, &dir).sqrt();
+        Shader::new(&prepared.effects).shade(
+            &prepared.objects[hit.object],
+            &hit,
+            &dir,
+            inverse_length,
+            &mut stats,
+        )
     });
     let nearest_miss = match hit {
         Some(_) => None,

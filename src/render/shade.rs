@@ -38,12 +38,15 @@ impl Shader {
         }
     }
 
-    /// The colour of a hit seen along the world direction `dir`; counts the work in `stats`.
+    /// The colour of a hit seen along the world direction `dir`, with `inverse_length` = 1/|dir|
+    /// (callers that cast many rays compute it in a vector loop); counts the work in `stats`.
+    #[inline]
     pub fn shade(
         &self,
         object: &PreparedObject,
         hit: &Hit,
         dir: &V3<f64>,
+        inverse_length: f64,
         stats: &mut Stats,
     ) -> Shading {
         let mut color = self.base_color(object, hit, stats);
@@ -52,12 +55,13 @@ impl Shader {
             stats.shading += 1;
             let normal = self.world_normal(object, hit, stats);
             // Seed 003's facing ratio n̂ · (−ê), with ê the unit ray direction; back faces are black.
-            let ratio = -dot(&normal, dir) / dot(dir, dir).sqrt();
+            let ratio = -dot(&normal, dir) * inverse_length;
             color = color.map(|c| c * ratio.max(0.0));
             facing = Some(ratio);
         }
         if self.depth {
-            let distance = hit.t.abs() * dot(dir, dir).sqrt();
+            stats.depth_fades += 1;
+            let distance = hit.t.abs() / inverse_length;
             color = color.map(|c| c / (1.0 + 0.1 * distance));
         }
         Shading {
@@ -67,6 +71,7 @@ impl Shader {
     }
 
     /// The unshaded colour: a texel, the interpolated vertex colour, the flat colour, or white.
+    #[inline]
     fn base_color(&self, object: &PreparedObject, hit: &Hit, stats: &mut Stats) -> V3<f64> {
         let triangle = match &object.geometry {
             Geometry::Triangles { triangles, .. } => Some(&triangles[hit.primitive]),
@@ -95,6 +100,7 @@ impl Shader {
 
     /// The world-space unit normal: interpolated from the vertex normals under `smooth-normals`, the
     /// face's otherwise; through the inverse transpose when the object is transformed.
+    #[inline]
     fn world_normal(&self, object: &PreparedObject, hit: &Hit, stats: &mut Stats) -> V3<f64> {
         let normal = match &object.geometry {
             Geometry::Triangles { triangles, .. } => {
