@@ -1,0 +1,97 @@
+//! raylab's renderer against the peer script `../shared/peers/seed003_render.py`, side by side in one
+//! run: `cargo bench --bench peer`.
+//!
+//! The script renders seed 003's 512x256 facing-ratio scene with numpy and prints the median of its
+//! in-process render times and its covered pixels; this bench runs it (`facing`, 3 renders, and the
+//! vectorised `facing-einsum`, 21 renders), then times raylab's in-process render of the same scene the
+//! same way, and prints both, the ratios, and whether the covered pixels agree. Without python3 and
+//! numpy it says it skipped.
+
+use std::process::Command;
+
+use raylab::platform::Stopwatch;
+use raylab::render::{Prepared, assets::Embedded, render};
+use raylab::scene::{Problem, Scene};
+
+/// One peer run: (median ms, covered pixels).
+fn peer(script: &str, variant: &str, repeats: u32) -> Result<(f64, usize), String> {
+    let output = Command::new("python3")
+        .args([script, variant, &repeats.to_string()])
+        .output()
+        .map_err(|e| format!("cannot run python3: {e}"))?;
+    let text = String::from_utf8_lossy(&output.stdout);
+    if !output.status.success() {
+        return Err(format!(
+            "the script failed: {}",
+            String::from_utf8_lossy(&output.stderr).trim()
+        ));
+    }
+    // "facing: median 1779.3 ms over 3 renders of 512x256, covered pixels 38737"
+    let number_after = |key: &str| -> Option<f64> {
+        let rest = &text[text.find(key)? + key.len()..];
+        rest.split_whitespace()
+            .next()?
+            .trim_end_matches(',')
+            .parse()
+            .ok()
+    };
+    match (number_after("median"), number_after("covered pixels")) {
+        (Some(ms), Some(pixels)) => Ok((ms, pixels as usize)),
+        _ => Err(format!("unexpected output: {text}")),
+    }
+}
+
+/// raylab's median in-process render time over `repeats` renders, and its covered pixels.
+fn raylab(repeats: u32) -> (f64, usize) {
+    let text = include_str!("../assets/scenes/seed003-facing.ron");
+    let Problem::Render(scene) = Scene::from_ron(text, "seed003-facing.ron")
+        .expect("the shipped scene parses")
+        .problem
+    else {
+        panic!("seed003-facing.ron is a render scene");
+    };
+    let prepared = Prepared::new(&scene, &Embedded).expect("the shipped scene prepares");
+    render(&prepared); // warm the thread pool
+    let mut times = Vec::new();
+    let mut covered = 0;
+    for _ in 0..repeats {
+        let clock = Stopwatch::start();
+        let (image, _) = render(&prepared);
+        times.push(clock.seconds() * 1e3);
+        covered = image.covered_pixels();
+    }
+    times.sort_by(f64::total_cmp);
+    (times[times.len() / 2], covered)
+}
+
+fn main() {
+    let script = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/peers/seed003_render.py"
+    );
+    if !std::path::Path::new(script).exists() {
+        println!("peer bench skipped: {script} is not there");
+        return;
+    }
+    println!("seed 003's facing-ratio scene, 512x256, median in-process render time");
+    for (variant, repeats) in [("facing", 3), ("facing-einsum", 21)] {
+        let (peer_ms, peer_pixels) = match peer(script, variant, repeats) {
+            Ok(result) => result,
+            Err(why) => {
+                println!("peer bench skipped ({variant}): {why} (it needs python3 and numpy)");
+                return;
+            }
+        };
+        let (ours_ms, our_pixels) = raylab(21);
+        println!(
+            "{variant:>14}: peer {peer_ms:9.2} ms   raylab {ours_ms:6.3} ms   raylab is {:7.0}x faster   \
+             covered pixels: peer {peer_pixels}, raylab {our_pixels}{}",
+            peer_ms / ours_ms,
+            if peer_pixels == our_pixels {
+                " (equal)"
+            } else {
+                " (DIFFERENT)"
+            }
+        );
+    }
+}
