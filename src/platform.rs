@@ -30,6 +30,10 @@ impl Stopwatch {
     }
 }
 
+/// True where a [`Job`] runs on its own thread (the desktop); false in a web page, where it runs in
+/// [`Job::poll`], so whoever polls must ask for another frame while it is not finished.
+pub const THREADS: bool = cfg!(not(target_arch = "wasm32"));
+
 /// True where scene files are opened and saved by typing a path (the desktop); false in a web page,
 /// which saves with [`download`] and opens with [`pick_file`].
 pub const TYPED_PATHS: bool = cfg!(not(target_arch = "wasm32"));
