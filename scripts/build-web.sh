@@ -13,7 +13,7 @@ cd "$(dirname "$0")/.."
 out="${1:-target/site}"
 target_dir="${CARGO_TARGET_DIR:-target/web}"
 
-if ! rustup target list --installed 2>/dev/null | grep -qx wasm32-unknown-unknown; then
+if [ ! -d "$(rustc --print sysroot)/lib/rustlib/wasm32-unknown-unknown/lib" ]; then
   echo "== rustup target add wasm32-unknown-unknown"
   rustup target add wasm32-unknown-unknown
 fi
