@@ -1,7 +1,8 @@
 //! The Accuracy view: what accuracy costs in time. Runs the study as a [`Job`] (on a named background
-//! thread on the desktop, in slices between frames in a web page) with a progress bar and Cancel, plots error against time per test for every method × precision and error
-//! against the grazing angle, shows the table, and a gallery of hard cases that load into the Triangle
-//! view with what each method decides.
+//! thread on the desktop, in slices between frames in a web page) with a progress bar and Cancel,
+//! plots error against time per test for every method × precision and error against the grazing
+//! angle, shows the table, and a gallery of hard cases that load into the Triangle view with what
+//! each method decides.
 
 use egui::{Color32, RichText, Ui};
 use egui_plot::{Line, MarkerShape, Plot, PlotPoints, Points};
