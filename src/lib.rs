@@ -1,10 +1,12 @@
 //! raylab: an interactive teaching visualizer for parametric forms and ray–primitive intersection.
 //!
 //! The pure core (`geometry`, `exact`, `trace`) never imports a UI crate; the command line in `cli`
-//! reads and prints the core's [`trace::Trace`].
+//! reads and prints the core's [`trace::Trace`]. The same app runs in a web page (wasm32): what differs
+//! between a desktop and a browser lives in `platform`, and the command line is desktop-only.
 
 pub mod accuracy;
 pub mod app;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
 pub mod exact;
 pub mod geometry;

@@ -1,26 +1,107 @@
-//! The one place the code touches the platform: a monotonic clock for timing, and background jobs.
+//! The one place the code touches the platform: a monotonic clock for timing, background jobs, how
+//! scene files are opened and saved, and how the app starts.
 //!
 //! Everything else in `geometry`, `exact`, `accuracy` and `render` is plain computation, so it also
-//! builds for a web page. A web build has neither `std::time::Instant` nor threads: it swaps the clock
-//! here, and runs a [`Job`] in slices from the UI's frames instead of on a thread.
+//! builds for a web page. A web build has neither `std::time::Instant` nor threads: its clock is the
+//! browser's (`web-time`), and it runs a [`Job`] in slices from the UI's frames instead of on a thread.
+//! It has no file system either: a scene is saved as a download and opened with the browser's file
+//! picker. The desktop opens a window ([`open_window`]); the web page starts on its canvas
+//! ([`web::start`]).
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
+#[cfg(target_arch = "wasm32")]
+pub mod web;
+
 /// A started stopwatch.
 #[derive(Clone, Copy, Debug)]
-pub struct Stopwatch(std::time::Instant);
+pub struct Stopwatch(web_time::Instant);
 
 impl Stopwatch {
     /// Starts now.
     pub fn start() -> Stopwatch {
-        Stopwatch(std::time::Instant::now())
+        Stopwatch(web_time::Instant::now())
     }
 
     /// Seconds since the start.
     pub fn seconds(&self) -> f64 {
         self.0.elapsed().as_secs_f64()
     }
+}
+
+/// True where a [`Job`] runs on its own thread (the desktop); false in a web page, where it runs in
+/// [`Job::poll`], so whoever polls must ask for another frame while it is not finished.
+pub const THREADS: bool = cfg!(not(target_arch = "wasm32"));
+
+/// True where scene files are opened and saved by typing a path (the desktop); false in a web page,
+/// which saves with [`download`] and opens with [`pick_file`].
+pub const TYPED_PATHS: bool = cfg!(not(target_arch = "wasm32"));
+
+/// A text file the user chose (its name and text), or why it could not be read. Files arrive later
+/// than they are asked for: the browser reads them asynchronously.
+pub type Picked = Result<(String, String), String>;
+
+/// Where [`pick_file`] delivers the files the user chose; the app empties it each frame.
+#[derive(Clone, Default)]
+pub struct Inbox(Arc<Mutex<Vec<Picked>>>);
+
+impl Inbox {
+    /// Takes every file that has arrived.
+    pub fn take(&self) -> Vec<Picked> {
+        self.0
+            .lock()
+            .map(|mut files| std::mem::take(&mut *files))
+            .unwrap_or_default()
+    }
+
+    /// Delivers a file.
+    pub fn put(&self, file: Picked) {
+        if let Ok(mut files) = self.0.lock() {
+            files.push(file);
+        }
+    }
+}
+
+/// Offers `text` to the user as a file download named `file_name` (web only: the desktop saves to a
+/// typed path).
+pub fn download(file_name: &str, text: &str) -> Result<(), String> {
+    #[cfg(target_arch = "wasm32")]
+    return web::download(file_name, text);
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        let _ = (file_name, text);
+        Err("downloads are for the web page; the desktop saves to a path".into())
+    }
+}
+
+/// Opens the browser's file picker for files matching `accept` (such as `.ron`); the file chosen
+/// arrives in `inbox`, then `wake` is called (web only: the desktop opens a typed path).
+pub fn pick_file(accept: &str, inbox: &Inbox, wake: impl Fn() + 'static) -> Result<(), String> {
+    #[cfg(target_arch = "wasm32")]
+    return web::pick_file(accept, inbox, wake);
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        let _ = (accept, inbox, wake);
+        Err("the file picker is for the web page; the desktop opens a path".into())
+    }
+}
+
+/// Opens the app in a desktop window (1280x800, the projector size).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn open_window() -> eframe::Result {
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("raylab")
+            .with_inner_size([1280.0, 800.0])
+            .with_min_inner_size([640.0, 420.0]),
+        ..Default::default()
+    };
+    eframe::run_native(
+        "raylab",
+        options,
+        Box::new(|cc| Ok(Box::new(crate::app::RaylabApp::from_creation_context(cc)))),
+    )
 }
 
 /// Where a sliced computation stands after one slice.

@@ -253,6 +253,23 @@ pub fn built_in() -> Vec<Scene> {
         .collect()
 }
 
+/// A built-in scene by its file name without `.ron` (`triangle-outside`), as a web page's
+/// `?preset=` names it.
+pub fn preset(stem: &str) -> Option<Scene> {
+    BUILT_IN
+        .iter()
+        .find(|(file, _)| file.strip_suffix(".ron") == Some(stem))
+        .map(|(file, text)| Scene::from_ron(text, file).expect("built-in scenes are valid"))
+}
+
+/// The built-in scenes' names for [`preset`].
+pub fn preset_names() -> Vec<&'static str> {
+    BUILT_IN
+        .iter()
+        .map(|(file, _)| file.trim_end_matches(".ron"))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -264,6 +281,16 @@ mod tests {
             let again = Scene::from_ron(&scene.to_ron(), "again").unwrap();
             assert_eq!(again, scene);
         }
+    }
+
+    #[test]
+    fn presets_are_found_by_file_stem() {
+        let scene = preset("triangle-outside").unwrap();
+        assert!(matches!(scene.problem, Problem::Triangle(_)));
+        assert!(preset("triangle-outside.ron").is_none());
+        assert!(preset("nothing").is_none());
+        assert_eq!(preset_names().len(), BUILT_IN.len());
+        assert!(preset_names().contains(&"seed000-triangle"));
     }
 
     #[test]

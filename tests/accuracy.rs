@@ -119,6 +119,40 @@ fn the_integer_reference_matches_the_rational_solver_on_every_family() {
 }
 
 #[test]
+fn the_study_runs_in_short_steps_to_the_records_of_a_whole_run() {
+    use raylab::accuracy::study::{Config, StudyRun, run};
+    use raylab::platform::{Progress, Sliced};
+    let config = Config {
+        rays: 60,
+        shared_rays: 60,
+        seed: 5,
+        timing_seconds: 0.0,
+    };
+    let mut study = StudyRun::new(config.clone());
+    let (mut steps, mut last) = (0, 0);
+    let mut stepped = loop {
+        steps += 1;
+        match study.step() {
+            Progress::Working { done, total } => {
+                assert!(
+                    last <= done && done < total,
+                    "{done} of {total} after {last}"
+                );
+                last = done;
+            }
+            Progress::Finished(records) => break records,
+        }
+    };
+    // Deciding a family and answering its cases take several steps each, not one unit each.
+    assert!(steps > 2 * study.total(), "{steps} steps");
+    let mut whole = run(&config, |_, _| true).unwrap();
+    for record in stepped.iter_mut().chain(&mut whole) {
+        record.ns_per_test = 0.0;
+    }
+    assert_eq!(stepped, whole);
+}
+
+#[test]
 fn the_quick_study_produces_every_record() {
     use raylab::accuracy::study::{Config, run};
     let config = Config {

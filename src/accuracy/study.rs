@@ -1,8 +1,9 @@
 //! The study: every float method in f32 and f64 on every family, judged against the exact reference,
 //! with wrong decisions, cracks, double hits, errors of t and of the barycentrics, and time per test.
 //!
-//! It runs in units (one family × precision × method at a time) so a caller can show progress, cancel,
-//! or spread the work over frames.
+//! It runs as a [`StudyRun`], a stepper whose steps take a few milliseconds each, so a caller can show
+//! progress, cancel, or spread the work over a web page's frames. Progress counts units: one family's
+//! rays prepared and decided exactly, or one method in one precision measured.
 
 use serde::Serialize;
 
@@ -10,7 +11,7 @@ use super::families::{Family, Probe, generate};
 use super::reference::{Reference, reference};
 use super::{Answer, Case, Float, InverseSolve, Method};
 use crate::geometry::Precision;
-use crate::platform::Stopwatch;
+use crate::platform::{Progress, Sliced, Stopwatch};
 
 /// How big a study to run.
 #[derive(Clone, Debug, PartialEq)]
@@ -88,84 +89,289 @@ struct Prepared {
     probes: Vec<Probe>,
     cases64: Vec<Case<f64>>,
     cases32: Vec<Case<f32>>,
+    /// The exact verdicts so far: filled a step at a time, f64 cases first.
     refs64: Vec<Reference>,
     refs32: Vec<Reference>,
     /// For each probe, the range of its cases.
     spans: Vec<std::ops::Range<usize>>,
 }
 
-fn prepare(family: Family, config: &Config) -> Prepared {
-    let count = if family.shares_geometry() {
-        config.shared_rays
-    } else {
-        config.rays
-    };
-    let probes = generate(family, count, config.seed);
-    let mut spans = Vec::with_capacity(probes.len());
-    let mut cases64 = Vec::new();
-    for probe in &probes {
-        let start = cases64.len();
-        cases64.extend(probe.cases.iter().copied());
-        spans.push(start..cases64.len());
+/// Cases decided exactly, or answered by a method, per step (a few milliseconds at most).
+const CASES_PER_STEP: usize = 256;
+
+/// How long one timing step runs, seconds: long enough for a browser's coarse clock (0.1 ms).
+const TIMING_STEP_SECONDS: f64 = 0.005;
+
+impl Prepared {
+    /// The family's rays, not yet decided.
+    fn generate(family: Family, config: &Config) -> Prepared {
+        let count = if family.shares_geometry() {
+            config.shared_rays
+        } else {
+            config.rays
+        };
+        let probes = generate(family, count, config.seed);
+        let mut spans = Vec::with_capacity(probes.len());
+        let mut cases64 = Vec::new();
+        for probe in &probes {
+            let start = cases64.len();
+            cases64.extend(probe.cases.iter().copied());
+            spans.push(start..cases64.len());
+        }
+        let cases32: Vec<Case<f32>> = cases64.iter().map(Case::to_f32).collect();
+        Prepared {
+            family,
+            probes,
+            refs64: Vec::with_capacity(cases64.len()),
+            refs32: Vec::with_capacity(cases32.len()),
+            cases64,
+            cases32,
+            spans,
+        }
     }
-    let cases32: Vec<Case<f32>> = cases64.iter().map(Case::to_f32).collect();
-    let refs64 = cases64.iter().map(reference).collect();
-    let refs32 = cases32.iter().map(reference).collect();
-    Prepared {
-        family,
-        probes,
-        cases64,
-        cases32,
-        refs64,
-        refs32,
-        spans,
+
+    /// Decides the next cases exactly; true once every case is decided.
+    fn decide_some(&mut self) -> bool {
+        if self.refs64.len() < self.cases64.len() {
+            let (from, to) = chunk(self.refs64.len(), self.cases64.len());
+            self.refs64
+                .extend(self.cases64[from..to].iter().map(reference));
+        } else {
+            let (from, to) = chunk(self.refs32.len(), self.cases32.len());
+            self.refs32
+                .extend(self.cases32[from..to].iter().map(reference));
+        }
+        self.refs32.len() == self.cases32.len()
+    }
+}
+
+/// The next step's range of cases from `done` of `len`.
+fn chunk(done: usize, len: usize) -> (usize, usize) {
+    (done, (done + CASES_PER_STEP).min(len))
+}
+
+/// One method in one precision being measured: its answers on every case, then its time per test.
+struct Measuring<F> {
+    method: Method,
+    answers: Vec<Answer<F>>,
+    /// Seconds spent in timed steps, and the tests they ran.
+    timed_seconds: f64,
+    timed_tests: usize,
+    /// Whole passes over the cases timed, and where the current pass is.
+    passes: usize,
+    next: usize,
+}
+
+impl<F: Float + InverseSolve> Measuring<F> {
+    fn new(method: Method, cases: usize) -> Measuring<F> {
+        Measuring {
+            method,
+            answers: Vec::with_capacity(cases),
+            timed_seconds: 0.0,
+            timed_tests: 0,
+            passes: 0,
+            next: 0,
+        }
+    }
+
+    /// One step: the next answers, or a few milliseconds of timing (whole passes over the cases
+    /// until `timing_seconds` is spent, at least one); the record once both are done.
+    fn step(
+        &mut self,
+        prepared: &Prepared,
+        cases: &[Case<F>],
+        refs: &[Reference],
+        config: &Config,
+    ) -> Option<Record> {
+        let method = self.method;
+        if self.answers.len() < cases.len() {
+            let (from, to) = chunk(self.answers.len(), cases.len());
+            self.answers
+                .extend(cases[from..to].iter().map(|c| method.run(c)));
+            return None;
+        }
+        let finished = |m: &Self| m.passes > 0 && m.timed_seconds >= config.timing_seconds;
+        let clock = Stopwatch::start();
+        let mut tests = 0;
+        while !finished(self) && clock.seconds() < TIMING_STEP_SECONDS {
+            let (from, to) = chunk(self.next, cases.len());
+            for case in &cases[from..to] {
+                std::hint::black_box(method.run(std::hint::black_box(case)));
+            }
+            tests += to - from;
+            self.next = to;
+            if to == cases.len() {
+                self.next = 0;
+                self.passes += 1;
+                // A pass that ends the timing ends this step too.
+                if self.timed_seconds + clock.seconds() >= config.timing_seconds {
+                    break;
+                }
+            }
+        }
+        self.timed_seconds += clock.seconds();
+        self.timed_tests += tests;
+        if !finished(self) {
+            return None;
+        }
+        let ns = self.timed_seconds * 1e9 / self.timed_tests.max(1) as f64;
+        Some(judge(method, prepared, &self.answers, refs, ns))
+    }
+}
+
+/// A measurement in f32 or in f64.
+enum Measurement {
+    F32(Measuring<f32>),
+    F64(Measuring<f64>),
+}
+
+/// Where a study is.
+enum Stage {
+    /// The next family's rays are to be generated.
+    Generate,
+    /// The family's cases are being decided exactly.
+    Decide(Box<Prepared>),
+    /// The family's `unit`-th measurement is under way (the float methods in f32 and f64, then the
+    /// exact reference's own time).
+    Measure(Box<Prepared>, usize, Option<Measurement>),
+    /// Every family is done.
+    Finished,
+}
+
+/// The whole study as a stepper ([`Sliced`]): a step takes a few milliseconds (generating a family's
+/// rays, deciding a few hundred cases exactly, answering or timing a few hundred tests), so it runs
+/// on a thread or, in a web page, a few steps per frame.
+pub struct StudyRun {
+    config: Config,
+    /// The family being studied (index into [`Family::ALL`]).
+    family: usize,
+    stage: Stage,
+    /// Units done: a family prepared, or a method in a precision measured.
+    done: usize,
+    records: Vec<Record>,
+}
+
+impl StudyRun {
+    /// Units per family: preparing it, each float method in f32 and f64, and the exact reference.
+    const UNITS_PER_FAMILY: usize = 1 + 2 * Method::FLOAT.len() + 1;
+
+    /// A study of this size, not started.
+    pub fn new(config: Config) -> StudyRun {
+        StudyRun {
+            config,
+            family: 0,
+            stage: Stage::Generate,
+            done: 0,
+            records: Vec::new(),
+        }
+    }
+
+    /// Units in all.
+    pub fn total(&self) -> usize {
+        Family::ALL.len() * Self::UNITS_PER_FAMILY
+    }
+
+    /// The stage after the family's last unit.
+    fn next_family(&mut self) -> Stage {
+        self.family += 1;
+        if self.family < Family::ALL.len() {
+            Stage::Generate
+        } else {
+            Stage::Finished
+        }
+    }
+}
+
+impl Sliced for StudyRun {
+    type Output = Vec<Record>;
+
+    fn step(&mut self) -> Progress<Vec<Record>> {
+        let config = &self.config;
+        self.stage = match std::mem::replace(&mut self.stage, Stage::Finished) {
+            Stage::Generate => Stage::Decide(Box::new(Prepared::generate(
+                Family::ALL[self.family],
+                config,
+            ))),
+            Stage::Decide(mut prepared) => {
+                if prepared.decide_some() {
+                    self.done += 1;
+                    Stage::Measure(prepared, 0, None)
+                } else {
+                    Stage::Decide(prepared)
+                }
+            }
+            Stage::Measure(prepared, unit, measurement) => {
+                let floats = 2 * Method::FLOAT.len();
+                let (record, measurement) = if unit == floats {
+                    (Some(measure_exact(&prepared, config)), None)
+                } else {
+                    let method = Method::FLOAT[unit / 2];
+                    let p = &*prepared;
+                    match measurement {
+                        Some(Measurement::F32(mut m)) => (
+                            m.step(p, &p.cases32, &p.refs32, config),
+                            Some(Measurement::F32(m)),
+                        ),
+                        Some(Measurement::F64(mut m)) => (
+                            m.step(p, &p.cases64, &p.refs64, config),
+                            Some(Measurement::F64(m)),
+                        ),
+                        None if unit % 2 == 0 => (
+                            None,
+                            Some(Measurement::F32(Measuring::new(method, p.cases32.len()))),
+                        ),
+                        None => (
+                            None,
+                            Some(Measurement::F64(Measuring::new(method, p.cases64.len()))),
+                        ),
+                    }
+                };
+                match record {
+                    None => Stage::Measure(prepared, unit, measurement),
+                    Some(record) => {
+                        self.records.push(record);
+                        self.done += 1;
+                        if unit == floats {
+                            self.next_family()
+                        } else {
+                            Stage::Measure(prepared, unit + 1, None)
+                        }
+                    }
+                }
+            }
+            Stage::Finished => Stage::Finished,
+        };
+        match self.stage {
+            Stage::Finished => Progress::Finished(std::mem::take(&mut self.records)),
+            _ => Progress::Working {
+                done: self.done,
+                total: self.total(),
+            },
+        }
     }
 }
 
 /// Runs the whole study; `progress(done, total)` is called after each unit and stops it by
 /// returning false (then `None` is returned).
 pub fn run(config: &Config, mut progress: impl FnMut(usize, usize) -> bool) -> Option<Vec<Record>> {
-    let units_per_family = 2 * Method::FLOAT.len() + 1;
-    let total = Family::ALL.len() * (units_per_family + 1);
-    let mut done = 0;
-    let mut records = Vec::new();
-    for family in Family::ALL {
-        let prepared = prepare(family, config);
-        done += 1;
-        if !progress(done, total) {
-            return None;
-        }
-        for method in Method::FLOAT {
-            for precision in [Precision::F32, Precision::F64] {
-                records.push(match precision {
-                    Precision::F32 => measure(
-                        method,
-                        &prepared,
-                        &prepared.cases32,
-                        &prepared.refs32,
-                        config,
-                    ),
-                    _ => measure(
-                        method,
-                        &prepared,
-                        &prepared.cases64,
-                        &prepared.refs64,
-                        config,
-                    ),
-                });
-                done += 1;
-                if !progress(done, total) {
-                    return None;
+    let mut study = StudyRun::new(config.clone());
+    let mut reported = 0;
+    loop {
+        match study.step() {
+            Progress::Working { done, total } => {
+                if done != reported {
+                    reported = done;
+                    if !progress(done, total) {
+                        return None;
+                    }
                 }
             }
-        }
-        records.push(measure_exact(&prepared, config));
-        done += 1;
-        if !progress(done, total) {
-            return None;
+            Progress::Finished(records) => {
+                let total = study.total();
+                return progress(total, total).then_some(records);
+            }
         }
     }
-    Some(records)
 }
 
 /// Nanoseconds per test: whole passes over `tests` tests until the time is up (at least one pass).
@@ -218,20 +424,15 @@ fn measure_exact(prepared: &Prepared, config: &Config) -> Record {
     Record::new(Method::Exact, "exact", prepared, prepared.cases64.len(), ns)
 }
 
-fn measure<F: Float + InverseSolve>(
+/// A method's record from its answers on every case and its time per test.
+fn judge<F: Float>(
     method: Method,
     prepared: &Prepared,
-    cases: &[Case<F>],
+    answers: &[Answer<F>],
     refs: &[Reference],
-    config: &Config,
+    ns: f64,
 ) -> Record {
-    let answers: Vec<Answer<F>> = cases.iter().map(|c| method.run(c)).collect();
-    let ns = ns_per_test(config.timing_seconds, cases.len(), || {
-        for case in cases {
-            std::hint::black_box(method.run(std::hint::black_box(case)));
-        }
-    });
-    let mut record = Record::new(method, F::PRECISION.name(), prepared, cases.len(), ns);
+    let mut record = Record::new(method, F::PRECISION.name(), prepared, answers.len(), ns);
     let mut by_parameter: std::collections::BTreeMap<u64, (f64, f64)> = Default::default();
     let parameters: Vec<f64> = prepared
         .spans

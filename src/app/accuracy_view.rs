@@ -1,34 +1,25 @@
-//! The Accuracy view: what accuracy costs in time. Runs the study on a named background thread (with a
-//! progress bar and Cancel), plots error against time per test for every method × precision and error
-//! against the grazing angle, shows the table, and a gallery of hard cases that load into the Triangle
-//! view with what each method decides.
-
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex};
+//! The Accuracy view: what accuracy costs in time. Runs the study as a [`Job`] (on a named background
+//! thread on the desktop, in slices between frames in a web page) with a progress bar and Cancel,
+//! plots error against time per test for every method × precision and error against the grazing
+//! angle, shows the table, and a gallery of hard cases that load into the Triangle view with what
+//! each method decides.
 
 use egui::{Color32, RichText, Ui};
 use egui_plot::{Line, MarkerShape, Plot, PlotPoints, Points};
 
 use super::widgets::palette;
 use crate::accuracy::hard_cases::{HardCase, gallery, verdicts};
-use crate::accuracy::study::{self, Config, Record};
+use crate::accuracy::study::{self, Config, Record, StudyRun};
 use crate::accuracy::{Method, families::Family};
+use crate::platform::Job;
 use crate::scene::TriangleScene;
-
-/// A study running on its thread.
-struct Running {
-    done: Arc<AtomicUsize>,
-    total: Arc<AtomicUsize>,
-    cancel: Arc<AtomicBool>,
-    result: Arc<Mutex<Option<Option<Vec<Record>>>>>,
-}
 
 /// The Accuracy view's state (results are not persisted: a run takes seconds).
 #[derive(Default)]
 pub struct AccuracyView {
     /// The last finished study.
     pub records: Vec<Record>,
-    running: Option<Running>,
+    running: Option<Job<Vec<Record>>>,
     /// The family the table and the scatter show (`None`: the worst over all families).
     pub family: Option<Family>,
     full: bool,
@@ -78,7 +69,8 @@ impl AccuracyView {
         self.running.is_some()
     }
 
-    /// Starts the study on a named thread; the UI is woken as it progresses.
+    /// Starts the study (on a named thread, or in slices on the web); the UI is woken as it
+    /// progresses.
     pub fn start(&mut self, ctx: &egui::Context) {
         if self.running.is_some() {
             return;
@@ -88,64 +80,47 @@ impl AccuracyView {
             None if self.full => Config::full(),
             None => Config::quick(),
         };
-        let running = Running {
-            done: Arc::default(),
-            total: Arc::new(AtomicUsize::new(1)),
-            cancel: Arc::default(),
-            result: Arc::default(),
-        };
-        let (done, total, cancel, result) = (
-            running.done.clone(),
-            running.total.clone(),
-            running.cancel.clone(),
-            running.result.clone(),
-        );
         let ctx = ctx.clone();
-        let spawned = std::thread::Builder::new()
-            .name("raylab-accuracy-study".into())
-            .spawn(move || {
-                let records = study::run(&config, |d, t| {
-                    done.store(d, Ordering::Relaxed);
-                    total.store(t, Ordering::Relaxed);
-                    ctx.request_repaint();
-                    !cancel.load(Ordering::Relaxed)
-                });
-                *result.lock().expect("not poisoned") = Some(records);
-                ctx.request_repaint();
-            });
-        match spawned {
-            Ok(_) => {
+        match Job::start("raylab-accuracy-study", StudyRun::new(config), move || {
+            ctx.request_repaint()
+        }) {
+            Ok(job) => {
                 self.status = "running…".into();
-                self.running = Some(running);
+                self.running = Some(job);
             }
             Err(error) => self.status = format!("could not start the study: {error}"),
         }
     }
 
-    /// Takes the result when the thread has finished.
-    fn poll(&mut self) {
-        let finished = self
-            .running
-            .as_ref()
-            .and_then(|r| r.result.lock().ok().and_then(|mut slot| slot.take()));
-        if let Some(outcome) = finished {
+    /// Advances the study (on the web, this is where it runs) and takes its result when finished.
+    fn poll(&mut self, ctx: &egui::Context) {
+        let Some(job) = self.running.as_mut() else {
+            return;
+        };
+        if let Some(records) = job.poll() {
             self.running = None;
-            match outcome {
-                Some(records) => {
-                    self.status = format!(
-                        "{} tests measured",
-                        records.iter().map(|r| r.tests).sum::<usize>()
-                    );
-                    self.records = records;
-                }
-                None => self.status = "cancelled; the previous results are kept".into(),
-            }
+            self.status = format!(
+                "{} tests measured",
+                records.iter().map(|r| r.tests).sum::<usize>()
+            );
+            self.records = records;
+        } else if !crate::platform::THREADS {
+            // No thread wakes the UI on the web: the next frame runs the next slice.
+            ctx.request_repaint();
+        }
+    }
+
+    /// Stops the running study; the previous results are kept.
+    fn cancel(&mut self) {
+        if let Some(job) = self.running.take() {
+            job.cancel();
+            self.status = "cancelled; the previous results are kept".into();
         }
     }
 
     /// The view.
     pub fn ui(&mut self, ui: &mut Ui) -> Option<Action> {
-        self.poll();
+        self.poll(ui.ctx());
         let mut action = None;
         egui::ScrollArea::vertical().auto_shrink([false, false]).show(ui, |ui| {
             self.controls_ui(ui);
@@ -179,15 +154,15 @@ impl AccuracyView {
             }
             ui.add_enabled(!running, egui::Checkbox::new(&mut self.full, "Full run"))
                 .on_hover_text("More rays (a minute or more) instead of the quick run (seconds)");
-            if let Some(run) = &self.running {
-                let (done, total) = (run.done.load(Ordering::Relaxed), run.total.load(Ordering::Relaxed));
+            if let Some(job) = &self.running {
+                let (done, total) = job.progress();
                 ui.add(
                     egui::ProgressBar::new(done as f32 / total.max(1) as f32)
                         .desired_width(220.0)
                         .text(format!("{done} / {total}")),
                 );
                 if ui.button("Cancel").on_hover_text("Stop the run and keep the last results").clicked() {
-                    run.cancel.store(true, Ordering::Relaxed);
+                    self.cancel();
                 }
             }
             ui.label(RichText::new(&self.status).weak());

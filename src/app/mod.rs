@@ -56,6 +56,17 @@ impl ViewKind {
         ViewKind::Render,
     ];
 
+    /// The short name a web page's `?view=` uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            ViewKind::Segments => "segments",
+            ViewKind::Triangle => "triangle",
+            ViewKind::Parallelogram => "parallelogram",
+            ViewKind::Render => "render",
+            ViewKind::Accuracy => "accuracy",
+        }
+    }
+
     /// The tab label.
     pub fn label(self) -> &'static str {
         match self {
@@ -65,6 +76,36 @@ impl ViewKind {
             ViewKind::Render => "Render",
             ViewKind::Accuracy => "Accuracy",
         }
+    }
+}
+
+/// What to open on start, over the remembered state: a web page's `?preset=<file stem>&view=<name>`
+/// (`?preset=triangle-outside`, `?view=accuracy`), so a course page can link straight to an example.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Launch {
+    /// A built-in scene by its file name without `.ron`.
+    pub preset: Option<String>,
+    /// A view by [`ViewKind::name`] (applied after the preset).
+    pub view: Option<String>,
+}
+
+impl Launch {
+    /// Reads a URL's query string (with or without its `?`); unknown keys are ignored.
+    pub fn from_query(query: &str) -> Launch {
+        let mut launch = Launch::default();
+        for pair in query.trim_start_matches('?').split('&') {
+            let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
+            let value = value.trim();
+            if value.is_empty() {
+                continue;
+            }
+            match key {
+                "preset" => launch.preset = Some(value.into()),
+                "view" => launch.view = Some(value.to_ascii_lowercase()),
+                _ => {}
+            }
+        }
+        launch
     }
 }
 
@@ -168,6 +209,8 @@ pub struct RaylabApp {
     pub notice: Option<Notice>,
     /// The Accuracy view (its results are not persisted).
     pub accuracy: accuracy_view::AccuracyView,
+    /// Scene files the browser's file picker has read (web).
+    inbox: crate::platform::Inbox,
 }
 
 /// The storage key of the state.
@@ -202,6 +245,45 @@ impl RaylabApp {
             dialog: None,
             notice: None,
             accuracy: accuracy_view::AccuracyView::default(),
+            inbox: crate::platform::Inbox::default(),
+        }
+    }
+
+    /// Opens what a launch asks for (a preset, then a view); a name that is not known is reported in
+    /// the status line, and the remembered state is kept.
+    pub fn launch(&mut self, launch: &Launch) {
+        let mut problems = Vec::new();
+        if let Some(name) = &launch.preset {
+            match scene::preset(name) {
+                Some(preset) => match self.load_scene(&preset) {
+                    Ok(()) => {
+                        self.notice = Some(Notice {
+                            text: format!("Loaded “{}”", preset.title),
+                            error: false,
+                        })
+                    }
+                    Err(error) => problems.push(format!("“{name}”: {error}")),
+                },
+                None => problems.push(format!(
+                    "no preset named “{name}” (there are: {})",
+                    scene::preset_names().join(", ")
+                )),
+            }
+        }
+        if let Some(name) = &launch.view {
+            match ViewKind::ALL.into_iter().find(|kind| kind.name() == name) {
+                Some(kind) => self.state.view = kind,
+                None => problems.push(format!(
+                    "no view named “{name}” (there are: {})",
+                    ViewKind::ALL.map(ViewKind::name).join(", ")
+                )),
+            }
+        }
+        if !problems.is_empty() {
+            self.notice = Some(Notice {
+                text: problems.join("; "),
+                error: true,
+            });
         }
     }
 
@@ -354,7 +436,7 @@ impl RaylabApp {
                     .on_hover_text("Load a scene file (.ron)")
                     .clicked()
                 {
-                    self.dialog = Some(Dialog::Open);
+                    self.open_scene(ui.ctx());
                     ui.close();
                 }
                 if ui
@@ -362,7 +444,7 @@ impl RaylabApp {
                     .on_hover_text("Save the open view's inputs as a .ron scene file")
                     .clicked()
                 {
-                    self.dialog = Some(Dialog::Save);
+                    self.save_scene();
                     ui.close();
                 }
             });
@@ -438,6 +520,70 @@ impl RaylabApp {
         }
     }
 
+    /// File → Open: the path dialog on the desktop, the browser's file picker on the web.
+    fn open_scene(&mut self, ctx: &egui::Context) {
+        if crate::platform::TYPED_PATHS {
+            self.dialog = Some(Dialog::Open);
+            return;
+        }
+        let ctx = ctx.clone();
+        if let Err(error) =
+            crate::platform::pick_file(".ron", &self.inbox, move || ctx.request_repaint())
+        {
+            self.notice = Some(Notice {
+                text: format!("Could not open the file picker: {error}"),
+                error: true,
+            });
+        }
+    }
+
+    /// File → Save: the path dialog on the desktop, a download on the web.
+    fn save_scene(&mut self) {
+        if crate::platform::TYPED_PATHS {
+            self.dialog = Some(Dialog::Save);
+            return;
+        }
+        self.notice = Some(match self.current_scene() {
+            Some(scene) => {
+                let name = file_name(&scene.title);
+                match crate::platform::download(&name, &scene.to_ron()) {
+                    Ok(()) => Notice {
+                        text: format!("Downloaded {name}"),
+                        error: false,
+                    },
+                    Err(error) => Notice {
+                        text: format!("Could not save: {error}"),
+                        error: true,
+                    },
+                }
+            }
+            None => no_scene_to_save(),
+        });
+    }
+
+    /// Loads the scene files the web's file picker has read.
+    fn receive_files(&mut self) {
+        for file in self.inbox.take() {
+            self.notice = Some(
+                match file.and_then(|(name, text)| {
+                    let scene = Scene::from_ron(&text, &name).map_err(|error| error.to_string())?;
+                    self.load_scene(&scene)
+                        .map_err(|error| format!("{name}: {error}"))?;
+                    Ok(name)
+                }) {
+                    Ok(name) => Notice {
+                        text: format!("Opened {name}"),
+                        error: false,
+                    },
+                    Err(error) => Notice {
+                        text: format!("Could not open: {error} (the current scene is kept)"),
+                        error: true,
+                    },
+                },
+            );
+        }
+    }
+
     /// Opens or saves the scene at the dialog's path; the current scene is kept if opening fails.
     pub fn run_dialog_path(&mut self, save: bool) -> Notice {
         self.run_dialog(if save { Dialog::Save } else { Dialog::Open })
@@ -470,14 +616,32 @@ impl RaylabApp {
                     text: format!("Could not save {}: {error}", path.display()),
                     error: true,
                 },
-                None => Notice {
-                    text:
-                        "Open a Segments, Triangle, Parallelogram or Render view to save its scene"
-                            .into(),
-                    error: true,
-                },
+                None => no_scene_to_save(),
             },
         }
+    }
+}
+
+/// The notice when the open view has no scene (the Accuracy view).
+fn no_scene_to_save() -> Notice {
+    Notice {
+        text: "Open a Segments, Triangle, Parallelogram or Render view to save its scene".into(),
+        error: true,
+    }
+}
+
+/// A file name for a scene, from its title: `Seed 000: the lecture triangle` →
+/// `seed-000-the-lecture-triangle.ron`.
+fn file_name(title: &str) -> String {
+    let words: Vec<String> = title
+        .split(|c: char| !c.is_alphanumeric())
+        .filter(|word| !word.is_empty())
+        .map(str::to_lowercase)
+        .collect();
+    if words.is_empty() {
+        "raylab-scene.ron".into()
+    } else {
+        format!("{}.ron", words.join("-"))
     }
 }
 
@@ -489,6 +653,7 @@ impl Default for RaylabApp {
 
 impl eframe::App for RaylabApp {
     fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
+        self.receive_files();
         let before = self.fingerprint();
         let solved = self.solve();
         egui::Panel::top("top-bar").show(ui, |ui| self.top_bar(ui));
@@ -634,18 +799,45 @@ pub fn set_style(ctx: &egui::Context) {
     });
 }
 
-/// Opens the app window.
-pub fn run() -> eframe::Result {
-    let options = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default()
-            .with_title("raylab")
-            .with_inner_size([1280.0, 800.0])
-            .with_min_inner_size([640.0, 420.0]),
-        ..Default::default()
-    };
-    eframe::run_native(
-        "raylab",
-        options,
-        Box::new(|cc| Ok(Box::new(RaylabApp::from_creation_context(cc)))),
-    )
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_query_names_a_preset_and_a_view() {
+        assert_eq!(
+            Launch::from_query("?preset=triangle-outside&view=Accuracy&x=1"),
+            Launch {
+                preset: Some("triangle-outside".into()),
+                view: Some("accuracy".into()),
+            }
+        );
+        assert_eq!(Launch::from_query(""), Launch::default());
+        assert_eq!(Launch::from_query("?preset=&view"), Launch::default());
+    }
+
+    #[test]
+    fn a_launch_opens_its_preset_and_view_and_names_what_it_does_not_know() {
+        let mut app = RaylabApp::new();
+        app.launch(&Launch::from_query("?preset=triangle-outside"));
+        assert_eq!(app.state.view, ViewKind::Triangle);
+        assert!(app.notice.as_ref().is_some_and(|n| !n.error));
+        app.launch(&Launch::from_query("?view=accuracy"));
+        assert_eq!(app.state.view, ViewKind::Accuracy);
+        app.launch(&Launch::from_query("?preset=nope&view=nowhere"));
+        assert_eq!(app.state.view, ViewKind::Accuracy);
+        let notice = app.notice.unwrap();
+        assert!(notice.error);
+        assert!(notice.text.contains("“nope”") && notice.text.contains("triangle-outside"));
+        assert!(notice.text.contains("“nowhere”") && notice.text.contains("accuracy"));
+    }
+
+    #[test]
+    fn scene_file_names_come_from_titles() {
+        assert_eq!(
+            file_name("Seed 000: the lecture triangle"),
+            "seed-000-the-lecture-triangle.ron"
+        );
+        assert_eq!(file_name("  "), "raylab-scene.ron");
+    }
 }

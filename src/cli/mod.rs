@@ -279,7 +279,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Solve(args)) => run_solve(*args),
         Some(Command::Bench(args)) => run_bench(args),
         Some(Command::Render(args)) => run_render(args),
-        None => match crate::app::run() {
+        None => match crate::platform::open_window() {
             Ok(()) => 0,
             Err(error) => {
                 eprintln!("raylab: could not open the window: {error}");

@@ -474,15 +474,18 @@ impl Sliced for RenderJob {
     type Output = Rendered;
 
     fn step(&mut self) -> Progress<Rendered> {
-        // About 64k pixels a slice: a few milliseconds for the simple scenes.
-        let rows = (65_536 / self.prepared.width.max(1)).max(1);
-        let end = (self.next_row + rows).min(self.prepared.height);
+        // Bands of about 16k pixels until about 8 ms have passed: a slice stays short on the web's one
+        // thread, and a thread's progress bar moves.
+        let rows = (16_384 / self.prepared.width.max(1)).max(1);
         let clock = Stopwatch::start();
-        let band = self
-            .prepared
-            .render_band(self.next_row..end, &mut self.image);
+        let mut end = self.next_row;
+        while end < self.prepared.height && (end == self.next_row || clock.seconds() < 0.008) {
+            let band_end = (end + rows).min(self.prepared.height);
+            let band = self.prepared.render_band(end..band_end, &mut self.image);
+            self.stats = self.stats.add(band);
+            end = band_end;
+        }
         self.seconds += clock.seconds();
-        self.stats = self.stats.add(band);
         self.next_row = end;
         if end < self.prepared.height {
             return Progress::Working {
