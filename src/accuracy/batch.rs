@@ -100,6 +100,10 @@ pub struct Nearest<'a> {
 }
 
 /// Tests every ray of the batch against one triangle (A, B, C) and keeps the nearest hits.
+///
+/// Always inlined, so a caller compiled for wider vectors (the renderer's AVX2 row loop) vectorises
+/// it at that width.
+#[inline(always)]
 pub fn intersect_rays(
     triangle: [[f32; 3]; 3],
     index: u32,

@@ -501,6 +501,47 @@ impl Sliced for RenderJob {
     }
 }
 
+/// A pinhole camera's frame: the ray through a pixel at (u, v) in [−1, 1]² is
+/// forward + u·half_width·right + v·half_height·up.
+pub struct Basis {
+    /// The eye.
+    pub origin: V3<f64>,
+    /// Unit vector to the target.
+    pub forward: V3<f64>,
+    /// Unit vector to the image's right.
+    pub right: V3<f64>,
+    /// Unit vector up the image.
+    pub up: V3<f64>,
+    /// tan(fov/2) × width/height.
+    pub half_width: f64,
+    /// tan(fov/2).
+    pub half_height: f64,
+}
+
+/// The frame of a pinhole camera (`None` for the image plane).
+pub fn pinhole_basis(camera: &Camera, width: usize, height: usize) -> Option<Basis> {
+    let Camera::Pinhole {
+        position,
+        target,
+        fov_y,
+    } = camera
+    else {
+        return None;
+    };
+    let forward = unit(sub(target, position));
+    let right = unit(cross(&forward, &[0.0, 0.0, 1.0]));
+    let up = cross(&right, &forward);
+    let half_height = (fov_y.to_radians() / 2.0).tan();
+    Some(Basis {
+        origin: *position,
+        forward,
+        right,
+        up,
+        half_width: half_height * width as f64 / height.max(1) as f64,
+        half_height,
+    })
+}
+
 /// The ray through pixel (row, column): origin and direction.
 pub fn camera_ray(
     camera: &Camera,
@@ -526,22 +567,16 @@ pub fn camera_ray(
             ];
             (point, unit(point))
         }
-        Camera::Pinhole {
-            position,
-            target,
-            fov_y,
-        } => {
-            let forward = unit(sub(target, position));
-            let right = unit(cross(&forward, &[0.0, 0.0, 1.0]));
-            let up = cross(&right, &forward);
-            let half_height = (fov_y.to_radians() / 2.0).tan();
-            let half_width = half_height * width as f64 / height.max(1) as f64;
+        Camera::Pinhole { .. } => {
+            let Some(b) = pinhole_basis(camera, width, height) else {
+                return ([0.0; 3], [0.0; 3]);
+            };
             let u = (column as f64 + 0.5) / width as f64 * 2.0 - 1.0;
             let v = 1.0 - (row as f64 + 0.5) / height as f64 * 2.0;
             let dir: V3<f64> = std::array::from_fn(|k| {
-                forward[k] + right[k] * u * half_width + up[k] * v * half_height
+                b.forward[k] + b.right[k] * u * b.half_width + b.up[k] * v * b.half_height
             });
-            (*position, dir)
+            (b.origin, dir)
         }
     }
 }

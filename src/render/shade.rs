@@ -40,7 +40,8 @@ impl Shader {
 
     /// The colour of a hit seen along the world direction `dir`, with `inverse_length` = 1/|dir|
     /// (callers that cast many rays compute it in a vector loop); counts the work in `stats`.
-    #[inline]
+    /// Inlined: called once per hit, and a call would pass the direction through memory.
+    #[inline(always)]
     pub fn shade(
         &self,
         object: &PreparedObject,
@@ -71,7 +72,7 @@ impl Shader {
     }
 
     /// The unshaded colour: a texel, the interpolated vertex colour, the flat colour, or white.
-    #[inline]
+    #[inline(always)]
     fn base_color(&self, object: &PreparedObject, hit: &Hit, stats: &mut Stats) -> V3<f64> {
         let triangle = match &object.geometry {
             Geometry::Triangles { triangles, .. } => Some(&triangles[hit.primitive]),
@@ -100,7 +101,7 @@ impl Shader {
 
     /// The world-space unit normal: interpolated from the vertex normals under `smooth-normals`, the
     /// face's otherwise; through the inverse transpose when the object is transformed.
-    #[inline]
+    #[inline(always)]
     fn world_normal(&self, object: &PreparedObject, hit: &Hit, stats: &mut Stats) -> V3<f64> {
         let normal = match &object.geometry {
             Geometry::Triangles { triangles, .. } => {
