@@ -318,6 +318,29 @@ fn the_web_page_draws_the_app_and_its_url_opens_a_preset_and_a_view() {
     }
     assert!(view_difference(&preset, &accuracy) > 0.05);
 
+    // The Render view renders in the page (in frame slices: a page has one thread): seed 003's blue
+    // triangle, shaded by its facing ratio, fills a good part of the screen.
+    let render = screenshot(
+        &format!("{base}/?preset=seed003-facing"),
+        &profile("render"),
+        10_000,
+        "render",
+    );
+    assert_drawn(&render, "?preset=seed003-facing");
+    let blue = render
+        .pixels()
+        .filter(|p| {
+            let [r, g, b, _] = p.0.map(i32::from);
+            b > 90 && b > r + 50 && b > g + 30
+        })
+        .count() as f64
+        / f64::from(render.width() * render.height());
+    println!(
+        "seed 003's triangle covers {:.0}% of the page",
+        blue * 100.0
+    );
+    assert!(blue > 0.05, "the Render view did not draw the triangle");
+
     // The state persists in local storage: eframe saves it every 30 s (virtual time here), and the
     // next visit without a parameter reopens the preset.
     let remembered = profile("remembered");
