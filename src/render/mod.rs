@@ -194,6 +194,13 @@ impl RenderScene {
                 if position == target {
                     return Err("the camera's position and target are the same point".into());
                 }
+                if position[0] == target[0] && position[1] == target[1] {
+                    return Err(
+                        "the camera looks straight up or down: z is the image's up, so move the \
+                         target off the vertical through the position"
+                            .into(),
+                    );
+                }
                 [*position, *target].concat()
             }
         };
