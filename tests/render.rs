@@ -7,11 +7,11 @@ use std::path::Path;
 use glam::DVec3;
 use raylab::accuracy::reference::reference;
 use raylab::accuracy::{Case, Method};
-use raylab::geometry::linalg::{V3, cross, dot, sub};
+use raylab::geometry::linalg::{V3, dot, sub};
 use raylab::render::bvh::Bvh;
 use raylab::render::cast::{nearest_hit, test_triangle, to_object_space};
 use raylab::render::objects::{
-    Geometry, Object, PreparedObject, PreparedTriangle, Shape, Transform, prepare, unit,
+    Geometry, Object, PreparedObject, PreparedTriangle, Shape, Transform, prepare,
 };
 use raylab::render::{Bug, Effect, Image, Prepared, RenderScene, Stats, assets::Embedded, render};
 use raylab::scene::{Problem, Scene};
@@ -66,24 +66,12 @@ fn triangles(object: &PreparedObject) -> &[PreparedTriangle] {
     }
 }
 
-/// A triangle with its face normal and no attributes.
-fn bare_triangle(vertices: [V3<f64>; 3]) -> PreparedTriangle {
-    let [a, b, c] = &vertices;
-    PreparedTriangle {
-        vertices,
-        face_normal: unit(cross(&sub(b, a), &sub(c, a))),
-        colors: None,
-        normals: None,
-        uvs: None,
-    }
-}
-
 /// The object's triangles moved into world space: M applied to every vertex.
 fn world_triangles(object: &PreparedObject) -> Vec<PreparedTriangle> {
     triangles(object)
         .iter()
         .map(|t| {
-            bare_triangle(t.vertices.map(|v| {
+            PreparedTriangle::new(t.vertices.map(|v| {
                 object
                     .object_to_world
                     .transform_point3(DVec3::from(v))

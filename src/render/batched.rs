@@ -38,6 +38,28 @@ struct RowBuffers {
 }
 
 impl RowBuffers {
+    /// Tests the rays in `columns` against one triangle (kernel index `k`), keeping the nearest hits.
+    #[inline(always)]
+    fn intersect(&mut self, triangle: [[f32; 3]; 3], k: u32, columns: Range<usize>) {
+        let s = columns;
+        let (origin, dir) = (&self.origin, &self.dir);
+        let batch = RayBatch {
+            origin: [
+                &origin[0][s.clone()],
+                &origin[1][s.clone()],
+                &origin[2][s.clone()],
+            ],
+            dir: [&dir[0][s.clone()], &dir[1][s.clone()], &dir[2][s.clone()]],
+        };
+        let mut nearest = Nearest {
+            t: &mut self.t[s.clone()],
+            beta: &mut self.beta[s.clone()],
+            gamma: &mut self.gamma[s.clone()],
+            index: &mut self.index[s],
+        };
+        intersect_rays(triangle, k, &batch, &mut nearest);
+    }
+
     /// Sized for `width` rays, with no hits yet.
     fn reset(&mut self, width: usize) {
         for v in self.origin.iter_mut().chain(self.dir.iter_mut()) {
@@ -303,34 +325,19 @@ fn render_rows_inlined(
                 })
                 .unwrap_or(0..0);
             fill_row_rays(&prepared.camera, (width, height), row, needed, buffers);
+            for (k, ((_, triangle, _), span)) in triangles.iter().zip(&spans).enumerate() {
+                buffers.intersect(*triangle, k as u32, span.clone());
+                stats.triangle_tests += span.len() as u64;
+            }
             let RowBuffers {
-                origin,
                 dir,
                 inverse_length,
                 t,
                 beta,
                 gamma,
                 index,
-            } = buffers;
-            for (k, ((_, triangle, _), span)) in triangles.iter().zip(&spans).enumerate() {
-                let s = span.clone();
-                let batch = RayBatch {
-                    origin: [
-                        &origin[0][s.clone()],
-                        &origin[1][s.clone()],
-                        &origin[2][s.clone()],
-                    ],
-                    dir: [&dir[0][s.clone()], &dir[1][s.clone()], &dir[2][s.clone()]],
-                };
-                let mut nearest = Nearest {
-                    t: &mut t[s.clone()],
-                    beta: &mut beta[s.clone()],
-                    gamma: &mut gamma[s.clone()],
-                    index: &mut index[s.clone()],
-                };
-                intersect_rays(*triangle, k as u32, &batch, &mut nearest);
-                stats.triangle_tests += s.len() as u64;
-            }
+                ..
+            } = &*buffers;
             stats.rays += width as u64;
             for column in 0..width {
                 let k = index[column];
@@ -376,39 +383,10 @@ mod tests {
         let mut buffers = RowBuffers::default();
         buffers.reset(size.0);
         fill_row_rays(camera, size, row, 0..size.0, &mut buffers);
-        let RowBuffers {
-            origin,
-            dir,
-            t,
-            beta,
-            gamma,
-            index,
-            ..
-        } = &mut buffers;
         for (k, triangle) in triangles.iter().enumerate() {
-            let s = columns(k);
-            let batch = RayBatch {
-                origin: [
-                    &origin[0][s.clone()],
-                    &origin[1][s.clone()],
-                    &origin[2][s.clone()],
-                ],
-                dir: [&dir[0][s.clone()], &dir[1][s.clone()], &dir[2][s.clone()]],
-            };
-            let mut nearest = Nearest {
-                t: &mut t[s.clone()],
-                beta: &mut beta[s.clone()],
-                gamma: &mut gamma[s.clone()],
-                index: &mut index[s.clone()],
-            };
-            intersect_rays(
-                triangle.map(|v| v.map(|c| c as f32)),
-                k as u32,
-                &batch,
-                &mut nearest,
-            );
+            buffers.intersect(triangle.map(|v| v.map(|c| c as f32)), k as u32, columns(k));
         }
-        (index.clone(), t.clone())
+        (buffers.index, buffers.t)
     }
 
     /// Testing each triangle only on its columns finds exactly the hits that testing every column

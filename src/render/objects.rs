@@ -146,7 +146,8 @@ pub struct PreparedTriangle {
 }
 
 impl PreparedTriangle {
-    fn new(vertices: [V3<f64>; 3]) -> PreparedTriangle {
+    /// A triangle with its face normal and no attributes.
+    pub fn new(vertices: [V3<f64>; 3]) -> PreparedTriangle {
         let [a, b, c] = &vertices;
         PreparedTriangle {
             vertices,
