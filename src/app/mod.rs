@@ -406,7 +406,17 @@ impl RaylabApp {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("Presets", |ui| {
                 let mut chosen = None;
+                let mut group = None;
                 for (index, preset) in self.presets.iter().enumerate() {
+                    // A heading where the presets of the next view begin.
+                    let kind = view_of(&preset.problem);
+                    if group != Some(kind) {
+                        if group.is_some() {
+                            ui.separator();
+                        }
+                        ui.label(RichText::new(kind.label()).weak().small());
+                        group = Some(kind);
+                    }
                     if ui
                         .button(&preset.title)
                         .on_hover_text(&preset.note)
