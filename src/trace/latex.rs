@@ -235,6 +235,7 @@ fn escape_text(text: &str) -> String {
             '−' => out.push('-'),
             '≤' => out.push_str("$\\le$"),
             '≥' => out.push_str("$\\ge$"),
+            '≈' => out.push_str("$\\approx$"),
             '·' => out.push_str("$\\cdot$"),
             '√' => out.push_str("$\\surd$"),
             '|' => out.push_str("$|$"),
