@@ -435,3 +435,44 @@ fn render_writes_a_png_and_names_bad_scene_files() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn render_takes_effects_and_a_bug_and_names_bad_ones() {
+    let dir = std::env::temp_dir().join(format!("raylab-render-flags-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("out.png");
+    let png = png.to_str().unwrap();
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/seed003-facing.ron"
+    );
+    // Only coverage: the facing ratio the scene calls for is not computed.
+    let output = raylab(&[
+        "render",
+        scene,
+        "-o",
+        png,
+        "--stats",
+        "--effects",
+        "coverage",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(
+        stdout(&output).contains("shading 0,"),
+        "{}",
+        stdout(&output)
+    );
+    // Seed 003's `and` for `or`: far more of the plane is "hit".
+    let output = raylab(&["render", scene, "-o", png, "--stats", "--bug", "and-for-or"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(!stdout(&output).contains("covered pixels 38737"));
+    for (flag, value, expected) in [
+        ("--bug", "and-for-and", "unknown bug 'and-for-and'"),
+        ("--effects", "coverage,glow", "unknown effect 'glow'"),
+    ] {
+        let output = raylab(&["render", scene, "-o", png, flag, value]);
+        assert!(!output.status.success());
+        assert!(stderr(&output).contains(expected), "{}", stderr(&output));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
