@@ -1,6 +1,9 @@
 //! The app driven like a person would: load presets by their labels, drag the painted handles, move
 //! sliders, press buttons, and read what is shown.
 
+mod common;
+
+use common::{click_image, wait_for_render};
 use egui::accesskit::Role;
 use egui::{Pos2, Vec2};
 use egui_kittest::Harness;
@@ -387,39 +390,11 @@ fn a_running_study_can_be_cancelled() {
     assert!(harness.state().accuracy.status.contains("cancelled"));
 }
 
-/// Steps frames until the Render view's renders are done (they run on a worker thread).
-fn wait_for_render(harness: &mut Harness<'static, RaylabApp>) {
-    harness.step();
-    harness.step();
-    let started = std::time::Instant::now();
-    while harness.state().state.render.is_rendering() {
-        assert!(
-            started.elapsed().as_secs() < 120,
-            "the render did not finish"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(10));
-        harness.step();
-    }
-    harness.run();
-}
-
 fn load_render_preset(harness: &mut Harness<'static, RaylabApp>, title: &str) {
     harness.get_by_label("Presets").click();
     harness.run();
     harness.get_by_role_and_label(Role::Button, title).click();
     wait_for_render(harness);
-}
-
-/// Presses and releases the mouse on the image with this label, at a fraction of its size.
-fn click_image(harness: &mut Harness<'static, RaylabApp>, label: &str, at: Vec2) {
-    let rect = harness.get_by_label(label).rect();
-    let point = rect.min + rect.size() * at;
-    harness.hover_at(point);
-    harness.run();
-    harness.drag_at(point);
-    harness.step();
-    harness.drop_at(point);
-    harness.run();
 }
 
 fn shows_text_containing(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {

@@ -4,6 +4,9 @@
 //! `RAYLAB_SCREENSHOTS=1 cargo test --test screenshots` rewrites `assets/screenshots/*.png`;
 //! `UPDATE_SNAPSHOTS=1 cargo test --test screenshots` accepts changed snapshots in `tests/snapshots/`.
 
+mod common;
+
+use common::{click_image, wait_for_render};
 use egui::Vec2;
 use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable;
@@ -102,30 +105,6 @@ fn readme_screenshots() {
         accuracy_screenshot(folder);
     }
     render_screenshots(folder, write);
-}
-
-/// Waits until the Render view's images are done.
-fn wait_for_render(harness: &mut Harness<'static, RaylabApp>) {
-    // One frame for the click, one for the view to start its render.
-    harness.step();
-    harness.step();
-    while harness.state().state.render.is_rendering() {
-        std::thread::sleep(std::time::Duration::from_millis(20));
-        harness.step();
-    }
-    harness.run();
-}
-
-/// Clicks the image named `label` at a fraction of its width and height.
-fn click_image(harness: &mut Harness<'static, RaylabApp>, label: &str, at: Vec2) {
-    let rect = harness.get_by_label(label).rect();
-    let point = rect.min + rect.size() * at;
-    harness.hover_at(point);
-    harness.run();
-    harness.drag_at(point);
-    harness.step();
-    harness.drop_at(point);
-    harness.run();
 }
 
 /// The Render view: the transformed object probed, a common bug beside the correct image, and a probe

@@ -1,0 +1,35 @@
+//! Steps the kittest tests and the screenshots share: waiting for a render, clicking into an image.
+
+use egui::Vec2;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use raylab::app::RaylabApp;
+
+/// Steps frames until the Render view's renders are done (they run on a worker thread): one frame
+/// for the click, one for the view to start its render, then until it has finished.
+pub fn wait_for_render(harness: &mut Harness<'static, RaylabApp>) {
+    harness.step();
+    harness.step();
+    let started = std::time::Instant::now();
+    while harness.state().state.render.is_rendering() {
+        assert!(
+            started.elapsed().as_secs() < 120,
+            "the render did not finish"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        harness.step();
+    }
+    harness.run();
+}
+
+/// Presses and releases the mouse on the image with this label, at a fraction of its size.
+pub fn click_image(harness: &mut Harness<'static, RaylabApp>, label: &str, at: Vec2) {
+    let rect = harness.get_by_label(label).rect();
+    let point = rect.min + rect.size() * at;
+    harness.hover_at(point);
+    harness.run();
+    harness.drag_at(point);
+    harness.step();
+    harness.drop_at(point);
+    harness.run();
+}
