@@ -260,6 +260,12 @@ fn state_survives_a_restart() {
     // Older or partial state files fall back to defaults field by field.
     let partial: raylab::app::AppState = ron::from_str("(view: Parallelogram)").unwrap();
     assert_eq!(partial.view, ViewKind::Parallelogram);
+    // A state saved before the Render view (three titles) still reads, titles and all.
+    let before = r#"(view: Triangle, titles: (("a", "1"), ("b", "2"), ("c", "3")))"#;
+    let before: raylab::app::AppState = ron::from_str(before).unwrap();
+    assert_eq!(before.view, ViewKind::Triangle);
+    assert_eq!(before.titles[1], ("b".to_string(), "2".to_string()));
+    assert!(!before.titles[ViewKind::Render as usize].0.is_empty());
 }
 
 #[test]
@@ -523,5 +529,15 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
         notice.text
     );
     assert_eq!(harness.state().state.render.scene, before);
+    // The same scene with its mesh beside the file opens: a scene's own files are found there.
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    std::fs::copy(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/assets/meshes/octasphere.obj"),
+        dir.join("meshes/nowhere.obj"),
+    )
+    .unwrap();
+    let notice = harness.state_mut().run_dialog_path(false);
+    assert!(!notice.error, "{}", notice.text);
+    assert_ne!(harness.state().state.render.scene, before);
     let _ = std::fs::remove_dir_all(&dir);
 }

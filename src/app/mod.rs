@@ -128,6 +128,7 @@ pub struct AppState {
     /// The Render view.
     pub render: RenderView,
     /// Title and note of the scene last loaded, per view.
+    #[serde(deserialize_with = "titles_of_any_age")]
     pub titles: [(String, String); 4],
     /// The path in the open / save dialog.
     pub scene_path: String,
@@ -155,6 +156,26 @@ impl Default for AppState {
             scene_path: default_scene_path(),
         }
     }
+}
+
+/// Reads the titles of a state saved before the Render view, which had three; the Render view's comes
+/// from the presets. (Without this the whole saved state would fail to read and be lost.)
+fn titles_of_any_age<'de, D: serde::Deserializer<'de>>(
+    deserializer: D,
+) -> Result<[(String, String); 4], D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Titles {
+        Now([(String, String); 4]),
+        BeforeRender([(String, String); 3]),
+    }
+    Ok(match Titles::deserialize(deserializer)? {
+        Titles::Now(titles) => titles,
+        Titles::BeforeRender([segments, triangle, parallelogram]) => {
+            let render = AppState::default().titles[ViewKind::Render as usize].clone();
+            [segments, triangle, parallelogram, render]
+        }
+    })
 }
 
 fn default_scene_path() -> String {
@@ -302,12 +323,17 @@ impl RaylabApp {
     /// Loads a scene into its view and switches to it; a render scene whose meshes or textures
     /// cannot be read is refused, and the scene on screen is kept.
     pub fn load_scene(&mut self, scene: &Scene) -> Result<(), String> {
+        self.load_scene_from(scene, None)
+    }
+
+    /// Loads a scene read from a file in `folder`, where a render scene's own meshes and textures are.
+    pub fn load_scene_from(&mut self, scene: &Scene, folder: Option<String>) -> Result<(), String> {
         let kind = view_of(&scene.problem);
         match &scene.problem {
             Problem::Segments(s) => self.state.segments.load(s.clone()),
             Problem::Triangle(t) => self.state.triangle.load(t.clone()),
             Problem::Parallelogram(p) => self.state.parallelogram.load(p.clone()),
-            Problem::Render(r) => self.state.render.load(r.clone())?,
+            Problem::Render(r) => self.state.render.load(r.clone(), folder)?,
         }
         self.state.titles[kind as usize] = (scene.title.clone(), scene.note.clone());
         self.state.view = kind;
@@ -365,13 +391,19 @@ impl RaylabApp {
             ViewKind::Parallelogram => {
                 ActiveSolve::Parallelogram(self.state.parallelogram.solve(precision))
             }
-            // The step panel shows the probed pixel's ray against what it met.
-            ViewKind::Render => match self.state.render.probe() {
-                Some(probe) if probe.triangle.is_some() => {
-                    ActiveSolve::Triangle(self.state.triangle.solve(precision))
+            // The step panel shows the probed pixel's ray against what it met, whatever the other
+            // views hold now.
+            ViewKind::Render => match self.state.render.probed_problem() {
+                Some(render_view::Action::Triangle(scene)) => {
+                    let mut view = self.state.triangle.clone();
+                    view.scene = scene.clone();
+                    view.reading = crate::geometry::Reading::FloatValue;
+                    ActiveSolve::Triangle(view.solve(precision))
                 }
-                Some(probe) if probe.hit.is_some() => {
-                    ActiveSolve::Parallelogram(self.state.parallelogram.solve(precision))
+                Some(render_view::Action::Parallelogram(scene)) => {
+                    let mut view = self.state.parallelogram.clone();
+                    view.scene = scene.clone();
+                    ActiveSolve::Parallelogram(view.solve(precision))
                 }
                 _ => ActiveSolve::Nothing,
             },
@@ -605,7 +637,8 @@ impl RaylabApp {
             Dialog::Open => match Scene::load(&path)
                 .map_err(|e| e.to_string())
                 .and_then(|scene| {
-                    self.load_scene(&scene)
+                    let folder = path.parent().map(|f| f.display().to_string());
+                    self.load_scene_from(&scene, folder)
                         .map_err(|e| format!("{}: {e}", path.display()))
                 }) {
                 Ok(()) => Notice {

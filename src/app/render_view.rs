@@ -47,6 +47,8 @@ pub struct RenderView {
     pub mode: Mode,
     /// The last probed pixel (row, column).
     pub probed: Option<(usize, usize)>,
+    /// The folder of the scene's file, where its own meshes and textures are (`None`: a preset).
+    pub folder: Option<String>,
     #[serde(skip)]
     runtime: Runtime,
 }
@@ -58,6 +60,10 @@ struct Runtime {
     correct: Slot,
     buggy: Slot,
     probe: Option<Probe>,
+    /// What the probe was made under (scene, effects, method, pixel): it is redone when that changes.
+    probe_key: String,
+    /// The probed ray with what it met, as the problem its steps are shown for.
+    probed_problem: Option<Action>,
 }
 
 /// A copy starts without images: they render again when it is shown.
@@ -94,6 +100,7 @@ struct Shown {
 }
 
 /// What the view asks the app to do.
+#[derive(Clone, Debug, PartialEq)]
 pub enum Action {
     /// Show this probed triangle in the Triangle view (and its steps in the panel).
     Triangle(TriangleScene),
@@ -119,20 +126,30 @@ impl Default for RenderView {
             bug: None,
             mode: Mode::Image,
             probed: None,
+            folder: None,
             runtime: Runtime::default(),
         }
     }
 }
 
-/// Where scene files may find meshes and textures besides the shipped ones.
-fn assets() -> OnDisk {
-    OnDisk(vec![".".into(), "assets".into()])
+/// Where a scene finds meshes and textures besides the shipped ones: beside its file and in the
+/// folder above (as `raylab render` looks), then under the working folder.
+fn assets(folder: Option<&str>) -> OnDisk {
+    let mut folders: Vec<std::path::PathBuf> = Vec::new();
+    if let Some(folder) = folder {
+        folders.push(folder.into());
+        folders.push(std::path::Path::new(folder).join(".."));
+    }
+    folders.extend([".".into(), "assets".into()]);
+    OnDisk(folders)
 }
 
 impl RenderView {
-    /// Loads a scene, or says why it cannot be rendered (the current scene is then kept).
-    pub fn load(&mut self, scene: RenderScene) -> Result<(), String> {
-        let prepared = Prepared::new(&scene, &assets())?;
+    /// Loads a scene whose file is in `folder` (`None` for a preset), or says why it cannot be
+    /// rendered (the current scene and folder are then kept).
+    pub fn load(&mut self, scene: RenderScene, folder: Option<String>) -> Result<(), String> {
+        let prepared = Prepared::new(&scene, &assets(folder.as_deref()))?;
+        self.folder = folder;
         self.effects = scene.effects.clone();
         self.runtime = Runtime::default();
         self.runtime.prepared = Some((format!("{scene:?}"), Ok(Arc::new(prepared))));
@@ -170,7 +187,8 @@ impl RenderView {
             .as_ref()
             .is_none_or(|(k, _)| *k != key)
         {
-            let prepared = Prepared::new(&self.scene, &assets()).map(Arc::new);
+            let prepared =
+                Prepared::new(&self.scene, &assets(self.folder.as_deref())).map(Arc::new);
             self.runtime.prepared = Some((key, prepared));
         }
         let (_, prepared) = self.runtime.prepared.as_ref().expect("just prepared");
@@ -252,19 +270,39 @@ impl RenderView {
             ctx.request_repaint();
         }
         // A probe follows the choices it was made under.
-        if let Some((row, column)) = self.probed
-            && self
-                .runtime
-                .probe
-                .as_ref()
-                .is_none_or(|p| p.pixel != (row, column))
-        {
-            self.runtime.probe = self
-                .prepared(None)
-                .ok()
-                .filter(|p| row < p.height && column < p.width)
-                .map(|p| probe(&p, row, column));
+        if self.probed.is_some() && self.runtime.probe_key != self.probe_key() {
+            self.reprobe();
         }
+    }
+
+    /// The choices a probe depends on.
+    fn probe_key(&self) -> String {
+        format!(
+            "{:?}{:?}{:?}{:?}",
+            self.scene, self.effects, self.method, self.probed
+        )
+    }
+
+    /// Casts the probed pixel's ray again under the current choices.
+    fn reprobe(&mut self) {
+        self.runtime.probe_key = self.probe_key();
+        let (probe, problem) = match (self.probed, self.prepared(None)) {
+            (Some((row, column)), Ok(prepared))
+                if row < prepared.height && column < prepared.width =>
+            {
+                let result = probe(&prepared, row, column);
+                let problem = probed_problem(&prepared, &result);
+                (Some(result), problem)
+            }
+            _ => (None, None),
+        };
+        self.runtime.probe = probe;
+        self.runtime.probed_problem = problem;
+    }
+
+    /// The probed ray with the triangle (or parallelogram) it met, for the step panel.
+    pub fn probed_problem(&self) -> Option<&Action> {
+        self.runtime.probed_problem.as_ref()
     }
 
     /// Draws the view.
@@ -298,7 +336,6 @@ impl RenderView {
                     } else {
                         self.effects.retain(|e| *e != effect);
                     }
-                    self.runtime.probe = None;
                 }
             }
             ui.separator();
@@ -471,40 +508,10 @@ impl RenderView {
     }
 
     /// Probes a pixel; the hit (or nearest missed) primitive goes to its view.
-    pub fn probe_pixel(&mut self, (row, column): (usize, usize)) -> Option<Action> {
-        self.probed = Some((row, column));
-        let prepared = self.prepared(None).ok()?;
-        if row >= prepared.height || column >= prepared.width {
-            return None;
-        }
-        let result = probe(&prepared, row, column);
-        let action = match (&result.triangle, result.hit) {
-            (Some([a, b, c]), _) => Some(Action::Triangle(TriangleScene {
-                a: *a,
-                b: *b,
-                c: *c,
-                origin: result.origin,
-                dir: result.dir,
-                t_min: 0.0,
-            })),
-            (None, Some(hit)) => match &prepared.objects[hit.object].geometry {
-                Geometry::Parallelogram { corner, e1, e2, .. } => {
-                    // The parallelogram in world space: a corner is a point, edges are directions.
-                    let m = prepared.objects[hit.object].object_to_world;
-                    Some(Action::Parallelogram(ParallelogramScene {
-                        corner: m.transform_point3(DVec3::from(*corner)).to_array(),
-                        e1: m.transform_vector3(DVec3::from(*e1)).to_array(),
-                        e2: m.transform_vector3(DVec3::from(*e2)).to_array(),
-                        origin: result.origin,
-                        dir: result.dir,
-                    }))
-                }
-                Geometry::Triangles { .. } => None,
-            },
-            (None, None) => None,
-        };
-        self.runtime.probe = Some(result);
-        action
+    pub fn probe_pixel(&mut self, pixel: (usize, usize)) -> Option<Action> {
+        self.probed = Some(pixel);
+        self.reprobe();
+        self.runtime.probed_problem.clone()
     }
 
     /// What the probe found, and a button to the view that shows its steps.
@@ -521,6 +528,18 @@ impl RenderView {
         let vector = |v: &[f64; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
         let (row, column) = probe.pixel;
         let mut action = None;
+        let in_image = self
+            .rendered()
+            .and_then(|r| r.image.covered.get(row * r.image.width + column).copied());
+        if in_image.is_some_and(|covered| covered != probe.hit.is_some()) {
+            ui.label(
+                RichText::new(
+                    "On this edge pixel the image and the probe disagree: the image took the fast \
+                     path (Möller–Trumbore in f32, a row at a time), the probe casts in f64.",
+                )
+                .color(palette::OUTSIDE),
+            );
+        }
         ui.horizontal_wrapped(|ui| {
             ui.label(RichText::new(format!("Pixel ({row}, {column})")).strong());
             ui.label(format!(
@@ -649,6 +668,14 @@ impl RenderView {
                 ui.vertical(|ui| {
                     ui.set_width(half);
                     ui.label(RichText::new(title).strong());
+                    // Each space solves its own problem (Cramer, f64, the t where the ray meets the
+                    // plane): the t shown is not copied from the other side.
+                    let own = crate::accuracy::Method::Cramer.run(&crate::accuracy::Case {
+                        tri: vertices,
+                        origin,
+                        dir,
+                    });
+                    let t = own.values.filter(|_| t.is_some()).map(|[t, _, _]| t);
                     draw_space(ui, Vec2::new(half, height), vertices, origin, dir, t);
                     let v = |p: [f64; 3]| format!("({:.3}, {:.3}, {:.3})", p[0], p[1], p[2]);
                     ui.label(format!(
@@ -738,4 +765,31 @@ fn draw_space(
         canvas.label_below(hit, &format!("t = {t:.4}"), palette::SOLUTION, font);
     }
     let _ = response;
+}
+
+/// The problem a probe loads into a view: the ray with the triangle it hit or came nearest to, or the
+/// parallelogram it hit (in world space: a corner is a point, edges are directions).
+fn probed_problem(prepared: &Prepared, result: &Probe) -> Option<Action> {
+    if let Some([a, b, c]) = result.triangle {
+        return Some(Action::Triangle(TriangleScene {
+            a,
+            b,
+            c,
+            origin: result.origin,
+            dir: result.dir,
+            t_min: 0.0,
+        }));
+    }
+    let object = &prepared.objects[result.hit?.object];
+    let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
+        return None;
+    };
+    let m = object.object_to_world;
+    Some(Action::Parallelogram(ParallelogramScene {
+        corner: m.transform_point3(DVec3::from(*corner)).to_array(),
+        e1: m.transform_vector3(DVec3::from(*e1)).to_array(),
+        e2: m.transform_vector3(DVec3::from(*e2)).to_array(),
+        origin: result.origin,
+        dir: result.dir,
+    }))
 }

@@ -117,9 +117,12 @@ pub fn download(file_name: &str, text: &str) -> Result<(), String> {
         .map_err(|_| "not a link".to_string())?;
     link.set_href(&url);
     link.set_download(file_name);
+    // In the page while it is clicked, as Firefox wants; the Blob's URL is left alone, because
+    // revoking it at once can cancel the download there (a scene file is a few hundred bytes).
+    let body = document()?.body().ok_or("the page has no body")?;
+    body.append_child(&link).map_err(|e| describe(&e))?;
     link.click();
-    // The browser has taken the download; the Blob's URL is not needed any more.
-    let _ = web_sys::Url::revoke_object_url(&url);
+    let _ = body.remove_child(&link);
     Ok(())
 }
 

@@ -136,23 +136,22 @@ pub fn test_triangle(
         origin,
         dir,
     };
-    let decide_buggy = |bug: Bug| {
-        // The bugs are in the checks, so they take Cramer's t, β, γ and decide wrongly.
-        let [t, beta, gamma] = Method::Cramer.run(&case).values?;
-        let alpha = 1.0 - beta - gamma;
-        let hit = match bug {
-            Bug::AndForOr => t > 0.0 && (alpha >= 0.0 || beta >= 0.0 || gamma >= 0.0),
-            Bug::NegativeT => t != 0.0 && alpha >= 0.0 && beta >= 0.0 && gamma >= 0.0,
-            _ => t > 0.0 && beta >= 0.0 && gamma >= 0.0 && beta <= 1.0 && gamma <= 1.0,
-        };
-        hit.then_some([t, beta, gamma])
-    };
+    let answer = method.run(&case);
+    let correct = answer.values.filter(|_| answer.hit);
     match bug {
-        Some(bug @ (Bug::AndForOr | Bug::NegativeT | Bug::VInsteadOfSum)) => decide_buggy(bug),
-        _ => {
-            let answer = method.run(&case);
-            answer.values.filter(|_| answer.hit)
+        // Each bug accepts more than the correct test does: what the method hits stays hit (so the
+        // image differs only by the bug), and the bug's own check, on Cramer's t, β, γ, adds the rest.
+        Some(bug @ (Bug::AndForOr | Bug::NegativeT | Bug::VInsteadOfSum)) if correct.is_none() => {
+            let [t, beta, gamma] = Method::Cramer.run(&case).values?;
+            let alpha = 1.0 - beta - gamma;
+            let hit = match bug {
+                Bug::AndForOr => t > 0.0 && (alpha >= 0.0 || beta >= 0.0 || gamma >= 0.0),
+                Bug::NegativeT => t < 0.0 && alpha >= 0.0 && beta >= 0.0 && gamma >= 0.0,
+                _ => t > 0.0 && beta >= 0.0 && gamma >= 0.0 && beta <= 1.0 && gamma <= 1.0,
+            };
+            hit.then_some([t, beta, gamma])
         }
+        _ => correct,
     }
 }
 
@@ -213,7 +212,10 @@ pub fn nearest_hit(
                     }
                     Some(t)
                 };
-                match bvh {
+                // The BVH culls by the triangles' boxes; `and`-for-`or` and v ≤ 1 accept points
+                // outside them, so those bugs test every triangle.
+                let culls = !matches!(prepared.bug, Some(Bug::AndForOr | Bug::VInsteadOfSum));
+                match bvh.as_ref().filter(|_| culls) {
                     Some(bvh) => {
                         // Accepting t < 0 (a bug) makes the ray a whole line.
                         let t_min = match prepared.bug {

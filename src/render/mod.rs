@@ -194,7 +194,9 @@ impl RenderScene {
                 if position == target {
                     return Err("the camera's position and target are the same point".into());
                 }
-                if position[0] == target[0] && position[1] == target[1] {
+                let across = (target[0] - position[0]).hypot(target[1] - position[1]);
+                let along = (target[2] - position[2]).abs();
+                if across <= 1e-9 * along {
                     return Err(
                         "the camera looks straight up or down: z is the image's up, so move the \
                          target off the vertical through the position"

@@ -207,14 +207,21 @@ const BVH_MIN_TRIANGLES: usize = 8;
 /// Prepares an object: reads its mesh and texture, inverts its transform.
 pub fn prepare(object: &Object, assets: &dyn AssetSource) -> Result<PreparedObject, String> {
     let matrix = object.transform.matrix();
-    if object.transform.scale.contains(&0.0) || matrix.matrix3.determinant() == 0.0 {
+    if object.transform.scale.contains(&0.0) {
         return Err(format!(
             "the transform's scale {:?} has a zero component: the object would be flat and its \
              transform has no inverse",
             object.transform.scale
         ));
     }
-    let world_to_object = (!object.transform.is_identity()).then(|| matrix.inverse());
+    let inverse = matrix.inverse();
+    if !matrix.matrix3.determinant().is_normal() || !inverse.is_finite() {
+        return Err(format!(
+            "the transform's scale {:?} is too large or too small to invert in floating point",
+            object.transform.scale
+        ));
+    }
+    let world_to_object = (!object.transform.is_identity()).then_some(inverse);
     let (geometry, is_mesh) = match &object.shape {
         Shape::Triangle {
             vertices,
