@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{click_image, wait_for_render};
+use common::{click_image, load_preset, wait_for_render};
 use egui::accesskit::Role;
 use egui::{Pos2, Vec2};
 use egui_kittest::Harness;
@@ -19,13 +19,6 @@ fn harness() -> Harness<'static, RaylabApp> {
             raylab::app::set_style(&cc.egui_ctx);
             RaylabApp::new()
         })
-}
-
-fn load_preset(harness: &mut Harness<'static, RaylabApp>, title: &str) {
-    harness.get_by_label("Presets").click();
-    harness.run();
-    harness.get_by_role_and_label(Role::Button, title).click();
-    harness.run();
 }
 
 /// Drags from one screen point to another in small steps, as a hand would.
@@ -396,13 +389,6 @@ fn a_running_study_can_be_cancelled() {
     assert!(harness.state().accuracy.status.contains("cancelled"));
 }
 
-fn load_render_preset(harness: &mut Harness<'static, RaylabApp>, title: &str) {
-    harness.get_by_label("Presets").click();
-    harness.run();
-    harness.get_by_role_and_label(Role::Button, title).click();
-    wait_for_render(harness);
-}
-
 fn shows_text_containing(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
     harness
         .query_all_by(|node| {
@@ -416,7 +402,7 @@ fn shows_text_containing(harness: &Harness<'static, RaylabApp>, text: &str) -> b
 #[test]
 fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
     let mut harness = harness();
-    load_render_preset(&mut harness, "Seed 003: facing ratio");
+    load_preset(&mut harness, "Seed 003: facing ratio");
     assert_eq!(harness.state().state.view, ViewKind::Render);
     let stats = harness.state().state.render.rendered().unwrap().stats;
     // The covered pixels of seed 003's own script, and one shading per hit.
@@ -462,7 +448,7 @@ fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
 #[test]
 fn a_common_bug_renders_beside_the_correct_image() {
     let mut harness = harness();
-    load_render_preset(&mut harness, "Render: common bugs");
+    load_preset(&mut harness, "Render: common bugs");
     harness.get_by_label("Compare with a bug:").click();
     harness.run();
     harness
@@ -488,7 +474,7 @@ fn a_common_bug_renders_beside_the_correct_image() {
 #[test]
 fn the_spaces_mode_shows_one_t_in_world_and_object_space() {
     let mut harness = harness();
-    load_render_preset(&mut harness, "Render: a transformed object");
+    load_preset(&mut harness, "Render: a transformed object");
     click_image(&mut harness, "Correct render", Vec2::new(0.55, 0.35));
     let hit = harness.state().state.render.probe().unwrap().hit.unwrap();
     assert_eq!(hit.object, 0, "the probe is on the stretched sphere");
@@ -518,7 +504,7 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
     )
     .unwrap();
     let mut harness = harness();
-    load_render_preset(&mut harness, "Render: a closed mesh");
+    load_preset(&mut harness, "Render: a closed mesh");
     let before = harness.state().state.render.scene.clone();
     harness.state_mut().state.scene_path = bad.display().to_string();
     let notice = harness.state_mut().run_dialog_path(false);

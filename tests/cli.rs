@@ -391,15 +391,24 @@ fn bench_prints_the_hard_case_gallery() {
     assert!(text.contains("input out of range for: watertight/f64"));
 }
 
+/// Seed 003's facing-ratio render scene.
+const FACING: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/scenes/seed003-facing.ron"
+);
+
+/// A fresh scratch folder for one test, and the PNG path in it.
+fn scratch(name: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("raylab-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("out.png");
+    (dir, png)
+}
+
 #[test]
 fn render_writes_a_png_and_names_bad_scene_files() {
-    let dir = std::env::temp_dir().join(format!("raylab-render-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let png = dir.join("facing.png");
-    let scene = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/assets/scenes/seed003-facing.ron"
-    );
+    let (dir, png) = scratch("render");
+    let scene = FACING;
     let output = raylab(&[
         "render",
         scene,
@@ -438,14 +447,9 @@ fn render_writes_a_png_and_names_bad_scene_files() {
 
 #[test]
 fn render_takes_effects_and_a_bug_and_names_bad_ones() {
-    let dir = std::env::temp_dir().join(format!("raylab-render-flags-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let png = dir.join("out.png");
+    let (dir, png) = scratch("render-flags");
     let png = png.to_str().unwrap();
-    let scene = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/assets/scenes/seed003-facing.ron"
-    );
+    let scene = FACING;
     // Only coverage: the facing ratio the scene calls for is not computed.
     let output = raylab(&[
         "render",

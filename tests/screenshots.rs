@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{click_image, wait_for_render};
+use common::{click_image, load_preset, wait_for_render};
 use egui::Vec2;
 use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable;
@@ -26,14 +26,6 @@ fn harness(size: Vec2, pixels_per_point: f32, theme: egui::Theme) -> Harness<'st
         })
 }
 
-fn load(harness: &mut Harness<'static, RaylabApp>, title: &str) {
-    harness.get_by_label("Presets").click();
-    harness.run();
-    harness.get_by_role_and_label(Role::Button, title).click();
-    // A render preset starts a render: frames keep coming until it is done.
-    wait_for_render(harness);
-}
-
 /// The preset each view is shown with, and what is done before the picture.
 const VIEWS: [(&str, &str, Option<&str>); 4] = [
     (
@@ -51,7 +43,7 @@ const VIEWS: [(&str, &str, Option<&str>); 4] = [
 ];
 
 fn prepare(harness: &mut Harness<'static, RaylabApp>, title: &str, button: Option<&str>) {
-    load(harness, title);
+    load_preset(harness, title);
     if let Some(button) = button {
         harness.get_by_label(button).click();
         harness.run();
@@ -132,7 +124,7 @@ fn render_screenshots(folder: &str, write: bool) {
     ];
     for (file, title, bug, at) in shots {
         let mut harness = harness(Vec2::new(1280.0, 800.0), 1.0, egui::Theme::Light);
-        load(&mut harness, title);
+        load_preset(&mut harness, title);
         wait_for_render(&mut harness);
         if let Some(bug) = bug {
             harness.get_by_label("Compare with a bug:").click();

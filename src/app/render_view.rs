@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 use super::widgets::palette;
 use super::widgets::scene3d::{Canvas, OrbitCamera};
 use crate::accuracy::Method;
+use crate::geometry::linalg::{add, norm_f64, scale};
 use crate::platform::Job;
 use crate::render::assets::OnDisk;
 use crate::render::objects::Geometry;
@@ -682,10 +683,10 @@ impl RenderView {
                         "origin {}, direction {} (|D| = {:.4})",
                         v(origin),
                         v(dir),
-                        length(&dir)
+                        norm_f64(&dir)
                     ));
                     if let Some(t) = t {
-                        let point: [f64; 3] = std::array::from_fn(|k| origin[k] + t * dir[k]);
+                        let point = add(&origin, &scale(&t, &dir));
                         ui.label(format!("t = {t:.6}, hit point {}", v(point)));
                     }
                 });
@@ -697,16 +698,12 @@ impl RenderView {
             ui.label(
                 RichText::new(format!(
                     "Normalising D' would make the object-space t read t·|D'| = {:.6} instead of {t:.6}: the bug \"normalising D in object space\".",
-                    t * length(&object_dir)
+                    t * norm_f64(&object_dir)
                 ))
                 .color(palette::OUTSIDE),
             );
         }
     }
-}
-
-fn length(v: &[f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
 /// A small 3D drawing framed on the triangle: the triangle, the ray towards it, and the hit at t.
@@ -746,13 +743,9 @@ fn draw_space(
     for (p, name) in [(a, "A"), (b, "B"), (c, "C")] {
         canvas.label(p, name, palette::BETA, font.clone());
     }
-    // The ray from well before the triangle to a little past it, its direction D drawn at the hit.
-    let reach = (a - hit)
-        .length()
-        .max((b - hit).length())
-        .max((c - hit).length())
-        * 2.0;
-    let step = d.normalize_or_zero() * reach;
+    // The ray from well before the triangle to a little past it (the scaled triangle reaches 2 from
+    // the hit), its direction drawn where it comes in.
+    let step = d.normalize_or_zero() * 4.0;
     canvas.line(hit - step, hit + step * 0.5, Stroke::new(2.0, palette::RAY));
     canvas.arrow(
         hit - step,
@@ -764,7 +757,6 @@ fn draw_space(
         canvas.dot(hit, 6.0, palette::SOLUTION);
         canvas.label_below(hit, &format!("t = {t:.4}"), palette::SOLUTION, font);
     }
-    let _ = response;
 }
 
 /// The problem a probe loads into a view: the ray with the triangle it hit or came nearest to, or the

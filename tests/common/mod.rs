@@ -1,6 +1,7 @@
 //! Steps the kittest tests and the screenshots share: waiting for a render, clicking into an image.
 
 use egui::Vec2;
+use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use raylab::app::RaylabApp;
@@ -32,4 +33,12 @@ pub fn click_image(harness: &mut Harness<'static, RaylabApp>, label: &str, at: V
     harness.step();
     harness.drop_at(point);
     harness.run();
+}
+
+/// Loads a preset through the Presets menu, by its title; a render preset's render is waited for.
+pub fn load_preset(harness: &mut Harness<'static, RaylabApp>, title: &str) {
+    harness.get_by_label("Presets").click();
+    harness.run();
+    harness.get_by_role_and_label(Role::Button, title).click();
+    wait_for_render(harness);
 }
