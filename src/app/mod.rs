@@ -4,6 +4,7 @@
 //! from the core's solvers and their Trace.
 
 pub mod accuracy_view;
+pub mod highlight;
 pub mod parallelogram_view;
 pub mod render_view;
 pub mod segments_view;
@@ -132,6 +133,8 @@ pub struct AppState {
     pub titles: [(String, String); 4],
     /// The path in the open / save dialog.
     pub scene_path: String,
+    /// Each view's scene as it was loaded, to tell when its inputs have been edited.
+    pub loaded: [Option<Problem>; 4],
 }
 
 impl Default for AppState {
@@ -154,6 +157,12 @@ impl Default for AppState {
             render: RenderView::default(),
             titles: ViewKind::PROBLEMS.map(first_of),
             scene_path: default_scene_path(),
+            loaded: ViewKind::PROBLEMS.map(|kind| {
+                presets
+                    .iter()
+                    .find(|s| view_of(&s.problem) == kind)
+                    .map(|s| s.problem.clone())
+            }),
         }
     }
 }
@@ -218,6 +227,9 @@ pub struct Notice {
     pub text: String,
     /// True for an error.
     pub error: bool,
+    /// The view it is about (shown only there), or `None` for the whole app (a file that could not
+    /// be opened).
+    pub view: Option<ViewKind>,
 }
 
 /// The eframe app.
@@ -232,6 +244,8 @@ pub struct RaylabApp {
     pub accuracy: accuracy_view::AccuracyView,
     /// Scene files the browser's file picker has read (web).
     inbox: crate::platform::Inbox,
+    /// Presentation mode: the index of the step on screen.
+    pub presentation: Option<usize>,
 }
 
 /// The storage key of the state.
@@ -267,6 +281,7 @@ impl RaylabApp {
             notice: None,
             accuracy: accuracy_view::AccuracyView::default(),
             inbox: crate::platform::Inbox::default(),
+            presentation: None,
         }
     }
 
@@ -281,6 +296,7 @@ impl RaylabApp {
                         self.notice = Some(Notice {
                             text: format!("Loaded “{}”", preset.title),
                             error: false,
+                            view: Some(view_of(&preset.problem)),
                         })
                     }
                     Err(error) => problems.push(format!("“{name}”: {error}")),
@@ -304,6 +320,7 @@ impl RaylabApp {
             self.notice = Some(Notice {
                 text: problems.join("; "),
                 error: true,
+                view: None,
             });
         }
     }
@@ -336,6 +353,7 @@ impl RaylabApp {
             Problem::Render(r) => self.state.render.load(r.clone(), folder)?,
         }
         self.state.titles[kind as usize] = (scene.title.clone(), scene.note.clone());
+        self.state.loaded[kind as usize] = Some(scene.problem.clone());
         self.state.view = kind;
         Ok(())
     }
@@ -351,12 +369,16 @@ impl RaylabApp {
         let note = "The ray the renderer cast through that pixel, and what it met.".to_string();
         match action {
             render_view::Action::Triangle(scene) => {
+                self.state.loaded[ViewKind::Triangle as usize] =
+                    Some(Problem::Triangle(scene.clone()));
                 self.state.triangle.load(scene);
                 // Judge the probe as the renderer saw it: exact arithmetic on the floats themselves.
                 self.state.triangle.reading = crate::geometry::Reading::FloatValue;
                 self.state.titles[ViewKind::Triangle as usize] = (title, note);
             }
             render_view::Action::Parallelogram(scene) => {
+                self.state.loaded[ViewKind::Parallelogram as usize] =
+                    Some(Problem::Parallelogram(scene.clone()));
                 self.state.parallelogram.load(scene);
                 self.state.titles[ViewKind::Parallelogram as usize] = (title, note);
             }
@@ -434,10 +456,85 @@ impl RaylabApp {
         )
     }
 
+    /// The top bar: menus and tabs, wrapping onto a second row when the window is narrow; the quick
+    /// controls (steps, presentation, zoom, theme) follow in the same row when they fit, and always
+    /// sit in the View menu.
     fn top_bar(&mut self, ui: &mut Ui) {
-        egui::MenuBar::new().ui(ui, |ui| {
-            ui.menu_button("Presets", |ui| {
-                let mut chosen = None;
+        let quick = QuickGroups::that_fit(ui);
+        ui.horizontal_wrapped(|ui| {
+            ui.menu_button("Presets", |ui| self.presets_menu(ui))
+                .response
+                .on_hover_text("Load a lecture example or a hard case");
+            ui.menu_button("File", |ui| self.file_menu(ui));
+            ui.menu_button("View", |ui| self.view_menu(ui))
+                .response
+                .on_hover_text("Step panel, presentation mode, zoom and theme");
+            ui.separator();
+            for kind in ViewKind::ALL {
+                ui.selectable_value(
+                    &mut self.state.view,
+                    kind,
+                    RichText::new(kind.label()).strong(),
+                );
+            }
+            self.quick_controls(ui, quick);
+        });
+        let (title, note) = &heading(&self.state);
+        ui.horizontal_wrapped(|ui| {
+            ui.label(RichText::new(title).strong());
+            if self.edited() {
+                ui.label(
+                    RichText::new("(edited)")
+                        .color(widgets::palette::RHS)
+                        .strong(),
+                )
+                .on_hover_text(
+                    "The inputs have changed since this scene was loaded: the note below \
+                         describes the scene as it was loaded",
+                );
+                ui.label(RichText::new(format!("As loaded: {note}")).weak().italics());
+            } else {
+                ui.label(RichText::new(note).weak());
+            }
+            if let Some(notice) = self.notice_here() {
+                let color = if notice.error {
+                    widgets::palette::OUTSIDE
+                } else {
+                    widgets::palette::INSIDE
+                };
+                ui.label(RichText::new(&notice.text).color(color));
+            }
+        });
+    }
+
+    /// The notice to show on the open view: its own, or one about the whole app.
+    fn notice_here(&self) -> Option<&Notice> {
+        self.notice
+            .as_ref()
+            .filter(|n| n.view.is_none_or(|view| view == self.state.view))
+    }
+
+    /// True when the open view's inputs differ from the scene as it was loaded.
+    pub fn edited(&self) -> bool {
+        let Some(loaded) = self
+            .state
+            .loaded
+            .get(self.state.view as usize)
+            .and_then(Option::as_ref)
+        else {
+            return false;
+        };
+        self.current_scene()
+            .is_some_and(|scene| &scene.problem != loaded)
+    }
+
+    fn presets_menu(&mut self, ui: &mut Ui) {
+        let mut chosen = None;
+        // A long list on a small or zoomed screen: it scrolls instead of running off the window.
+        let max_height = (ui.ctx().content_rect().height() - 48.0).max(120.0);
+        egui::ScrollArea::vertical()
+            .max_height(max_height)
+            .show(ui, |ui| {
                 let mut group = None;
                 for (index, preset) in self.presets.iter().enumerate() {
                     // A heading where the presets of the next view begin.
@@ -457,77 +554,79 @@ impl RaylabApp {
                         chosen = Some(index);
                     }
                 }
-                if let Some(index) = chosen {
-                    let preset = self.presets[index].clone();
-                    self.notice = Some(match self.load_scene(&preset) {
-                        Ok(()) => Notice {
-                            text: format!("Loaded “{}”", preset.title),
-                            error: false,
-                        },
-                        Err(error) => Notice {
-                            text: format!("Could not load “{}”: {error}", preset.title),
-                            error: true,
-                        },
-                    });
-                    ui.close();
-                }
             });
-            ui.menu_button("File", |ui| {
-                if ui
-                    .button("Open scene…")
-                    .on_hover_text("Load a scene file (.ron)")
-                    .clicked()
-                {
-                    self.open_scene(ui.ctx());
-                    ui.close();
-                }
-                if ui
-                    .button("Save scene as…")
-                    .on_hover_text("Save the open view's inputs as a .ron scene file")
-                    .clicked()
-                {
-                    self.save_scene();
-                    ui.close();
-                }
+        if let Some(index) = chosen {
+            let preset = self.presets[index].clone();
+            self.notice = Some(match self.load_scene(&preset) {
+                Ok(()) => Notice {
+                    text: format!("Loaded “{}”", preset.title),
+                    error: false,
+                    view: Some(view_of(&preset.problem)),
+                },
+                Err(error) => Notice {
+                    text: format!("Could not load “{}”: {error}", preset.title),
+                    error: true,
+                    view: None,
+                },
             });
+            ui.close();
+        }
+    }
+
+    fn file_menu(&mut self, ui: &mut Ui) {
+        if ui
+            .button("Open scene…")
+            .on_hover_text("Load a scene file (.ron)")
+            .clicked()
+        {
+            self.open_scene(ui.ctx());
+            ui.close();
+        }
+        if ui
+            .button("Save scene as…")
+            .on_hover_text("Save the open view's inputs as a .ron scene file")
+            .clicked()
+        {
+            self.save_scene();
+            ui.close();
+        }
+    }
+
+    fn view_menu(&mut self, ui: &mut Ui) {
+        ui.checkbox(&mut self.state.show_steps, "Step panel")
+            .on_hover_text("Show or hide the step panel");
+        if ui
+            .button("Present (F5)")
+            .on_hover_text(PRESENT_TIP)
+            .clicked()
+        {
+            self.toggle_presentation(ui.ctx());
+            ui.close();
+        }
+        ui.separator();
+        ui.horizontal(zoom_controls);
+        ui.horizontal(theme_buttons);
+    }
+
+    /// The quick controls that fit in the top bar's row: zoom first, then steps and presentation,
+    /// then the theme (all of them are in the View menu too).
+    fn quick_controls(&mut self, ui: &mut Ui, quick: QuickGroups) {
+        if quick.zoom {
             ui.separator();
-            for kind in ViewKind::ALL {
-                ui.selectable_value(
-                    &mut self.state.view,
-                    kind,
-                    RichText::new(kind.label()).strong(),
-                );
-            }
+            zoom_controls(ui);
+        }
+        if quick.steps {
             ui.separator();
             ui.toggle_value(&mut self.state.show_steps, "Steps")
                 .on_hover_text("Show or hide the step panel");
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                theme_buttons(ui);
-                ui.separator();
-                let zoom = ui.ctx().zoom_factor();
-                if ui.button("+").on_hover_text("Zoom in (Ctrl +)").clicked() {
-                    ui.ctx().set_zoom_factor((zoom + 0.1).min(3.0));
-                }
-                ui.label(format!("{:.0}%", zoom * 100.0))
-                    .on_hover_text("Zoom (Ctrl + / Ctrl − / Ctrl 0)");
-                if ui.button("−").on_hover_text("Zoom out (Ctrl −)").clicked() {
-                    ui.ctx().set_zoom_factor((zoom - 0.1).max(0.5));
-                }
-            });
-        });
-        let (title, note) = &heading(&self.state);
-        ui.horizontal_wrapped(|ui| {
-            ui.label(RichText::new(title).strong());
-            ui.label(RichText::new(note).weak());
-            if let Some(notice) = &self.notice {
-                let color = if notice.error {
-                    widgets::palette::OUTSIDE
-                } else {
-                    widgets::palette::INSIDE
-                };
-                ui.label(RichText::new(&notice.text).color(color));
+            if ui.button("Present").on_hover_text(PRESENT_TIP).clicked() {
+                self.toggle_presentation(ui.ctx());
             }
-        });
+        }
+        if quick.theme {
+            ui.separator();
+            theme_buttons(ui);
+        }
     }
 
     fn dialog_ui(&mut self, ctx: &egui::Context) {
@@ -575,6 +674,7 @@ impl RaylabApp {
             self.notice = Some(Notice {
                 text: format!("Could not open the file picker: {error}"),
                 error: true,
+                view: None,
             });
         }
     }
@@ -592,10 +692,12 @@ impl RaylabApp {
                     Ok(()) => Notice {
                         text: format!("Downloaded {name}"),
                         error: false,
+                        view: None,
                     },
                     Err(error) => Notice {
                         text: format!("Could not save: {error}"),
                         error: true,
+                        view: None,
                     },
                 }
             }
@@ -616,10 +718,12 @@ impl RaylabApp {
                     Ok(name) => Notice {
                         text: format!("Opened {name}"),
                         error: false,
+                        view: None,
                     },
                     Err(error) => Notice {
                         text: format!("Could not open: {error} (the current scene is kept)"),
                         error: true,
+                        view: None,
                     },
                 },
             );
@@ -644,20 +748,24 @@ impl RaylabApp {
                 Ok(()) => Notice {
                     text: format!("Opened {}", path.display()),
                     error: false,
+                    view: Some(self.state.view),
                 },
                 Err(error) => Notice {
                     text: format!("Could not open: {error} (the current scene is kept)"),
                     error: true,
+                    view: None,
                 },
             },
             Dialog::Save => match self.current_scene().map(|scene| scene.save(&path)) {
                 Some(Ok(())) => Notice {
                     text: format!("Saved {}", path.display()),
                     error: false,
+                    view: None,
                 },
                 Some(Err(error)) => Notice {
                     text: format!("Could not save {}: {error}", path.display()),
                     error: true,
+                    view: None,
                 },
                 None => no_scene_to_save(),
             },
@@ -670,6 +778,7 @@ fn no_scene_to_save() -> Notice {
     Notice {
         text: "Open a Segments, Triangle, Parallelogram or Render view to save its scene".into(),
         error: true,
+        view: None,
     }
 }
 
@@ -697,16 +806,40 @@ impl Default for RaylabApp {
 impl eframe::App for RaylabApp {
     fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
         self.receive_files();
+        if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::F5)) {
+            self.toggle_presentation(ui.ctx());
+        }
         let before = self.fingerprint();
         let solved = self.solve();
+        match self.presentation {
+            Some(index) => self.presentation_ui(ui, &solved, index),
+            None => self.workbench_ui(ui, &solved),
+        }
+        self.dialog_ui(&ui.ctx().clone());
+        // The step panel was drawn before this frame's drags: draw once more so it catches up.
+        if self.fingerprint() != before {
+            ui.ctx().request_repaint();
+        }
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, STATE_KEY, &self.state);
+    }
+}
+
+impl RaylabApp {
+    /// The usual layout: top bar, step panel, the open view.
+    fn workbench_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve) {
+        self.set_highlight(Vec::new());
         egui::Panel::top("top-bar").show(ui, |ui| self.top_bar(ui));
         if self.state.show_steps {
-            // About 40% of the window: wide enough for a 3x3 matrix, narrow enough for the view at 150%.
-            let width = (ui.available_width() * 0.4).clamp(260.0, 420.0);
+            // About 40% of the window, never more than half: the view keeps at least half the width.
+            let full = ui.available_width();
+            let width = (full * 0.4).clamp(240.0, 420.0).min(full * 0.5);
             egui::Panel::right("steps")
                 .resizable(true)
                 .default_size(width)
-                .min_size(260.0)
+                .size_range(width.min(240.0)..=full * 0.5)
                 .show(ui, |ui| match solved.trace() {
                     Some(trace) => step_panel::ui(ui, trace, &mut self.state.precision),
                     None if self.state.view == ViewKind::Render => {
@@ -719,20 +852,37 @@ impl eframe::App for RaylabApp {
                     }
                 });
         }
-        egui::CentralPanel::default().show(ui, |ui| match &solved {
+        egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, false));
+    }
+
+    /// The open view; `canvas_only` in presentation mode (no controls, the drawing fills the space).
+    fn view_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve, canvas_only: bool) {
+        match solved {
             _ if self.state.view == ViewKind::Render => {
                 if let Some(action) = self.state.render.ui(ui) {
                     self.render_action(action);
                 }
             }
             ActiveSolve::Segments(s) if self.state.view == ViewKind::Segments => {
-                self.state.segments.ui(ui, s)
+                if canvas_only {
+                    self.state.segments.present_ui(ui, s)
+                } else {
+                    self.state.segments.ui(ui, s)
+                }
             }
             ActiveSolve::Triangle(s) if self.state.view == ViewKind::Triangle => {
-                self.state.triangle.ui(ui, s)
+                if canvas_only {
+                    self.state.triangle.present_ui(ui, s)
+                } else {
+                    self.state.triangle.ui(ui, s)
+                }
             }
             ActiveSolve::Parallelogram(s) if self.state.view == ViewKind::Parallelogram => {
-                self.state.parallelogram.ui(ui, s)
+                if canvas_only {
+                    self.state.parallelogram.present_ui(ui, s)
+                } else {
+                    self.state.parallelogram.ui(ui, s)
+                }
             }
             ActiveSolve::Nothing if self.state.view == ViewKind::Accuracy => {
                 if let Some(accuracy_view::Action::LoadTriangle(scene, title, note)) =
@@ -750,16 +900,214 @@ impl eframe::App for RaylabApp {
             }
             // The tab changed this frame: draw the new view next frame.
             _ => ui.ctx().request_repaint(),
-        });
-        self.dialog_ui(&ui.ctx().clone());
-        // The step panel was drawn before this frame's drags: draw once more so it catches up.
-        if self.fingerprint() != before {
-            ui.ctx().request_repaint();
         }
     }
 
-    fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        eframe::set_value(storage, STATE_KEY, &self.state);
+    /// Tells the open view what to emphasise.
+    fn set_highlight(&mut self, elements: Vec<highlight::Element>) {
+        self.state.segments.highlight = elements.clone();
+        self.state.parallelogram.highlight = elements.clone();
+        self.state.triangle.highlight = elements;
+    }
+
+    /// Enters or leaves presentation mode (only views that solve one problem have steps to show).
+    pub fn toggle_presentation(&mut self, ctx: &egui::Context) {
+        if self.presentation.take().is_some() {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(false));
+            return;
+        }
+        if matches!(
+            self.state.view,
+            ViewKind::Segments | ViewKind::Triangle | ViewKind::Parallelogram
+        ) {
+            self.presentation = Some(0);
+            ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(true));
+        } else {
+            self.notice = Some(Notice {
+                text: "Presentation steps through one solve: open the Segments, Triangle or \
+                       Parallelogram view first"
+                    .into(),
+                error: true,
+                view: Some(self.state.view),
+            });
+        }
+    }
+
+    /// Presentation mode: the view fills the window, one step at a time beside it, large; the keys a
+    /// presentation clicker sends move between steps.
+    fn presentation_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve, index: usize) {
+        let Some(trace) = solved.trace().filter(|t| !t.steps.is_empty()) else {
+            self.presentation = None;
+            return;
+        };
+        let count = trace.steps.len();
+        let mut index = index.min(count - 1);
+        let (next, back, leave) = ui.input_mut(|i| {
+            let mut pressed = |keys: &[egui::Key]| {
+                // Consume every key of the group (not just the first pressed).
+                keys.iter()
+                    .filter(|key| i.consume_key(egui::Modifiers::NONE, **key))
+                    .count()
+                    > 0
+            };
+            use egui::Key;
+            (
+                pressed(&[Key::Space, Key::ArrowRight, Key::PageDown]),
+                pressed(&[Key::ArrowLeft, Key::PageUp]),
+                pressed(&[Key::Escape]),
+            )
+        });
+        let mut moved = (next && index + 1 < count) || (back && index > 0);
+        if next && index + 1 < count {
+            index += 1;
+        } else if back && index > 0 {
+            index -= 1;
+        }
+        let step = &trace.steps[index];
+        let elements = highlight::of_step(&trace.solver, &step.id);
+        let mut leave = leave;
+        egui::Panel::top("presenter").show(ui, |ui| {
+            ui.horizontal_wrapped(|ui| {
+                if ui
+                    .add_enabled(index > 0, egui::Button::new("◀ Back"))
+                    .on_hover_text("The step before (← or Page Up)")
+                    .clicked()
+                {
+                    index -= 1;
+                    moved = true;
+                }
+                ui.label(RichText::new(format!("Step {} of {count}", index + 1)).strong());
+                if ui
+                    .add_enabled(index + 1 < count, egui::Button::new("Next ▶"))
+                    .on_hover_text("The next step (Space, → or Page Down)")
+                    .clicked()
+                {
+                    index += 1;
+                    moved = true;
+                }
+                if ui
+                    .button("Leave (Esc)")
+                    .on_hover_text("Back to the usual layout")
+                    .clicked()
+                {
+                    leave = true;
+                }
+                ui.separator();
+                let names: Vec<String> = elements.iter().map(|e| e.name()).collect();
+                if !names.is_empty() {
+                    ui.label(
+                        RichText::new(format!("Highlighted: {}", names.join(", ")))
+                            .color(widgets::palette::SOLUTION),
+                    );
+                }
+            });
+        });
+        if leave {
+            self.toggle_presentation(ui.ctx());
+            return;
+        }
+        self.presentation = Some(index);
+        let step = &trace.steps[index];
+        let elements = highlight::of_step(&trace.solver, &step.id);
+        if moved {
+            self.reveal(&elements, solved, ui.input(|i| i.time));
+        }
+        let full = ui.available_width();
+        egui::Panel::right("presented-step")
+            .resizable(false)
+            .exact_size((full * 0.42).max(200.0))
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    enlarge(ui, 1.4);
+                    step_panel::step_ui(ui, index + 1, step);
+                });
+            });
+        self.set_highlight(elements);
+        egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, true));
+    }
+
+    /// Moves the handles a newly shown step computes to their solution (β = |M1|/|M| slides β).
+    fn reveal(&mut self, elements: &[highlight::Element], solved: &ActiveSolve, now: f64) {
+        for element in elements {
+            let highlight::Element::Parameter(parameter) = element else {
+                continue;
+            };
+            match solved {
+                ActiveSolve::Triangle(s) => self.state.triangle.show_parameter(*parameter, s, now),
+                ActiveSolve::Segments(s) => self.state.segments.show_parameter(*parameter, s, now),
+                ActiveSolve::Parallelogram(s) => {
+                    self.state.parallelogram.show_parameter(*parameter, s)
+                }
+                ActiveSolve::Nothing => {}
+            }
+        }
+    }
+}
+
+/// Scales every text style of this `Ui` by `factor` (the presented step, readable from the back).
+fn enlarge(ui: &mut Ui, factor: f32) {
+    for font in ui.style_mut().text_styles.values_mut() {
+        font.size *= factor;
+    }
+}
+
+/// What the presentation button does.
+const PRESENT_TIP: &str = "Presentation mode: the view fills the screen and the steps come one at a \
+     time, large. Space, → or Page Down: next step; ← or Page Up: back; Esc: leave";
+
+/// Which groups of quick controls the top bar's row has room for.
+#[derive(Clone, Copy, Debug, Default)]
+struct QuickGroups {
+    zoom: bool,
+    steps: bool,
+    theme: bool,
+}
+
+impl QuickGroups {
+    /// Adds the groups in order of use while the row still fits the window.
+    fn that_fit(ui: &Ui) -> QuickGroups {
+        let menus_and_tabs = ["Presets", "File", "View"]
+            .into_iter()
+            .chain(ViewKind::ALL.map(ViewKind::label));
+        let mut used = row_width(ui, menus_and_tabs) + 24.0;
+        let mut fits = |labels: &[&str]| {
+            used += row_width(ui, labels.iter().copied());
+            used <= ui.available_width()
+        };
+        let zoom = fits(&["−", "100%", "+"]);
+        let steps = zoom && fits(&["Steps", "Present"]);
+        let theme = steps && fits(&["Light", "Dark", "System"]);
+        QuickGroups { zoom, steps, theme }
+    }
+}
+
+/// The width a row of buttons with these labels takes, with a separator before it.
+fn row_width<'a>(ui: &Ui, labels: impl Iterator<Item = &'a str>) -> f32 {
+    let font = egui::TextStyle::Button.resolve(ui.style());
+    let spacing = ui.spacing();
+    let per_item = 2.0 * spacing.button_padding.x + spacing.item_spacing.x;
+    let text: f32 = labels
+        .map(|label| {
+            ui.painter()
+                .layout_no_wrap(label.into(), font.clone(), egui::Color32::WHITE)
+                .size()
+                .x
+                + per_item
+        })
+        .sum();
+    text + 2.0 * spacing.item_spacing.x + 1.0
+}
+
+/// Zoom out, the zoom, zoom in.
+fn zoom_controls(ui: &mut Ui) {
+    let zoom = ui.ctx().zoom_factor();
+    if ui.button("−").on_hover_text("Zoom out (Ctrl −)").clicked() {
+        ui.ctx().set_zoom_factor((zoom - 0.1).max(0.5));
+    }
+    ui.label(format!("{:.0}%", zoom * 100.0))
+        .on_hover_text("Zoom (Ctrl + / Ctrl − / Ctrl 0)");
+    if ui.button("+").on_hover_text("Zoom in (Ctrl +)").clicked() {
+        ui.ctx().set_zoom_factor((zoom + 0.1).min(3.0));
     }
 }
 
@@ -780,10 +1128,7 @@ fn theme_buttons(ui: &mut Ui) {
             "System",
             "Follow the system's theme",
         ),
-    ]
-    .into_iter()
-    .rev()
-    {
+    ] {
         ui.selectable_value(&mut preference, value, label)
             .on_hover_text(tip);
     }

@@ -5,6 +5,8 @@ use egui::{FontId, RichText, Sense, Stroke, Ui};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use super::highlight::{Column, Element, Parameter, Side};
+use super::widgets::labels::{LabelLayer, PlacedLabel, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, status_line, vector_editor};
@@ -31,6 +33,18 @@ pub struct ParallelogramView {
     /// The last frame's projection.
     #[serde(skip)]
     pub projector: Option<Projector>,
+    /// Keep the camera framing the scene to fill the canvas until the user orbits or zooms.
+    #[serde(skip)]
+    pub auto_frame: bool,
+    /// The canvas size the camera was last framed for.
+    #[serde(skip)]
+    framed_for: Option<egui::Vec2>,
+    /// What the step on screen is about: drawn emphasised.
+    #[serde(skip)]
+    pub highlight: Vec<Element>,
+    /// Where each label went last frame (tests read it).
+    #[serde(skip)]
+    pub labels: Vec<PlacedLabel>,
 }
 
 impl Default for ParallelogramView {
@@ -49,6 +63,10 @@ impl Default for ParallelogramView {
             t: 0.0,
             camera: OrbitCamera::default(),
             projector: None,
+            auto_frame: true,
+            framed_for: None,
+            highlight: Vec::new(),
+            labels: Vec::new(),
         };
         view.load(scene);
         view
@@ -81,6 +99,25 @@ impl ParallelogramView {
         self.alpha = 0.5;
         self.beta = 0.5;
         self.t = 0.5;
+        self.auto_frame = true;
+        self.framed_for = None;
+    }
+
+    /// Slides a parameter to its value at the solution (presentation mode).
+    pub fn show_parameter(&mut self, parameter: Parameter, solved: &Solved) {
+        if let Some([alpha, beta, t]) = solved.float.alpha_beta_t {
+            match parameter {
+                Parameter::Alpha => self.alpha = alpha,
+                Parameter::Beta => self.beta = beta,
+                Parameter::T => self.t = t,
+                Parameter::Gamma | Parameter::S => {}
+            }
+        }
+    }
+
+    /// The canvas alone, filling the space (presentation mode).
+    pub fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.canvas_ui(ui, solved);
     }
 
     fn vectors(&self) -> [DVec3; 5] {
@@ -107,9 +144,16 @@ impl ParallelogramView {
 
     /// The view: controls below, the 3D canvas above.
     pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        // The canvas keeps at least 55% of the height: the controls scroll below it when short.
+        let controls_height = (ui.available_height() * 0.45).max(48.0);
         egui::Panel::bottom("parallelogram-controls")
             .resizable(false)
-            .show(ui, |ui| self.controls_ui(ui, solved));
+            .max_size(controls_height)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical()
+                    .auto_shrink([false, true])
+                    .show(ui, |ui| self.controls_ui(ui, solved))
+            });
         egui::CentralPanel::default().show(ui, |ui| self.canvas_ui(ui, solved));
     }
 
@@ -241,37 +285,65 @@ impl ParallelogramView {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         if response.dragged() {
             self.camera.orbit(response.drag_delta());
+            self.auto_frame = false;
         }
         if response.hovered() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
                 self.camera.zoom(scroll);
+                self.auto_frame = false;
             }
         }
-        let projector = self.camera.projector(response.rect);
-        let canvas = Canvas {
-            painter: &painter,
-            projector: &projector,
-        };
-        let text = ui.visuals().text_color();
-        let font = FontId::proportional(16.0);
         let [c, _, _, o, d] = self.vectors();
         // The corners p(0,0), p(1,0), p(1,1), p(0,1) from the core's parametric form.
         let problem = self.problem();
         let corner =
             |alpha: f64, beta: f64| DVec3::from(parallelogram::point_at(&problem, &alpha, &beta));
         let (c_e1, c_e1_e2, c_e2) = (corner(1.0, 0.0), corner(1.0, 1.0), corner(0.0, 1.0));
-        canvas.axes(&[c, c_e1, c_e2, o]);
+        if self.auto_frame && self.framed_for != Some(response.rect.size()) {
+            let mut points = vec![c, c_e1, c_e1_e2, c_e2, o, o + d];
+            points.extend(solved.float.point.map(DVec3::from));
+            let reserved = super::widgets::verdict_height(ui, response.rect.width(), &solved.trace);
+            self.camera = self
+                .camera
+                .clone()
+                .fitted_to(&points, response.rect, reserved);
+            self.framed_for = Some(response.rect.size());
+        }
+        let projector = self.camera.projector(response.rect);
+        let canvas = Canvas {
+            painter: &painter,
+            projector: &projector,
+        };
+        let mut labels = LabelLayer::new(response.rect);
+        if let Some(verdict) =
+            super::widgets::verdict_overlay(ui, &painter, response.rect, &solved.trace)
+        {
+            labels.avoid(verdict);
+        }
+        let text = ui.visuals().text_color();
+        canvas.axes_labelled(&[c, c_e1, c_e2, o], &mut labels);
         canvas.polygon(
             &[c, c_e1, c_e1_e2, c_e2],
             faded(palette::BETA, 40),
             Stroke::new(2.0, text),
         );
-        canvas.arrow(c, c_e1, Stroke::new(3.0, palette::BETA));
-        canvas.label(c_e1, "e1", palette::BETA, font.clone());
-        canvas.arrow(c, c_e2, Stroke::new(3.0, palette::GAMMA));
-        canvas.label(c_e2, "e2", palette::GAMMA, font.clone());
-        canvas.label(c, "c", text, font.clone());
+        self.draw_highlights(&canvas, solved, [c, c_e1, c_e1_e2, c_e2], &mut labels);
+        for (from, to, color, name) in [
+            (c, c_e1, palette::BETA, "e1"),
+            (c, c_e2, palette::GAMMA, "e2"),
+        ] {
+            canvas.arrow(from, to, Stroke::new(3.0, color));
+            canvas.place_label(&mut labels, to, name, color, Priority::Key);
+            guide(&canvas, &mut labels, from, to);
+        }
+        for (from, to) in [(c_e1, c_e1_e2), (c_e1_e2, c_e2)] {
+            guide(&canvas, &mut labels, from, to);
+        }
+        if let Some(at) = canvas.dot(c, 4.0, text) {
+            labels.avoid_point(at, 5.0);
+        }
+        canvas.place_label(&mut labels, c, "c", text, Priority::Key);
         let explored = self.exploration();
         let p = DVec3::from(explored.plane_point);
         let color = if explored.inside {
@@ -279,35 +351,114 @@ impl ParallelogramView {
         } else {
             palette::OUTSIDE
         };
-        canvas.dot(p, 7.0, color);
-        canvas.label(p, "p(α, β)", color, font.clone());
         let t_star = solved.float.alpha_beta_t.map_or(1.0, |x| x[2]);
         let far = t_star.max(self.t).max(1.0) * 1.4;
+        let back = t_star.min(-1.0) * 1.4;
         canvas.line(o, o + far * d, Stroke::new(2.5, palette::RAY));
-        canvas.dashed(
-            o + t_star.min(-1.0) * 1.4 * d,
-            o,
-            Stroke::new(1.5, faded(palette::RAY, 170)),
-        );
-        canvas.dot(o, 6.0, palette::RAY);
-        canvas.label(o, "o", palette::RAY, font.clone());
+        canvas.dashed(o + back * d, o, Stroke::new(1.5, faded(palette::RAY, 170)));
+        guide(&canvas, &mut labels, o + back * d, o + far * d);
         canvas.arrow(o, o + d, Stroke::new(3.0, palette::RAY));
         let on_ray = DVec3::from(explored.ray_point);
-        canvas.dot(on_ray, 6.0, palette::RAY);
-        canvas.label(on_ray, "o + t d", palette::RAY, font.clone());
         if explored.gap > 0.0 {
             canvas.dashed(p, on_ray, Stroke::new(1.0, faded(text, 140)));
         }
+        for (at, radius, dot_color) in [
+            (p, 7.0, color),
+            (o, 6.0, palette::RAY),
+            (on_ray, 6.0, palette::RAY),
+        ] {
+            if let Some(screen) = canvas.dot(at, radius, dot_color) {
+                labels.avoid_point(screen, radius + 1.0);
+            }
+        }
+        canvas.place_label(&mut labels, o, "o", palette::RAY, Priority::Key);
+        canvas.place_label(&mut labels, p, "p(α, β)", color, Priority::Key);
+        canvas.place_label(&mut labels, on_ray, "o + t d", palette::RAY, Priority::Key);
         if let Some(point) = solved.float.point {
             let (color, label) = match solved.float.outcome {
                 ParallelogramOutcome::Hit => (palette::SOLUTION, "hit"),
                 ParallelogramOutcome::Behind => (palette::OUTSIDE, "ghost hit behind o"),
                 _ => (palette::OUTSIDE, "misses: off the parallelogram"),
             };
-            canvas.ring(DVec3::from(point), 11.0, Stroke::new(2.5, color));
-            canvas.label(DVec3::from(point), label, color, font.clone());
+            if let Some(at) = canvas.ring(DVec3::from(point), 11.0, Stroke::new(2.5, color)) {
+                labels.avoid_point(at, 12.0);
+                labels.add(
+                    at,
+                    label,
+                    color,
+                    FontId::proportional(16.0),
+                    Priority::Normal,
+                    12.0,
+                );
+            }
         }
-        super::widgets::verdict_overlay(ui, &painter, response.rect, &solved.trace);
+        self.labels = labels.paint(ui, &painter, ui.scope_id().with("parallelogram-labels"));
         self.projector = Some(projector);
+    }
+
+    /// Emphasises what the step on screen is about.
+    fn draw_highlights(
+        &self,
+        canvas: &Canvas,
+        solved: &Solved,
+        [c, c_e1, c_e1_e2, c_e2]: [DVec3; 4],
+        labels: &mut LabelLayer,
+    ) {
+        let [_, _, _, o, d] = self.vectors();
+        let glow = |color: egui::Color32| Stroke::new(11.0, faded(color, 90));
+        for element in &self.highlight {
+            match element {
+                Element::Column(Column::E1) => canvas.line(c, c_e1, glow(palette::BETA)),
+                Element::Column(Column::E2) => canvas.line(c, c_e2, glow(palette::GAMMA)),
+                Element::Column(Column::MinusD) => {
+                    canvas.line(o, o - d, glow(palette::RAY));
+                    canvas.arrow(o, o - d, Stroke::new(3.0, palette::RAY));
+                    canvas.place_label(labels, o - d, "−d", palette::RAY, Priority::Normal);
+                }
+                Element::Rhs => {
+                    canvas.line(c, o, glow(palette::RHS));
+                    canvas.arrow(c, o, Stroke::new(3.0, palette::RHS));
+                    canvas.place_label(
+                        labels,
+                        (c + o) / 2.0,
+                        "o − c",
+                        palette::RHS,
+                        Priority::Normal,
+                    );
+                }
+                Element::Side(Side::AlphaBounds) => {
+                    canvas.line(c, c_e2, glow(palette::SOLUTION));
+                    canvas.line(c_e1, c_e1_e2, glow(palette::SOLUTION));
+                }
+                Element::Side(Side::BetaBounds) => {
+                    canvas.line(c, c_e1, glow(palette::SOLUTION));
+                    canvas.line(c_e2, c_e1_e2, glow(palette::SOLUTION));
+                }
+                Element::Origin => {
+                    canvas.ring(o, 13.0, Stroke::new(4.0, faded(palette::SOLUTION, 200)));
+                }
+                Element::Hit => {
+                    if let Some(point) = solved.float.point {
+                        canvas.ring(DVec3::from(point), 17.0, glow(palette::SOLUTION));
+                    }
+                }
+                Element::Parameter(Parameter::T) => {
+                    let on_ray = DVec3::from(self.exploration().ray_point);
+                    canvas.line(o, on_ray, glow(palette::RAY));
+                }
+                Element::Parameter(Parameter::Alpha | Parameter::Beta) => {
+                    let p = DVec3::from(self.exploration().plane_point);
+                    canvas.ring(p, 14.0, glow(palette::INSIDE));
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
+/// A drawn line that labels would rather not cross.
+fn guide(canvas: &Canvas, labels: &mut LabelLayer, from: DVec3, to: DVec3) {
+    if let Some([p, q]) = canvas.projector.segment(from, to) {
+        labels.prefer_clear_of(p, q);
     }
 }

@@ -4,10 +4,12 @@
 //! A handle dropped within a few pixels of the crossing snaps onto it exactly (hold Shift to move
 //! freely), so a drag can land on t = 17/22; "Go to intersection" slides both handles there.
 
-use egui::{Color32, FontId, Pos2, Rect, RichText, Sense, Shape, Stroke, Ui, pos2, vec2};
+use egui::{FontId, Pos2, Rect, RichText, Sense, Shape, Stroke, Ui, pos2, vec2};
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
+use super::highlight::{Column, Element, Parameter, Side};
+use super::widgets::labels::{LabelLayer, PlacedLabel, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::exact::Exact;
@@ -91,6 +93,12 @@ pub struct SegmentsView {
     pub frame: Option<Frame2d>,
     #[serde(skip)]
     animation: Option<Animation>,
+    /// What the step on screen is about: drawn emphasised.
+    #[serde(skip)]
+    pub highlight: Vec<Element>,
+    /// Where each label went last frame (tests read it).
+    #[serde(skip)]
+    pub labels: Vec<PlacedLabel>,
 }
 
 impl Default for SegmentsView {
@@ -114,6 +122,8 @@ impl Default for SegmentsView {
             grab: None,
             frame: None,
             animation: None,
+            highlight: Vec::new(),
+            labels: Vec::new(),
         };
         view.load(scene);
         view
@@ -177,10 +187,38 @@ impl SegmentsView {
     /// The view: controls below, the plot above.
     pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
         self.animate(ui);
+        // The plot keeps at least 55% of the height: the controls scroll below it when short.
+        let controls_height = (ui.available_height() * 0.45).max(48.0);
         egui::Panel::bottom("segments-controls")
             .resizable(false)
-            .show(ui, |ui| self.controls_ui(ui, solved));
+            .max_size(controls_height)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical()
+                    .auto_shrink([false, true])
+                    .show(ui, |ui| self.controls_ui(ui, solved))
+            });
         egui::CentralPanel::default().show(ui, |ui| self.plot_ui(ui, solved));
+    }
+
+    /// The plot alone, filling the space (presentation mode).
+    pub fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.animate(ui);
+        self.plot_ui(ui, solved);
+    }
+
+    /// Slides t or s to its value at the crossing (presentation mode).
+    pub fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, now: f64) {
+        let mut to = [self.t, self.s];
+        match (parameter, solved.float.t, solved.float.s) {
+            (Parameter::T, Some(t), _) => to[0] = t,
+            (Parameter::S, _, Some(s)) => to[1] = s,
+            _ => return,
+        }
+        self.animation = Some(Animation {
+            from: [self.t, self.s],
+            to,
+            started: now,
+        });
     }
 
     fn animate(&mut self, ui: &Ui) {
@@ -379,7 +417,33 @@ impl SegmentsView {
         };
         self.frame = Some(frame.clone());
         self.handle_input(ui, &response, &frame, solved);
-        self.draw(ui, &painter, &frame, solved);
+        self.labels = self.draw(ui, &painter, &frame, solved);
+        if self.grab.is_none()
+            && let Some(pointer) = response.hover_pos()
+            && self.handle_near(pointer).is_some()
+        {
+            ui.ctx().set_cursor_icon(egui::CursorIcon::Grab);
+            response.on_hover_text(
+                "Drag this handle (endpoints snap to a 0.25 grid; hold Shift to move freely)",
+            );
+        }
+    }
+
+    /// The handle under a screen point, if any (t and s first: they sit on top).
+    fn handle_near(&self, pointer: Pos2) -> Option<Handle> {
+        [
+            Handle::T,
+            Handle::S,
+            Handle::Endpoint(0),
+            Handle::Endpoint(1),
+            Handle::Endpoint(2),
+            Handle::Endpoint(3),
+        ]
+        .into_iter()
+        .find(|h| {
+            self.handle_on_screen(*h)
+                .is_some_and(|at| at.distance(pointer) < 14.0)
+        })
     }
 
     fn handle_input(
@@ -393,17 +457,7 @@ impl SegmentsView {
         if response.drag_started() {
             // Where the button went down, not where the drag was recognised a few points later.
             let pressed = ui.input(|i| i.pointer.press_origin()).or(pointer);
-            let order = [
-                Handle::T,
-                Handle::S,
-                Handle::Endpoint(0),
-                Handle::Endpoint(1),
-                Handle::Endpoint(2),
-                Handle::Endpoint(3),
-            ];
-            let near = order.into_iter().find(|h| {
-                matches!((self.handle_on_screen(*h), pressed), (Some(a), Some(p)) if a.distance(p) < 14.0)
-            });
+            let near = pressed.and_then(|p| self.handle_near(p));
             self.grab = Some(near.unwrap_or(Handle::Pan));
             self.animation = None;
         }
@@ -464,9 +518,23 @@ impl SegmentsView {
         }
     }
 
-    fn draw(&self, ui: &Ui, painter: &egui::Painter, frame: &Frame2d, solved: &Solved) {
+    /// Draws the plot, then places every label clear of the others, the handles and the verdict.
+    fn draw(
+        &self,
+        ui: &Ui,
+        painter: &egui::Painter,
+        frame: &Frame2d,
+        solved: &Solved,
+    ) -> Vec<PlacedLabel> {
         let text = ui.visuals().text_color();
-        draw_grid(painter, frame, text);
+        let mut labels = LabelLayer::new(frame.rect);
+        if let Some(verdict) =
+            super::widgets::verdict_overlay(ui, painter, frame.rect, &solved.trace)
+        {
+            labels.avoid(verdict);
+        }
+        draw_grid(ui, painter, frame, &mut labels);
+        self.draw_highlights(painter, frame, solved);
         let [a1, a2, b1, b2] = self.points();
         let to_screen = |p: DVec2| frame.screen_from_world(p);
         let far = 1e3 * self.half_extent.max(1.0);
@@ -490,6 +558,7 @@ impl SegmentsView {
                 [to_screen(p1), to_screen(p2)],
                 Stroke::new(4.0, color),
             );
+            labels.prefer_clear_of(to_screen(p1), to_screen(p2));
             if self.show_samples {
                 for i in 0..self.samples {
                     let u = i as f64 / (self.samples.max(2) - 1) as f64;
@@ -499,16 +568,18 @@ impl SegmentsView {
             }
             for (p, suffix) in [(p1, "1"), (p2, "2")] {
                 painter.circle_filled(to_screen(p), 7.0, color);
-                painter.text(
-                    to_screen(p) + vec2(9.0, -9.0),
-                    egui::Align2::LEFT_BOTTOM,
+                labels.avoid_point(to_screen(p), 8.0);
+                labels.add(
+                    to_screen(p),
                     format!("{name}{suffix}"),
-                    FontId::proportional(18.0),
                     color,
+                    FontId::proportional(18.0),
+                    Priority::Key,
+                    8.0,
                 );
             }
         }
-        self.draw_solution(painter, frame, solved);
+        self.draw_solution(painter, frame, solved, &mut labels);
         let explored = self.exploration();
         let at_t = to_screen(DVec2::from(explored.a_at_t));
         let at_s = to_screen(DVec2::from(explored.b_at_s));
@@ -520,9 +591,9 @@ impl SegmentsView {
                 Stroke::new(1.0, faded(text, 150)),
             );
         }
-        for (at, color, label, offset) in [
-            (at_t, palette::SEGMENT_A, "A(t)", vec2(12.0, 12.0)),
-            (at_s, palette::SEGMENT_B, "B(s)", vec2(12.0, -28.0)),
+        for (at, color, label) in [
+            (at_t, palette::SEGMENT_A, "A(t)"),
+            (at_s, palette::SEGMENT_B, "B(s)"),
         ] {
             painter.circle(
                 at,
@@ -530,40 +601,90 @@ impl SegmentsView {
                 ui.visuals().extreme_bg_color,
                 Stroke::new(3.0, color),
             );
-            painter.text(
-                at + offset,
-                egui::Align2::LEFT_TOP,
+            labels.avoid_point(at, 10.0);
+            labels.add(
+                at,
                 label,
-                FontId::proportional(17.0),
                 color,
+                FontId::proportional(17.0),
+                Priority::Key,
+                10.0,
             );
         }
-        super::widgets::verdict_overlay(ui, painter, frame.rect, &solved.trace);
+        labels.paint(ui, painter, ui.scope_id().with("segments-labels"))
     }
 
-    fn draw_solution(&self, painter: &egui::Painter, frame: &Frame2d, solved: &Solved) {
-        let font = FontId::proportional(16.0);
+    /// Emphasises what the step on screen is about: a wide glow under each highlighted element.
+    fn draw_highlights(&self, painter: &egui::Painter, frame: &Frame2d, solved: &Solved) {
+        let [a1, a2, b1, b2] = self.points().map(|p| frame.screen_from_world(p));
+        let glow = |color: egui::Color32| Stroke::new(12.0, faded(color, 90));
+        let explored = self.exploration();
+        for element in &self.highlight {
+            match element {
+                Element::Column(Column::A2MinusA1) => {
+                    line(painter, frame, [a1, a2], glow(palette::SEGMENT_A))
+                }
+                Element::Column(Column::B1MinusB2) => {
+                    line(painter, frame, [b2, b1], glow(palette::SEGMENT_B))
+                }
+                Element::Rhs => line(painter, frame, [a1, b1], glow(palette::RHS)),
+                Element::Side(Side::SegmentA) => {
+                    for p in [a1, a2] {
+                        painter.circle_stroke(p, 13.0, glow(palette::SEGMENT_A));
+                    }
+                }
+                Element::Side(Side::SegmentB) => {
+                    for p in [b1, b2] {
+                        painter.circle_stroke(p, 13.0, glow(palette::SEGMENT_B));
+                    }
+                }
+                Element::Parameter(Parameter::T) => {
+                    let at = frame.screen_from_world(DVec2::from(explored.a_at_t));
+                    painter.circle_stroke(at, 15.0, glow(palette::SEGMENT_A));
+                }
+                Element::Parameter(Parameter::S) => {
+                    let at = frame.screen_from_world(DVec2::from(explored.b_at_s));
+                    painter.circle_stroke(at, 15.0, glow(palette::SEGMENT_B));
+                }
+                Element::Hit => {
+                    if let Some(p) = solved.float.point {
+                        let at = frame.screen_from_world(DVec2::from(p));
+                        painter.circle_stroke(at, 16.0, glow(palette::SOLUTION));
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn draw_solution(
+        &self,
+        painter: &egui::Painter,
+        frame: &Frame2d,
+        solved: &Solved,
+        labels: &mut LabelLayer,
+    ) {
         let s = &solved.float;
         match &s.outcome {
             SegmentsOutcome::Crossing | SegmentsOutcome::Touching => {
                 if let Some(p) = s.point {
-                    painter.circle_filled(
-                        frame.screen_from_world(DVec2::from(p)),
-                        6.0,
-                        palette::SOLUTION,
-                    );
+                    let at = frame.screen_from_world(DVec2::from(p));
+                    painter.circle_filled(at, 6.0, palette::SOLUTION);
+                    labels.avoid_point(at, 7.0);
                 }
             }
             SegmentsOutcome::LinesCrossOutside { .. } => {
                 if let Some(p) = s.point {
                     let at = frame.screen_from_world(DVec2::from(p));
                     painter.circle_stroke(at, 8.0, Stroke::new(2.0, palette::OUTSIDE));
-                    painter.text(
-                        at + vec2(10.0, 4.0),
-                        egui::Align2::LEFT_TOP,
+                    labels.avoid_point(at, 9.0);
+                    labels.add(
+                        at,
                         "lines cross here, off a segment",
-                        font,
                         palette::OUTSIDE,
+                        FontId::proportional(16.0),
+                        Priority::Normal,
+                        9.0,
                     );
                 }
             }
@@ -594,8 +715,11 @@ fn shown(value: f64, solution: Option<f64>, exact: Option<&Exact>) -> String {
     }
 }
 
-/// A grid at round world units with labelled axes.
-fn draw_grid(painter: &egui::Painter, frame: &Frame2d, text: Color32) {
+/// A grid at round world units with labelled axes; the numbers go through the label pass as minor
+/// labels, so they give way to the scene's labels.
+fn draw_grid(ui: &Ui, painter: &egui::Painter, frame: &Frame2d, labels: &mut LabelLayer) {
+    let text = ui.visuals().text_color();
+    let number_color = ui.visuals().weak_text_color();
     let rect = frame.rect;
     let world_min = frame.world_from_screen(rect.left_bottom());
     let world_max = frame.world_from_screen(rect.right_top());
@@ -624,13 +748,13 @@ fn draw_grid(painter: &egui::Painter, frame: &Frame2d, text: Color32) {
             .screen_from_world(DVec2::new(x, 0.0))
             .y
             .max(rect.top() + 2.0)
-            .min(rect.bottom() - 16.0);
-        painter.text(
+            .min(rect.bottom() - 18.0);
+        labels.add_fixed(
             pos2(top.x + 3.0, label_at + 2.0),
             egui::Align2::LEFT_TOP,
             format_float(x, Precision::F64),
+            number_color,
             font.clone(),
-            faded(text, 150),
         );
         x += spacing;
     }
@@ -644,35 +768,35 @@ fn draw_grid(painter: &egui::Painter, frame: &Frame2d, text: Color32) {
                 .screen_from_world(DVec2::new(0.0, y))
                 .x
                 .max(rect.left() + 2.0)
-                .min(rect.right() - 30.0);
-            painter.text(
+                .min(rect.right() - 40.0);
+            labels.add_fixed(
                 pos2(label_at + 3.0, left.y - 2.0),
                 egui::Align2::LEFT_BOTTOM,
                 format_float(y, Precision::F64),
+                number_color,
                 font.clone(),
-                faded(text, 150),
             );
         }
         y += spacing;
     }
     // The axis names sit at the ends of the axes (or at the edge when an axis is off screen).
     let origin = frame.screen_from_world(DVec2::ZERO);
-    let x_axis_y = origin.y.max(rect.top() + 20.0).min(rect.bottom() - 4.0);
-    let y_axis_x = origin.x.max(rect.left() + 4.0).min(rect.right() - 20.0);
-    painter.text(
-        pos2(rect.right() - 8.0, x_axis_y - 4.0),
-        egui::Align2::RIGHT_BOTTOM,
-        "x",
-        FontId::proportional(16.0),
-        text,
-    );
-    painter.text(
-        pos2(y_axis_x + 8.0, rect.top() + 4.0),
-        egui::Align2::LEFT_TOP,
-        "y",
-        FontId::proportional(16.0),
-        text,
-    );
+    let x_axis_y = origin.y.max(rect.top() + 24.0).min(rect.bottom() - 6.0);
+    let y_axis_x = origin.x.max(rect.left() + 6.0).min(rect.right() - 24.0);
+    for (at, align, name) in [
+        (
+            pos2(rect.right() - 8.0, x_axis_y - 4.0),
+            egui::Align2::RIGHT_BOTTOM,
+            "x",
+        ),
+        (
+            pos2(y_axis_x + 8.0, rect.top() + 4.0),
+            egui::Align2::LEFT_TOP,
+            "y",
+        ),
+    ] {
+        labels.add_fixed(at, align, name, text, FontId::proportional(16.0));
+    }
 }
 
 /// A line clipped to a frame around the plot: far-off or non-finite ends would make the tessellator

@@ -51,7 +51,8 @@ fn precision_tooltip(p: Precision) -> &'static str {
     }
 }
 
-fn step_ui(ui: &mut Ui, number: usize, step: &Step) {
+/// One step as a card: its number and title, a LaTeX button, the explanation and the payload.
+pub fn step_ui(ui: &mut Ui, number: usize, step: &Step) {
     egui::Frame::group(ui.style()).show(ui, |ui| {
         ui.set_width(ui.available_width());
         ui.horizontal(|ui| {

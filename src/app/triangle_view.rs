@@ -8,6 +8,8 @@ use egui::{FontId, Pos2, RichText, Sense, Stroke, Ui};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use super::highlight::{Column, Element, Parameter, Side};
+use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
@@ -60,6 +62,22 @@ pub struct TriangleView {
     /// The running "Solve" animation, if any.
     #[serde(skip)]
     pub animation: Option<Animation>,
+    /// Keep the camera framing the scene to fill the canvas (on load, resize and zoom) until the
+    /// user orbits or zooms it themselves.
+    #[serde(skip)]
+    pub auto_frame: bool,
+    /// The canvas size the camera was last framed for.
+    #[serde(skip)]
+    framed_for: Option<egui::Vec2>,
+    /// What the step on screen (or under the pointer) is about: drawn emphasised.
+    #[serde(skip)]
+    pub highlight: Vec<Element>,
+    /// The column vector under the pointer in the canvas, for the step panel to mark.
+    #[serde(skip)]
+    pub hovered_column: Option<Column>,
+    /// Where each label went last frame (tests read it).
+    #[serde(skip)]
+    pub labels: Vec<super::widgets::labels::PlacedLabel>,
 }
 
 impl Default for TriangleView {
@@ -81,6 +99,11 @@ impl Default for TriangleView {
             grab: None,
             projector: None,
             animation: None,
+            auto_frame: true,
+            framed_for: None,
+            highlight: Vec::new(),
+            hovered_column: None,
+            labels: Vec::new(),
         };
         view.load(scene);
         view
@@ -107,6 +130,31 @@ impl TriangleView {
         self.gamma = 0.2;
         self.t = 0.5;
         self.animation = None;
+        self.auto_frame = true;
+        self.framed_for = None;
+    }
+
+    /// Slides a parameter's handle to its value at the solution (presentation mode, on the step
+    /// that computes it). Nothing happens when there is no solution.
+    pub fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, now: f64) {
+        let Some(s) = solved.float.solution.as_ref() else {
+            return;
+        };
+        let mut to = [self.beta, self.gamma, self.t];
+        match parameter {
+            Parameter::Beta => to[0] = s.beta,
+            Parameter::Gamma => to[1] = s.gamma,
+            Parameter::T => to[2] = s.t,
+            Parameter::Alpha => [to[0], to[1]] = [s.beta, s.gamma],
+            Parameter::S => return,
+        }
+        if to != [self.beta, self.gamma, self.t] {
+            self.animation = Some(Animation {
+                from: [self.beta, self.gamma, self.t],
+                to,
+                started: now,
+            });
+        }
     }
 
     fn points_of(&self, s: &TriangleScene) -> Vec<DVec3> {
@@ -147,10 +195,23 @@ impl TriangleView {
     /// The view: controls below, the 3D canvas above.
     pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
         self.animate(ui);
+        // The canvas keeps at least 55% of the height: the controls scroll below it when short.
+        let controls_height = (ui.available_height() * 0.45).max(48.0);
         egui::Panel::bottom("triangle-controls")
             .resizable(false)
-            .show(ui, |ui| self.controls_ui(ui, solved));
+            .max_size(controls_height)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical()
+                    .auto_shrink([false, true])
+                    .show(ui, |ui| self.controls_ui(ui, solved))
+            });
         egui::CentralPanel::default().show(ui, |ui| self.canvas_ui(ui, solved));
+    }
+
+    /// The canvas alone, filling the space (presentation mode).
+    pub fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.animate(ui);
+        self.canvas_ui(ui, solved);
     }
 
     fn animate(&mut self, ui: &Ui) {
@@ -202,6 +263,8 @@ impl TriangleView {
             {
                 self.camera = OrbitCamera::framing(&self.points_of(&self.scene))
                     .across(DVec3::from(self.scene.dir));
+                self.auto_frame = true;
+                self.framed_for = None;
             }
         });
         let t_span = target.map_or(4.0, |[_, _, t]| 2.0 * t.abs() + 1.0);
@@ -392,13 +455,68 @@ impl TriangleView {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         let rect = response.rect;
         self.handle_input(ui, &response);
+        if self.auto_frame && self.framed_for != Some(rect.size()) {
+            let reserved = super::widgets::verdict_height(ui, rect.width(), &solved.trace);
+            let points = self.points_to_frame(solved);
+            self.camera = self.camera.clone().fitted_to(&points, rect, reserved);
+            self.framed_for = Some(rect.size());
+        }
         let projector = self.camera.projector(rect);
         let canvas = Canvas {
             painter: &painter,
             projector: &projector,
         };
-        self.draw(ui, &canvas, solved);
+        self.hovered_column = response
+            .hover_pos()
+            .and_then(|pointer| self.column_near(&canvas, pointer));
+        if self.hovered_column.is_some() {
+            ui.ctx().set_cursor_icon(egui::CursorIcon::Help);
+        }
+        self.labels = self.draw(ui, &canvas, solved);
         self.projector = Some(projector);
+        if self.grab.is_none() && self.hovered_vertex(&response).is_some() {
+            ui.ctx().set_cursor_icon(egui::CursorIcon::Grab);
+            response.on_hover_text("Drag to move this vertex in the plane facing you");
+        }
+    }
+
+    /// The points the camera frames: the triangle, the ray's origin, and the solution.
+    fn points_to_frame(&self, solved: &Solved) -> Vec<DVec3> {
+        let mut points = self.points_of(&self.scene);
+        points.pop(); // not the world origin: it may be far from the scene
+        let [_, _, _, l, d] = self.vectors();
+        points.push(l + d);
+        if let Some(s) = solved.float.solution.as_ref() {
+            points.push(DVec3::from(s.point));
+        }
+        points
+    }
+
+    /// The vertex under the pointer, if any.
+    fn hovered_vertex(&self, response: &egui::Response) -> Option<usize> {
+        let pointer = response.hover_pos()?;
+        (0..3).find(|&i| {
+            self.vertex_on_screen(i)
+                .is_some_and(|at| at.distance(pointer) < 14.0)
+        })
+    }
+
+    /// The column vector of M drawn under the pointer: the edges A−B, A−C and the direction D.
+    fn column_near(&self, canvas: &Canvas, pointer: Pos2) -> Option<Column> {
+        let [a, b, c, l, d] = self.vectors();
+        [
+            (b, a, Column::AMinusB),
+            (c, a, Column::AMinusC),
+            (l, l + d, Column::D),
+        ]
+        .into_iter()
+        .find(|(from, to, _)| {
+            canvas
+                .projector
+                .segment(*from, *to)
+                .is_some_and(|[p, q]| distance_to_segment(pointer, p, q) < 6.0)
+        })
+        .map(|(_, _, column)| column)
     }
 
     fn handle_input(&mut self, ui: &Ui, response: &egui::Response) {
@@ -415,6 +533,9 @@ impl TriangleView {
         }
         if response.dragged() {
             let delta = response.drag_delta();
+            if self.grab == Some(Grab::Orbit) {
+                self.auto_frame = false;
+            }
             match self.grab {
                 Some(Grab::Vertex(i)) => {
                     if let Some(projector) = &self.projector {
@@ -444,16 +565,30 @@ impl TriangleView {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
                 self.camera.zoom(scroll);
+                self.auto_frame = false;
             }
         }
     }
 
-    fn draw(&self, ui: &Ui, canvas: &Canvas, solved: &Solved) {
-        let visuals = ui.visuals();
-        let text = visuals.text_color();
-        let font = FontId::proportional(16.0);
+    /// Draws the scene, then places every label clear of the others, the handles and the verdict.
+    fn draw(
+        &self,
+        ui: &Ui,
+        canvas: &Canvas,
+        solved: &Solved,
+    ) -> Vec<super::widgets::labels::PlacedLabel> {
+        let text = ui.visuals().text_color();
+        let mut labels = LabelLayer::new(canvas.projector.rect);
+        if let Some(verdict) = super::widgets::verdict_overlay(
+            ui,
+            canvas.painter,
+            canvas.projector.rect,
+            &solved.trace,
+        ) {
+            labels.avoid(verdict);
+        }
         let [a, b, c, l, d] = self.vectors();
-        canvas.axes(&[a, b, c, l]);
+        canvas.axes_labelled(&[a, b, c, l], &mut labels);
 
         let degenerate = matches!(
             solved.float.outcome,
@@ -474,16 +609,24 @@ impl TriangleView {
         } else {
             canvas.line(a, b, Stroke::new(3.0, palette::OUTSIDE));
             canvas.line(b, c, Stroke::new(3.0, palette::OUTSIDE));
-            canvas.label(
-                a,
+            canvas.place_label(
+                &mut labels,
+                (a + c) / 2.0,
                 "degenerate: A, B, C on one line",
                 palette::OUTSIDE,
-                font.clone(),
+                Priority::Normal,
             );
         }
+        self.draw_highlights(canvas, solved, &mut labels);
         for (p, name) in [(a, "A"), (b, "B"), (c, "C")] {
             canvas.dot(p, 6.0, text);
-            canvas.label(p, name, text, FontId::proportional(18.0));
+            canvas.place_label(&mut labels, p, name, text, Priority::Key);
+            if let Some(at) = canvas.screen(p) {
+                labels.avoid_point(at, 7.0);
+            }
+        }
+        for (from, to) in [(a, b), (b, c), (c, a)] {
+            guide(canvas, &mut labels, from, to);
         }
 
         // The two legs from A: β(B−A), then γ(C−A).
@@ -492,30 +635,128 @@ impl TriangleView {
         let point = DVec3::from(explored.plane_point);
         canvas.arrow(a, after_beta, Stroke::new(3.0, palette::BETA));
         canvas.arrow(after_beta, point, Stroke::new(3.0, palette::GAMMA));
+        guide(canvas, &mut labels, a, after_beta);
+        guide(canvas, &mut labels, after_beta, point);
         let inside = explored.outside.is_empty();
-        let p_color = if inside {
+        let p_color = if degenerate {
+            text
+        } else if inside {
             palette::INSIDE
         } else {
             palette::OUTSIDE
         };
-        self.draw_ray(canvas, solved, [l, d], &font);
+        self.draw_ray(canvas, solved, [l, d], &mut labels);
         let on_ray = DVec3::from(explored.ray_point);
-        canvas.dot(on_ray, 6.0, palette::RAY);
-        canvas.dot(point, 7.0, p_color);
+        for (p, radius, color) in [(on_ray, 6.0, palette::RAY), (point, 7.0, p_color)] {
+            if let Some(at) = canvas.dot(p, radius, color) {
+                labels.avoid_point(at, radius + 1.0);
+            }
+        }
         // Where the two points coincide (at the solution), one label names both.
         let together = self.points_meet(solved, explored.gap);
         if together {
-            canvas.label(point, "P(β, γ) = L + tD", p_color, font.clone());
+            canvas.place_label(
+                &mut labels,
+                point,
+                "P(β, γ) = L + tD",
+                p_color,
+                Priority::Key,
+            );
         } else {
             canvas.dashed(point, on_ray, Stroke::new(1.0, faded(text, 140)));
-            canvas.label(point, "P(β, γ)", p_color, font.clone());
-            canvas.label(on_ray, "L + tD", palette::RAY, font.clone());
+            canvas.place_label(&mut labels, point, "P(β, γ)", p_color, Priority::Key);
+            canvas.place_label(&mut labels, on_ray, "L + tD", palette::RAY, Priority::Key);
         }
-        self.draw_solution(canvas, solved, [a, b, c, l], &font);
-        super::widgets::verdict_overlay(ui, canvas.painter, canvas.projector.rect, &solved.trace);
+        self.draw_solution(canvas, solved, [a, b, c, l], &mut labels);
+        labels.paint(ui, canvas.painter, ui.scope_id().with("triangle-labels"))
     }
 
-    fn draw_ray(&self, canvas: &Canvas, solved: &Solved, [l, d]: [DVec3; 2], font: &FontId) {
+    /// Emphasises what the step on screen is about: a wide glow under each highlighted vector,
+    /// edge or point, with the vector's name.
+    fn draw_highlights(&self, canvas: &Canvas, solved: &Solved, labels: &mut LabelLayer) {
+        let [a, b, c, l, d] = self.vectors();
+        let glow = |color: egui::Color32| Stroke::new(11.0, faded(color, 90));
+        let mut emphasised = self.highlight.clone();
+        if let Some(column) = self.hovered_column {
+            emphasised.push(Element::Column(column));
+        }
+        for element in emphasised {
+            match element {
+                Element::Column(Column::AMinusB) => {
+                    canvas.line(b, a, glow(palette::BETA));
+                    canvas.arrow(b, a, Stroke::new(3.0, palette::BETA));
+                    canvas.place_label(
+                        labels,
+                        (a + b) / 2.0,
+                        "A−B",
+                        palette::BETA,
+                        Priority::Normal,
+                    );
+                }
+                Element::Column(Column::AMinusC) => {
+                    canvas.line(c, a, glow(palette::GAMMA));
+                    canvas.arrow(c, a, Stroke::new(3.0, palette::GAMMA));
+                    canvas.place_label(
+                        labels,
+                        (a + c) / 2.0,
+                        "A−C",
+                        palette::GAMMA,
+                        Priority::Normal,
+                    );
+                }
+                Element::Column(Column::D) => canvas.line(l, l + d, glow(palette::RAY)),
+                Element::Rhs => {
+                    canvas.line(l, a, glow(palette::RHS));
+                    canvas.arrow(l, a, Stroke::new(3.0, palette::RHS));
+                    canvas.place_label(
+                        labels,
+                        (a + l) / 2.0,
+                        "Y = A − L",
+                        palette::RHS,
+                        Priority::Normal,
+                    );
+                }
+                Element::Side(side) => {
+                    let (from, to) = match side {
+                        Side::Ca => (c, a),
+                        Side::Ab => (a, b),
+                        _ => (b, c),
+                    };
+                    canvas.line(from, to, glow(palette::SOLUTION));
+                }
+                Element::Origin => {
+                    canvas.ring(l, 13.0, Stroke::new(4.0, faded(palette::SOLUTION, 200)));
+                }
+                Element::Hit => {
+                    if let Some(s) = solved.float.solution.as_ref() {
+                        canvas.ring(DVec3::from(s.point), 17.0, glow(palette::SOLUTION));
+                    }
+                }
+                Element::Parameter(Parameter::Beta) => {
+                    let explored = self.exploration();
+                    canvas.line(a, DVec3::from(explored.beta_end), glow(palette::BETA));
+                }
+                Element::Parameter(Parameter::Gamma) => {
+                    let explored = self.exploration();
+                    let (from, to) = (explored.beta_end, explored.plane_point);
+                    canvas.line(DVec3::from(from), DVec3::from(to), glow(palette::GAMMA));
+                }
+                Element::Parameter(Parameter::T) => {
+                    let explored = self.exploration();
+                    canvas.line(l, DVec3::from(explored.ray_point), glow(palette::RAY));
+                }
+                Element::Parameter(_) | Element::Column(_) => {}
+            }
+        }
+    }
+
+    fn draw_ray(
+        &self,
+        canvas: &Canvas,
+        solved: &Solved,
+        [l, d]: [DVec3; 2],
+        labels: &mut LabelLayer,
+    ) {
         // With no solution (parallel), draw the ray a few steps of D long.
         let t_star = solved.float.solution.as_ref().map_or(3.0, |s| s.t);
         let far = t_star.max(self.t).max(1.0) * 1.4;
@@ -523,10 +764,13 @@ impl TriangleView {
         canvas.line(l, l + far * d, Stroke::new(2.5, palette::RAY));
         // Behind the origin (t < 0) the ray is dashed.
         canvas.dashed(l + back * d, l, Stroke::new(1.5, faded(palette::RAY, 170)));
-        canvas.dot(l, 6.0, palette::RAY);
-        canvas.label(l, "L", palette::RAY, FontId::proportional(18.0));
+        guide(canvas, labels, l + back * d, l + far * d);
+        if let Some(at) = canvas.dot(l, 6.0, palette::RAY) {
+            labels.avoid_point(at, 7.0);
+        }
+        canvas.place_label(labels, l, "L", palette::RAY, Priority::Key);
         canvas.arrow(l, l + d, Stroke::new(3.0, palette::RAY));
-        canvas.label(l + d, "D", palette::RAY, font.clone());
+        canvas.place_label(labels, l + d, "D", palette::RAY, Priority::Normal);
     }
 
     fn draw_solution(
@@ -534,7 +778,7 @@ impl TriangleView {
         canvas: &Canvas,
         solved: &Solved,
         [a, b, c, l]: [DVec3; 4],
-        font: &FontId,
+        labels: &mut LabelLayer,
     ) {
         let outcome = &solved.float.outcome;
         let Some(s) = solved.float.solution.as_ref() else {
@@ -542,34 +786,29 @@ impl TriangleView {
                 outcome,
                 TriangleOutcome::Miss(TriangleMiss::Parallel { .. })
             ) {
-                canvas.label_below(l, "ray ∥ plane: |M| ≈ 0", palette::OUTSIDE, font.clone());
+                canvas.place_label(
+                    labels,
+                    l,
+                    "ray ∥ plane: |M| = 0",
+                    palette::OUTSIDE,
+                    Priority::Normal,
+                );
             }
             return;
         };
         let hit = DVec3::from(s.point);
-        match outcome {
-            TriangleOutcome::Hit => {
-                canvas.ring(hit, 11.0, Stroke::new(3.0, palette::SOLUTION));
-                canvas.label_below(hit, "hit", palette::SOLUTION, font.clone());
-            }
-            TriangleOutcome::Miss(TriangleMiss::Behind) => {
-                canvas.ring(hit, 11.0, Stroke::new(2.0, faded(palette::OUTSIDE, 200)));
-                canvas.label_below(
-                    hit,
-                    "ghost hit behind L (t ≤ t_min)",
-                    palette::OUTSIDE,
-                    font.clone(),
-                );
-            }
+        let (ring, label, color) = match outcome {
+            TriangleOutcome::Hit => (
+                Stroke::new(3.0, palette::SOLUTION),
+                "hit".to_string(),
+                palette::SOLUTION,
+            ),
+            TriangleOutcome::Miss(TriangleMiss::Behind) => (
+                Stroke::new(2.0, faded(palette::OUTSIDE, 200)),
+                "ghost hit behind L (t ≤ t_min)".to_string(),
+                palette::OUTSIDE,
+            ),
             TriangleOutcome::Miss(TriangleMiss::Outside { edges }) => {
-                canvas.ring(hit, 11.0, Stroke::new(2.0, palette::OUTSIDE));
-                let names: Vec<&str> = edges.iter().map(|e| e.name()).collect();
-                canvas.label_below(
-                    hit,
-                    &format!("misses: beyond {}", names.join(", ")),
-                    palette::OUTSIDE,
-                    font.clone(),
-                );
                 for edge in edges {
                     let (from, to) = match edge {
                         Edge::Ca => (c, a),
@@ -578,10 +817,41 @@ impl TriangleView {
                     };
                     canvas.line(from, to, Stroke::new(4.0, palette::OUTSIDE));
                 }
+                let names: Vec<&str> = edges.iter().map(|e| e.name()).collect();
+                (
+                    Stroke::new(2.0, palette::OUTSIDE),
+                    format!("misses: beyond {}", names.join(", ")),
+                    palette::OUTSIDE,
+                )
             }
-            _ => {}
+            _ => return,
+        };
+        if let Some(at) = canvas.ring(hit, 11.0, ring) {
+            labels.avoid_point(at, 12.0);
+            labels.add(
+                at,
+                label,
+                color,
+                FontId::proportional(16.0),
+                Priority::Normal,
+                12.0,
+            );
         }
     }
+}
+
+/// A drawn line that labels would rather not cross.
+fn guide(canvas: &Canvas, labels: &mut LabelLayer, from: DVec3, to: DVec3) {
+    if let Some([p, q]) = canvas.projector.segment(from, to) {
+        labels.prefer_clear_of(p, q);
+    }
+}
+
+/// Distance from a point to a screen segment.
+fn distance_to_segment(p: Pos2, a: Pos2, b: Pos2) -> f32 {
+    let ab = b - a;
+    let k = ((p - a).dot(ab) / ab.length_sq().max(1e-6)).clamp(0.0, 1.0);
+    p.distance(a + ab * k)
 }
 
 /// The value, or its exact fraction when the slider sits exactly on the solution.

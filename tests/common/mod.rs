@@ -39,6 +39,11 @@ pub fn click_image(harness: &mut Harness<'static, RaylabApp>, label: &str, at: V
 pub fn load_preset(harness: &mut Harness<'static, RaylabApp>, title: &str) {
     harness.get_by_label("Presets").click();
     harness.run();
+    // The list scrolls on a small or zoomed screen: bring the preset into view first.
+    harness
+        .get_by_role_and_label(Role::Button, title)
+        .scroll_to_me();
+    harness.run();
     harness.get_by_role_and_label(Role::Button, title).click();
     wait_for_render(harness);
 }

@@ -1,5 +1,6 @@
 //! Widgets the views share: the palette, the 3D canvas, and editors for points and vectors.
 
+pub mod labels;
 pub mod palette;
 pub mod scene3d;
 
@@ -45,16 +46,14 @@ pub fn vector_editor<const N: usize>(
 }
 
 /// The verdict in the top-left corner of a canvas, on a backing so it reads over the drawing, wrapped
-/// to the canvas width.
+/// to the canvas width. Returns the box it covers, for labels to keep clear of.
 pub fn verdict_overlay(
     ui: &Ui,
     painter: &egui::Painter,
     rect: egui::Rect,
     trace: &crate::trace::Trace,
-) {
-    let Some(verdict) = trace.verdict() else {
-        return;
-    };
+) -> Option<egui::Rect> {
+    let verdict = trace.verdict()?;
     let color = crate::app::step_panel::verdict_color(&verdict.status);
     let galley = painter.layout(
         verdict.message.clone(),
@@ -67,6 +66,21 @@ pub fn verdict_overlay(
     let fill = ui.visuals().extreme_bg_color.gamma_multiply(0.85);
     painter.rect_filled(backing, 4.0, fill);
     painter.galley(at, galley, color);
+    Some(backing)
+}
+
+/// The height the verdict box will take at the top of a canvas this wide (for framing the scene
+/// below it).
+pub fn verdict_height(ui: &Ui, width: f32, trace: &crate::trace::Trace) -> f32 {
+    trace.verdict().map_or(0.0, |verdict| {
+        let galley = ui.painter().layout(
+            verdict.message.clone(),
+            egui::FontId::proportional(17.0),
+            egui::Color32::WHITE,
+            (width - 24.0).max(50.0),
+        );
+        galley.size().y + 14.0
+    })
 }
 
 /// A parameter slider: the value, its range, its symbol and what it means.

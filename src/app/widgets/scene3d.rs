@@ -63,6 +63,51 @@ impl OrbitCamera {
         self
     }
 
+    /// The same view direction, moved and zoomed so the points fill the viewport `rect`: their
+    /// projection spans about 80% of its width or height, centred, and stays below the top
+    /// `top_reserved` points (where the verdict box sits). Used on load, on resize and on zoom, so the
+    /// scene grows with the screen.
+    pub fn fitted_to(mut self, points: &[DVec3], rect: Rect, top_reserved: f32) -> OrbitCamera {
+        let finite: Vec<DVec3> = points.iter().copied().filter(|p| p.is_finite()).collect();
+        if finite.is_empty() || rect.width() < 1.0 || rect.height() < 1.0 {
+            return self;
+        }
+        // The region to fill, in normalised device coordinates (y up).
+        let reserved = (2.0 * top_reserved / rect.height()).clamp(0.0, 1.0) as f64;
+        let (x_min, x_max, y_min, y_max) = (-0.8, 0.8, -0.82, 0.82 - reserved);
+        for _ in 0..4 {
+            let projector = self.projector(rect);
+            let ndc: Vec<DVec3> = finite
+                .iter()
+                .map(|p| projector.clip(*p))
+                .filter(|c| c.w > NEAR_W)
+                .map(|c| c.truncate() / c.w)
+                .collect();
+            if ndc.len() < finite.len() {
+                // Something is behind the camera: back off and try again.
+                self.distance = (self.distance * 2.0).min(1e6);
+                continue;
+            }
+            let lo = ndc.iter().fold(DVec3::INFINITY, |m, p| m.min(*p));
+            let hi = ndc.iter().fold(DVec3::NEG_INFINITY, |m, p| m.max(*p));
+            // Move the target so the points' box centres on the region's centre.
+            let half_height = self.distance * (FOV_Y / 2.0).tan();
+            let half_width = half_height * (rect.width() / rect.height()) as f64;
+            let shift_x = (lo.x + hi.x) / 2.0 - (x_min + x_max) / 2.0;
+            let shift_y = (lo.y + hi.y) / 2.0 - (y_min + y_max) / 2.0;
+            let moved = DVec3::from(self.target)
+                + projector.right * shift_x * half_width
+                + projector.up * shift_y * half_height;
+            self.target = moved.to_array();
+            // Then zoom so the larger of the two spans fills its side of the region.
+            let scale = ((hi.x - lo.x) / (x_max - x_min)).max((hi.y - lo.y) / (y_max - y_min));
+            if scale.is_finite() && scale > 1e-9 {
+                self.distance = (self.distance * scale.clamp(0.25, 4.0)).clamp(0.2, 1e6);
+            }
+        }
+        self
+    }
+
     /// The eye position.
     pub fn eye(&self) -> DVec3 {
         let (sy, cy) = self.yaw.sin_cos();
@@ -214,6 +259,37 @@ pub struct Canvas<'a> {
 }
 
 impl Canvas<'_> {
+    /// Where a world point is drawn, `None` behind the camera.
+    pub fn screen(&self, p: DVec3) -> Option<Pos2> {
+        self.projector.screen_from_world(p)
+    }
+
+    /// A label for a world point, placed by the label pass (see [`super::labels`]).
+    pub fn place_label(
+        &self,
+        labels: &mut super::labels::LabelLayer,
+        p: DVec3,
+        text: impl Into<String>,
+        color: Color32,
+        priority: super::labels::Priority,
+    ) {
+        if let Some(at) = self.screen(p) {
+            let size = if priority == super::labels::Priority::Key {
+                18.0
+            } else {
+                16.0
+            };
+            labels.add(
+                at,
+                text,
+                color,
+                egui::FontId::proportional(size),
+                priority,
+                7.0,
+            );
+        }
+    }
+
     /// A line.
     pub fn line(&self, a: DVec3, b: DVec3, stroke: impl Into<Stroke>) {
         if let Some(points) = self.projector.segment(a, b) {
@@ -306,6 +382,15 @@ impl Canvas<'_> {
 impl Canvas<'_> {
     /// Axes from the origin with labels, long enough to reach the given points.
     pub fn axes(&self, points: &[DVec3]) {
+        self.draw_axes(points, None);
+    }
+
+    /// Axes whose labels go through the label pass (minor labels: dropped first when space is short).
+    pub fn axes_labelled(&self, points: &[DVec3], labels: &mut super::labels::LabelLayer) {
+        self.draw_axes(points, Some(labels));
+    }
+
+    fn draw_axes(&self, points: &[DVec3], mut labels: Option<&mut super::labels::LabelLayer>) {
         let extent = points
             .iter()
             .filter(|p| p.is_finite())
@@ -324,7 +409,16 @@ impl Canvas<'_> {
                 DVec3::ZERO,
                 Stroke::new(1.0, faded(90)),
             );
-            self.label(axis * extent, name, color, egui::FontId::proportional(16.0));
+            match labels.as_deref_mut() {
+                Some(labels) => self.place_label(
+                    labels,
+                    axis * extent,
+                    name,
+                    color,
+                    super::labels::Priority::Minor,
+                ),
+                None => self.label(axis * extent, name, color, egui::FontId::proportional(16.0)),
+            }
         }
     }
 }
