@@ -107,14 +107,108 @@ impl Exact {
         small && self.fraction().len() <= LONGEST_FRACTION
     }
 
-    /// For people: the fraction when it is short (`21/22`), else `≈` and the value to 11 digits (the
-    /// fraction of a float input has a denominator like 2⁵², too long to read).
+    /// For people: the fraction when it is short (`21/22`); the shortest decimal that reads back as the
+    /// same float when the value is a float's (a float input such as −6.7, whose fraction has a
+    /// denominator like 2⁵²); else `≈` and ten significant digits, worked out from the exact value so
+    /// that values beyond the float range still read (`≈1e400`).
     pub fn display(&self) -> String {
         if self.is_short() {
             self.fraction()
+        } else if let Some(float) = self.as_float() {
+            shortest_decimal(float)
         } else {
-            format!("≈{:.10e}", self.to_f64())
+            format!("≈{}", self.significant(10))
         }
+    }
+
+    /// The float whose exact value this is, if there is one.
+    pub fn as_float(&self) -> Option<f64> {
+        let float = self.to_f64();
+        (float.is_finite() && Exact::from_f64(float).as_ref() == Some(self)).then_some(float)
+    }
+
+    /// The whole decimal expansion when it ends (the denominator is 2^a·5^b, as for every float):
+    /// `-6.70000000000000017763568394002504646778106689453125`. `None` for 1/3 and the like.
+    pub fn decimal_expansion(&self) -> Option<String> {
+        let mut denominator = self.0.denom().clone();
+        let (two, five) = (BigInt::from(2), BigInt::from(5));
+        let (mut twos, mut fives) = (0usize, 0usize);
+        while (&denominator % &two).is_zero() {
+            denominator /= &two;
+            twos += 1;
+        }
+        while (&denominator % &five).is_zero() {
+            denominator /= &five;
+            fives += 1;
+        }
+        if !denominator.is_one() {
+            return None;
+        }
+        let places = twos.max(fives);
+        let scaled =
+            self.0.abs() * BigRational::from_integer(num_traits::pow(BigInt::from(10), places));
+        let digits = scaled.to_integer().to_string();
+        let sign = if self.0.is_negative() { "-" } else { "" };
+        if places == 0 {
+            return Some(format!("{sign}{digits}"));
+        }
+        let padded = format!("{digits:0>width$}", width = places + 1);
+        let (whole, frac) = padded.split_at(padded.len() - places);
+        Some(format!("{sign}{whole}.{frac}"))
+    }
+
+    /// The value rounded to `digits` significant digits, computed exactly (so 10^400 and 10^-400 read
+    /// right where a float would say ∞ or 0): plain decimals for exponents −5…9, else `1.5e400`.
+    pub fn significant(&self, digits: usize) -> String {
+        if self.0.is_zero() {
+            return "0".into();
+        }
+        let digits = digits.max(1);
+        let magnitude = self.0.abs();
+        let ten = BigRational::from_integer(BigInt::from(10));
+        let power = |k: i64| -> BigRational {
+            let p = num_traits::pow(ten.clone(), k.unsigned_abs() as usize);
+            if k >= 0 { p } else { BigRational::one() / p }
+        };
+        // Estimate the decimal exponent from the bit lengths, then correct it by comparison.
+        let bits = magnitude.numer().bits() as i64 - magnitude.denom().bits() as i64;
+        let mut exponent = (bits as f64 * std::f64::consts::LOG10_2).floor() as i64;
+        while magnitude < power(exponent) {
+            exponent -= 1;
+        }
+        while magnitude >= power(exponent + 1) {
+            exponent += 1;
+        }
+        let scale = digits as i64 - 1 - exponent;
+        let mut mantissa = (&magnitude * power(scale)).round().to_integer();
+        if mantissa >= num_traits::pow(BigInt::from(10), digits) {
+            mantissa /= BigInt::from(10);
+            exponent += 1;
+        }
+        let mantissa = mantissa.to_string();
+        let sign = if self.0.is_negative() { "-" } else { "" };
+        let text = if (-5..10).contains(&exponent) {
+            let exp = exponent as usize;
+            if exponent >= 0 && exp + 1 >= mantissa.len() {
+                format!("{mantissa}{}", "0".repeat(exp + 1 - mantissa.len()))
+            } else if exponent >= 0 {
+                format!("{}.{}", &mantissa[..exp + 1], &mantissa[exp + 1..])
+            } else {
+                let zeros = "0".repeat((-exponent - 1) as usize);
+                format!("0.{zeros}{mantissa}")
+            }
+        } else {
+            let (first, rest) = mantissa.split_at(1);
+            let rest = rest.trim_end_matches('0');
+            let point = if rest.is_empty() { "" } else { "." };
+            format!("{first}{point}{rest}e{exponent}")
+        };
+        let text = if text.contains('.') && !text.contains('e') {
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            text
+        };
+        format!("{sign}{text}")
     }
 
     /// If this is the square of a rational, that rational (non-negative root); used to print √ exactly.
@@ -177,6 +271,20 @@ impl SignedRoot {
             None => format!("\\sqrt{{{}}}", frac(&self.square)),
         };
         Some(format!("{}{body}", if self.negative { "-" } else { "" }))
+    }
+}
+
+/// The shortest decimal that reads back as `x`: `-6.7`, `0.1`, `1e-7`, `2.5e20`.
+pub fn shortest_decimal(x: f64) -> String {
+    let scientific = format!("{x:e}");
+    let exponent: i32 = scientific
+        .split_once('e')
+        .and_then(|(_, e)| e.parse().ok())
+        .unwrap_or(0);
+    if (-5..15).contains(&exponent) {
+        format!("{x}")
+    } else {
+        scientific
     }
 }
 
@@ -312,9 +420,33 @@ mod tests {
     fn display_prefers_short_fractions() {
         assert_eq!(q("21/22").display(), "21/22");
         assert_eq!(q("-4").display(), "-4");
-        let long = Exact::from_f64(0.1).unwrap().display();
-        // The fraction of the float 0.1 has a denominator of 2^55: shown rounded, marked ≈.
-        assert_eq!(long, "≈1.0000000000e-1");
+        // The fraction of the float 0.1 has a denominator of 2^55: shown as the float it is.
+        let float = Exact::from_f64(-6.7).unwrap();
+        assert_eq!(float.display(), "-6.7");
+        assert_eq!(
+            float.decimal_expansion().unwrap(),
+            "-6.70000000000000017763568394002504646778106689453125"
+        );
+        assert_eq!(Exact::from_f64(1e-7).unwrap().display(), "1e-7");
+        // Not a float, not short: ten significant digits, marked ≈.
+        assert_eq!(q("1/3").decimal_expansion(), None);
+        let long = q("1/3") * Exact::from_f64(0.1).unwrap();
+        assert_eq!(long.display(), "≈0.03333333333");
+        assert_eq!(q("2/3").significant(3), "0.667");
+        assert_eq!(q("-123456789/1000").significant(4), "-123500");
+        assert_eq!(q("3/8").decimal_expansion().unwrap(), "0.375");
+    }
+
+    #[test]
+    fn values_beyond_the_float_range_still_read() {
+        let huge: Exact = "1e400".parse().unwrap();
+        assert_eq!(huge.to_f64(), f64::INFINITY);
+        assert_eq!(huge.significant(10), "1e400");
+        let tiny = Exact::from_int(1)
+            .checked_div(&(huge.clone() * q("3")))
+            .unwrap();
+        assert_eq!(tiny.display(), "≈3.333333333e-401");
+        assert_eq!(q("999999999999/1000000000000").significant(3), "1");
     }
 
     #[test]

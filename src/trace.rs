@@ -13,7 +13,7 @@ mod latex;
 mod text;
 
 pub use latex::{number as latex_number, step_to_latex, to_latex};
-pub use text::{format_float, payload_lines, to_text};
+pub use text::{check_value, format_float, payload_lines, to_text};
 
 /// A number as computed: its float value and, when the solve was exact, its exact value.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -29,17 +29,27 @@ pub struct Number {
     /// The precision it was computed in (decides how many digits are meaningful).
     #[serde(skip)]
     pub precision: Precision,
+    /// When the exact value is a float's and is shown as its shortest decimal (`-6.7`), the whole exact
+    /// decimal expansion (`-6.70000000000000017763568394002504646778106689453125`), for readers that
+    /// offer it on request.
+    #[serde(skip)]
+    pub float_expansion: Option<String>,
 }
 
 impl Number {
     /// Records a solver value.
     pub fn of<R: Real>(x: &R) -> Number {
         let exact = x.to_exact();
+        let float_expansion = exact
+            .as_ref()
+            .filter(|e| !e.is_short() && e.as_float().is_some())
+            .and_then(Exact::decimal_expansion);
         Number {
             value: x.to_f64(),
             exact: exact.as_ref().map(Exact::fraction),
             exact_shown: exact.as_ref().map(Exact::display),
             precision: R::PRECISION,
+            float_expansion,
         }
     }
 
@@ -50,6 +60,7 @@ impl Number {
             exact: None,
             exact_shown: None,
             precision,
+            float_expansion: None,
         }
     }
 
@@ -63,9 +74,30 @@ impl Number {
 
     /// True if [`Number::shown`] is an exact fraction or integer.
     pub fn shown_exactly(&self) -> bool {
-        self.exact_shown
-            .as_deref()
-            .is_some_and(|s| !s.starts_with('≈'))
+        self.float_expansion.is_none()
+            && self
+                .exact_shown
+                .as_deref()
+                .is_some_and(|s| !s.starts_with('≈'))
+    }
+
+    /// True if the value is exactly zero (in exact mode, or a float that is 0).
+    pub fn is_zero(&self) -> bool {
+        match &self.exact {
+            Some(fraction) => fraction == "0",
+            None => self.value == 0.0,
+        }
+    }
+
+    /// [`Number::shown`], in parentheses when it is negative or a fraction, so that a product
+    /// reads right: `(11/2)·5`, `3·(−3)`.
+    pub fn factor(&self) -> String {
+        let shown = self.shown();
+        if shown.starts_with('-') || shown.starts_with('−') || shown.contains('/') {
+            format!("({shown})")
+        } else {
+            shown
+        }
     }
 }
 
@@ -236,6 +268,7 @@ impl Operand {
 /// How a scalar was obtained.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "form", rename_all = "kebab-case")]
+#[allow(clippy::large_enum_variant)] // one per step of a trace: size does not matter, plain data reads best
 pub enum Formula {
     /// `numerator / denominator`, as in Cramer's rule.
     Quotient {
@@ -305,6 +338,7 @@ pub struct Verdict {
 /// The payload of a step.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
+#[allow(clippy::large_enum_variant)] // one per step of a trace: size does not matter, plain data reads best
 pub enum Payload {
     /// The linear system `M X = Y`.
     System {

@@ -4,6 +4,7 @@
 //! angle, shows the table, and a gallery of hard cases that load into the Triangle view with what
 //! each method decides.
 
+use super::widgets::palette::Readable as _;
 use egui::{Color32, RichText, Ui};
 use egui_plot::{Line, MarkerShape, Plot, PlotPoints, Points};
 
@@ -294,13 +295,13 @@ impl AccuracyView {
                     ui.label(r.tests.to_string());
                     let wrong = RichText::new(r.wrong_decisions.to_string());
                     ui.label(if r.wrong_decisions > 0 {
-                        wrong.color(palette::OUTSIDE)
+                        wrong.color(palette::OUTSIDE.readable(ui))
                     } else {
                         wrong
                     });
                     let cracks = RichText::new(r.cracks.to_string());
                     ui.label(if r.cracks > 0 {
-                        cracks.color(palette::OUTSIDE).strong()
+                        cracks.color(palette::OUTSIDE.readable(ui)).strong()
                     } else {
                         cracks
                     });
@@ -363,7 +364,7 @@ impl AccuracyView {
                     };
                     ui.label(
                         RichText::new(format!("{mark} {} {said}", v.who))
-                            .color(color)
+                            .color(color.readable(ui))
                             .small(),
                     )
                     .on_hover_text(if v.exact_hit {

@@ -14,6 +14,7 @@ pub mod widgets;
 
 use egui::{RichText, Ui};
 use serde::{Deserialize, Serialize};
+use widgets::palette::Readable as _;
 
 use crate::geometry::Precision;
 use crate::scene::{self, Problem, Scene};
@@ -246,6 +247,10 @@ pub struct RaylabApp {
     inbox: crate::platform::Inbox,
     /// Presentation mode: the index of the step on screen.
     pub presentation: Option<usize>,
+    /// Where the open view was drawn last frame (tests check it keeps half the window).
+    pub view_rect: Option<egui::Rect>,
+    /// A new scene was loaded: the step panel goes back to its first step.
+    steps_to_top: bool,
 }
 
 /// The storage key of the state.
@@ -282,6 +287,8 @@ impl RaylabApp {
             accuracy: accuracy_view::AccuracyView::default(),
             inbox: crate::platform::Inbox::default(),
             presentation: None,
+            view_rect: None,
+            steps_to_top: false,
         }
     }
 
@@ -355,6 +362,7 @@ impl RaylabApp {
         self.state.titles[kind as usize] = (scene.title.clone(), scene.note.clone());
         self.state.loaded[kind as usize] = Some(scene.problem.clone());
         self.state.view = kind;
+        self.steps_to_top = true;
         Ok(())
     }
 
@@ -367,6 +375,7 @@ impl RaylabApp {
             self.state.titles[ViewKind::Render as usize].0
         );
         let note = "The ray the renderer cast through that pixel, and what it met.".to_string();
+        self.steps_to_top = true;
         match action {
             render_view::Action::Triangle(scene) => {
                 self.state.loaded[ViewKind::Triangle as usize] =
@@ -485,7 +494,7 @@ impl RaylabApp {
             if self.edited() {
                 ui.label(
                     RichText::new("(edited)")
-                        .color(widgets::palette::RHS)
+                        .color(widgets::palette::RHS.readable(ui))
                         .strong(),
                 )
                 .on_hover_text(
@@ -502,7 +511,7 @@ impl RaylabApp {
                 } else {
                     widgets::palette::INSIDE
                 };
-                ui.label(RichText::new(&notice.text).color(color));
+                ui.label(RichText::new(&notice.text).color(color.readable(ui)));
             }
         });
     }
@@ -841,7 +850,16 @@ impl RaylabApp {
                 .default_size(width)
                 .size_range(width.min(240.0)..=full * 0.5)
                 .show(ui, |ui| match solved.trace() {
-                    Some(trace) => step_panel::ui(ui, trace, &mut self.state.precision),
+                    Some(trace) => {
+                        let marked = self.state.triangle.hovered_column.map(|c| c.label());
+                        let marked = marked.filter(|_| self.state.view == ViewKind::Triangle);
+                        let to_top = std::mem::take(&mut self.steps_to_top);
+                        let panel =
+                            step_panel::ui(ui, trace, &mut self.state.precision, marked, to_top);
+                        if let Some(step) = panel.hovered_step {
+                            self.set_highlight(highlight::of_step(&trace.solver, &step));
+                        }
+                    }
                     None if self.state.view == ViewKind::Render => {
                         ui.heading("Steps");
                         ui.label("Click a pixel of the render: the steps of its ray against the triangle it hit (or came nearest to) show here.");
@@ -852,7 +870,8 @@ impl RaylabApp {
                     }
                 });
         }
-        egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, false));
+        let view = egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, false));
+        self.view_rect = Some(view.response.rect);
     }
 
     /// The open view; `canvas_only` in presentation mode (no controls, the drawing fills the space).
@@ -997,7 +1016,7 @@ impl RaylabApp {
                 if !names.is_empty() {
                     ui.label(
                         RichText::new(format!("Highlighted: {}", names.join(", ")))
-                            .color(widgets::palette::SOLUTION),
+                            .color(widgets::palette::SOLUTION.readable(ui)),
                     );
                 }
             });
@@ -1019,11 +1038,12 @@ impl RaylabApp {
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     enlarge(ui, 1.4);
-                    step_panel::step_ui(ui, index + 1, step);
+                    step_panel::step_ui(ui, index + 1, step, None);
                 });
             });
         self.set_highlight(elements);
-        egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, true));
+        let view = egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, true));
+        self.view_rect = Some(view.response.rect);
     }
 
     /// Moves the handles a newly shown step computes to their solution (β = |M1|/|M| slides β).
@@ -1184,12 +1204,85 @@ pub fn set_style(ctx: &egui::Context) {
         ]
         .into();
         style.spacing.slider_width = 160.0;
+        readable_visuals(&mut style.visuals);
     });
+}
+
+/// Text a room can read: every text colour of the theme at WCAG AA (4.5:1) or better on every
+/// background it is drawn on. egui's weak text (about 2.5:1 in Dark) and its error red on white are
+/// mixed towards the theme's text colour just as far as that needs.
+fn readable_visuals(visuals: &mut egui::Visuals) {
+    let backgrounds = widgets::palette::backgrounds(visuals);
+    let readable = |c: egui::Color32| widgets::palette::readable_on(c, &backgrounds);
+    let weak = visuals
+        .panel_fill
+        .blend(visuals.text_color().gamma_multiply(visuals.weak_text_alpha));
+    visuals.weak_text_color = Some(readable(weak));
+    visuals.hyperlink_color = readable(visuals.hyperlink_color);
+    visuals.warn_fg_color = readable(visuals.warn_fg_color);
+    visuals.error_fg_color = readable(visuals.error_fg_color);
+    for widget in [
+        &mut visuals.widgets.noninteractive,
+        &mut visuals.widgets.inactive,
+        &mut visuals.widgets.hovered,
+        &mut visuals.widgets.active,
+        &mut visuals.widgets.open,
+    ] {
+        let on = [widget.bg_fill, widget.weak_bg_fill];
+        widget.fg_stroke.color = widgets::palette::readable_on(widget.fg_stroke.color, &on);
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every text colour of both themes, as set_style leaves them, against the backgrounds it is drawn
+    /// on: at least 4.5:1 (WCAG AA), so a student at the back of a room can read it.
+    #[test]
+    fn every_text_colour_reads_at_4_5_to_1_in_both_themes() {
+        use widgets::palette::{MIN_TEXT_CONTRAST, TEXT_COLOURS, backgrounds, contrast, ink};
+        let ctx = egui::Context::default();
+        set_style(&ctx);
+        for theme in [egui::Theme::Light, egui::Theme::Dark] {
+            let visuals = ctx.style_of(theme).visuals.clone();
+            let mut failures = Vec::new();
+            let mut check = |name: &str, text: egui::Color32, on: &[egui::Color32]| {
+                for bg in on {
+                    let ratio = contrast(text, *bg);
+                    if ratio < MIN_TEXT_CONTRAST {
+                        failures.push(format!("{theme:?} {name} {text:?} on {bg:?}: {ratio:.2}"));
+                    }
+                }
+            };
+            let panels = backgrounds(&visuals);
+            check("text", visuals.text_color(), &panels);
+            check("weak text", visuals.weak_text_color(), &panels);
+            check("strong text", visuals.strong_text_color(), &panels);
+            check("link", visuals.hyperlink_color, &panels);
+            check("warning", visuals.warn_fg_color, &panels);
+            check("error", visuals.error_fg_color, &panels);
+            for (name, colour) in TEXT_COLOURS {
+                check(name, ink(colour, &visuals), &panels);
+            }
+            let widgets = &visuals.widgets;
+            for (name, w) in [
+                ("label", &widgets.noninteractive),
+                ("button", &widgets.inactive),
+                ("hovered button", &widgets.hovered),
+                ("pressed button", &widgets.active),
+                ("open menu", &widgets.open),
+            ] {
+                check(name, w.fg_stroke.color, &[w.bg_fill, w.weak_bg_fill]);
+            }
+            check(
+                "selected",
+                visuals.selection.stroke.color,
+                &[visuals.selection.bg_fill],
+            );
+            assert!(failures.is_empty(), "{failures:#?}");
+        }
+    }
 
     #[test]
     fn a_query_names_a_preset_and_a_view() {

@@ -1,6 +1,7 @@
 //! The Parallelogram view (seed 001): c + α e1 + β e2 against the ray o + t d, with sliders for α, β and
 //! t, and the step panel solving M (α, β, t)ᵀ = o − c with M = [e1 | e2 | −d] through M⁻¹.
 
+use super::widgets::palette::Readable as _;
 use egui::{FontId, RichText, Sense, Stroke, Ui};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -227,7 +228,7 @@ impl ParallelogramView {
                     palette::OUTSIDE,
                 )
             };
-            ui.label(RichText::new(text).color(color));
+            ui.label(RichText::new(text).color(color.readable(ui)));
             ui.label(format!(
                 "distance |p(α, β) − (o + t d)| = {}",
                 format_float(explored.gap, Precision::F64)

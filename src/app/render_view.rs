@@ -5,6 +5,7 @@
 //! Renders run as a [`Job`] (a thread natively, slices of frames on the web) and only when something
 //! they depend on changed.
 
+use super::widgets::palette::Readable as _;
 use std::sync::Arc;
 
 use egui::{Color32, ColorImage, RichText, Sense, Stroke, TextureHandle, TextureOptions, Ui, Vec2};
@@ -382,14 +383,17 @@ impl RenderView {
                 );
         });
         if let Some(bug) = self.bug {
-            ui.label(RichText::new(bug.sentence()).color(palette::OUTSIDE));
+            ui.label(RichText::new(bug.sentence()).color(palette::OUTSIDE.readable(ui)));
         }
     }
 
     fn status_ui(&self, ui: &mut Ui) {
         let slot = &self.runtime.correct;
         if let Some(error) = slot.error.as_ref().or(self.runtime.buggy.error.as_ref()) {
-            ui.label(RichText::new(format!("Cannot render: {error}")).color(palette::OUTSIDE));
+            ui.label(
+                RichText::new(format!("Cannot render: {error}"))
+                    .color(palette::OUTSIDE.readable(ui)),
+            );
         }
         if let Some((_, job)) = &slot.running {
             let (done, total) = job.progress();
@@ -538,7 +542,7 @@ impl RenderView {
                     "On this edge pixel the image and the probe disagree: the image took the fast \
                      path (Möller–Trumbore in f32, a row at a time), the probe casts in f64.",
                 )
-                .color(palette::OUTSIDE),
+                .color(palette::OUTSIDE.readable(ui)),
             );
         }
         ui.horizontal_wrapped(|ui| {
@@ -569,7 +573,7 @@ impl RenderView {
                             names.1,
                             hit.gamma
                         ))
-                        .color(palette::INSIDE),
+                        .color(palette::INSIDE.readable(ui)),
                     );
                     if let Some(facing) = probe.facing {
                         ui.label(format!("facing ratio n̂·(−ê) = {facing:.4}"));
@@ -588,7 +592,7 @@ impl RenderView {
                         ),
                         None => "missed everything: no triangle to show".into(),
                     };
-                    ui.label(RichText::new(text).color(palette::OUTSIDE));
+                    ui.label(RichText::new(text).color(palette::OUTSIDE.readable(ui)));
                 }
             }
             let target = match probe.triangle {
@@ -700,7 +704,7 @@ impl RenderView {
                     "Normalising D' would make the object-space t read t·|D'| = {:.6} instead of {t:.6}: the bug \"normalising D in object space\".",
                     t * norm_f64(&object_dir)
                 ))
-                .color(palette::OUTSIDE),
+                .color(palette::OUTSIDE.readable(ui)),
             );
         }
     }

@@ -4,6 +4,7 @@
 //! A handle dropped within a few pixels of the crossing snaps onto it exactly (hold Shift to move
 //! freely), so a drag can land on t = 17/22; "Go to intersection" slides both handles there.
 
+use super::widgets::palette::Readable as _;
 use egui::{FontId, Pos2, Rect, RichText, Sense, Shape, Stroke, Ui, pos2, vec2};
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
@@ -349,12 +350,12 @@ impl SegmentsView {
             ui.label(
                 RichText::new(format!("t = {t_text}"))
                     .strong()
-                    .color(palette::SEGMENT_A),
+                    .color(palette::SEGMENT_A.readable(ui)),
             );
             ui.label(
                 RichText::new(format!("s = {s_text}"))
                     .strong()
-                    .color(palette::SEGMENT_B),
+                    .color(palette::SEGMENT_B.readable(ui)),
             );
             let point = |p: [f64; 2]| {
                 format!(
@@ -374,7 +375,7 @@ impl SegmentsView {
                 ui.label(
                     RichText::new("A(t) = B(s): the handles meet")
                         .strong()
-                        .color(palette::SOLUTION),
+                        .color(palette::SOLUTION.readable(ui)),
                 );
             } else {
                 ui.label(format!(

@@ -1,17 +1,37 @@
 //! The step panel: draws a [`Trace`] step by step — matrices as bracketed grids with their columns in
-//! the colours of the view, determinants expanded, β = |M1|/|M| with float and fraction, the checks with
-//! ✓ / ✗, the verdict — and copies any step, or the whole trace, as LaTeX.
+//! the colours of the view, determinants expanded with their minors as small matrices, β = |M1|/|M|
+//! with float and fraction, the checks with ✓ / ✗ and the value they tested, the verdict — and copies
+//! any step, or the whole trace, as LaTeX.
 //!
-//! It formats what the solver recorded and never computes a number itself.
+//! It formats what the solver recorded and never computes a number itself. Everything wraps to the
+//! panel's width: the panel scrolls up and down, never sideways.
 
-use egui::{Color32, RichText, Stroke, Ui};
+use egui::{Align, Color32, FontId, Layout, RichText, Stroke, TextStyle, Ui, Vec2};
 
 use super::widgets::palette;
 use crate::geometry::Precision;
 use crate::trace::{self, Matrix, Number, Payload, Step, Trace};
 
-/// Draws the precision picker, then every step of the trace.
-pub fn ui(ui: &mut Ui, trace: &Trace, precision: &mut Precision) {
+/// How long "Copied ✓" stays on a LaTeX button after a click, in seconds.
+const COPIED_FOR: f64 = 2.0;
+
+/// What the reader of the panel is pointing at.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PanelResponse {
+    /// The id of the step under the pointer, so the view can highlight what it is about.
+    pub hovered_step: Option<String>,
+}
+
+/// Draws the precision picker, then every step of the trace. `marked_column` is the label of a
+/// column vector hovered in the view (`A−B`): its column is marked in every matrix. With `to_top`
+/// (a new scene) the steps scroll back to the first.
+pub fn ui(
+    ui: &mut Ui,
+    trace: &Trace,
+    precision: &mut Precision,
+    marked_column: Option<&str>,
+    to_top: bool,
+) -> PanelResponse {
     ui.horizontal_wrapped(|ui| {
         ui.heading("Steps");
         ui.label("in");
@@ -20,25 +40,29 @@ pub fn ui(ui: &mut Ui, trace: &Trace, precision: &mut Precision) {
                 .on_hover_text(precision_tooltip(p));
         }
     });
-    ui.horizontal(|ui| {
-        if ui
-            .button("Copy all as LaTeX")
-            .on_hover_text("Copies every step as LaTeX (amsmath, amssymb, xcolor) for slides")
-            .clicked()
-        {
-            ui.ctx().copy_text(trace::to_latex(trace));
+    copy_button(
+        ui,
+        "Copy all as LaTeX",
+        "Copies every step as LaTeX (amsmath, amssymb, xcolor) for slides",
+        || trace::to_latex(trace),
+    );
+    ui.separator();
+    let mut hovered_step = None;
+    let mut scroll = egui::ScrollArea::vertical()
+        .id_salt("steps-scroll")
+        .auto_shrink([false, false]);
+    if to_top {
+        scroll = scroll.vertical_scroll_offset(0.0);
+    }
+    scroll.show(ui, |ui| {
+        for (index, step) in trace.steps.iter().enumerate() {
+            let card = step_ui(ui, index + 1, step, marked_column);
+            if card.contains_pointer() {
+                hovered_step = Some(step.id.clone());
+            }
         }
     });
-    ui.separator();
-    // Both ways: exact values of float inputs can be wider than the panel, and a wide step must scroll
-    // inside the panel instead of widening it under the view.
-    egui::ScrollArea::both()
-        .auto_shrink([false, false])
-        .show(ui, |ui| {
-            for (index, step) in trace.steps.iter().enumerate() {
-                step_ui(ui, index + 1, step);
-            }
-        });
+    PanelResponse { hovered_step }
 }
 
 fn precision_tooltip(p: Precision) -> &'static str {
@@ -51,28 +75,80 @@ fn precision_tooltip(p: Precision) -> &'static str {
     }
 }
 
-/// One step as a card: its number and title, a LaTeX button, the explanation and the payload.
-pub fn step_ui(ui: &mut Ui, number: usize, step: &Step) {
-    egui::Frame::group(ui.style()).show(ui, |ui| {
-        ui.set_width(ui.available_width());
-        ui.horizontal(|ui| {
-            ui.label(RichText::new(format!("{number}. {}", step.title)).strong());
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                if ui
-                    .small_button("LaTeX")
-                    .on_hover_text("Copy this step as LaTeX")
-                    .clicked()
-                {
-                    ui.ctx().copy_text(trace::step_to_latex(step));
-                }
-            });
+/// One step as a card: its number and title (wrapped beside a LaTeX button), the explanation and the
+/// payload. Returns the card's response, for hover.
+pub fn step_ui(
+    ui: &mut Ui,
+    number: usize,
+    step: &Step,
+    marked_column: Option<&str>,
+) -> egui::Response {
+    egui::Frame::group(ui.style())
+        .show(ui, |ui| {
+            ui.set_width(ui.available_width());
+            title_row(ui, number, step);
+            ui.add(egui::Label::new(RichText::new(&step.explanation).weak()).wrap());
+            payload_ui(ui, &step.id, &step.payload, marked_column);
+            float_expansions_ui(ui, &step.id, &step.payload);
+        })
+        .response
+}
+
+/// The title, wrapped in what the LaTeX button leaves of the width.
+fn title_row(ui: &mut Ui, number: usize, step: &Step) {
+    let button_width = text_width(ui, "Copied ✓", TextStyle::Button)
+        + 2.0 * ui.spacing().button_padding.x
+        + ui.spacing().item_spacing.x;
+    let title_width = (ui.available_width() - button_width).max(60.0);
+    ui.horizontal_top(|ui| {
+        ui.allocate_ui_with_layout(
+            Vec2::new(title_width, 0.0),
+            Layout::top_down(Align::LEFT),
+            |ui| {
+                ui.set_min_width(title_width);
+                let title = RichText::new(format!("{number}. {}", step.title)).strong();
+                ui.add(egui::Label::new(title).wrap());
+            },
+        );
+        copy_button(ui, "LaTeX", "Copy this step as LaTeX", || {
+            trace::step_to_latex(step)
         });
-        ui.label(RichText::new(&step.explanation).weak());
-        payload_ui(ui, &step.id, &step.payload);
     });
 }
 
-fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload) {
+/// A button that copies text and says "Copied ✓" for a moment after, so a teacher knows it worked.
+fn copy_button(ui: &mut Ui, label: &str, tooltip: &str, text: impl FnOnce() -> String) {
+    let id = ui.scope_id().with(("copied", label, ui.next_auto_id()));
+    let now = ui.input(|i| i.time);
+    let copied_at: Option<f64> = ui.data(|d| d.get_temp(id));
+    let copied = copied_at.is_some_and(|at| now - at < COPIED_FOR);
+    let shown = if copied { "Copied ✓" } else { label };
+    let button = egui::Button::new(RichText::new(shown).small());
+    if ui.add(button).on_hover_text(tooltip).clicked() {
+        ui.ctx().copy_text(text());
+        ui.data_mut(|d| d.insert_temp(id, now));
+        ui.ctx()
+            .request_repaint_after(std::time::Duration::from_secs_f64(COPIED_FOR));
+    } else if copied {
+        ui.ctx()
+            .request_repaint_after(std::time::Duration::from_secs_f64(0.25));
+    }
+}
+
+fn text_width(ui: &Ui, text: &str, style: TextStyle) -> f32 {
+    let font = style.resolve(ui.style());
+    galley_width(ui, text, font)
+}
+
+fn galley_width(ui: &Ui, text: &str, font: FontId) -> f32 {
+    ui.fonts_mut(|f| f.layout_no_wrap(text.to_string(), font, Color32::WHITE))
+        .size()
+        .x
+}
+
+fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<&str>) {
+    let visuals = ui.visuals().clone();
+    let ink = |c: Color32| palette::ink(c, &visuals);
     match payload {
         Payload::System {
             matrix,
@@ -80,42 +156,72 @@ fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload) {
             rhs,
             ..
         } => {
-            ui.horizontal(|ui| {
-                matrix_ui(ui, id, matrix, true);
-                ui.label("·");
-                let x: Vec<Vec<(String, Option<Color32>)>> =
-                    unknowns.iter().map(|u| vec![(u.clone(), None)]).collect();
-                grid_ui(ui, &format!("{id}-x"), "", &[], &x);
-                ui.label("=");
-                let y: Vec<Vec<(String, Option<Color32>)>> = rhs
-                    .components
+            let m = matrix_grid(matrix, marked_column, &visuals);
+            let x = Grid::column(unknowns.iter().map(|u| (u.clone(), None)).collect());
+            let y = Grid::column(
+                rhs.components
                     .iter()
-                    .map(|n| vec![(n.shown(), Some(palette::RHS))])
-                    .collect();
-                grid_ui(ui, &format!("{id}-y"), "", &[], &y);
-            });
+                    .map(|n| (n.shown(), Some(ink(palette::RHS))))
+                    .collect(),
+            );
+            let operators =
+                text_width(ui, " · = ", TextStyle::Body) + 4.0 * ui.spacing().item_spacing.x;
+            let wide = m.width(ui) + x.width(ui) + y.width(ui) + operators;
+            if wide <= ui.available_width() {
+                ui.horizontal(|ui| {
+                    m.show(ui, &format!("{id}-m"));
+                    ui.label("·");
+                    x.show(ui, &format!("{id}-x"));
+                    ui.label("=");
+                    y.show(ui, &format!("{id}-y"));
+                });
+            } else {
+                // Too narrow for one row: M · X, then = Y beneath.
+                ui.horizontal(|ui| {
+                    m.show(ui, &format!("{id}-m"));
+                    ui.label("·");
+                    x.show(ui, &format!("{id}-x"));
+                });
+                ui.horizontal(|ui| {
+                    ui.label("=");
+                    y.show(ui, &format!("{id}-y"));
+                });
+            }
         }
         Payload::Matrix(matrix) => {
-            matrix_ui(ui, id, matrix, false);
+            let grid = matrix_grid(matrix, marked_column, &visuals);
+            ui.horizontal(|ui| {
+                ui.label(RichText::new(format!("{} =", matrix.name)).strong());
+                grid.show(ui, id);
+            });
+            if let Some(column) = matrix.replaced_column {
+                ui.add(
+                    egui::Label::new(
+                        RichText::new(format!("column {} replaced by Y", column + 1))
+                            .color(ink(palette::RHS)),
+                    )
+                    .wrap(),
+                );
+            }
         }
-        Payload::Determinant(det) => determinant_ui(ui, det),
+        Payload::Determinant(det) => determinant_ui(ui, id, det),
         Payload::Check(check) => {
             let (mark, color) = if check.passed {
-                ("✓", palette::INSIDE)
+                ("✓", ink(palette::INSIDE))
             } else {
-                ("✗", palette::OUTSIDE)
+                ("✗", ink(palette::OUTSIDE))
             };
             ui.horizontal_wrapped(|ui| {
                 ui.label(RichText::new(mark).color(color).strong().size(20.0));
                 ui.label(RichText::new(&check.inequality).strong());
-                ui.label(format!("(value {})", check.value.shown()));
+                ui.label(format!("({})", trace::check_value(check)));
             });
             if !check.passed {
-                ui.label(RichText::new(&check.meaning).color(color));
+                ui.add(egui::Label::new(RichText::new(&check.meaning).color(color)).wrap());
             }
         }
         Payload::Verdict(verdict) => {
-            let color = verdict_color(&verdict.status);
+            let color = ink(verdict_color(&verdict.status));
             egui::Frame::new()
                 .stroke(Stroke::new(2.0, color))
                 .inner_margin(6.0)
@@ -126,57 +232,113 @@ fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload) {
                             .color(color)
                             .strong(),
                     );
-                    ui.label(&verdict.message);
+                    ui.add(egui::Label::new(&verdict.message).wrap());
                 });
         }
         other => {
             for line in trace::payload_lines(other) {
-                ui.label(RichText::new(line).monospace());
+                ui.add(egui::Label::new(RichText::new(line).monospace()).wrap());
             }
         }
     }
 }
 
-/// A determinant's expansion one term per line, so a 3x3 expansion fits a narrow panel:
-/// |M| = a·|…| / − b·|…| / + c·|…| / = products / = value.
-fn determinant_ui(ui: &mut Ui, det: &crate::trace::Determinant) {
+/// For a step whose numbers include float values shown by their shortest decimal (exact mode on a
+/// probed pixel's floats), the whole exact value of each, one click away.
+fn float_expansions_ui(ui: &mut Ui, id: &str, payload: &Payload) {
+    let mut floats: Vec<(String, String)> = Vec::new();
+    for n in payload_numbers(payload) {
+        if let Some(expansion) = &n.float_expansion {
+            let pair = (n.shown(), expansion.clone());
+            if !floats.contains(&pair) {
+                floats.push(pair);
+            }
+        }
+    }
+    if floats.is_empty() {
+        return;
+    }
+    egui::CollapsingHeader::new(RichText::new("Float values, exactly").small())
+        .id_salt(format!("{id}-floats"))
+        .show(ui, |ui| {
+            ui.add(
+                egui::Label::new(
+                    RichText::new(
+                        "Numbers such as -6.7 here are floats: each is shown by the shortest \
+                         decimal that reads back as the same float, and computed with exactly its \
+                         value, which is:",
+                    )
+                    .weak(),
+                )
+                .wrap(),
+            );
+            for (shown, expansion) in floats {
+                ui.add(
+                    egui::Label::new(RichText::new(format!("{shown} = {expansion}")).monospace())
+                        .wrap(),
+                );
+            }
+        })
+        .header_response
+        .on_hover_text("The exact value of each float in this step");
+}
+
+/// Every number a payload shows.
+fn payload_numbers(payload: &Payload) -> Vec<&Number> {
+    fn matrix(m: &Matrix) -> Vec<&Number> {
+        m.rows.iter().flatten().collect()
+    }
+    match payload {
+        Payload::System { matrix: m, rhs, .. } => {
+            let mut all = matrix(m);
+            all.extend(&rhs.components);
+            all
+        }
+        Payload::Matrix(m) => matrix(m),
+        Payload::Determinant(det) => {
+            let mut all = Vec::new();
+            for term in &det.terms {
+                all.push(&term.element);
+                all.extend(term.minor.iter().flatten());
+            }
+            all
+        }
+        Payload::Vector(v) => v.components.iter().collect(),
+        Payload::Scalar(s) => vec![&s.value],
+        Payload::Check(c) => vec![&c.value],
+        Payload::Verdict(_) => Vec::new(),
+    }
+}
+
+/// A determinant's expansion one term per line, each 2x2 minor drawn as a small matrix between bars:
+/// |M| = a·|…| / − b·|…| / + c·|…|, then the products, then the value.
+fn determinant_ui(ui: &mut Ui, id: &str, det: &crate::trace::Determinant) {
     let name = format!("|{}| ", det.of);
     let pad = " ".repeat(name.chars().count());
-    let signed = |i: usize, sign: i8| match (i, sign < 0) {
-        (0, false) => "= ".to_string(),
-        (0, true) => "= −".to_string(),
-        (_, true) => "  − ".to_string(),
-        (_, false) => "  + ".to_string(),
+    let mono = |ui: &mut Ui, text: String| {
+        ui.label(RichText::new(text).monospace());
     };
-    let shown = |n: &Number| {
-        let text = n.shown();
-        if text.starts_with('-') {
-            format!("({text})")
-        } else {
-            text
+    let has_minors = det.terms.first().is_some_and(|t| t.minor.len() > 1);
+    if has_minors {
+        for (i, term) in det.terms.iter().enumerate() {
+            let lead = if i == 0 { &name } else { &pad };
+            let sign = signed(i, term.sign);
+            ui.horizontal(|ui| {
+                mono(ui, format!("{lead}{sign}{}·", term.element.factor()));
+                let cells = term
+                    .minor
+                    .iter()
+                    .map(|row| row.iter().map(|n| (n.shown(), None)).collect())
+                    .collect();
+                Grid {
+                    rows: cells,
+                    header: Vec::new(),
+                    bars: true,
+                }
+                .show(ui, &format!("{id}-minor-{i}"));
+            });
         }
-    };
-    let mut lines = Vec::new();
-    for (i, term) in det.terms.iter().enumerate() {
-        let minor = if term.minor.len() == 1 {
-            shown(&term.minor[0][0])
-        } else {
-            let rows: Vec<String> = term
-                .minor
-                .iter()
-                .map(|r| r.iter().map(Number::shown).collect::<Vec<_>>().join(" "))
-                .collect();
-            format!("|{}|", rows.join("; "))
-        };
-        let lead = if i == 0 { name.clone() } else { pad.clone() };
-        lines.push(format!(
-            "{lead}{}{}·{minor}",
-            signed(i, term.sign),
-            shown(&term.element)
-        ));
-    }
-    if det.terms.first().is_some_and(|t| t.minor.len() > 1) {
-        let products: Vec<String> = det
+        let products: String = det
             .terms
             .iter()
             .enumerate()
@@ -187,14 +349,42 @@ fn determinant_ui(ui: &mut Ui, det: &crate::trace::Determinant) {
                     (_, true) => " − ",
                     (_, false) => " + ",
                 };
-                format!("{sign}{}·{}", shown(&t.element), shown(&t.minor_det))
+                format!("{sign}{}·{}", t.element.factor(), t.minor_det.factor())
             })
             .collect();
-        lines.push(format!("{pad}= {}", products.concat()));
+        ui.add(egui::Label::new(RichText::new(format!("{pad}= {products}")).monospace()).wrap());
+    } else {
+        // A 2x2 determinant: ad − bc on one line.
+        let terms: String = det
+            .terms
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                let sign = match (i, t.sign < 0) {
+                    (0, true) => "−",
+                    (0, false) => "",
+                    (_, true) => " − ",
+                    (_, false) => " + ",
+                };
+                format!("{sign}{}·{}", t.element.factor(), t.minor_det.factor())
+            })
+            .collect();
+        ui.add(egui::Label::new(RichText::new(format!("{name}= {terms}")).monospace()).wrap());
     }
-    lines.push(format!("{pad}= {}", det.value.shown()));
-    for line in lines {
-        ui.label(RichText::new(line).monospace());
+    let value = if det.value.is_zero() {
+        "0 (exactly)".to_string()
+    } else {
+        det.value.shown()
+    };
+    mono(ui, format!("{pad}= {value}"));
+}
+
+fn signed(i: usize, sign: i8) -> &'static str {
+    match (i, sign < 0) {
+        (0, false) => "= ",
+        (0, true) => "= −",
+        (_, true) => "  − ",
+        (_, false) => "  + ",
     }
 }
 
@@ -209,8 +399,105 @@ pub fn verdict_color(status: &str) -> Color32 {
     }
 }
 
-fn matrix_ui(ui: &mut Ui, id: &str, matrix: &Matrix, in_system: bool) {
-    let labels: Vec<(String, Option<Color32>)> = matrix
+/// A cell's text and colour.
+type Cell = (String, Option<Color32>);
+
+/// A grid of cells between brackets (or the bars of a determinant), with an optional header row of
+/// coloured column labels; a marked column gets a highlight behind its label.
+struct Grid {
+    header: Vec<(String, Option<Color32>, bool)>,
+    rows: Vec<Vec<Cell>>,
+    bars: bool,
+}
+
+/// Columns are at least this wide, so short numbers line up under their labels.
+const MIN_COLUMN: f32 = 28.0;
+
+impl Grid {
+    fn column(cells: Vec<Cell>) -> Grid {
+        Grid {
+            header: Vec::new(),
+            rows: cells.into_iter().map(|c| vec![c]).collect(),
+            bars: false,
+        }
+    }
+
+    /// The width the grid will take, measured from its text.
+    fn width(&self, ui: &Ui) -> f32 {
+        let columns = self.rows.first().map_or(0, Vec::len);
+        let mono = TextStyle::Monospace.resolve(ui.style());
+        let small = TextStyle::Small.resolve(ui.style());
+        let spacing = ui.spacing().item_spacing.x;
+        let mut total = 8.0 + 4.0 + 2.0 * spacing;
+        for col in 0..columns {
+            let cells = self
+                .rows
+                .iter()
+                .filter_map(|r| r.get(col))
+                .map(|(t, _)| galley_width(ui, t, mono.clone()));
+            let label = self
+                .header
+                .get(col)
+                .map(|(t, _, _)| galley_width(ui, t, small.clone()));
+            let widest = cells.chain(label).fold(MIN_COLUMN, f32::max);
+            total += widest + spacing;
+        }
+        total
+    }
+
+    /// One grid for labels and cells, so each label sits over its column; the brackets (or bars)
+    /// hug the cells.
+    fn show(&self, ui: &mut Ui, id: &str) {
+        let marked_fill = ui.visuals().selection.bg_fill;
+        let mut cells: Option<egui::Rect> = None;
+        ui.horizontal(|ui| {
+            ui.add_space(8.0);
+            egui::Grid::new(format!("{id}-grid"))
+                .min_col_width(MIN_COLUMN)
+                .show(ui, |ui| {
+                    if !self.header.is_empty() {
+                        for (label, color, marked) in &self.header {
+                            let mut text = RichText::new(label).small();
+                            if let Some(color) = color {
+                                text = text.color(*color).strong();
+                            }
+                            if *marked {
+                                text = text.background_color(marked_fill).strong();
+                            }
+                            ui.label(text);
+                        }
+                        ui.end_row();
+                    }
+                    for row in &self.rows {
+                        for (col, (text, color)) in row.iter().enumerate() {
+                            let mut cell = RichText::new(text).monospace();
+                            if let Some(color) = color {
+                                cell = cell.color(*color);
+                            }
+                            if self.header.get(col).is_some_and(|h| h.2) {
+                                cell = cell.background_color(marked_fill).strong();
+                            }
+                            let rect = ui.label(cell).rect;
+                            cells = Some(cells.map_or(rect, |r| r.union(rect)));
+                        }
+                        ui.end_row();
+                    }
+                });
+            ui.add_space(4.0);
+        });
+        if let Some(rect) = cells {
+            let rect = rect.expand2(Vec2::new(6.0, 2.0));
+            if self.bars {
+                bars(ui, rect);
+            } else {
+                brackets(ui, rect);
+            }
+        }
+    }
+}
+
+fn matrix_grid(matrix: &Matrix, marked_column: Option<&str>, visuals: &egui::Visuals) -> Grid {
+    let header: Vec<(String, Option<Color32>, bool)> = matrix
         .column_labels
         .iter()
         .enumerate()
@@ -220,84 +507,29 @@ fn matrix_ui(ui: &mut Ui, id: &str, matrix: &Matrix, in_system: bool) {
             } else {
                 palette::column_color(label)
             };
-            (label.clone(), color)
+            let marked = marked_column == Some(label.as_str());
+            (
+                label.clone(),
+                color.map(|c| palette::ink(c, visuals)),
+                marked,
+            )
         })
         .collect();
-    let rows: Vec<Vec<(String, Option<Color32>)>> = matrix
+    let rows = matrix
         .rows
         .iter()
         .map(|row| {
             row.iter()
-                .zip(&labels)
-                .map(|(n, (_, color))| (cell_text(n), *color))
+                .zip(&header)
+                .map(|(n, (_, color, _))| (n.shown(), *color))
                 .collect()
         })
         .collect();
-    let name = if in_system {
-        String::new()
-    } else {
-        format!("{} =", matrix.name)
-    };
-    grid_ui(ui, id, &name, &labels, &rows);
-}
-
-fn cell_text(n: &Number) -> String {
-    n.shown()
-}
-
-/// A bracketed grid with an optional header row of coloured labels.
-fn grid_ui(
-    ui: &mut Ui,
-    id: &str,
-    name: &str,
-    header: &[(String, Option<Color32>)],
-    rows: &[Vec<(String, Option<Color32>)>],
-) {
-    ui.horizontal(|ui| {
-        if !name.is_empty() {
-            ui.label(RichText::new(name).strong());
-        }
-        ui.vertical(|ui| {
-            if !header.is_empty() {
-                ui.horizontal(|ui| {
-                    ui.add_space(8.0);
-                    egui::Grid::new(format!("{id}-header"))
-                        .min_col_width(48.0)
-                        .show(ui, |ui| {
-                            for (label, color) in header {
-                                let mut text = RichText::new(label).small();
-                                if let Some(color) = color {
-                                    text = text.color(*color).strong();
-                                }
-                                ui.label(text);
-                            }
-                            ui.end_row();
-                        });
-                });
-            }
-            let response = ui
-                .horizontal(|ui| {
-                    ui.add_space(8.0);
-                    egui::Grid::new(format!("{id}-cells"))
-                        .min_col_width(48.0)
-                        .show(ui, |ui| {
-                            for row in rows {
-                                for (text, color) in row {
-                                    let mut cell = RichText::new(text).monospace();
-                                    if let Some(color) = color {
-                                        cell = cell.color(*color);
-                                    }
-                                    ui.label(cell);
-                                }
-                                ui.end_row();
-                            }
-                        });
-                    ui.add_space(4.0);
-                })
-                .response;
-            brackets(ui, response.rect);
-        });
-    });
+    Grid {
+        header,
+        rows,
+        bars: false,
+    }
 }
 
 fn brackets(ui: &Ui, rect: egui::Rect) {
@@ -309,6 +541,18 @@ fn brackets(ui: &Ui, rect: egui::Rect) {
         painter.line_segment([egui::pos2(x, top), egui::pos2(x + tick, top)], stroke);
         painter.line_segment(
             [egui::pos2(x, bottom), egui::pos2(x + tick, bottom)],
+            stroke,
+        );
+    }
+}
+
+/// The straight bars of a determinant |…|.
+fn bars(ui: &Ui, rect: egui::Rect) {
+    let stroke = Stroke::new(1.5, ui.visuals().text_color());
+    let painter = ui.painter();
+    for x in [rect.left() + 2.0, rect.right() - 2.0] {
+        painter.line_segment(
+            [egui::pos2(x, rect.top()), egui::pos2(x, rect.bottom())],
             stroke,
         );
     }

@@ -4,6 +4,7 @@
 //! outside) and L + tD along the ray; "Solve" slides all three to the solution, where they meet. A, B
 //! and C can be dragged in the plane facing the camera; the background orbits, the wheel zooms.
 
+use super::widgets::palette::Readable as _;
 use egui::{FontId, Pos2, RichText, Sense, Stroke, Ui};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -327,7 +328,18 @@ impl TriangleView {
             }
         });
         status_line(ui, |ui| {
-            let (text, color) = if explored.outside.is_empty() {
+            let degenerate = matches!(
+                solved.float.outcome,
+                TriangleOutcome::Miss(TriangleMiss::DegenerateTriangle)
+            );
+            let (text, color) = if degenerate {
+                (
+                    "No triangle: A, B and C lie on one line, so P(β, γ) is neither inside nor \
+                     outside"
+                        .to_string(),
+                    palette::OUTSIDE,
+                )
+            } else if explored.outside.is_empty() {
                 (
                     "P(β, γ) is inside the triangle".to_string(),
                     palette::INSIDE,
@@ -343,14 +355,14 @@ impl TriangleView {
                     palette::OUTSIDE,
                 )
             };
-            ui.label(RichText::new(text).color(color));
+            ui.label(RichText::new(text).color(color.readable(ui)));
         });
         status_line(ui, |ui| {
             let gap = explored.gap;
             if self.points_meet(solved, gap) {
                 ui.label(
                     RichText::new("P(β, γ) = L + tD: they meet")
-                        .color(palette::SOLUTION)
+                        .color(palette::SOLUTION.readable(ui))
                         .strong(),
                 );
             } else {
@@ -363,16 +375,24 @@ impl TriangleView {
         });
         status_line(ui, |ui| {
             if let Some(s) = exact {
+                // A distance is never negative: behind L, say so and give how far back.
                 let distance = s
                     .distance_exact
                     .as_ref()
                     .and_then(|d| d.short())
-                    .unwrap_or_else(|| format_float(s.distance, Precision::F64));
-                ui.label(format!(
-                    "t* = {} (distance t*·|D| = {distance})",
-                    s.t.display()
-                ))
-                .on_hover_text("t counts steps of D; the distance along the ray is t·|D|");
+                    .map(|d| d.trim_start_matches('−').to_string())
+                    .unwrap_or_else(|| format_float(s.distance.abs(), Precision::F64));
+                let behind = s.t.to_f64() < 0.0;
+                let text = if behind {
+                    format!(
+                        "t* = {}: behind L, at distance |t*|·|D| = {distance} back along the ray",
+                        s.t.display()
+                    )
+                } else {
+                    format!("t* = {} (distance t*·|D| = {distance})", s.t.display())
+                };
+                ui.label(text)
+                    .on_hover_text("t counts steps of D; the distance along the ray is |t|·|D|");
             }
         });
     }

@@ -219,8 +219,8 @@ fn solve_recorded<R: Real>(p: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSo
             "A segment whose endpoints coincide is a single point, with no direction to follow.",
             {
                 Payload::Check(Check {
-                    inequality: "A2 ≠ A1 and B2 ≠ B1".into(),
-                    latex: "A_2 \\neq A_1,\\ B_2 \\neq B_1".into(),
+                    inequality: "min(|A2−A1|, |B2−B1|) > 0".into(),
+                    latex: "\\min(|A_2-A_1|, |B_2-B_1|) > 0".into(),
                     value: Number::float(norm_f64(&d_a).min(norm_f64(&b1_minus_b2)), R::PRECISION),
                     passed: !(a_degenerate || b_degenerate),
                     meaning: "a segment has zero length".into(),

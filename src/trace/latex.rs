@@ -62,7 +62,23 @@ pub fn number(n: &Number) -> String {
         }
         return shown;
     }
+    // An exact value shown as a decimal (a float input's shortest form, or `≈` ten digits worked out
+    // from the exact value, which stays right beyond the float range).
+    if let Some(text) = &n.exact_shown {
+        return match text.strip_prefix('≈') {
+            Some(rounded) => format!("\\approx {}", decimal_latex(rounded)),
+            None => decimal_latex(text),
+        };
+    }
     float_latex(n.value, n)
+}
+
+/// `1.5e-12` as `1.5 \times 10^{-12}`; plain decimals unchanged.
+fn decimal_latex(text: &str) -> String {
+    match text.split_once('e') {
+        Some((mantissa, exponent)) => format!("{mantissa} \\times 10^{{{exponent}}}"),
+        None => text.to_string(),
+    }
 }
 
 fn float_latex(value: f64, n: &Number) -> String {

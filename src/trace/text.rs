@@ -44,21 +44,16 @@ fn trim_zeros(text: &str) -> String {
 /// A number with its float beside it when it is exact: `1/3 ≈ 0.3333333333`.
 fn with_float(n: &Number) -> String {
     match &n.exact_shown {
-        Some(_) if n.shown_exactly() && n.value.fract() != 0.0 => {
+        Some(_) if n.shown_exactly() && n.value.fract() != 0.0 && n.value.is_finite() => {
             format!("{} ≈ {}", n.shown(), format_float(n.value, n.precision))
         }
         _ => n.shown(),
     }
 }
 
-/// Wraps a negative number in parentheses so `3·(−3)` reads right.
+/// Wraps a negative number or a fraction in parentheses so `3·(−3)` and `(11/2)·5` read right.
 fn paren(n: &Number) -> String {
-    let shown = n.shown();
-    if shown.starts_with('-') || shown.starts_with('−') {
-        format!("({shown})")
-    } else {
-        shown
-    }
+    n.factor()
 }
 
 /// Renders a whole trace.
@@ -258,7 +253,7 @@ fn scalar_line(scalar: &Scalar) -> String {
                 "{} / {} = {} / {} = ",
                 numerator.symbol,
                 denominator.symbol,
-                numerator.value.shown(),
+                paren(&numerator.value),
                 paren(&denominator.value)
             );
         }
@@ -283,15 +278,37 @@ fn scalar_line(scalar: &Scalar) -> String {
 
 fn check_line(check: &Check) -> String {
     let mark = if check.passed { "✓" } else { "✗" };
-    let mut text = format!(
-        "{mark} {}   (value {})",
-        check.inequality,
-        check.value.shown()
-    );
+    let mut text = format!("{mark} {}   ({})", check.inequality, check_value(check));
     if !check.passed {
         let _ = write!(text, ": {}", check.meaning);
     }
     text
+}
+
+/// The tested value named by the inequality's left-hand side: `β + γ = 3/4` for `β + γ ≤ 1`.
+pub fn check_value(check: &Check) -> String {
+    let sides: Vec<&str> = check
+        .inequality
+        .split(['≤', '≥', '<', '>', '≠', '='])
+        .map(str::trim)
+        .collect();
+    // `x ≤ 1` names x; `0 ≤ α ≤ 1` names α; a compound test such as `A2 ≠ A1 and B2 ≠ B1` names nothing.
+    let name = match sides.as_slice() {
+        _ if check.inequality.contains(" and ") => "",
+        [lhs, _] => lhs,
+        [_, middle, _] => middle,
+        _ => "",
+    };
+    let value = if check.value.is_zero() {
+        "0".to_string()
+    } else {
+        with_float(&check.value)
+    };
+    if name.is_empty() {
+        format!("value {value}")
+    } else {
+        format!("{name} = {value}")
+    }
 }
 
 #[cfg(test)]
@@ -323,5 +340,70 @@ mod tests {
         let lines = bracket(&cells, &["a".into(), "b".into()], Some("M"));
         assert_eq!(lines[1], "    ⎡  3  -10 ⎤");
         assert_eq!(lines[2], "M = ⎣ 12    1 ⎦");
+    }
+}
+
+#[cfg(test)]
+mod readable_numbers {
+    use crate::geometry::segments::{self, SegmentPair};
+    use crate::geometry::triangle::{self, RayTriangle};
+    use crate::trace::to_text;
+    use glam::{DVec2, DVec3};
+
+    fn segments_text(points: [[f64; 2]; 4]) -> String {
+        let pair =
+            SegmentPair::<crate::exact::Exact>::from_f64(points.map(DVec2::from_array)).unwrap();
+        to_text(&segments::solve(&pair, true).trace.unwrap())
+    }
+
+    #[test]
+    fn fractions_in_products_and_quotients_are_parenthesised() {
+        let text = segments_text([[1.5, 2.0], [6.0, 1.25], [2.0, 6.0], [5.0, 1.0]]);
+        // Not 9/2·5, which reads as 9/(2·5); not 29/2 / 81/4.
+        assert!(text.contains("|M| = (9/2)·5 − (-3)·(-3/4)"), "{text}");
+        assert!(
+            text.contains("t = |M1| / |M| = (29/2) / (81/4) = 58/81"),
+            "{text}"
+        );
+        // Each check names the value it tested.
+        assert!(
+            text.contains("✓ 0 ≤ t ≤ 1   (t = 58/81 ≈ 0.7160493827)"),
+            "{text}"
+        );
+        assert!(text.contains("(|M| = 81/4 ≈ 20.25)"), "{text}");
+        assert!(
+            text.contains("(min(|A2−A1|, |B2−B1|) = 4.562071898)"),
+            "{text}"
+        );
+        assert!(!text.contains("(value"), "{text}");
+    }
+
+    #[test]
+    fn float_inputs_read_as_their_shortest_decimal() {
+        let v = [
+            [-6.7, 0.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [0.0, 0.0, 3.0],
+            [0.1, 0.2, 0.3],
+            [1.0, 1.0, 1.0],
+        ];
+        let problem =
+            RayTriangle::<crate::exact::Exact>::from_f64(v.map(DVec3::from_array), 0.0).unwrap();
+        let trace = triangle::solve(&problem, true).trace.unwrap();
+        let text = to_text(&trace);
+        // The float −6.7 is computed with its exact value but read as the shortest decimal, and a
+        // value that is not a float is marked ≈: never "≈-6.7000000000e0".
+        assert!(text.contains("⎡ -6.7  -6.7  1 ⎤"), "{text}");
+        assert!(text.contains("Y = (≈-6.8, -0.2, -0.3)"), "{text}");
+        assert!(!text.contains("e0"), "{text}");
+        let m = match &trace.step("M").unwrap().payload {
+            crate::trace::Payload::Matrix(m) => m.clone(),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            m.rows[0][0].float_expansion.as_deref(),
+            Some("-6.70000000000000017763568394002504646778106689453125")
+        );
+        assert!(!m.rows[0][0].shown_exactly());
     }
 }

@@ -167,8 +167,8 @@ impl LabelLayer {
             if !(request.anchor.x.is_finite() && request.anchor.y.is_finite()) {
                 continue;
             }
-            let galley =
-                painter.layout_no_wrap(request.text.clone(), request.font.clone(), request.color);
+            let ink = super::palette::ink(request.color, ui.visuals());
+            let galley = painter.layout_no_wrap(request.text.clone(), request.font.clone(), ink);
             let size = galley.size();
             let Some((rect, moved)) = self.best_place(&request, size, &taken) else {
                 continue;
@@ -180,7 +180,7 @@ impl LabelLayer {
                 painter.line_segment([start, end], Stroke::new(1.0, request.color));
             }
             painter.rect_filled(rect.expand(1.0), 3.0, backing);
-            painter.galley(rect.min, galley, request.color);
+            painter.galley(rect.min, galley, ink);
             taken.push(rect);
             placed.push(PlacedLabel {
                 text: request.text,

@@ -22,7 +22,7 @@ pub fn vector_editor<const N: usize>(
     ui.horizontal(|ui| {
         let mut label = RichText::new(name).strong();
         if let Some(color) = color {
-            label = label.color(color);
+            label = label.color(palette::ink(color, ui.visuals()));
         }
         ui.label(label).on_hover_text(tooltip);
         for (axis, component) in ["x", "y", "z"].iter().zip(value.iter_mut()) {
@@ -54,7 +54,10 @@ pub fn verdict_overlay(
     trace: &crate::trace::Trace,
 ) -> Option<egui::Rect> {
     let verdict = trace.verdict()?;
-    let color = crate::app::step_panel::verdict_color(&verdict.status);
+    let color = palette::ink(
+        crate::app::step_panel::verdict_color(&verdict.status),
+        ui.visuals(),
+    );
     let galley = painter.layout(
         verdict.message.clone(),
         egui::FontId::proportional(17.0),

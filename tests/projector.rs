@@ -1,0 +1,236 @@
+//! raylab on a classroom projector: every preset at 100%, 150% and 200% on a 1280x800 screen (and on
+//! 1920x1080), checked from what egui actually paints: no two pieces of text overprint each other,
+//! no text is cut off at the side of its panel or the window, and the view keeps at least half the
+//! window's width. Then presentation mode, stepped through with the keys a clicker sends.
+
+#[allow(dead_code)] // the shared helpers this test does not need
+mod common;
+
+use egui::epaint::{ClippedShape, Shape};
+use egui::{Rect, Vec2};
+use egui_kittest::Harness;
+use egui_kittest::kittest::{NodeT, Queryable};
+use raylab::app::{RaylabApp, ViewKind};
+
+/// A projector of `width`x`height` pixels at `zoom`: the window is that many pixels, and egui draws
+/// `zoom` pixels per point (what Ctrl + does).
+fn projector(width: f32, height: f32, zoom: f32) -> Harness<'static, RaylabApp> {
+    Harness::builder()
+        .with_size(Vec2::new(width, height) / zoom)
+        .with_pixels_per_point(zoom)
+        .with_max_steps(200)
+        .build_eframe(|cc| {
+            raylab::app::set_style(&cc.egui_ctx);
+            RaylabApp::new()
+        })
+}
+
+/// One piece of painted text: what it says, where it is, and the part of it that can be seen.
+#[derive(Debug)]
+struct PaintedText {
+    text: String,
+    rect: Rect,
+    visible: Rect,
+    clip: Rect,
+}
+
+/// Every non-empty text egui painted in the last frame.
+fn painted_texts(harness: &Harness<'static, RaylabApp>) -> Vec<PaintedText> {
+    fn walk(shape: &Shape, clip: Rect, out: &mut Vec<PaintedText>) {
+        match shape {
+            Shape::Vec(shapes) => shapes.iter().for_each(|s| walk(s, clip, out)),
+            Shape::Text(text) if !text.galley.text().trim().is_empty() => {
+                // Row by row: a label that continues a wrapped row starts with leading space that
+                // is not its text, and its second row starts left of its first.
+                for row in &text.galley.rows {
+                    if row.glyphs.iter().all(|g| g.chr.is_whitespace()) {
+                        continue;
+                    }
+                    let rect = row
+                        .rect_without_leading_space()
+                        .translate(text.pos.to_vec2());
+                    out.push(PaintedText {
+                        text: text.galley.text().to_string(),
+                        rect,
+                        visible: rect.intersect(clip),
+                        clip,
+                    });
+                }
+            }
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for ClippedShape {
+        clip_rect, shape, ..
+    } in &harness.output().shapes
+    {
+        walk(shape, *clip_rect, &mut out);
+    }
+    out
+}
+
+/// What is wrong with the last frame on a screen of `screen` points: overprinted or cut text, a view
+/// narrower than half the window.
+fn layout_problems(harness: &Harness<'static, RaylabApp>, screen: Rect) -> Vec<String> {
+    let texts = painted_texts(harness);
+    let mut problems = Vec::new();
+    let seen: Vec<&PaintedText> = texts
+        .iter()
+        .filter(|t| t.visible.is_positive() && screen.intersects(t.visible))
+        .collect();
+    for (i, a) in seen.iter().enumerate() {
+        for b in &seen[i + 1..] {
+            // Glyph boxes include a little leading: a real overprint covers more than a sliver.
+            let overlap = a.visible.shrink(1.0).intersect(b.visible.shrink(1.0));
+            if overlap.is_positive() && overlap.area() > 4.0 {
+                problems.push(format!("“{}” overprints “{}”", a.text, b.text));
+            }
+        }
+        // Cut at the side: part of it shows, part is clipped away left or right.
+        let cut_right = a.rect.max.x > a.clip.max.x.min(screen.max.x) + 1.0;
+        let cut_left = a.rect.min.x < a.clip.min.x.max(screen.min.x) - 1.0;
+        if cut_right || cut_left {
+            problems.push(format!("“{}” is cut at the side", a.text));
+        }
+    }
+    let view = harness.state().view_rect.expect("a view was drawn");
+    if view.width() < screen.width() / 2.0 - 1.0 {
+        problems.push(format!(
+            "the view is {:.0} of {:.0} points wide",
+            view.width(),
+            screen.width()
+        ));
+    }
+    problems
+}
+
+/// Loads every preset at every zoom on a screen and collects what is wrong, per case.
+fn check_every_preset(width: f32, height: f32, zooms: &[f32]) -> Vec<String> {
+    let mut problems = Vec::new();
+    for zoom in zooms {
+        let mut harness = projector(width, height, *zoom);
+        let screen = Rect::from_min_size(egui::Pos2::ZERO, Vec2::new(width, height) / *zoom);
+        for name in raylab::scene::preset_names() {
+            let scene = raylab::scene::preset(name).expect("a shipped preset");
+            harness
+                .state_mut()
+                .load_scene(&scene)
+                .expect("presets load");
+            common::wait_for_render(&mut harness);
+            harness.remove_cursor();
+            harness.run();
+            for problem in layout_problems(&harness, screen) {
+                problems.push(format!("{name} at {width}x{height}, {zoom}x: {problem}"));
+            }
+        }
+    }
+    problems
+}
+
+#[test]
+fn every_preset_reads_cleanly_on_a_1280x800_projector_at_100_150_and_200_percent() {
+    let problems = check_every_preset(1280.0, 800.0, &[1.0, 1.5, 2.0]);
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn every_preset_reads_cleanly_on_1920x1080() {
+    let problems = check_every_preset(1920.0, 1080.0, &[1.0, 1.5, 2.0]);
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn the_top_bar_folds_what_does_not_fit_into_the_view_menu() {
+    for zoom in [1.0, 1.5, 2.0] {
+        let mut harness = projector(1280.0, 800.0, zoom);
+        harness.run();
+        // Every view's tab is on screen at every zoom.
+        for kind in ViewKind::ALL {
+            let tab = harness.get_by_label(kind.label()).rect();
+            assert!(tab.max.x <= 1280.0 / zoom, "{} is off screen", kind.label());
+        }
+        // The View menu always holds the quick controls.
+        harness.get_by_label("View").click();
+        harness.run();
+        assert!(harness.query_by_label("Present (F5)").is_some());
+        assert!(harness.query_by_label("System").is_some());
+    }
+}
+
+/// The "Highlighted: …" line of presentation mode.
+fn highlighted(harness: &Harness<'static, RaylabApp>) -> String {
+    harness
+        .query_all_by(|node| {
+            node.value()
+                .is_some_and(|text| text.starts_with("Highlighted:"))
+        })
+        .next()
+        .and_then(|node| node.accesskit_node().value())
+        .unwrap_or_default()
+}
+
+#[test]
+fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting() {
+    let mut harness = projector(1280.0, 800.0, 1.0);
+    common::load_preset(&mut harness, "Seed 000: the lecture triangle");
+    harness.key_press(egui::Key::F5);
+    harness.run();
+    assert_eq!(harness.state().presentation, Some(0));
+    assert!(harness.query_by_label("Step 1 of 23").is_some());
+    // The system: the three column vectors of M.
+    assert_eq!(
+        highlighted(&harness),
+        "Highlighted: column A−B, column A−C, column D"
+    );
+    // Space, → and Page Down go forward, as presentation clickers send them.
+    harness.key_press(egui::Key::Space);
+    harness.run();
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run();
+    assert!(harness.query_by_label("Step 3 of 23").is_some());
+    assert_eq!(highlighted(&harness), "Highlighted: right-hand side Y");
+    // Step 5 is M1: Y in place of the first column, A−B.
+    harness.key_press(egui::Key::PageDown);
+    harness.run();
+    harness.key_press(egui::Key::PageDown);
+    harness.run();
+    assert!(harness.query_by_label("Step 5 of 23").is_some());
+    assert_eq!(
+        highlighted(&harness),
+        "Highlighted: right-hand side Y, column A−B"
+    );
+    // On to β = |M1|/|M| (step 13): the β handle slides to β* = 1/3.
+    for _ in 5..13 {
+        harness.key_press(egui::Key::Space);
+        harness.run();
+    }
+    assert!(harness.query_by_label("Step 13 of 23").is_some());
+    assert_eq!(highlighted(&harness), "Highlighted: β at its solution");
+    assert!((harness.state().state.triangle.beta - 1.0 / 3.0).abs() < 1e-12);
+    // The check β + γ ≤ 1 (step 19) highlights edge BC; ← and Page Up go back.
+    for _ in 13..19 {
+        harness.key_press(egui::Key::ArrowRight);
+        harness.run();
+    }
+    assert_eq!(highlighted(&harness), "Highlighted: edge BC (β + γ ≤ 1)");
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run();
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run();
+    assert!(harness.query_by_label("Step 21 of 23").is_some());
+    assert_eq!(highlighted(&harness), "Highlighted: the hit point");
+    harness.key_press(egui::Key::ArrowLeft);
+    harness.run();
+    harness.key_press(egui::Key::PageUp);
+    harness.run();
+    assert!(harness.query_by_label("Step 19 of 23").is_some());
+    // The view fills the screen beside the one step: no top bar, no controls.
+    assert!(harness.query_by_label("Presets").is_none());
+    assert!(harness.query_by_label("Solve").is_none());
+    // Esc leaves.
+    harness.key_press(egui::Key::Escape);
+    harness.run();
+    assert_eq!(harness.state().presentation, None);
+    assert!(harness.query_by_label("Presets").is_some());
+}
