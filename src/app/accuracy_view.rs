@@ -55,7 +55,8 @@ fn legend_ui(ui: &mut Ui) {
     ui.horizontal_wrapped(|ui| {
         for method in Method::FLOAT {
             ui.label(
-                RichText::new(format!("● {}", method.name())).color(method_color(method.name())),
+                RichText::new(format!("● {}", method.name()))
+                    .color(method_color(method.name()).readable(ui)),
             );
         }
         ui.label(
@@ -111,11 +112,15 @@ impl AccuracyView {
         }
     }
 
-    /// Stops the running study; the previous results are kept.
+    /// Stops the running study; the results of an earlier run, if any, stay on screen.
     fn cancel(&mut self) {
         if let Some(job) = self.running.take() {
             job.cancel();
-            self.status = "cancelled; the previous results are kept".into();
+            self.status = if self.records.is_empty() {
+                "cancelled before any result: press Run to start again".into()
+            } else {
+                "cancelled; the results of the previous run are still shown".into()
+            };
         }
     }
 
@@ -130,10 +135,17 @@ impl AccuracyView {
             } else {
                 self.family_picker(ui);
                 legend_ui(ui);
-                ui.columns(2, |columns| {
-                    self.scatter_ui(&mut columns[0]);
-                    self.grazing_ui(&mut columns[1]);
-                });
+                // Side by side where there is room; stacked on a zoomed projector, so each plot
+                // keeps the width its tick numbers need.
+                if ui.available_width() >= 900.0 {
+                    ui.columns(2, |columns| {
+                        self.scatter_ui(&mut columns[0]);
+                        self.grazing_ui(&mut columns[1]);
+                    });
+                } else {
+                    self.scatter_ui(ui);
+                    self.grazing_ui(ui);
+                }
                 self.table_ui(ui);
             }
             ui.separator();
@@ -162,7 +174,7 @@ impl AccuracyView {
                         .desired_width(220.0)
                         .text(format!("{done} / {total}")),
                 );
-                if ui.button("Cancel").on_hover_text("Stop the run and keep the last results").clicked() {
+                if ui.button("Cancel").on_hover_text("Stop the run (the results of an earlier run stay on screen)").clicked() {
                     self.cancel();
                 }
             }
@@ -263,56 +275,108 @@ impl AccuracyView {
         );
     }
 
+    /// The table of every record, its header kept in view while the rows scroll.
     fn table_ui(&self, ui: &mut Ui) {
+        use egui_extras::{Column, TableBuilder};
+        const HEADS: [(&str, &str); 11] = [
+            ("method", "The intersection method"),
+            ("precision", "The arithmetic it ran in"),
+            (
+                "family",
+                "The family of rays (all: the worst of every family)",
+            ),
+            ("tests", "Rays tested"),
+            (
+                "wrong",
+                "Hit or miss decided differently from exact arithmetic",
+            ),
+            (
+                "cracks",
+                "Rays through a shared edge that hit neither triangle",
+            ),
+            (
+                "double",
+                "Rays through a shared edge that hit both triangles",
+            ),
+            (
+                "rel err t",
+                "Largest relative error of t against the exact t",
+            ),
+            ("ulps t", "Largest error of t in units in the last place"),
+            ("exact", "Rays decided by the exact fallback"),
+            ("ns/test", "Mean time per ray–triangle test"),
+        ];
         ui.label(RichText::new("The table").strong());
-        egui::Grid::new("accuracy-table")
-            .striped(true)
-            .show(ui, |ui| {
-                for head in [
-                    "method",
-                    "precision",
-                    "family",
-                    "tests",
-                    "wrong",
-                    "cracks",
-                    "double",
-                    "rel err t",
-                    "ulps t",
-                    "exact",
-                    "ns/test",
-                ] {
-                    ui.label(RichText::new(head).strong());
-                }
-                ui.end_row();
-                for r in self
-                    .records
-                    .iter()
-                    .filter(|r| self.family.is_none_or(|f| r.family == f.name()))
-                {
-                    ui.label(RichText::new(&r.method).color(method_color(&r.method)));
-                    ui.label(&r.precision);
-                    ui.label(&r.family);
-                    ui.label(r.tests.to_string());
-                    let wrong = RichText::new(r.wrong_decisions.to_string());
-                    ui.label(if r.wrong_decisions > 0 {
-                        wrong.color(palette::OUTSIDE.readable(ui))
-                    } else {
-                        wrong
+        let row_height = ui.text_style_height(&egui::TextStyle::Body) + 6.0;
+        let rows: Vec<_> = self
+            .records
+            .iter()
+            .filter(|r| self.family.is_none_or(|f| r.family == f.name()))
+            .collect();
+        // At most about half the screen, so the plots above stay in reach.
+        let height = (ui.ctx().content_rect().height() * 0.5).max(6.0 * row_height);
+        ui.push_id("accuracy-table", |ui| {
+            TableBuilder::new(ui)
+                .striped(true)
+                .columns(Column::auto().at_least(40.0), HEADS.len())
+                .min_scrolled_height(0.0)
+                .max_scroll_height(height)
+                .header(row_height, |mut header| {
+                    for (head, tip) in HEADS {
+                        header.col(|ui| {
+                            ui.label(RichText::new(head).strong()).on_hover_text(tip);
+                        });
+                    }
+                })
+                .body(|body| {
+                    body.rows(row_height, rows.len(), |mut row| {
+                        let r = rows[row.index()];
+                        let outside = |ui: &Ui, text: RichText, bad: bool| {
+                            if bad {
+                                text.color(palette::OUTSIDE.readable(ui)).strong()
+                            } else {
+                                text
+                            }
+                        };
+                        row.col(|ui| {
+                            let colour = method_color(&r.method).readable(ui);
+                            ui.label(RichText::new(&r.method).color(colour));
+                        });
+                        row.col(|ui| {
+                            ui.label(&r.precision);
+                        });
+                        row.col(|ui| {
+                            ui.label(&r.family);
+                        });
+                        row.col(|ui| {
+                            ui.label(r.tests.to_string());
+                        });
+                        row.col(|ui| {
+                            let text = RichText::new(r.wrong_decisions.to_string());
+                            ui.label(outside(ui, text, r.wrong_decisions > 0));
+                        });
+                        row.col(|ui| {
+                            let text = RichText::new(r.cracks.to_string());
+                            ui.label(outside(ui, text, r.cracks > 0));
+                        });
+                        row.col(|ui| {
+                            ui.label(r.double_hits.to_string());
+                        });
+                        row.col(|ui| {
+                            ui.label(format!("{:.1e}", r.max_rel_err_t));
+                        });
+                        row.col(|ui| {
+                            ui.label(format!("{:.1e}", r.max_ulps_t));
+                        });
+                        row.col(|ui| {
+                            ui.label(r.exact_fallbacks.to_string());
+                        });
+                        row.col(|ui| {
+                            ui.label(format!("{:.1}", r.ns_per_test));
+                        });
                     });
-                    let cracks = RichText::new(r.cracks.to_string());
-                    ui.label(if r.cracks > 0 {
-                        cracks.color(palette::OUTSIDE.readable(ui)).strong()
-                    } else {
-                        cracks
-                    });
-                    ui.label(r.double_hits.to_string());
-                    ui.label(format!("{:.1e}", r.max_rel_err_t));
-                    ui.label(format!("{:.1e}", r.max_ulps_t));
-                    ui.label(r.exact_fallbacks.to_string());
-                    ui.label(format!("{:.1}", r.ns_per_test));
-                    ui.end_row();
-                }
-            });
+                });
+        });
     }
 
     fn gallery_ui(&mut self, ui: &mut Ui) -> Option<Action> {

@@ -12,6 +12,7 @@ use egui::{Color32, ColorImage, RichText, Sense, Stroke, TextureHandle, TextureO
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette;
 use super::widgets::scene3d::{Canvas, OrbitCamera};
 use crate::accuracy::Method;
@@ -471,11 +472,18 @@ impl RenderView {
                 if title.starts_with("With") && self.bug.is_none() {
                     continue;
                 }
+                let bug_slot = title.starts_with("With");
                 ui.vertical(|ui| {
                     ui.label(RichText::new(&title).strong());
-                    let Some(shown) = &slot.shown else {
-                        ui.allocate_space(size);
-                        return;
+                    // While a new render runs, the old image belongs to other choices: the bug's
+                    // image of another bug is not shown at all, the correct one is marked.
+                    let stale = slot.running.is_some();
+                    let shown = match &slot.shown {
+                        Some(shown) if !(stale && bug_slot) => shown,
+                        _ => {
+                            rendering_placeholder(ui, size);
+                            return;
+                        }
                     };
                     let response = ui
                         .add(egui::Image::new((shown.texture.id(), size)).sense(Sense::click()))
@@ -496,6 +504,9 @@ impl RenderView {
                         && let Some(pixel) = response.interact_pointer_pos().and_then(to_pixel)
                     {
                         clicked = Some(pixel);
+                    }
+                    if stale {
+                        rendering_band(ui, response.rect);
                     }
                     if let Some((row, column)) = probed {
                         let center = response.rect.min
@@ -743,9 +754,13 @@ fn draw_space(
         palette::faded(palette::BETA, 90),
         Stroke::new(2.0, palette::BETA),
     );
-    let font = egui::FontId::proportional(15.0);
+    // Labels go through the label pass: they avoid each other, the hit dot and the canvas edge.
+    let mut labels = LabelLayer::new(response.rect);
     for (p, name) in [(a, "A"), (b, "B"), (c, "C")] {
-        canvas.label(p, name, palette::BETA, font.clone());
+        if let Some(at) = canvas.dot(p, 3.5, palette::BETA) {
+            labels.avoid_point(at, 4.0);
+        }
+        canvas.place_label(&mut labels, p, name, palette::BETA, Priority::Normal);
     }
     // The ray from well before the triangle to a little past it (the scaled triangle reaches 2 from
     // the hit), its direction drawn where it comes in.
@@ -756,11 +771,21 @@ fn draw_space(
         hit - step + step * 0.4,
         Stroke::new(3.0, palette::RAY),
     );
-    canvas.label(hit - step, "ray", palette::RAY, font.clone());
+    canvas.place_label(
+        &mut labels,
+        hit - step,
+        "ray",
+        palette::RAY,
+        Priority::Minor,
+    );
     if let Some(t) = t {
-        canvas.dot(hit, 6.0, palette::SOLUTION);
-        canvas.label_below(hit, &format!("t = {t:.4}"), palette::SOLUTION, font);
+        if let Some(at) = canvas.dot(hit, 6.0, palette::SOLUTION) {
+            labels.avoid_point(at, 7.0);
+        }
+        let text = format!("t = {t:.4}");
+        canvas.place_label(&mut labels, hit, text, palette::SOLUTION, Priority::Key);
     }
+    labels.paint(ui, &painter, response.id.with("space-labels"));
 }
 
 /// The problem a probe loads into a view: the ray with the triangle it hit or came nearest to, or the
@@ -788,4 +813,39 @@ fn probed_problem(prepared: &Prepared, result: &Probe) -> Option<Action> {
         origin: result.origin,
         dir: result.dir,
     }))
+}
+
+/// Where an image is being rendered and none is right to show yet: an empty frame that says so (the
+/// progress bar above counts the rows; nothing here animates, so an idle app draws no frames).
+fn rendering_placeholder(ui: &mut Ui, size: Vec2) {
+    let (rect, _) = ui.allocate_exact_size(size, Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_stroke(
+        rect,
+        4.0,
+        Stroke::new(1.0, ui.visuals().weak_text_color()),
+        egui::StrokeKind::Inside,
+    );
+    ui.put(
+        egui::Rect::from_center_size(rect.center(), Vec2::new(rect.width(), 40.0)),
+        |ui: &mut Ui| ui.centered_and_justified(|ui| ui.label("rendering…")).inner,
+    );
+}
+
+/// A band across the top of an image that is being rendered again: it shows the previous choices.
+fn rendering_band(ui: &Ui, rect: egui::Rect) {
+    let band = egui::Rect::from_min_size(rect.min, Vec2::new(rect.width(), 26.0));
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(
+        band,
+        0.0,
+        ui.visuals().extreme_bg_color.gamma_multiply(0.85),
+    );
+    painter.text(
+        band.left_center() + Vec2::new(8.0, 0.0),
+        egui::Align2::LEFT_CENTER,
+        "rendering… (the previous image)",
+        egui::TextStyle::Body.resolve(ui.style()),
+        ui.visuals().text_color(),
+    );
 }

@@ -176,13 +176,11 @@ fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<&s
                     y.show(ui, &format!("{id}-y"));
                 });
             } else {
-                // Too narrow for one row: M · X, then = Y beneath.
+                // Too narrow for one row: M on its own, then · X = Y beneath it.
+                m.show(ui, &format!("{id}-m"));
                 ui.horizontal(|ui| {
-                    m.show(ui, &format!("{id}-m"));
                     ui.label("·");
                     x.show(ui, &format!("{id}-x"));
-                });
-                ui.horizontal(|ui| {
                     ui.label("=");
                     y.show(ui, &format!("{id}-y"));
                 });
@@ -445,9 +443,21 @@ impl Grid {
         total
     }
 
+    /// Shows the grid; one too wide for the panel (long decimals cannot wrap) scrolls sideways on
+    /// its own, so the panel keeps its width and the rest of the step still wraps.
+    fn show(&self, ui: &mut Ui, id: &str) {
+        if self.width(ui) > ui.available_width() {
+            egui::ScrollArea::horizontal()
+                .id_salt(format!("{id}-wide"))
+                .show(ui, |ui| self.show_inline(ui, id));
+        } else {
+            self.show_inline(ui, id);
+        }
+    }
+
     /// One grid for labels and cells, so each label sits over its column; the brackets (or bars)
     /// hug the cells.
-    fn show(&self, ui: &mut Ui, id: &str) {
+    fn show_inline(&self, ui: &mut Ui, id: &str) {
         let marked_fill = ui.visuals().selection.bg_fill;
         let mut cells: Option<egui::Rect> = None;
         ui.horizontal(|ui| {

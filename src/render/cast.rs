@@ -44,7 +44,7 @@ impl Bug {
     /// A short name.
     pub fn name(self) -> &'static str {
         match self {
-            Bug::AndForOr => "`and` for `or`",
+            Bug::AndForOr => "“and” where “or” is meant",
             Bug::NegativeT => "accepting t < 0",
             Bug::VInsteadOfSum => "v ≤ 1 for β + γ ≤ 1",
             Bug::NormalizedDirection => "normalising D in object space",
@@ -55,8 +55,8 @@ impl Bug {
     pub fn sentence(self) -> &'static str {
         match self {
             Bug::AndForOr => {
-                "Seed 003 calls a point outside only when all three edge tests fail (`and`), but one \
-                 failing test is enough (`or`): the whole plane in front of the ray lights up."
+                "Seed 003 calls a point outside only when all three edge tests fail (“and”), but one \
+                 failing test is enough (“or”): the whole plane in front of the ray lights up."
             }
             Bug::NegativeT => {
                 "Without t > 0 the ray is a line: objects behind the camera are drawn as if in front."

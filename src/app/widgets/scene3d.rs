@@ -340,32 +340,6 @@ impl Canvas<'_> {
         Some(at)
     }
 
-    /// A label next to a world point.
-    pub fn label(&self, p: DVec3, text: &str, color: Color32, font: egui::FontId) {
-        if let Some(at) = self.projector.screen_from_world(p) {
-            self.painter.text(
-                at + Vec2::new(8.0, -8.0),
-                egui::Align2::LEFT_BOTTOM,
-                text,
-                font,
-                color,
-            );
-        }
-    }
-
-    /// A label below-left of a world point (for a mark whose neighbours label up and right).
-    pub fn label_below(&self, p: DVec3, text: &str, color: Color32, font: egui::FontId) {
-        if let Some(at) = self.projector.screen_from_world(p) {
-            self.painter.text(
-                at + Vec2::new(-10.0, 12.0),
-                egui::Align2::RIGHT_TOP,
-                text,
-                font,
-                color,
-            );
-        }
-    }
-
     /// A filled polygon (the triangle), translucent.
     pub fn polygon(&self, points: &[DVec3], fill: Color32, stroke: Stroke) {
         let screen: Option<Vec<Pos2>> = points
@@ -380,17 +354,9 @@ impl Canvas<'_> {
 }
 
 impl Canvas<'_> {
-    /// Axes from the origin with labels, long enough to reach the given points.
-    pub fn axes(&self, points: &[DVec3]) {
-        self.draw_axes(points, None);
-    }
-
-    /// Axes whose labels go through the label pass (minor labels: dropped first when space is short).
+    /// Axes from the origin, long enough to reach the given points, whose labels go through the
+    /// label pass (minor labels: dropped first when space is short).
     pub fn axes_labelled(&self, points: &[DVec3], labels: &mut super::labels::LabelLayer) {
-        self.draw_axes(points, Some(labels));
-    }
-
-    fn draw_axes(&self, points: &[DVec3], mut labels: Option<&mut super::labels::LabelLayer>) {
         let extent = points
             .iter()
             .filter(|p| p.is_finite())
@@ -409,16 +375,13 @@ impl Canvas<'_> {
                 DVec3::ZERO,
                 Stroke::new(1.0, faded(90)),
             );
-            match labels.as_deref_mut() {
-                Some(labels) => self.place_label(
-                    labels,
-                    axis * extent,
-                    name,
-                    color,
-                    super::labels::Priority::Minor,
-                ),
-                None => self.label(axis * extent, name, color, egui::FontId::proportional(16.0)),
-            }
+            self.place_label(
+                labels,
+                axis * extent,
+                name,
+                color,
+                super::labels::Priority::Minor,
+            );
         }
     }
 }
