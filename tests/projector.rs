@@ -234,3 +234,62 @@ fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting(
     assert_eq!(harness.state().presentation, None);
     assert!(harness.query_by_label("Presets").is_some());
 }
+
+/// A probed pixel's ray solved in exact arithmetic has long decimals that cannot wrap: the step panel
+/// keeps its width (they scroll sideways inside their step) and nothing of the panel is cut off.
+#[test]
+fn a_probed_pixel_with_long_decimals_keeps_the_step_panel_whole() {
+    for zoom in [1.5, 2.0] {
+        let mut harness = projector(1280.0, 800.0, zoom);
+        let screen = Rect::from_min_size(egui::Pos2::ZERO, Vec2::new(1280.0, 800.0) / zoom);
+        common::load_preset(&mut harness, "Render: a transformed object");
+        harness.state_mut().state.precision = raylab::geometry::Precision::Exact;
+        common::click_image(&mut harness, "Correct render", Vec2::new(0.55, 0.35));
+        harness.remove_cursor();
+        harness.run();
+        assert!(
+            harness.state().state.render.probed.is_some(),
+            "the click probed a pixel"
+        );
+        let texts = painted_texts(&harness);
+        for wanted in ["Steps", "Copy all as LaTeX", "1. The system M X = Y"] {
+            let text = texts
+                .iter()
+                .find(|t| t.text == wanted)
+                .unwrap_or_else(|| panic!("“{wanted}” is not drawn at {zoom}x"));
+            assert!(
+                text.rect.min.x >= text.clip.min.x - 1.0 && text.rect.max.x <= screen.max.x + 1.0,
+                "“{wanted}” is cut at {zoom}x: {:?} in {:?}",
+                text.rect,
+                text.clip
+            );
+        }
+        let view = harness.state().view_rect.unwrap();
+        assert!(view.width() >= screen.width() / 2.0 - 1.0, "{view:?}");
+    }
+}
+
+/// Hovering a step in the panel highlights what it is about in the view, as presentation mode does.
+#[test]
+fn hovering_a_step_highlights_it_in_the_view() {
+    let mut harness = projector(1280.0, 800.0, 1.0);
+    common::load_preset(&mut harness, "Seed 000: the lecture triangle");
+    let card = harness
+        .get_by_label("5. M1: M with column 1 replaced by Y")
+        .rect();
+    harness.hover_at(card.center());
+    harness.run();
+    let names: Vec<String> = harness
+        .state()
+        .state
+        .triangle
+        .highlight
+        .iter()
+        .map(|e| e.name())
+        .collect();
+    assert_eq!(names, ["right-hand side Y", "column A−B"]);
+    // Away from the panel, nothing stays highlighted.
+    harness.hover_at(egui::pos2(5.0, 790.0));
+    harness.run();
+    assert!(harness.state().state.triangle.highlight.is_empty());
+}

@@ -315,9 +315,19 @@ impl RenderView {
         let mut action = None;
         match self.mode {
             Mode::Image => {
+                // The image comes first: on a zoomed projector the text below it scrolls, the
+                // image keeps its place.
                 self.status_ui(ui);
-                action = self.probe_ui(ui);
-                self.images_ui(ui, &mut action);
+                let below = 4.5 * ui.text_style_height(&egui::TextStyle::Body);
+                self.images_ui(ui, &mut action, below);
+                egui::ScrollArea::vertical()
+                    .id_salt("render-probe")
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        if let Some(probed) = self.probe_ui(ui) {
+                            action = Some(probed);
+                        }
+                    });
             }
             Mode::Spaces => self.spaces_ui(ui),
         }
@@ -414,27 +424,33 @@ impl RenderView {
         let method = self
             .method
             .map_or_else(|| self.scene_method_label(), |m| m.name().to_string());
-        ui.horizontal_wrapped(|ui| {
-            ui.label(
-                RichText::new(format!(
-                    "{}×{} in {:.1} ms with {method}: {} of {} pixels hit",
-                    image.width,
-                    image.height,
-                    seconds * 1e3,
-                    stats.hits,
-                    stats.rays
-                ))
-                .strong(),
+        // One line, the counters of the work done a click away: the image needs the height.
+        let counters: Vec<String> = stats
+            .counters()
+            .iter()
+            .skip(1)
+            .map(|(name, value)| format!("{name} {value}"))
+            .collect();
+        // The summary wraps; the counters are one click away below it.
+        let summary = format!(
+            "{}×{} in {:.1} ms: {} of {} pixels hit",
+            image.width,
+            image.height,
+            seconds * 1e3,
+            stats.hits,
+            stats.rays
+        );
+        ui.add(egui::Label::new(RichText::new(summary).strong()).wrap());
+        egui::CollapsingHeader::new("work done")
+            .id_salt("render-work")
+            .show(ui, |ui| {
+                ui.label(format!("Method: {method}."));
+                ui.label(RichText::new(counters.join(" · ")).weak());
+            })
+            .header_response
+            .on_hover_text(
+                "The method and the work the render did: an effect that is off costs zero",
             );
-            let counters: Vec<String> = stats
-                .counters()
-                .iter()
-                .skip(1)
-                .map(|(name, value)| format!("{name} {value}"))
-                .collect();
-            ui.label(RichText::new(counters.join(" · ")).weak())
-                .on_hover_text("The work the render did: an effect that is off costs zero");
-        });
     }
 
     fn scene_method_label(&self) -> String {
@@ -445,7 +461,7 @@ impl RenderView {
     }
 
     /// The image (and the bug's image beside it); a click probes a pixel.
-    fn images_ui(&mut self, ui: &mut Ui, action: &mut Option<Action>) {
+    fn images_ui(&mut self, ui: &mut Ui, action: &mut Option<Action>, below: f32) {
         let Some(shown) = &self.runtime.correct.shown else {
             ui.label("Rendering…");
             return;
@@ -453,7 +469,10 @@ impl RenderView {
         let (width, height) = (shown.rendered.image.width, shown.rendered.image.height);
         let panes = if self.bug.is_some() { 2.0 } else { 1.0 };
         let gap = 12.0;
-        let available = ui.available_size() - Vec2::new(0.0, 28.0);
+        // Room for the caption above and for `below` under the image, but never a thumbnail.
+        let caption = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
+        let available = ui.available_size() - Vec2::new(0.0, caption + below);
+        let available = Vec2::new(available.x, available.y.max(120.0));
         let scale = ((available.x - gap * (panes - 1.0)) / panes / width as f32)
             .min(available.y / height as f32)
             .max(0.05);

@@ -146,7 +146,26 @@ fn galley_width(ui: &Ui, text: &str, font: FontId) -> f32 {
         .x
 }
 
+/// A payload: text wraps to the panel; matrices and expansions, whose long decimals cannot wrap,
+/// scroll sideways inside their step when they do not fit, so the panel never widens under the view.
 fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<&str>) {
+    match payload {
+        Payload::System { .. } | Payload::Matrix(_) | Payload::Determinant(_) => {
+            let width = ui.available_width();
+            egui::ScrollArea::horizontal()
+                .id_salt(format!("{id}-wide"))
+                .auto_shrink([false, true])
+                .show(ui, |ui| payload_body(ui, id, payload, marked_column, width));
+        }
+        _ => {
+            let width = ui.available_width();
+            payload_body(ui, id, payload, marked_column, width)
+        }
+    }
+}
+
+/// `width` is the panel's: what a row must fit in to stay on one line.
+fn payload_body(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<&str>, width: f32) {
     let visuals = ui.visuals().clone();
     let ink = |c: Color32| palette::ink(c, &visuals);
     match payload {
@@ -167,7 +186,7 @@ fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<&s
             let operators =
                 text_width(ui, " · = ", TextStyle::Body) + 4.0 * ui.spacing().item_spacing.x;
             let wide = m.width(ui) + x.width(ui) + y.width(ui) + operators;
-            if wide <= ui.available_width() {
+            if wide <= width {
                 ui.horizontal(|ui| {
                     m.show(ui, &format!("{id}-m"));
                     ui.label("·");
@@ -443,16 +462,8 @@ impl Grid {
         total
     }
 
-    /// Shows the grid; one too wide for the panel (long decimals cannot wrap) scrolls sideways on
-    /// its own, so the panel keeps its width and the rest of the step still wraps.
     fn show(&self, ui: &mut Ui, id: &str) {
-        if self.width(ui) > ui.available_width() {
-            egui::ScrollArea::horizontal()
-                .id_salt(format!("{id}-wide"))
-                .show(ui, |ui| self.show_inline(ui, id));
-        } else {
-            self.show_inline(ui, id);
-        }
+        self.show_inline(ui, id);
     }
 
     /// One grid for labels and cells, so each label sits over its column; the brackets (or bars)
