@@ -76,8 +76,9 @@ fn readme_screenshots() {
         ("triangle", VIEWS[1], 1.0, egui::Theme::Light),
         ("triangle-outside", VIEWS[2], 1.0, egui::Theme::Dark),
         ("parallelogram", VIEWS[3], 1.0, egui::Theme::Light),
-        // A 1280x800 projector at 150%: the same window, 853x533 points.
+        // A 1280x800 projector at 150% and 200%: the same window, 853x533 and 640x400 points.
         ("projector-150", VIEWS[1], 1.5, egui::Theme::Light),
+        ("projector-200", VIEWS[1], 2.0, egui::Theme::Dark),
     ];
     for (file, (_, title, button), scale, theme) in shots {
         let size = Vec2::new(1280.0, 800.0) / scale;
@@ -93,6 +94,7 @@ fn readme_screenshots() {
             image.save(format!("{folder}/{file}.png")).unwrap();
         }
     }
+    presentation_screenshot(folder, write);
     if write {
         accuracy_screenshot(folder);
     }
@@ -165,4 +167,25 @@ fn accuracy_screenshot(folder: &str) {
     harness.run();
     let image = harness.render().expect("the CPU renderer draws");
     image.save(format!("{folder}/accuracy.png")).unwrap();
+}
+
+/// Presentation mode on the projector at 150%: the lecture triangle at step 5 (M1), its Y and A−B
+/// highlighted in the view.
+fn presentation_screenshot(folder: &str, write: bool) {
+    let mut harness = harness(Vec2::new(1280.0, 800.0) / 1.5, 1.5, egui::Theme::Light);
+    prepare(&mut harness, VIEWS[1].1, None);
+    harness.key_press(egui::Key::F5);
+    harness.run();
+    for _ in 1..5 {
+        harness.key_press(egui::Key::Space);
+        harness.run();
+    }
+    assert!(harness.query_by_label("Step 5 of 23").is_some());
+    harness.remove_cursor();
+    harness.run();
+    let image = harness.render().expect("the CPU renderer draws");
+    assert_eq!(image.width(), 1280);
+    if write {
+        image.save(format!("{folder}/presentation.png")).unwrap();
+    }
 }

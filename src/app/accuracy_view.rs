@@ -316,6 +316,8 @@ impl AccuracyView {
         // At most about half the screen, so the plots above stay in reach.
         let height = (ui.ctx().content_rect().height() * 0.5).max(6.0 * row_height);
         ui.push_id("accuracy-table", |ui| {
+            // One line per cell: a method's name must not break into "moller-trumbo / re".
+            ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
             TableBuilder::new(ui)
                 .striped(true)
                 .columns(Column::auto().at_least(40.0), HEADS.len())
