@@ -2,6 +2,7 @@
 //! t, and the step panel solving M (α, β, t)ᵀ = o − c with M = [e1 | e2 | −d] through M⁻¹.
 
 use super::widgets::palette::Readable as _;
+use super::widgets::{ShownValue, shown_values};
 use egui::{FontId, RichText, Sense, Stroke, Ui};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -207,15 +208,16 @@ impl ParallelogramView {
         let explored = self.exploration();
         status_line(ui, |ui| {
             let exact = solved.exact.alpha_beta_t.as_ref();
-            for (i, (symbol, value)) in [("α", self.alpha), ("β", self.beta), ("t", self.t)]
+            let values: Vec<ShownValue> = [self.alpha, self.beta, self.t]
                 .into_iter()
                 .enumerate()
-            {
-                let solution = solved.float.alpha_beta_t.map(|x| x[i]);
-                let text = match (solution, exact) {
-                    (Some(s), Some(e)) if s == value && e[i].is_short() => e[i].fraction(),
-                    _ => format_float(value, Precision::F64),
-                };
+                .map(|(i, value)| ShownValue {
+                    value,
+                    solution: solved.float.alpha_beta_t.map(|x| x[i]),
+                    exact: exact.map(|e| &e[i]),
+                })
+                .collect();
+            for (symbol, text) in ["α", "β", "t"].into_iter().zip(shown_values(&values)) {
                 ui.label(RichText::new(format!("{symbol} = {text}")).strong());
             }
         });

@@ -5,6 +5,7 @@
 //! freely), so a drag can land on t = 17/22; "Go to intersection" slides both handles there.
 
 use super::widgets::palette::Readable as _;
+use super::widgets::{ShownValue, shown_values};
 use egui::{FontId, Pos2, Rect, RichText, Sense, Shape, Stroke, Ui, pos2, vec2};
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
@@ -345,8 +346,20 @@ impl SegmentsView {
     fn status_ui(&self, ui: &mut Ui, solved: &Solved) {
         let explored = self.exploration();
         status_line(ui, |ui| {
-            let t_text = shown(self.t, solved.float.t, solved.exact.t.as_ref());
-            let s_text = shown(self.s, solved.float.s, solved.exact.s.as_ref());
+            let [t_text, s_text]: [String; 2] = shown_values(&[
+                ShownValue {
+                    value: self.t,
+                    solution: solved.float.t,
+                    exact: solved.exact.t.as_ref(),
+                },
+                ShownValue {
+                    value: self.s,
+                    solution: solved.float.s,
+                    exact: solved.exact.s.as_ref(),
+                },
+            ])
+            .try_into()
+            .expect("two values");
             ui.label(
                 RichText::new(format!("t = {t_text}"))
                     .strong()
@@ -705,14 +718,6 @@ impl SegmentsView {
             }
             _ => {}
         }
-    }
-}
-
-/// The value, or its exact fraction when the handle sits exactly on the solution.
-fn shown(value: f64, solution: Option<f64>, exact: Option<&Exact>) -> String {
-    match (solution, exact) {
-        (Some(s), Some(e)) if s == value && e.is_short() => e.fraction(),
-        _ => format_float(value, Precision::F64),
     }
 }
 

@@ -5,6 +5,7 @@
 //! and C can be dragged in the plane facing the camera; the background orbits, the wheel zooms.
 
 use super::widgets::palette::Readable as _;
+use super::widgets::{ShownValue, shown_values};
 use egui::{FontId, Pos2, RichText, Sense, Stroke, Ui};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -303,28 +304,25 @@ impl TriangleView {
         let exact = solved.exact.solution.as_ref();
         let float = solved.float.solution.as_ref();
         status_line(ui, |ui| {
-            for (symbol, value, solution, solution_exact) in [
-                (
-                    "β",
-                    self.beta,
-                    float.map(|s| s.beta),
-                    exact.map(|s| &s.beta),
-                ),
-                (
-                    "γ",
-                    self.gamma,
-                    float.map(|s| s.gamma),
-                    exact.map(|s| &s.gamma),
-                ),
-                ("t", self.t, float.map(|s| s.t), exact.map(|s| &s.t)),
-            ] {
-                ui.label(
-                    RichText::new(format!(
-                        "{symbol} = {}",
-                        shown(value, solution, solution_exact)
-                    ))
-                    .strong(),
-                );
+            let texts = shown_values(&[
+                ShownValue {
+                    value: self.beta,
+                    solution: float.map(|s| s.beta),
+                    exact: exact.map(|s| &s.beta),
+                },
+                ShownValue {
+                    value: self.gamma,
+                    solution: float.map(|s| s.gamma),
+                    exact: exact.map(|s| &s.gamma),
+                },
+                ShownValue {
+                    value: self.t,
+                    solution: float.map(|s| s.t),
+                    exact: exact.map(|s| &s.t),
+                },
+            ]);
+            for (symbol, text) in ["β", "γ", "t"].into_iter().zip(texts) {
+                ui.label(RichText::new(format!("{symbol} = {text}")).strong());
             }
         });
         status_line(ui, |ui| {
@@ -872,12 +870,4 @@ fn distance_to_segment(p: Pos2, a: Pos2, b: Pos2) -> f32 {
     let ab = b - a;
     let k = ((p - a).dot(ab) / ab.length_sq().max(1e-6)).clamp(0.0, 1.0);
     p.distance(a + ab * k)
-}
-
-/// The value, or its exact fraction when the slider sits exactly on the solution.
-fn shown(value: f64, solution: Option<f64>, exact: Option<&Exact>) -> String {
-    match (solution, exact) {
-        (Some(s), Some(e)) if s == value && e.is_short() => e.fraction(),
-        _ => format_float(value, Precision::F64),
-    }
 }

@@ -127,6 +127,44 @@ pub fn status_line(ui: &mut Ui, add_contents: impl FnOnce(&mut Ui)) {
     });
 }
 
+/// A parameter on a status line: its handle's value, and the solver's solution in floats and (when
+/// exact) as a fraction.
+pub struct ShownValue<'a> {
+    /// Where the handle is.
+    pub value: f64,
+    /// The float solution, if the solve found one.
+    pub solution: Option<f64>,
+    /// The exact solution, if the solve was exact.
+    pub exact: Option<&'a crate::exact::Exact>,
+}
+
+impl ShownValue<'_> {
+    /// The exact fraction this handle shows: the solution's when it sits on it, or, beside an exact
+    /// solve, the handle's own value when that is a short fraction (0.5 is 1/2).
+    fn fraction(&self) -> Option<String> {
+        match (self.solution, self.exact) {
+            (Some(s), Some(e)) if s == self.value && e.is_short() => Some(e.fraction()),
+            // Only beside an exact solve: with no exact answer to compare, decimals.
+            (_, Some(_)) => crate::exact::Exact::from_f64(self.value)
+                .filter(crate::exact::Exact::is_short)
+                .map(|e| e.fraction()),
+            _ => None,
+        }
+    }
+}
+
+/// The values of one status line in one format: all fractions when every one is a short fraction
+/// (`α = 1/4  β = 1/2  t = 1`), else all decimals (never `α = 0.5  β = 1/2`).
+pub fn shown_values(values: &[ShownValue<'_>]) -> Vec<String> {
+    let fractions: Option<Vec<String>> = values.iter().map(ShownValue::fraction).collect();
+    fractions.unwrap_or_else(|| {
+        values
+            .iter()
+            .map(|v| crate::trace::format_float(v.value, crate::geometry::Precision::F64))
+            .collect()
+    })
+}
+
 /// Rounds to a multiple of `step`, then to the float whose shortest decimal is that multiple
 /// (so 0.30000000000000004 becomes 0.3).
 pub fn snap(value: f64, step: f64) -> f64 {
@@ -141,6 +179,42 @@ pub fn snap(value: f64, step: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    use super::{ShownValue, shown_values};
+
+    #[test]
+    fn a_status_line_uses_one_format() {
+        let quarter: crate::exact::Exact = "1/4".parse().unwrap();
+        let half: crate::exact::Exact = "1/2".parse().unwrap();
+        // α on its solution 1/4, β at 0.5 (not its solution): both fractions.
+        let both = shown_values(&[
+            ShownValue {
+                value: 0.25,
+                solution: Some(0.25),
+                exact: Some(&quarter),
+            },
+            ShownValue {
+                value: 0.5,
+                solution: Some(0.75),
+                exact: Some(&half),
+            },
+        ]);
+        assert_eq!(both, ["1/4", "1/2"]);
+        // One value that is no short fraction turns the whole line into decimals.
+        let mixed = shown_values(&[
+            ShownValue {
+                value: 0.5,
+                solution: Some(0.25),
+                exact: Some(&quarter),
+            },
+            ShownValue {
+                value: 0.3,
+                solution: Some(0.75),
+                exact: Some(&half),
+            },
+        ]);
+        assert_eq!(mixed, ["0.5", "0.3"]);
+    }
+
     use super::snap;
 
     #[test]
