@@ -94,6 +94,21 @@ fn layout_problems(harness: &Harness<'static, RaylabApp>, screen: Rect) -> Vec<S
             problems.push(format!("“{}” is cut at the side", a.text));
         }
     }
+    // No widget reaches past the window's sides (a button half off screen cannot be clicked).
+    for node in harness.root().children_recursive() {
+        let access = node.accesskit_node();
+        if access.bounding_box().is_none() {
+            continue;
+        }
+        let rect = node.rect();
+        let named = access.label().or(access.value()).unwrap_or_default();
+        if rect.is_positive() && !named.is_empty() && rect.max.x > screen.max.x + 1.0 {
+            problems.push(format!(
+                "{:?} “{named}” reaches past the window",
+                access.role()
+            ));
+        }
+    }
     let view = harness.state().view_rect.expect("a view was drawn");
     if view.width() < screen.width() / 2.0 - 1.0 {
         problems.push(format!(
