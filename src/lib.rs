@@ -10,6 +10,7 @@ pub mod app;
 pub mod cli;
 pub mod exact;
 pub mod geometry;
+pub mod lesson;
 pub mod platform;
 pub mod render;
 pub mod scene;

@@ -87,9 +87,9 @@ pub fn pick_file(accept: &str, inbox: &Inbox, wake: impl Fn() + 'static) -> Resu
     }
 }
 
-/// Opens the app in a desktop window (1280x800, the projector size).
+/// Opens the app in a desktop window (1280x800, the projector size), opening what `launch` asks for.
 #[cfg(not(target_arch = "wasm32"))]
-pub fn open_window() -> eframe::Result {
+pub fn open_window(launch: crate::app::Launch) -> eframe::Result {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("raylab")
@@ -100,7 +100,11 @@ pub fn open_window() -> eframe::Result {
     eframe::run_native(
         "raylab",
         options,
-        Box::new(|cc| Ok(Box::new(crate::app::RaylabApp::from_creation_context(cc)))),
+        Box::new(move |cc| {
+            let mut app = crate::app::RaylabApp::from_creation_context(cc);
+            app.launch(&launch);
+            Ok(Box::new(app))
+        }),
     )
 }
 

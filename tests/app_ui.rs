@@ -530,3 +530,81 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
     assert_ne!(harness.state().state.render.scene, before);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The "Highlighted: …" line of the presenter bar, as a screen reader reads it.
+fn highlighted(harness: &Harness<'static, RaylabApp>) -> String {
+    harness
+        .query_all_by(|node| {
+            node.value()
+                .is_some_and(|text| text.starts_with("Highlighted:"))
+        })
+        .next()
+        .and_then(|node| node.accesskit_node().value())
+        .unwrap_or_default()
+}
+
+#[test]
+fn a_lesson_plays_with_the_keys_and_a_slide_survives_exploring() {
+    let mut harness = harness();
+    harness.get_by_label("Lessons").click();
+    harness.run();
+    harness
+        .get_by_label("Seed 000: segments, then a ray and a triangle")
+        .click();
+    harness.run();
+    assert!(shows(&harness, "Slide 1 of 14"));
+    assert_eq!(harness.state().state.view, ViewKind::Segments);
+    assert!(shows(&harness, "Two segments in parametric form"));
+    // The question's answer is revealed on request.
+    assert!(!shows_text_containing(&harness, "two equations (x and y)"));
+    harness.get_by_label("Show the answer").click();
+    harness.run();
+    assert!(shows_text_containing(&harness, "two equations (x and y)"));
+    // Space, → and Page Down go forward, as a clicker sends them; each slide loads its scene.
+    for key in [egui::Key::Space, egui::Key::ArrowRight, egui::Key::PageDown] {
+        harness.key_press(key);
+        harness.run();
+    }
+    assert!(shows(&harness, "Slide 4 of 14"));
+    assert_eq!(highlighted(&harness), "Highlighted: s at its solution");
+    for _ in 4..8 {
+        harness.key_press(egui::Key::Space);
+        harness.run();
+    }
+    assert!(shows(&harness, "Slide 8 of 14"));
+    assert_eq!(harness.state().state.view, ViewKind::Triangle);
+    assert_eq!(
+        highlighted(&harness),
+        "Highlighted: right-hand side Y, column A−B"
+    );
+    // β = |M1|/|M| slides the β handle to 1/3.
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run();
+    assert!(shows(&harness, "Slide 9 of 14"));
+    assert!((harness.state().state.triangle.beta - 1.0 / 3.0).abs() < 1e-12);
+    // Leave the slide's scene to explore: drag vertex A away, as a student would...
+    let lecture_a = harness.state().state.triangle.scene.a;
+    let a = harness.state().state.triangle.vertex_on_screen(0).unwrap();
+    drag(&mut harness, a, a + Vec2::new(-60.0, 40.0));
+    assert_ne!(
+        harness.state().state.triangle.scene.a,
+        lecture_a,
+        "the drag moved A"
+    );
+    // ...and come back to the slide as the lesson has it.
+    harness.get_by_label("↺ Restore slide").click();
+    harness.run();
+    assert_eq!(harness.state().state.triangle.scene.a, lecture_a);
+    assert!(shows(&harness, "Slide 9 of 14"));
+    // ← and Page Up go back; Esc leaves with the slide's scene open.
+    harness.key_press(egui::Key::ArrowLeft);
+    harness.run();
+    harness.key_press(egui::Key::PageUp);
+    harness.run();
+    assert!(shows(&harness, "Slide 7 of 14"));
+    harness.key_press(egui::Key::Escape);
+    harness.run();
+    assert!(harness.state().lesson.is_none());
+    assert!(shows(&harness, "Presets"));
+    assert_eq!(harness.state().state.view, ViewKind::Triangle);
+}

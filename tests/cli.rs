@@ -480,3 +480,12 @@ fn render_takes_effects_and_a_bug_and_names_bad_ones() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn an_unknown_lesson_is_refused_before_a_window_opens() {
+    expect_one_line_error(
+        &["--lesson", "no-such-lesson"],
+        &["no-such-lesson", "seed000-segments-and-triangle"],
+    );
+    assert_eq!(raylab(&["--lesson", "nope"]).status.code(), Some(2));
+}

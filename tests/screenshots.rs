@@ -95,6 +95,7 @@ fn readme_screenshots() {
         }
     }
     presentation_screenshot(folder, write);
+    lesson_screenshot(folder, write);
     if write {
         accuracy_screenshot(folder);
     }
@@ -187,5 +188,27 @@ fn presentation_screenshot(folder: &str, write: bool) {
     assert_eq!(image.width(), 1280);
     if write {
         image.save(format!("{folder}/presentation.png")).unwrap();
+    }
+}
+
+/// A lesson on the projector at 150%: seed 000's slide on β = |M1|/|M|, with its narration and step.
+fn lesson_screenshot(folder: &str, write: bool) {
+    let mut harness = harness(Vec2::new(1280.0, 800.0) / 1.5, 1.5, egui::Theme::Light);
+    harness.run();
+    harness
+        .state_mut()
+        .start_lesson("seed000-segments-and-triangle")
+        .expect("a shipped lesson");
+    for _ in 1..9 {
+        harness.key_press(egui::Key::Space);
+        harness.run();
+    }
+    assert!(harness.query_by_label("Slide 9 of 14").is_some());
+    harness.remove_cursor();
+    harness.run();
+    let image = harness.render().expect("the CPU renderer draws");
+    assert_eq!(image.width(), 1280);
+    if write {
+        image.save(format!("{folder}/lesson.png")).unwrap();
     }
 }

@@ -5,6 +5,7 @@
 
 pub mod accuracy_view;
 pub mod highlight;
+pub mod lesson_view;
 pub mod parallelogram_view;
 pub mod render_view;
 pub mod segments_view;
@@ -82,13 +83,16 @@ impl ViewKind {
 }
 
 /// What to open on start, over the remembered state: a web page's `?preset=<file stem>&view=<name>`
-/// (`?preset=triangle-outside`, `?view=accuracy`), so a course page can link straight to an example.
+/// (`?preset=triangle-outside`, `?view=accuracy`) or `?lesson=<file stem>`, so a course page can link
+/// straight to an example or a lecture; on the desktop, `raylab --lesson NAME`.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Launch {
     /// A built-in scene by its file name without `.ron`.
     pub preset: Option<String>,
     /// A view by [`ViewKind::name`] (applied after the preset).
     pub view: Option<String>,
+    /// A built-in lesson by its file name without `.ron`, played from its first slide.
+    pub lesson: Option<String>,
 }
 
 impl Launch {
@@ -104,6 +108,7 @@ impl Launch {
             match key {
                 "preset" => launch.preset = Some(value.into()),
                 "view" => launch.view = Some(value.to_ascii_lowercase()),
+                "lesson" => launch.lesson = Some(value.into()),
                 _ => {}
             }
         }
@@ -251,6 +256,8 @@ pub struct RaylabApp {
     pub view_rect: Option<egui::Rect>,
     /// A new scene was loaded: the step panel goes back to its first step.
     steps_to_top: bool,
+    /// The lesson being played, if any.
+    pub lesson: Option<lesson_view::LessonRun>,
 }
 
 /// The storage key of the state.
@@ -289,6 +296,7 @@ impl RaylabApp {
             presentation: None,
             view_rect: None,
             steps_to_top: false,
+            lesson: None,
         }
     }
 
@@ -322,6 +330,11 @@ impl RaylabApp {
                     ViewKind::ALL.map(ViewKind::name).join(", ")
                 )),
             }
+        }
+        if let Some(name) = &launch.lesson
+            && let Err(error) = self.start_lesson(name)
+        {
+            problems.push(error);
         }
         if !problems.is_empty() {
             self.notice = Some(Notice {
@@ -474,6 +487,9 @@ impl RaylabApp {
             ui.menu_button("Presets", |ui| self.presets_menu(ui))
                 .response
                 .on_hover_text("Load a lecture example or a hard case");
+            ui.menu_button("Lessons", |ui| self.lessons_menu(ui))
+                .response
+                .on_hover_text("Play a lecture slide by slide, in presentation mode");
             ui.menu_button("File", |ui| self.file_menu(ui));
             ui.menu_button("View", |ui| self.view_menu(ui))
                 .response
@@ -578,6 +594,28 @@ impl RaylabApp {
                     view: None,
                 },
             });
+            ui.close();
+        }
+    }
+
+    fn lessons_menu(&mut self, ui: &mut Ui) {
+        let mut chosen = None;
+        for (name, lesson) in crate::lesson::built_in() {
+            let tip = format!("{} ({} slides)", lesson.summary, lesson.slides.len());
+            if ui.button(&lesson.title).on_hover_text(tip).clicked() {
+                chosen = Some(name);
+            }
+        }
+        if let Some(name) = chosen {
+            if let Err(error) = self.start_lesson(name) {
+                self.notice = Some(Notice {
+                    text: error,
+                    error: true,
+                    view: None,
+                });
+            }
+            ui.ctx()
+                .send_viewport_cmd(egui::ViewportCommand::Fullscreen(true));
             ui.close();
         }
     }
@@ -816,11 +854,16 @@ impl eframe::App for RaylabApp {
     fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
         self.receive_files();
         if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::F5)) {
-            self.toggle_presentation(ui.ctx());
+            if self.lesson.is_some() {
+                self.leave_lesson(ui.ctx());
+            } else {
+                self.toggle_presentation(ui.ctx());
+            }
         }
         let before = self.fingerprint();
         let solved = self.solve();
         match self.presentation {
+            _ if self.lesson.is_some() => self.lesson_ui(ui, &solved),
             Some(index) => self.presentation_ui(ui, &solved, index),
             None => self.workbench_ui(ui, &solved),
         }
@@ -1086,7 +1129,7 @@ struct QuickGroups {
 impl QuickGroups {
     /// Adds the groups in order of use while the row still fits the window.
     fn that_fit(ui: &Ui) -> QuickGroups {
-        let menus_and_tabs = ["Presets", "File", "View"]
+        let menus_and_tabs = ["Presets", "Lessons", "File", "View"]
             .into_iter()
             .chain(ViewKind::ALL.map(ViewKind::label));
         let mut used = row_width(ui, menus_and_tabs) + 24.0;
@@ -1291,7 +1334,14 @@ mod tests {
             Launch {
                 preset: Some("triangle-outside".into()),
                 view: Some("accuracy".into()),
+                lesson: None,
             }
+        );
+        assert_eq!(
+            Launch::from_query("?lesson=seed001-parallelogram")
+                .lesson
+                .as_deref(),
+            Some("seed001-parallelogram")
         );
         assert_eq!(Launch::from_query(""), Launch::default());
         assert_eq!(Launch::from_query("?preset=&view"), Launch::default());
@@ -1307,10 +1357,24 @@ mod tests {
         assert_eq!(app.state.view, ViewKind::Accuracy);
         app.launch(&Launch::from_query("?preset=nope&view=nowhere"));
         assert_eq!(app.state.view, ViewKind::Accuracy);
-        let notice = app.notice.unwrap();
+        let notice = app.notice.take().unwrap();
         assert!(notice.error);
         assert!(notice.text.contains("“nope”") && notice.text.contains("triangle-outside"));
         assert!(notice.text.contains("“nowhere”") && notice.text.contains("accuracy"));
+        // A lesson starts at its first slide, on that slide's scene.
+        app.launch(&Launch::from_query("?lesson=seed001-parallelogram"));
+        assert_eq!(app.lesson.as_ref().map(|run| run.slide), Some(0));
+        assert_eq!(app.state.view, ViewKind::Parallelogram);
+        app.lesson = None;
+        app.launch(&Launch::from_query("?lesson=nope"));
+        assert!(app.lesson.is_none());
+        let notice = app.notice.unwrap();
+        assert!(
+            notice.text.contains("no lesson named “nope”"),
+            "{}",
+            notice.text
+        );
+        assert!(notice.text.contains("seed000-segments-and-triangle"));
     }
 
     #[test]

@@ -35,6 +35,10 @@ pub struct Cli {
     /// What to do (nothing: open the app).
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// Open the app playing a built-in lesson from its first slide (seed000-segments-and-triangle,
+    /// seed001-parallelogram, seed003-one-ray-to-a-render, seed004-barycentrics-and-transforms).
+    #[arg(long, value_name = "NAME")]
+    pub lesson: Option<String>,
 }
 
 /// The subcommands.
@@ -279,7 +283,23 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Solve(args)) => run_solve(*args),
         Some(Command::Bench(args)) => run_bench(args),
         Some(Command::Render(args)) => run_render(args),
-        None => match crate::platform::open_window() {
+        None if cli
+            .lesson
+            .as_deref()
+            .is_some_and(|name| crate::lesson::lesson(name).is_none()) =>
+        {
+            let _ = writeln!(
+                std::io::stderr(),
+                "raylab: no lesson named '{}' (there are: {})",
+                cli.lesson.unwrap_or_default(),
+                crate::lesson::lesson_names().join(", ")
+            );
+            2
+        }
+        None => match crate::platform::open_window(crate::app::Launch {
+            lesson: cli.lesson,
+            ..Default::default()
+        }) {
             Ok(()) => 0,
             Err(error) => {
                 eprintln!("raylab: could not open the window: {error}");

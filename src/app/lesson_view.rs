@@ -1,0 +1,240 @@
+//! Playing a lesson: presentation mode, a slide at a time. Each slide loads its scene, shows the step
+//! it is about (highlighted in the view, its handles slid to their solution) beside the narration,
+//! large. The view stays live: a student can drag anything, and **Restore slide** (or coming back to
+//! the slide) puts it back as the lesson has it.
+
+use egui::{RichText, Ui};
+
+use super::widgets::palette::{self, Readable as _};
+use super::{ActiveSolve, Notice, RaylabApp, enlarge, highlight, step_panel, view_of};
+use crate::lesson::{self, Lesson};
+
+/// A lesson being played.
+#[derive(Clone, Debug)]
+pub struct LessonRun {
+    /// The lesson's name (its file stem).
+    pub name: String,
+    /// The lesson.
+    pub lesson: Lesson,
+    /// The slide on screen.
+    pub slide: usize,
+    /// Whether the slide's question has its answer shown.
+    pub answer_shown: bool,
+    /// The slide's scene is loaded but its step has not been revealed yet (next frame, once solved).
+    reveal_pending: bool,
+}
+
+/// What the presenter asked for this frame.
+#[derive(Default)]
+struct Asked {
+    next: bool,
+    back: bool,
+    restore: bool,
+    leave: bool,
+}
+
+impl RaylabApp {
+    /// Starts the built-in lesson `name` at its first slide; an unknown name is reported.
+    pub fn start_lesson(&mut self, name: &str) -> Result<(), String> {
+        let lesson = lesson::lesson(name).ok_or_else(|| {
+            format!(
+                "no lesson named “{name}” (there are: {})",
+                lesson::lesson_names().join(", ")
+            )
+        })?;
+        self.presentation = None;
+        self.lesson = Some(LessonRun {
+            name: name.to_string(),
+            lesson,
+            slide: 0,
+            answer_shown: false,
+            reveal_pending: false,
+        });
+        self.show_slide(0);
+        Ok(())
+    }
+
+    /// Leaves the lesson (the scene of its last slide stays open, to explore).
+    pub fn leave_lesson(&mut self, ctx: &egui::Context) {
+        if let Some(run) = self.lesson.take() {
+            self.notice = Some(Notice {
+                text: format!(
+                    "Left “{}” at slide {} of {}: Lessons → the same lesson starts it again",
+                    run.lesson.title,
+                    run.slide + 1,
+                    run.lesson.slides.len()
+                ),
+                error: false,
+                view: None,
+            });
+        }
+        ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(false));
+    }
+
+    /// Loads slide `index` as the lesson has it: its scene (undoing any drag) and its precision.
+    fn show_slide(&mut self, index: usize) {
+        let Some(run) = &mut self.lesson else {
+            return;
+        };
+        let index = index.min(run.lesson.slides.len().saturating_sub(1));
+        run.slide = index;
+        run.answer_shown = false;
+        run.reveal_pending = true;
+        let slide = run.lesson.slides[index].clone();
+        self.state.precision = slide.precision;
+        match crate::scene::preset(&slide.scene) {
+            Some(scene) => {
+                if let Err(error) = self.load_scene(&scene) {
+                    self.notice = Some(Notice {
+                        text: format!("Slide {}: {error}", index + 1),
+                        error: true,
+                        view: None,
+                    });
+                }
+                self.state.view = view_of(&scene.problem);
+            }
+            None => {
+                self.notice = Some(Notice {
+                    text: format!("Slide {}: no scene “{}”", index + 1, slide.scene),
+                    error: true,
+                    view: None,
+                })
+            }
+        }
+    }
+
+    /// The lesson on screen: a presenter bar, the slide's narration and step, and the live view.
+    pub(super) fn lesson_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve) {
+        let Some(run) = self.lesson.clone() else {
+            return;
+        };
+        let count = run.lesson.slides.len();
+        let mut asked = keys(ui);
+        let slide = &run.lesson.slides[run.slide];
+        // The step the slide is about, in this frame's solve, and what it highlights.
+        let trace = solved.trace();
+        let step = slide
+            .step
+            .as_deref()
+            .and_then(|id| trace.and_then(|t| t.steps.iter().position(|s| s.id == id)))
+            .and_then(|index| trace.map(|t| (index, &t.steps[index], t.solver.clone())));
+        let highlighted = step
+            .as_ref()
+            .map(|(_, step, solver)| highlight::of_step(solver, &step.id))
+            .unwrap_or_default();
+        egui::Panel::top("lesson-bar").show(ui, |ui| {
+            ui.horizontal_wrapped(|ui| {
+                asked.back |= ui
+                    .add_enabled(run.slide > 0, egui::Button::new("◀ Back"))
+                    .on_hover_text("The slide before (← or Page Up)")
+                    .clicked();
+                ui.label(RichText::new(format!("Slide {} of {count}", run.slide + 1)).strong());
+                asked.next |= ui
+                    .add_enabled(run.slide + 1 < count, egui::Button::new("Next ▶"))
+                    .on_hover_text("The next slide (Space, → or Page Down)")
+                    .clicked();
+                asked.restore |= ui
+                    .button("↺ Restore slide")
+                    .on_hover_text("Put the scene back as the slide has it, after exploring")
+                    .clicked();
+                asked.leave |= ui
+                    .button("Leave (Esc)")
+                    .on_hover_text("Back to the usual layout, with this slide's scene open")
+                    .clicked();
+                ui.separator();
+                ui.label(RichText::new(&run.lesson.title).weak());
+                let names: Vec<String> = highlighted.iter().map(|e| e.name()).collect();
+                if !names.is_empty() {
+                    ui.label(
+                        RichText::new(format!("Highlighted: {}", names.join(", ")))
+                            .color(palette::SOLUTION.readable(ui)),
+                    );
+                }
+            });
+        });
+        if asked.leave {
+            self.leave_lesson(ui.ctx());
+            return;
+        }
+        let target = if asked.next && run.slide + 1 < count {
+            Some(run.slide + 1)
+        } else if asked.back && run.slide > 0 {
+            Some(run.slide - 1)
+        } else if asked.restore {
+            Some(run.slide)
+        } else {
+            None
+        };
+        if let Some(index) = target {
+            self.show_slide(index);
+            ui.ctx().request_repaint();
+            return;
+        }
+        let elements = highlighted;
+        if run.reveal_pending {
+            self.reveal(&elements, solved, ui.input(|i| i.time));
+            if let Some(run) = &mut self.lesson {
+                run.reveal_pending = false;
+            }
+        }
+        let full = ui.available_width();
+        let mut answer_shown = run.answer_shown;
+        egui::Panel::right("lesson-slide")
+            .resizable(false)
+            .exact_size((full * 0.42).max(220.0))
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    enlarge(ui, 1.3);
+                    ui.add(egui::Label::new(RichText::new(&slide.title).heading()).wrap());
+                    for line in &slide.narration {
+                        ui.add(egui::Label::new(line).wrap());
+                    }
+                    if let Some(question) = &slide.question {
+                        ui.add_space(6.0);
+                        let ask = RichText::new(format!("? {}", question.ask))
+                            .strong()
+                            .color(palette::SOLUTION.readable(ui));
+                        ui.add(egui::Label::new(ask).wrap());
+                        if answer_shown {
+                            ui.add(egui::Label::new(&question.answer).wrap());
+                        } else if ui
+                            .button("Show the answer")
+                            .on_hover_text("Reveal the answer to the room")
+                            .clicked()
+                        {
+                            answer_shown = true;
+                        }
+                    }
+                    if let Some((index, step, _)) = &step {
+                        ui.add_space(8.0);
+                        step_panel::step_ui(ui, index + 1, step, None);
+                    }
+                });
+            });
+        if let Some(run) = &mut self.lesson {
+            run.answer_shown = answer_shown;
+        }
+        self.set_highlight(elements);
+        let view = egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, true));
+        self.view_rect = Some(view.response.rect);
+    }
+}
+
+/// The presentation keys: Space, → and Page Down forward; ← and Page Up back; Esc leaves.
+fn keys(ui: &Ui) -> Asked {
+    ui.input_mut(|i| {
+        let mut pressed = |keys: &[egui::Key]| {
+            keys.iter()
+                .filter(|key| i.consume_key(egui::Modifiers::NONE, **key))
+                .count()
+                > 0
+        };
+        use egui::Key;
+        Asked {
+            next: pressed(&[Key::Space, Key::ArrowRight, Key::PageDown]),
+            back: pressed(&[Key::ArrowLeft, Key::PageUp]),
+            restore: false,
+            leave: pressed(&[Key::Escape]),
+        }
+    })
+}

@@ -1,0 +1,223 @@
+//! Lessons: a lecture as an ordered list of slides, each a built-in scene, the step of its solve on
+//! screen (highlighted in the view as presentation mode does), the precision and a few lines of
+//! narration. Lessons are RON files in `assets/lessons/`, shipped inside the binary like the scenes.
+//!
+//! This module only reads and checks lessons; the app plays them.
+
+use serde::{Deserialize, Serialize};
+
+use crate::exact::Exact;
+use crate::geometry::{Precision, Reading, parallelogram, segments, triangle};
+use crate::scene::{self, Problem};
+use crate::trace::Trace;
+
+/// A lecture, slide by slide.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Lesson {
+    /// Shown in the Lessons menu and on every slide.
+    pub title: String,
+    /// One sentence: what the lesson covers and which lecture material it follows.
+    pub summary: String,
+    /// The slides, in order.
+    pub slides: Vec<Slide>,
+}
+
+/// One slide: a scene, the step of its solve on screen, and what the teacher says.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Slide {
+    /// A short title.
+    pub title: String,
+    /// The built-in scene, by its file name without `.ron` (`seed000-triangle`).
+    pub scene: String,
+    /// The id of the step shown and highlighted (`system`, `M1`, `beta`, `check_bc`, `verdict`), or
+    /// none for a slide about the picture alone.
+    #[serde(default)]
+    pub step: Option<String>,
+    /// The arithmetic the steps are shown in (exact unless the slide is about floats).
+    #[serde(default = "exact")]
+    pub precision: Precision,
+    /// What the teacher says, a line each. Math is written as text (β = |M1| / |M|).
+    pub narration: Vec<String>,
+    /// A question for the room, with its answer revealed on request.
+    #[serde(default)]
+    pub question: Option<Question>,
+}
+
+fn exact() -> Precision {
+    Precision::Exact
+}
+
+/// A question on a slide.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Question {
+    /// What is asked.
+    pub ask: String,
+    /// The answer, revealed on request.
+    pub answer: String,
+}
+
+/// The lessons that ship with raylab: (file name, RON text).
+pub const BUILT_IN: &[(&str, &str)] = &[
+    (
+        "seed000-segments-and-triangle.ron",
+        include_str!("../assets/lessons/seed000-segments-and-triangle.ron"),
+    ),
+    (
+        "seed001-parallelogram.ron",
+        include_str!("../assets/lessons/seed001-parallelogram.ron"),
+    ),
+    (
+        "seed003-one-ray-to-a-render.ron",
+        include_str!("../assets/lessons/seed003-one-ray-to-a-render.ron"),
+    ),
+    (
+        "seed004-barycentrics-and-transforms.ron",
+        include_str!("../assets/lessons/seed004-barycentrics-and-transforms.ron"),
+    ),
+];
+
+impl Lesson {
+    /// Reads a lesson; errors name the file, line and column.
+    pub fn from_ron(text: &str, file: &str) -> Result<Lesson, String> {
+        ron::from_str(text).map_err(|e| {
+            format!(
+                "{file}:{}:{}: {}",
+                e.span.start.line, e.span.start.col, e.code
+            )
+        })
+    }
+
+    /// Every reason the lesson cannot be played: a scene that is not built in, a step its solve
+    /// does not have, a slide with no narration.
+    pub fn problems(&self) -> Vec<String> {
+        let mut problems = Vec::new();
+        if self.slides.is_empty() {
+            problems.push("a lesson needs at least one slide".to_string());
+        }
+        for (index, slide) in self.slides.iter().enumerate() {
+            let at = format!("slide {} (“{}”)", index + 1, slide.title);
+            if slide.narration.iter().all(|line| line.trim().is_empty()) {
+                problems.push(format!("{at}: no narration"));
+            }
+            let Some(scene) = scene::preset(&slide.scene) else {
+                problems.push(format!("{at}: no built-in scene named “{}”", slide.scene));
+                continue;
+            };
+            if let Some(step) = &slide.step {
+                match trace_of(&scene.problem) {
+                    Some(trace) if trace.step(step).is_some() => {}
+                    Some(trace) => problems.push(format!(
+                        "{at}: the solve of “{}” has no step “{step}” (it has {})",
+                        slide.scene,
+                        trace
+                            .steps
+                            .iter()
+                            .map(|s| s.id.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )),
+                    None => problems.push(format!(
+                        "{at}: “{}” is a render scene, which has no steps",
+                        slide.scene
+                    )),
+                }
+            }
+        }
+        problems
+    }
+}
+
+/// The exact solve of a scene's problem, as the step panel shows it (inputs read as written);
+/// `None` for a render scene.
+pub fn trace_of(problem: &Problem) -> Option<Trace> {
+    match problem {
+        Problem::Segments(s) => {
+            let points = [s.a1, s.a2, s.b1, s.b2].map(glam::DVec2::from_array);
+            segments::solve_inputs::<Exact>(Reading::AsWritten, points, true).trace
+        }
+        Problem::Triangle(t) => {
+            let vectors = [t.a, t.b, t.c, t.origin, t.dir].map(glam::DVec3::from_array);
+            triangle::solve_inputs::<Exact>(Reading::AsWritten, vectors, t.t_min, true).trace
+        }
+        Problem::Parallelogram(p) => {
+            let vectors = [p.corner, p.e1, p.e2, p.origin, p.dir].map(glam::DVec3::from_array);
+            parallelogram::solve_inputs::<Exact>(Reading::AsWritten, vectors, true).trace
+        }
+        Problem::Render(_) => None,
+    }
+}
+
+/// Every built-in lesson, in menu order.
+pub fn built_in() -> Vec<(&'static str, Lesson)> {
+    BUILT_IN
+        .iter()
+        .map(|(file, text)| {
+            let lesson = Lesson::from_ron(text, file).expect("built-in lessons are valid");
+            (file.trim_end_matches(".ron"), lesson)
+        })
+        .collect()
+}
+
+/// A built-in lesson by its file name without `.ron`, as `raylab --lesson` and `?lesson=` name it.
+pub fn lesson(name: &str) -> Option<Lesson> {
+    built_in()
+        .into_iter()
+        .find(|(stem, _)| *stem == name)
+        .map(|(_, lesson)| lesson)
+}
+
+/// The built-in lessons' names for [`lesson`].
+pub fn lesson_names() -> Vec<&'static str> {
+    BUILT_IN
+        .iter()
+        .map(|(file, _)| file.trim_end_matches(".ron"))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_shipped_lesson_loads_and_every_slide_solves() {
+        for (name, lesson) in built_in() {
+            assert!(!lesson.slides.is_empty(), "{name}");
+            assert_eq!(lesson.problems(), Vec::<String>::new(), "{name}");
+        }
+    }
+
+    #[test]
+    fn the_list_matches_the_folder() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/lessons");
+        let mut on_disk: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|name| name.ends_with(".ron"))
+            .collect();
+        on_disk.sort();
+        let mut listed: Vec<String> = BUILT_IN.iter().map(|(f, _)| f.to_string()).collect();
+        listed.sort();
+        assert_eq!(on_disk, listed);
+    }
+
+    #[test]
+    fn a_broken_lesson_says_what_is_wrong() {
+        let text = r#"(title: "x", summary: "y", slides: [
+            (title: "a", scene: "no-such-scene", narration: ["hi"]),
+            (title: "b", scene: "seed000-triangle", step: Some("gamma2"), narration: [""]),
+        ])"#;
+        let lesson = Lesson::from_ron(text, "broken.ron").unwrap();
+        let problems = lesson.problems();
+        assert!(
+            problems[0].contains("no built-in scene named “no-such-scene”"),
+            "{problems:?}"
+        );
+        assert!(problems[1].contains("no narration"), "{problems:?}");
+        assert!(problems[2].contains("has no step “gamma2”"), "{problems:?}");
+        let typo = Lesson::from_ron(r#"(title: "x", summry: "y", slides: [])"#, "typo.ron");
+        assert!(typo.unwrap_err().starts_with("typo.ron:1:"));
+    }
+}
