@@ -14,4 +14,5 @@ pub mod lesson;
 pub mod platform;
 pub mod render;
 pub mod scene;
+pub mod symbolic;
 pub mod trace;

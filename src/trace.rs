@@ -363,6 +363,20 @@ pub enum Payload {
     Check(Check),
     /// The verdict.
     Verdict(Verdict),
+    /// Expressions in symbols (seed 002's derivation), and whether an identity was checked to hold.
+    Symbolic(Symbolic),
+}
+
+/// Lines of symbolic algebra: a matrix of expressions, an expanded determinant, an identity.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Symbolic {
+    /// Plain text, a line each.
+    pub lines: Vec<String>,
+    /// The same in LaTeX.
+    pub latex: String,
+    /// For an identity: whether it held, both as polynomials and on the scene's numbers.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub holds: Option<bool>,
 }
 
 /// One step of a solve.

@@ -608,3 +608,26 @@ fn a_lesson_plays_with_the_keys_and_a_slide_survives_exploring() {
     assert!(shows(&harness, "Presets"));
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
 }
+
+#[test]
+fn the_steps_switch_to_symbols_and_back() {
+    let mut harness = harness();
+    load_preset(&mut harness, "Seed 000: the lecture triangle");
+    harness.get_by_label("symbolic").click();
+    harness.run();
+    // Seed 002's expanded |M|, and each merge checked on the lecture's numbers (|M| = 27).
+    assert!(shows_text_containing(&harness, "|M| = ax*by*dz - ax*bz*dy"));
+    assert!(shows_text_containing(&harness, "✓ on this scene: 27 = 27"));
+    assert!(shows_text_containing(
+        &harness,
+        "merged (q, r and four dot products"
+    ));
+    // Back to numbers.
+    harness.get_by_label("exact").click();
+    harness.run();
+    assert!(!shows_text_containing(&harness, "ax*by*dz"));
+    assert!(shows_text_containing(
+        &harness,
+        "β = |M1| / |M| = 9 / 27 = 1/3"
+    ));
+}

@@ -126,6 +126,8 @@ pub struct AppState {
     pub precision: Precision,
     /// Show the step panel.
     pub show_steps: bool,
+    /// Show the Triangle view's steps in symbols (seed 002) instead of numbers.
+    pub symbolic: bool,
     /// The Segments view.
     pub segments: SegmentsView,
     /// The Triangle view.
@@ -157,6 +159,7 @@ impl Default for AppState {
             view: ViewKind::Segments,
             precision: Precision::Exact,
             show_steps: true,
+            symbolic: false,
             segments: SegmentsView::default(),
             triangle: TriangleView::default(),
             parallelogram: ParallelogramView::default(),
@@ -258,6 +261,8 @@ pub struct RaylabApp {
     steps_to_top: bool,
     /// The lesson being played, if any.
     pub lesson: Option<lesson_view::LessonRun>,
+    /// Seed 002's symbolic derivation for the Triangle view's scene, and the scene it was made for.
+    symbolic: Option<(crate::scene::TriangleScene, Trace)>,
 }
 
 /// The storage key of the state.
@@ -297,6 +302,7 @@ impl RaylabApp {
             view_rect: None,
             steps_to_top: false,
             lesson: None,
+            symbolic: None,
         }
     }
 
@@ -894,13 +900,28 @@ impl RaylabApp {
                 .size_range(width.min(240.0)..=full * 0.5)
                 .show(ui, |ui| match solved.trace() {
                     Some(trace) => {
+                        let triangle = self.state.view == ViewKind::Triangle;
                         let marked = self.state.triangle.hovered_column.map(|c| c.label());
-                        let marked = marked.filter(|_| self.state.view == ViewKind::Triangle);
+                        let marked = marked.filter(|_| triangle);
                         let to_top = std::mem::take(&mut self.steps_to_top);
-                        let panel =
-                            step_panel::ui(ui, trace, &mut self.state.precision, marked, to_top);
+                        let symbolic_on = triangle && self.state.symbolic;
+                        if symbolic_on {
+                            self.refresh_symbolic();
+                        }
+                        let trace = match &self.symbolic {
+                            Some((_, symbolic)) if symbolic_on => symbolic,
+                            _ => trace,
+                        };
+                        let mut symbolic = self.state.symbolic;
+                        let precision = step_panel::Choice {
+                            precision: &mut self.state.precision,
+                            symbolic: triangle.then_some(&mut symbolic),
+                        };
+                        let panel = step_panel::ui(ui, trace, precision, marked, to_top);
+                        let solver = trace.solver.clone();
+                        self.state.symbolic = symbolic;
                         if let Some(step) = panel.hovered_step {
-                            self.set_highlight(highlight::of_step(&trace.solver, &step));
+                            self.set_highlight(highlight::of_step(&solver, &step));
                         }
                     }
                     None if self.state.view == ViewKind::Render => {
@@ -915,6 +936,28 @@ impl RaylabApp {
         }
         let view = egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, false));
         self.view_rect = Some(view.response.rect);
+    }
+
+    /// Seed 002's derivation for the Triangle view's scene, made again only when the scene changes.
+    fn refresh_symbolic(&mut self) {
+        let scene = self.state.triangle.scene.clone();
+        if self
+            .symbolic
+            .as_ref()
+            .is_none_or(|(made_for, _)| *made_for != scene)
+        {
+            let reading = self.state.triangle.reading;
+            // The scene's numbers as the Triangle view reads them; none if one is not finite.
+            let numbers = crate::geometry::triangle::RayTriangle::<crate::exact::Exact>::read(
+                reading,
+                [scene.a, scene.b, scene.c, scene.origin, scene.dir].map(glam::DVec3::from_array),
+                scene.t_min,
+            )
+            .ok()
+            .map(|p| [p.a, p.b, p.c, p.origin, p.dir]);
+            let trace = crate::symbolic::trace(numbers.as_ref());
+            self.symbolic = Some((scene, trace));
+        }
     }
 
     /// The open view; `canvas_only` in presentation mode (no controls, the drawing fills the space).

@@ -15,6 +15,14 @@ use crate::trace::{self, Matrix, Number, Payload, Step, Trace};
 /// How long "Copied ✓" stays on a LaTeX button after a click, in seconds.
 const COPIED_FOR: f64 = 2.0;
 
+/// The arithmetic the steps are shown in: a precision, or (for the triangle) symbols.
+pub struct Choice<'a> {
+    /// f32, f64 or exact.
+    pub precision: &'a mut Precision,
+    /// Symbols instead of numbers, where the view offers them (`None`: not offered).
+    pub symbolic: Option<&'a mut bool>,
+}
+
 /// What the reader of the panel is pointing at.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PanelResponse {
@@ -28,16 +36,35 @@ pub struct PanelResponse {
 pub fn ui(
     ui: &mut Ui,
     trace: &Trace,
-    precision: &mut Precision,
+    choice: Choice<'_>,
     marked_column: Option<&str>,
     to_top: bool,
 ) -> PanelResponse {
     ui.horizontal_wrapped(|ui| {
         ui.heading("Steps");
         ui.label("in");
+        let Choice {
+            precision,
+            mut symbolic,
+        } = choice;
+        let in_symbols = symbolic.as_deref().copied().unwrap_or(false);
         for p in Precision::ALL {
-            ui.selectable_value(precision, p, p.name())
+            let response = ui
+                .selectable_label(!in_symbols && *precision == p, p.name())
                 .on_hover_text(precision_tooltip(p));
+            if response.clicked() {
+                *precision = p;
+                if let Some(symbolic) = symbolic.as_deref_mut() {
+                    *symbolic = false;
+                }
+            }
+        }
+        if let Some(symbolic) = symbolic {
+            ui.selectable_value(symbolic, true, "symbolic").on_hover_text(
+                "Seed 002: the system and Cramer's determinants in the symbols ax … dz, then the \
+                 common terms merged into Möller–Trumbore's cross and dot products, each identity \
+                 checked on this scene's numbers",
+            );
         }
     });
     copy_button(
@@ -323,7 +350,7 @@ fn payload_numbers(payload: &Payload) -> Vec<&Number> {
         Payload::Vector(v) => v.components.iter().collect(),
         Payload::Scalar(s) => vec![&s.value],
         Payload::Check(c) => vec![&c.value],
-        Payload::Verdict(_) => Vec::new(),
+        Payload::Verdict(_) | Payload::Symbolic(_) => Vec::new(),
     }
 }
 

@@ -42,6 +42,7 @@ pub fn step_to_latex(step: &Step) -> String {
         Payload::Vector(vector) => vector_latex(vector),
         Payload::Scalar(scalar) => scalar_latex(scalar),
         Payload::Check(check) => check_latex(check),
+        Payload::Symbolic(symbolic) => symbolic.latex.clone(),
         Payload::Verdict(verdict) => format!(
             "\\text{{{}: {}}}",
             verdict.status,

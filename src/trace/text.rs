@@ -120,6 +120,7 @@ pub fn payload_lines(payload: &Payload) -> Vec<String> {
             verdict.status.to_uppercase(),
             verdict.message
         )],
+        Payload::Symbolic(symbolic) => symbolic.lines.clone(),
     }
 }
 
