@@ -38,6 +38,9 @@ pub struct Slide {
     /// The arithmetic the steps are shown in (exact unless the slide is about floats).
     #[serde(default = "exact")]
     pub precision: Precision,
+    /// Show the steps in symbols (seed 002's derivation, for a triangle scene) instead of numbers.
+    #[serde(default)]
+    pub symbolic: bool,
     /// What the teacher says, a line each. Math is written as text (β = |M1| / |M|).
     pub narration: Vec<String>,
     /// A question for the room, with its answer revealed on request.
@@ -68,6 +71,10 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     (
         "seed001-parallelogram.ron",
         include_str!("../assets/lessons/seed001-parallelogram.ron"),
+    ),
+    (
+        "seed002-symbolic-cramer.ron",
+        include_str!("../assets/lessons/seed002-symbolic-cramer.ron"),
     ),
     (
         "seed003-one-ray-to-a-render.ron",
@@ -107,7 +114,13 @@ impl Lesson {
                 continue;
             };
             if let Some(step) = &slide.step {
-                match trace_of(&scene.problem) {
+                let trace = if slide.symbolic {
+                    matches!(scene.problem, Problem::Triangle(_))
+                        .then(|| crate::symbolic::trace(None))
+                } else {
+                    trace_of(&scene.problem)
+                };
+                match trace {
                     Some(trace) if trace.step(step).is_some() => {}
                     Some(trace) => problems.push(format!(
                         "{at}: the solve of “{}” has no step “{step}” (it has {})",
@@ -120,8 +133,9 @@ impl Lesson {
                             .join(", ")
                     )),
                     None => problems.push(format!(
-                        "{at}: “{}” is a render scene, which has no steps",
-                        slide.scene
+                        "{at}: “{}” has no {}steps",
+                        slide.scene,
+                        if slide.symbolic { "symbolic " } else { "" }
                     )),
                 }
             }

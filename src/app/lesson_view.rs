@@ -82,6 +82,7 @@ impl RaylabApp {
         run.reveal_pending = true;
         let slide = run.lesson.slides[index].clone();
         self.state.precision = slide.precision;
+        self.state.symbolic = slide.symbolic;
         match crate::scene::preset(&slide.scene) {
             Some(scene) => {
                 if let Err(error) = self.load_scene(&scene) {
@@ -111,8 +112,16 @@ impl RaylabApp {
         let count = run.lesson.slides.len();
         let mut asked = keys(ui);
         let slide = &run.lesson.slides[run.slide];
-        // The step the slide is about, in this frame's solve, and what it highlights.
-        let trace = solved.trace();
+        // The step the slide is about, in this frame's solve (or seed 002's symbols), and what it
+        // highlights.
+        let symbolic = slide.symbolic.then(|| {
+            self.refresh_symbolic();
+            self.symbolic.as_ref().map(|(_, trace)| trace.clone())
+        });
+        let trace = match &symbolic {
+            Some(symbolic) => symbolic.as_ref(),
+            None => solved.trace(),
+        };
         let step = slide
             .step
             .as_deref()

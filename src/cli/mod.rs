@@ -36,7 +36,8 @@ pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
     /// Open the app playing a built-in lesson from its first slide (seed000-segments-and-triangle,
-    /// seed001-parallelogram, seed003-one-ray-to-a-render, seed004-barycentrics-and-transforms).
+    /// seed001-parallelogram, seed002-symbolic-cramer, seed003-one-ray-to-a-render,
+    /// seed004-barycentrics-and-transforms).
     #[arg(long, value_name = "NAME")]
     pub lesson: Option<String>,
 }
