@@ -110,7 +110,13 @@ impl RaylabApp {
             return;
         };
         let count = run.lesson.slides.len();
-        let mut asked = keys(ui);
+        let pressed = presenter_keys(ui);
+        let mut asked = Asked {
+            next: pressed.next,
+            back: pressed.back,
+            restore: false,
+            leave: pressed.leave,
+        };
         let slide = &run.lesson.slides[run.slide];
         // The step the slide is about, in this frame's solve (or seed 002's symbols), and what it
         // highlights.
@@ -229,9 +235,20 @@ impl RaylabApp {
     }
 }
 
-/// The presentation keys: Space, → and Page Down forward; ← and Page Up back; Esc leaves.
-fn keys(ui: &Ui) -> Asked {
+/// The keys a presentation clicker sends, pressed this frame.
+pub(super) struct PresenterKeys {
+    /// Space, → or Page Down.
+    pub next: bool,
+    /// ← or Page Up.
+    pub back: bool,
+    /// Esc.
+    pub leave: bool,
+}
+
+/// Reads (and consumes) the presentation keys: presentation mode and lessons share them.
+pub(super) fn presenter_keys(ui: &Ui) -> PresenterKeys {
     ui.input_mut(|i| {
+        // Consume every key of a group, not just the first pressed.
         let mut pressed = |keys: &[egui::Key]| {
             keys.iter()
                 .filter(|key| i.consume_key(egui::Modifiers::NONE, **key))
@@ -239,10 +256,9 @@ fn keys(ui: &Ui) -> Asked {
                 > 0
         };
         use egui::Key;
-        Asked {
+        PresenterKeys {
             next: pressed(&[Key::Space, Key::ArrowRight, Key::PageDown]),
             back: pressed(&[Key::ArrowLeft, Key::PageUp]),
-            restore: false,
             leave: pressed(&[Key::Escape]),
         }
     })

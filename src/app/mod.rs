@@ -1047,21 +1047,7 @@ impl RaylabApp {
         };
         let count = trace.steps.len();
         let mut index = index.min(count - 1);
-        let (next, back, leave) = ui.input_mut(|i| {
-            let mut pressed = |keys: &[egui::Key]| {
-                // Consume every key of the group (not just the first pressed).
-                keys.iter()
-                    .filter(|key| i.consume_key(egui::Modifiers::NONE, **key))
-                    .count()
-                    > 0
-            };
-            use egui::Key;
-            (
-                pressed(&[Key::Space, Key::ArrowRight, Key::PageDown]),
-                pressed(&[Key::ArrowLeft, Key::PageUp]),
-                pressed(&[Key::Escape]),
-            )
-        });
+        let lesson_view::PresenterKeys { next, back, leave } = lesson_view::presenter_keys(ui);
         let mut moved = (next && index + 1 < count) || (back && index > 0);
         if next && index + 1 < count {
             index += 1;
