@@ -266,9 +266,9 @@ pub fn trace(scene: Option<&[[Exact; 3]; 5]>) -> Trace {
         "L + tD = A + β(B−A) + γ(C−A) with every coordinate a symbol, as seed 002 declares them.",
         lines,
         format!(
-            "M = {}, \\quad Y = {}",
+            "M = {}, \\quad Y = \\begin{{bmatrix}} {} \\end{{bmatrix}}",
             matrix_latex([e1, e2, d]),
-            matrix_latex([t, t, t]).replace(" & ", " \\; ")
+            t.iter().map(Poly::latex).collect::<Vec<_>>().join(" \\\\ ")
         ),
     ));
     let matrices = [

@@ -489,3 +489,45 @@ fn an_unknown_lesson_is_refused_before_a_window_opens() {
     );
     assert_eq!(raylab(&["--lesson", "nope"]).status.code(), Some(2));
 }
+
+#[test]
+fn symbolic_steps_derive_the_triangle_and_check_each_merge_on_the_numbers() {
+    let mut args = LECTURE_TRIANGLE.to_vec();
+    args.extend(["--precision", "symbolic"]);
+    let output = raylab(&args);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert!(text.contains("|M| = ax*by*dz - ax*bz*dy"), "{text}");
+    // The lecture triangle: |M| = 27, |M1| = |M2| = 9, |M3| = 27, on both sides of every merge.
+    for check in ["27 = 27", "9 = 9"] {
+        assert!(
+            text.contains(&format!("✓ on this scene: {check}")),
+            "{text}"
+        );
+    }
+    assert!(!text.contains('✗'), "{text}");
+    assert!(
+        text.contains("merged (q, r and four dot products, as Möller–Trumbore computes them): 24")
+    );
+    args.extend(["--format", "json"]);
+    let json: serde_json::Value = serde_json::from_str(&stdout(&raylab(&args))).unwrap();
+    assert_eq!(json["solver"], "triangle-symbolic");
+    // Only the triangle has a symbolic derivation.
+    expect_one_line_error(
+        &[
+            "solve",
+            "segments",
+            "--a1",
+            "0,0",
+            "--a2",
+            "1,1",
+            "--b1",
+            "0,1",
+            "--b2",
+            "1,0",
+            "--precision",
+            "symbolic",
+        ],
+        &["symbolic", "triangle"],
+    );
+}

@@ -116,6 +116,9 @@ pub enum PrecisionArg {
     F64,
     /// Exact rational arithmetic (numbers are read exactly as written: 0.1 is 1/10).
     Exact,
+    /// Seed 002's derivation in symbols (triangle only): M X = Y in ax … dz, the determinants
+    /// expanded, the common terms merged, each identity checked on the given numbers exactly.
+    Symbolic,
 }
 
 impl From<PrecisionArg> for Precision {
@@ -123,7 +126,8 @@ impl From<PrecisionArg> for Precision {
         match p {
             PrecisionArg::F32 => Precision::F32,
             PrecisionArg::F64 => Precision::F64,
-            PrecisionArg::Exact => Precision::Exact,
+            // Symbols are checked on the exact numbers.
+            PrecisionArg::Exact | PrecisionArg::Symbolic => Precision::Exact,
         }
     }
 }
@@ -476,8 +480,47 @@ fn run_bench(args: BenchArgs) -> i32 {
     0
 }
 
+/// `solve triangle … --precision symbolic`: seed 002's derivation, its identities checked on the
+/// case's numbers read exactly.
+fn run_symbolic(problem: &Problem, format: Format) -> i32 {
+    let Problem::Triangle {
+        a,
+        b,
+        c,
+        origin,
+        dir,
+        ..
+    } = problem
+    else {
+        let _ = writeln!(
+            std::io::stderr(),
+            "raylab: --precision symbolic derives the triangle's solution (seed 002); use it with `solve triangle`"
+        );
+        return 2;
+    };
+    let numbers = [a, b, c, origin, dir].map(|v| v.exact());
+    let trace = crate::symbolic::trace(Some(&numbers));
+    let output = match format {
+        Format::Text => trace::to_text(&trace),
+        Format::Json => format!(
+            "{}\n",
+            serde_json::to_string_pretty(&trace).expect("a trace always serializes")
+        ),
+        Format::Latex => trace::to_latex(&trace),
+    };
+    let _ = std::io::stdout().lock().write_all(output.as_bytes());
+    0
+}
+
 fn run_solve(args: SolveArgs) -> i32 {
     let precision = Precision::from(args.precision);
+    if args.batch && args.precision == PrecisionArg::Symbolic {
+        let _ = writeln!(
+            std::io::stderr(),
+            "raylab: --batch solves with numbers; --precision symbolic is for one triangle"
+        );
+        return 2;
+    }
     if args.batch {
         if matches!(args.format, Some(Format::Text | Format::Latex)) {
             eprintln!("raylab: --batch writes JSON lines; --format text and latex do not apply");
@@ -508,6 +551,9 @@ fn run_solve(args: SolveArgs) -> i32 {
         );
         return 2;
     };
+    if args.precision == PrecisionArg::Symbolic {
+        return run_symbolic(&problem, args.format.unwrap_or(Format::Text));
+    }
     let report = match &problem {
         Problem::Triangle {
             a,
