@@ -1,0 +1,383 @@
+//! Reading and checking a student's answer, with hints taken from the exact solver's trace.
+//!
+//! An answer is a named outcome (`hit`, `outside BC`, `outside edge CA`, `outside α=1`, `outside A`,
+//! `behind`, `parallel`, `degenerate`), or the unknowns in the order the problem lists them
+//! (`1/4, 1/2, 3`, or by name: `β = 1/4, γ = 1/2, t = 3`), or both separated by `;`. Numbers are read
+//! by the exact parser: a fraction or an integer must be exactly right; a decimal (a number written with
+//! a point or an exponent) may be off by at most [`DECIMAL_TOLERANCE`].
+
+use super::{Kind, Outcome, Problem};
+use crate::exact::Exact;
+use crate::trace::{Formula, Payload, Step};
+
+/// A decimal answer counts as right when it is within this of the exact value (absolute): `0.773` is
+/// right for 17/22 = 0.77272…, `0.77` is not. Fractions and integers are checked exactly.
+pub const DECIMAL_TOLERANCE: f64 = 1e-3;
+
+/// A step of the solver's trace to look at again.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Hint {
+    /// The step's id in the trace (`beta`, `check_bc`, `det_M1` …).
+    pub step_id: String,
+    /// The step's title.
+    pub title: String,
+    /// What to do there: the step's explanation, and its formula when it has one.
+    pub text: String,
+}
+
+/// What the checker says.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Verdict {
+    /// Right; `answer` is the exact answer, e.g. `hit; β = 1/4, γ = 1/2, t = 3`.
+    Right {
+        /// The exact answer.
+        answer: String,
+    },
+    /// Wrong, with a hint: the first step whose value differs from what the answer implies, the next
+    /// such step after a second wrong answer, and so on (the last one again once they run out).
+    Wrong {
+        /// Where to look.
+        hint: Hint,
+    },
+    /// Not an answer; says what was expected.
+    Unreadable {
+        /// One line.
+        message: String,
+    },
+}
+
+/// One problem being practised: counts wrong answers so that each brings the next hint.
+#[derive(Clone, Debug)]
+pub struct Practice {
+    /// The problem.
+    pub problem: Problem,
+    /// Wrong answers so far.
+    pub wrong_answers: usize,
+}
+
+impl Practice {
+    /// Starts on a problem.
+    pub fn new(problem: Problem) -> Practice {
+        Practice {
+            problem,
+            wrong_answers: 0,
+        }
+    }
+
+    /// Checks an answer; a wrong one brings the next hint.
+    pub fn check(&mut self, answer: &str) -> Verdict {
+        let verdict = check(&self.problem, answer, self.wrong_answers);
+        if matches!(verdict, Verdict::Wrong { .. }) {
+            self.wrong_answers += 1;
+        }
+        verdict
+    }
+}
+
+/// Checks `answer` against the problem's exact answer. `wrong_before` is how many wrong answers came
+/// before: the hint is the first step of the trace whose value differs from what this answer implies,
+/// or, after earlier wrong answers, the next ones.
+pub fn check(problem: &Problem, answer: &str, wrong_before: usize) -> Verdict {
+    let claim = match read_claim(problem.kind(), answer) {
+        Ok(claim) => claim,
+        Err(message) => return Verdict::Unreadable { message },
+    };
+    if claim_is_right(problem, &claim) {
+        return Verdict::Right {
+            answer: problem.answer.text(),
+        };
+    }
+    let differing: Vec<&Step> = problem
+        .trace
+        .steps
+        .iter()
+        .filter(|step| step_differs(problem, &claim, step))
+        .collect();
+    let step = differing
+        .get(wrong_before.min(differing.len().saturating_sub(1)))
+        .copied()
+        .or_else(|| problem.trace.steps.iter().find(|s| s.id == "verdict"))
+        .expect("every trace ends with a verdict");
+    Verdict::Wrong { hint: hint(step) }
+}
+
+/// A number as the student wrote it: its exact value and how far off it may be.
+#[derive(Clone, Debug, PartialEq)]
+struct Claimed {
+    value: Exact,
+    tolerance: Exact,
+}
+
+impl Claimed {
+    fn matches(&self, truth: &Exact) -> bool {
+        (&self.value - truth).abs() <= self.tolerance
+    }
+
+    fn plus(&self, other: &Claimed) -> Claimed {
+        Claimed {
+            value: &self.value + &other.value,
+            tolerance: &self.tolerance + &other.tolerance,
+        }
+    }
+}
+
+/// What an answer says: an outcome, the unknowns (in [`Kind::unknowns`] order), or both.
+#[derive(Clone, Debug, Default)]
+struct Claim {
+    outcome: Option<Outcome>,
+    values: Option<Vec<Claimed>>,
+}
+
+fn read_claim(kind: Kind, text: &str) -> Result<Claim, String> {
+    let mut claim = Claim::default();
+    for part in text.split(';').map(str::trim).filter(|p| !p.is_empty()) {
+        if let Some(outcome) = read_outcome(kind, part)? {
+            claim.outcome = Some(outcome);
+        } else {
+            claim.values = Some(read_values(kind, part)?);
+        }
+    }
+    if claim.outcome.is_none() && claim.values.is_none() {
+        return Err(expected(kind));
+    }
+    Ok(claim)
+}
+
+fn expected(kind: Kind) -> String {
+    let symbols: Vec<&str> = kind.unknowns().iter().map(|u| u.1).collect();
+    format!(
+        "expected {} (fractions or decimals) or an outcome: hit, outside {}, behind, parallel, degenerate",
+        symbols.join(", "),
+        kind.edges().join("|")
+    )
+}
+
+/// An outcome word, with the edge for `outside`; `None` if the text is not an outcome at all.
+fn read_outcome(kind: Kind, text: &str) -> Result<Option<Outcome>, String> {
+    let lower = text.to_lowercase();
+    let mut words = lower.split_whitespace();
+    let first = words.next().unwrap_or_default();
+    let rest: String = words
+        .filter(|w| *w != "edge" && *w != "side" && *w != "segment")
+        .collect();
+    let outcome = match first {
+        "hit" | "cross" | "crossing" => Outcome::Hit,
+        "behind" => Outcome::Behind,
+        "parallel" => Outcome::Parallel,
+        "degenerate" => Outcome::Degenerate,
+        "outside" => Outcome::Outside {
+            beyond: read_edge(kind, &rest)?,
+        },
+        _ => return Ok(None),
+    };
+    if first != "outside" && !rest.is_empty() {
+        return Err(format!("'{text}': nothing may follow '{first}'"));
+    }
+    Ok(Some(outcome))
+}
+
+fn read_edge(kind: Kind, text: &str) -> Result<String, String> {
+    let normal = text
+        .replace("alpha", "α")
+        .replace("beta", "β")
+        .to_uppercase()
+        .replace('Α', "α")
+        .replace('Β', "β");
+    let reversed: String = normal.chars().rev().collect();
+    kind.edges()
+        .iter()
+        .find(|edge| {
+            let edge = edge.to_uppercase().replace('Α', "α").replace('Β', "β");
+            // A triangle's edge may be named either way round: AB or BA.
+            edge == normal || (kind == Kind::Triangle && edge == reversed)
+        })
+        .map(|edge| edge.to_string())
+        .ok_or_else(|| {
+            format!(
+                "outside which {}? expected one of {}",
+                if kind == Kind::Parallelogram {
+                    "side"
+                } else {
+                    "edge"
+                },
+                kind.edges().join(", ")
+            )
+        })
+}
+
+/// `1/4, 1/2, 3` or `β = 1/4, γ = 1/2, t = 3` (names as symbols or words: `beta`).
+fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, String> {
+    let unknowns = kind.unknowns();
+    let mut values: Vec<Option<Claimed>> = vec![None; unknowns.len()];
+    let items: Vec<&str> = text.split(',').map(str::trim).collect();
+    if items.len() != unknowns.len() {
+        return Err(expected(kind));
+    }
+    for (position, item) in items.iter().enumerate() {
+        let (slot, number) = match item.split_once('=') {
+            Some((name, number)) => {
+                let name = name.trim().to_lowercase();
+                let slot = unknowns
+                    .iter()
+                    .position(|(id, symbol, _)| name == *id || name == *symbol)
+                    .ok_or_else(|| format!("'{}' is not one of the unknowns", name))?;
+                (slot, number.trim())
+            }
+            None => (position, *item),
+        };
+        let value: Exact = number
+            .parse()
+            .map_err(|e: crate::exact::ParseExactError| e.0)?;
+        let decimal = number.contains(['.', 'e', 'E']);
+        let tolerance = if decimal {
+            Exact::from_f64(DECIMAL_TOLERANCE).expect("finite")
+        } else {
+            Exact::from_int(0)
+        };
+        if values[slot].replace(Claimed { value, tolerance }).is_some() {
+            return Err(format!("{} is given twice", unknowns[slot].1));
+        }
+    }
+    Ok(values
+        .into_iter()
+        .map(|v| v.expect("every slot filled"))
+        .collect())
+}
+
+fn claim_is_right(problem: &Problem, claim: &Claim) -> bool {
+    let answer = &problem.answer;
+    let outcome_right = claim.outcome.as_ref().is_none_or(|o| *o == answer.outcome);
+    let values_right = claim.values.as_ref().is_none_or(|values| {
+        !answer.values.is_empty()
+            && values
+                .iter()
+                .zip(&answer.values)
+                .all(|(claimed, truth)| claimed.matches(&truth.value))
+    });
+    outcome_right && values_right
+}
+
+/// The exact value of a recorded number, when the solve kept one.
+fn exact_of(number: &crate::trace::Number) -> Option<Exact> {
+    number.exact.as_deref()?.parse().ok()
+}
+
+fn step_differs(problem: &Problem, claim: &Claim, step: &Step) -> bool {
+    let kind = problem.kind();
+    match &step.payload {
+        Payload::Scalar(scalar) => claim
+            .values
+            .as_ref()
+            .and_then(|values| claimed_unknown(kind, values, &step.id))
+            .zip(exact_of(&scalar.value))
+            .is_some_and(|(claimed, truth)| !claimed.matches(&truth)),
+        Payload::Check(check) => {
+            let by_outcome = claim
+                .outcome
+                .as_ref()
+                .and_then(|o| passes_if(kind, o, &step.id))
+                .is_some_and(|passes| passes != check.passed);
+            let by_values = claim.values.as_ref().is_some_and(|values| {
+                match claimed_check_value(kind, values, &step.id) {
+                    Some(claimed) => {
+                        exact_of(&check.value).is_some_and(|truth| !claimed.matches(&truth))
+                    }
+                    // Numbers for every unknown say that the system has one solution.
+                    None => is_solvability_check(&step.id) && !check.passed,
+                }
+            });
+            by_outcome || by_values
+        }
+        Payload::Verdict(_) => claim
+            .outcome
+            .as_ref()
+            .is_some_and(|o| *o != problem.answer.outcome),
+        _ => false,
+    }
+}
+
+fn is_solvability_check(id: &str) -> bool {
+    matches!(id, "check_area" | "check_lengths" | "check_det")
+}
+
+fn claimed_unknown(kind: Kind, values: &[Claimed], id: &str) -> Option<Claimed> {
+    let slot = kind.unknowns().iter().position(|u| u.0 == id)?;
+    values.get(slot).cloned()
+}
+
+/// The value a check tests, as the student's numbers would make it (β + γ for check_bc …).
+fn claimed_check_value(kind: Kind, values: &[Claimed], id: &str) -> Option<Claimed> {
+    let unknown = |name: &str| claimed_unknown(kind, values, name);
+    match (kind, id) {
+        (Kind::Triangle, "check_ca") => unknown("beta"),
+        (Kind::Triangle, "check_ab") => unknown("gamma"),
+        (Kind::Triangle, "check_bc") => Some(unknown("beta")?.plus(&unknown("gamma")?)),
+        (Kind::Parallelogram, "check_alpha") => unknown("alpha"),
+        (Kind::Parallelogram, "check_beta") => unknown("beta"),
+        (Kind::Segments, "check_s") => unknown("s"),
+        (_, "check_t") => unknown("t"),
+        _ => None,
+    }
+}
+
+/// The check a miss beyond `edge` fails.
+fn edge_check(kind: Kind, edge: &str) -> String {
+    match kind {
+        Kind::Segments => if edge == "A" { "check_t" } else { "check_s" }.into(),
+        Kind::Triangle => format!("check_{}", edge.to_lowercase()),
+        Kind::Parallelogram => if edge.starts_with('α') {
+            "check_alpha"
+        } else {
+            "check_beta"
+        }
+        .into(),
+    }
+}
+
+/// Whether a check passes if the outcome were `outcome`; `None` where the outcome does not say.
+fn passes_if(kind: Kind, outcome: &Outcome, id: &str) -> Option<bool> {
+    let solvable = !matches!(outcome, Outcome::Parallel | Outcome::Degenerate);
+    let is_edge_check = (0..kind.edges().len()).any(|i| edge_check(kind, kind.edges()[i]) == id);
+    match id {
+        "check_area" | "check_lengths" => Some(*outcome != Outcome::Degenerate),
+        "check_det" => (*outcome != Outcome::Degenerate).then_some(solvable),
+        _ if is_edge_check => match outcome {
+            Outcome::Outside { beyond } => Some(edge_check(kind, beyond) != id),
+            Outcome::Hit | Outcome::Behind => Some(true),
+            _ => None,
+        },
+        "check_t" => match outcome {
+            Outcome::Hit => Some(true),
+            Outcome::Behind => Some(false),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+fn hint(step: &Step) -> Hint {
+    let formula = match &step.payload {
+        Payload::Scalar(scalar) => match &scalar.formula {
+            Some(Formula::Quotient {
+                numerator,
+                denominator,
+            }) => Some(format!(
+                "{} = {} / {}",
+                scalar.symbol, numerator.symbol, denominator.symbol
+            )),
+            Some(Formula::Expression { text, .. }) => Some(format!("{} = {text}", scalar.symbol)),
+            None => None,
+        },
+        Payload::Check(check) => Some(format!("check {}", check.inequality)),
+        _ => None,
+    };
+    let text = match formula {
+        Some(formula) => format!("{} ({formula})", step.explanation),
+        None => step.explanation.clone(),
+    };
+    Hint {
+        step_id: step.id.clone(),
+        title: step.title.clone(),
+        text,
+    }
+}
