@@ -5,6 +5,7 @@
 pub mod batch;
 pub mod input;
 pub mod solve;
+pub mod worksheet;
 
 /// Prints a line to standard output, ignoring a closed pipe (`raylab bench | head` must not panic,
 /// as `println!` does).
@@ -51,6 +52,8 @@ pub enum Command {
     Bench(BenchArgs),
     /// Render a scene file (RON) to a PNG, one ray per pixel, computing only the scene's effects.
     Render(RenderArgs),
+    /// Write a printable worksheet, its answer key (LaTeX) and the problems (JSON) from a seed.
+    Worksheet(worksheet::WorksheetArgs),
 }
 
 /// `raylab render`.
@@ -288,6 +291,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Solve(args)) => run_solve(*args),
         Some(Command::Bench(args)) => run_bench(args),
         Some(Command::Render(args)) => run_render(args),
+        Some(Command::Worksheet(args)) => worksheet::run(args),
         None if cli
             .lesson
             .as_deref()

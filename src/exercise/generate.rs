@@ -139,6 +139,11 @@ fn multiplier(rng: &mut Pcg64, negative: bool) -> i64 {
     if negative { -k } else { k }
 }
 
+/// A multiplier that keeps a collinear point off the two it is collinear with: −2, −1 or 2.
+fn flat_multiplier(rng: &mut Pcg64) -> i64 {
+    [-2, -1, 2][rng.random_range(0..3)]
+}
+
 /// Two planned coordinates `i/d`, `j/d` of a point in a triangle's or a parallelogram's plane, in the
 /// region the level asks for; `edge` picks one of [`Kind::edges`] for `outside`.
 fn plan(rng: &mut Pcg64, kind: Kind, level: Level) -> (i64, i64, i64) {
@@ -188,7 +193,11 @@ fn triangle(rng: &mut Pcg64, level: Level) -> Option<Inputs> {
             primitive(add(scale(i, sub(b, a)), scale(j, sub(c, a))))?.1
         }
         Level::Degenerate => {
-            c = add(a, scale(rng.random_range(-2..=2), sub(b, a)));
+            // C on the line AB, apart from A and B: the edges are there, the area is not.
+            if a == b {
+                return None;
+            }
+            c = add(a, scale(flat_multiplier(rng), sub(b, a)));
             random::<3>(rng, 3)
         }
         _ => {
@@ -215,7 +224,11 @@ fn parallelogram(rng: &mut Pcg64, level: Level) -> Option<Inputs> {
             primitive(add(scale(i, e1), scale(j, e2)))?.1
         }
         Level::Degenerate => {
-            e2 = scale(rng.random_range(-2..=2), e1);
+            // e2 along e1 (both nonzero): the edges are there, the area is not.
+            if e1 == [0; 3] {
+                return None;
+            }
+            e2 = scale(flat_multiplier(rng), e1);
             random::<3>(rng, 3)
         }
         _ => {

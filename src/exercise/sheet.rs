@@ -182,10 +182,10 @@ fn answer_latex(problem: &Problem) -> String {
     let outcome = match &answer.outcome {
         super::Outcome::Outside { beyond } => {
             let edge = beyond.replace('α', "\\alpha ").replace('β', "\\beta ");
-            let what = if problem.kind() == Kind::Parallelogram {
-                "side"
-            } else {
-                "edge"
+            let what = match problem.kind() {
+                Kind::Segments => "segment",
+                Kind::Triangle => "edge",
+                Kind::Parallelogram => "side",
             };
             format!("outside, beyond {what} ${edge}$")
         }

@@ -1,0 +1,77 @@
+//! `raylab worksheet`: a printable worksheet, its answer key and the problems as JSON, from a seed.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use crate::exercise::{self, Level, MAX_COUNT};
+
+/// `raylab worksheet`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Writes DIR/worksheet.tex, DIR/key.tex (pdflatex) and DIR/problems.json; the same \
+                  seed gives the same files."
+)]
+pub struct WorksheetArgs {
+    /// The seed: the same seed gives the same problems.
+    #[arg(long)]
+    pub seed: u64,
+    /// How many problems (1 to 100).
+    #[arg(long, value_name = "K",
+          value_parser = clap::value_parser!(u16).range(1..=MAX_COUNT as i64))]
+    pub count: u16,
+    /// Only this level: hit, outside, behind, parallel, degenerate (default: the levels in turn).
+    #[arg(long, value_name = "L", value_parser = parse_level)]
+    pub level: Option<Level>,
+    /// The folder to write into (made if missing).
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+}
+
+fn parse_level(text: &str) -> Result<Level, String> {
+    text.parse()
+}
+
+/// Writes the three files; returns the exit code.
+pub fn run(args: WorksheetArgs) -> i32 {
+    match write(&args) {
+        Ok(()) => {
+            eprintln!(
+                "wrote {0}/worksheet.tex, {0}/key.tex and {0}/problems.json",
+                args.output.display()
+            );
+            0
+        }
+        Err(message) => {
+            eprintln!("raylab: {message}");
+            1
+        }
+    }
+}
+
+fn write(args: &WorksheetArgs) -> Result<(), String> {
+    let dir = &args.output;
+    if dir.exists() && !dir.is_dir() {
+        return Err(format!(
+            "-o {}: exists and is not a directory",
+            dir.display()
+        ));
+    }
+    let problems = exercise::generate(args.seed, usize::from(args.count), args.level)?;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| format!("-o {}: cannot make the folder: {e}", dir.display()))?;
+    let json = serde_json::to_string_pretty(&exercise::problems_json(args.seed, &problems))
+        .expect("JSON values always serialize");
+    save(
+        dir,
+        "worksheet.tex",
+        &exercise::worksheet_latex(args.seed, &problems),
+    )?;
+    save(dir, "key.tex", &exercise::key_latex(args.seed, &problems))?;
+    save(dir, "problems.json", &format!("{json}\n"))
+}
+
+fn save(dir: &Path, name: &str, text: &str) -> Result<(), String> {
+    let path = dir.join(name);
+    std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
