@@ -631,3 +631,80 @@ fn the_steps_switch_to_symbols_and_back() {
         "β = |M1| / |M| = 9 / 27 = 1/3"
     ));
 }
+
+#[test]
+fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() {
+    let mut harness = harness();
+    harness.get_by_label("Practice").click();
+    harness.run();
+    harness.get_by_label("Triangle: find β, γ and t").click();
+    harness.run();
+    assert_eq!(harness.state().state.view, ViewKind::Triangle);
+    assert!(shows(&harness, "Score: 0 right of 1 tried"));
+    // The view keeps the verdict to itself until the answer is right.
+    assert!(!painted(&harness, "the ray hits the triangle"));
+    let answer = |harness: &mut Harness<'static, RaylabApp>, text: &str| {
+        let field = harness.get_by_label("Your answer:");
+        field.click();
+        harness.run();
+        harness.get_by_label("Your answer:").type_text(text);
+        harness.run();
+        harness.get_by_label("Check").click();
+        harness.run();
+    };
+    // A wrong guess: the hint names the step to look at again.
+    answer(&mut harness, "1/2, 1/2, 1");
+    assert!(shows_text_containing(
+        &harness,
+        "Not yet (1 wrong so far). Look again at"
+    ));
+    // The right answer, read from the exact solver's own values (β, γ, t).
+    let values: Vec<String> = harness
+        .state()
+        .practice
+        .as_ref()
+        .unwrap()
+        .practice
+        .problem
+        .answer
+        .values
+        .iter()
+        .map(|v| v.value.fraction())
+        .collect();
+    harness
+        .state_mut()
+        .practice
+        .as_mut()
+        .unwrap()
+        .answer
+        .clear();
+    answer(&mut harness, &values.join(", "));
+    assert!(shows_text_containing(&harness, "Right: hit;"));
+    assert!(shows(&harness, "Score: 1 right of 1 tried"));
+    // Right: the verdict and the steps are revealed.
+    assert!(painted(&harness, "the ray hits the triangle"));
+    assert!(shows_text_containing(&harness, "the ray hits the triangle"));
+    assert!(!shows(&harness, "Reveal the answer"));
+    harness.get_by_label("New problem").click();
+    harness.run();
+    assert!(shows(&harness, "Score: 1 right of 2 tried"));
+    harness.key_press(egui::Key::Escape);
+    harness.run();
+    assert!(harness.state().practice.is_none());
+}
+
+/// True if some text painted in the last frame (labels on a canvas included) contains `needle`.
+fn painted(harness: &Harness<'static, RaylabApp>, needle: &str) -> bool {
+    fn walk(shape: &egui::epaint::Shape, needle: &str) -> bool {
+        match shape {
+            egui::epaint::Shape::Vec(shapes) => shapes.iter().any(|s| walk(s, needle)),
+            egui::epaint::Shape::Text(text) => text.galley.text().contains(needle),
+            _ => false,
+        }
+    }
+    harness
+        .output()
+        .shapes
+        .iter()
+        .any(|clipped| walk(&clipped.shape, needle))
+}

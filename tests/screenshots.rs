@@ -96,6 +96,7 @@ fn readme_screenshots() {
     }
     presentation_screenshot(folder, write);
     lesson_screenshot(folder, write);
+    practice_screenshot(folder, write);
     if write {
         accuracy_screenshot(folder);
     }
@@ -210,5 +211,29 @@ fn lesson_screenshot(folder: &str, write: bool) {
     assert_eq!(image.width(), 1280);
     if write {
         image.save(format!("{folder}/lesson.png")).unwrap();
+    }
+}
+
+/// Practice at 150%: a triangle problem beyond an edge, after a wrong answer and its hint.
+fn practice_screenshot(folder: &str, write: bool) {
+    let mut harness = harness(Vec2::new(1280.0, 800.0) / 1.5, 1.5, egui::Theme::Light);
+    harness.run();
+    harness.state_mut().start_practice(
+        raylab::exercise::Kind::Triangle,
+        raylab::exercise::Level::Outside,
+    );
+    harness.run();
+    harness.get_by_label("Your answer:").click();
+    harness.run();
+    harness.get_by_label("Your answer:").type_text("hit");
+    harness.run();
+    harness.get_by_label("Check").click();
+    harness.run();
+    harness.remove_cursor();
+    harness.run();
+    let image = harness.render().expect("the CPU renderer draws");
+    assert_eq!(image.width(), 1280);
+    if write {
+        image.save(format!("{folder}/practice.png")).unwrap();
     }
 }

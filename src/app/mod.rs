@@ -7,6 +7,7 @@ pub mod accuracy_view;
 pub mod highlight;
 pub mod lesson_view;
 pub mod parallelogram_view;
+pub mod practice_view;
 pub mod render_view;
 pub mod segments_view;
 pub mod step_panel;
@@ -263,6 +264,10 @@ pub struct RaylabApp {
     pub lesson: Option<lesson_view::LessonRun>,
     /// Seed 002's symbolic derivation for the Triangle view's scene, and the scene it was made for.
     symbolic: Option<(crate::scene::TriangleScene, Trace)>,
+    /// The practice session, if any.
+    pub practice: Option<practice_view::PracticeRun>,
+    /// The seed of the last practice problem (each new one takes the next).
+    pub practice_seed: u64,
 }
 
 /// The storage key of the state.
@@ -303,6 +308,8 @@ impl RaylabApp {
             steps_to_top: false,
             lesson: None,
             symbolic: None,
+            practice: None,
+            practice_seed: 0,
         }
     }
 
@@ -496,6 +503,11 @@ impl RaylabApp {
             ui.menu_button("Lessons", |ui| self.lessons_menu(ui))
                 .response
                 .on_hover_text("Play a lecture slide by slide, in presentation mode");
+            ui.menu_button("Practice", |ui| self.practice_menu(ui))
+                .response
+                .on_hover_text(
+                    "Predict, then check: a generated problem, a hint when wrong, a score",
+                );
             ui.menu_button("File", |ui| self.file_menu(ui));
             ui.menu_button("View", |ui| self.view_menu(ui))
                 .response
@@ -623,6 +635,20 @@ impl RaylabApp {
             ui.ctx()
                 .send_viewport_cmd(egui::ViewportCommand::Fullscreen(true));
             ui.close();
+        }
+    }
+
+    fn practice_menu(&mut self, ui: &mut Ui) {
+        use crate::exercise::{Kind, Level};
+        for (kind, label) in [
+            (Kind::Segments, "Segments: find t and s"),
+            (Kind::Triangle, "Triangle: find β, γ and t"),
+            (Kind::Parallelogram, "Parallelogram: find α, β and t"),
+        ] {
+            if ui.button(label).clicked() {
+                self.start_practice(kind, Level::Hit);
+                ui.close();
+            }
         }
     }
 
@@ -870,6 +896,7 @@ impl eframe::App for RaylabApp {
         let solved = self.solve();
         match self.presentation {
             _ if self.lesson.is_some() => self.lesson_ui(ui, &solved),
+            _ if self.practice.is_some() => self.practice_ui(ui, &solved),
             Some(index) => self.presentation_ui(ui, &solved, index),
             None => self.workbench_ui(ui, &solved),
         }
@@ -1158,7 +1185,7 @@ struct QuickGroups {
 impl QuickGroups {
     /// Adds the groups in order of use while the row still fits the window.
     fn that_fit(ui: &Ui) -> QuickGroups {
-        let menus_and_tabs = ["Presets", "Lessons", "File", "View"]
+        let menus_and_tabs = ["Presets", "Lessons", "Practice", "File", "View"]
             .into_iter()
             .chain(ViewKind::ALL.map(ViewKind::label));
         let mut used = row_width(ui, menus_and_tabs) + 24.0;

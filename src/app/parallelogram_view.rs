@@ -377,7 +377,9 @@ impl ParallelogramView {
         canvas.place_label(&mut labels, o, "o", palette::RAY, Priority::Key);
         canvas.place_label(&mut labels, p, "p(α, β)", color, Priority::Key);
         canvas.place_label(&mut labels, on_ray, "o + t d", palette::RAY, Priority::Key);
-        if let Some(point) = solved.float.point {
+        // A practice problem's outcome is for the student to predict.
+        let hidden = super::widgets::answers_hidden(ui.ctx());
+        if let Some(point) = solved.float.point.filter(|_| !hidden) {
             let (color, label) = match solved.float.outcome {
                 ParallelogramOutcome::Hit => (palette::SOLUTION, "hit"),
                 ParallelogramOutcome::Behind => (palette::OUTSIDE, "ghost hit behind o"),

@@ -678,6 +678,10 @@ impl SegmentsView {
         solved: &Solved,
         labels: &mut LabelLayer,
     ) {
+        // A practice problem's outcome is for the student to predict.
+        if super::widgets::answers_hidden(painter.ctx()) {
+            return;
+        }
         let s = &solved.float;
         match &s.outcome {
             SegmentsOutcome::Crossing | SegmentsOutcome::Touching => {

@@ -627,13 +627,16 @@ impl TriangleView {
         } else {
             canvas.line(a, b, Stroke::new(3.0, palette::OUTSIDE));
             canvas.line(b, c, Stroke::new(3.0, palette::OUTSIDE));
-            canvas.place_label(
-                &mut labels,
-                (a + c) / 2.0,
-                "degenerate: A, B, C on one line",
-                palette::OUTSIDE,
-                Priority::Normal,
-            );
+            // A practice problem's outcome is for the student to name.
+            if !super::widgets::answers_hidden(canvas.painter.ctx()) {
+                canvas.place_label(
+                    &mut labels,
+                    (a + c) / 2.0,
+                    "degenerate: A, B, C on one line",
+                    palette::OUTSIDE,
+                    Priority::Normal,
+                );
+            }
         }
         self.draw_highlights(canvas, solved, &mut labels);
         for (p, name) in [(a, "A"), (b, "B"), (c, "C")] {
@@ -798,6 +801,10 @@ impl TriangleView {
         [a, b, c, l]: [DVec3; 4],
         labels: &mut LabelLayer,
     ) {
+        // A practice problem's outcome is for the student to predict.
+        if super::widgets::answers_hidden(canvas.painter.ctx()) {
+            return;
+        }
         let outcome = &solved.float.outcome;
         let Some(s) = solved.float.solution.as_ref() else {
             if matches!(

@@ -53,6 +53,9 @@ pub fn verdict_overlay(
     rect: egui::Rect,
     trace: &crate::trace::Trace,
 ) -> Option<egui::Rect> {
+    if answers_hidden(ui.ctx()) {
+        return None;
+    }
     let verdict = trace.verdict()?;
     let color = palette::ink(
         crate::app::step_panel::verdict_color(&verdict.status),
@@ -70,6 +73,21 @@ pub fn verdict_overlay(
     painter.rect_filled(backing, 4.0, fill);
     painter.galley(at, galley, color);
     Some(backing)
+}
+
+/// While a practice problem is unanswered the views keep their verdict to themselves: set for the
+/// frame's drawing of the view, and cleared after it.
+pub fn hide_answers(ctx: &egui::Context, hidden: bool) {
+    ctx.data_mut(|d| d.insert_temp(answers_hidden_id(), hidden));
+}
+
+/// True while a practice problem's answer is hidden (see [`hide_answers`]).
+pub fn answers_hidden(ctx: &egui::Context) -> bool {
+    ctx.data(|d| d.get_temp(answers_hidden_id()).unwrap_or(false))
+}
+
+fn answers_hidden_id() -> egui::Id {
+    egui::Id::unique("raylab-answers-hidden")
 }
 
 /// The height the verdict box will take at the top of a canvas this wide (for framing the scene

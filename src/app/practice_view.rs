@@ -1,0 +1,297 @@
+//! Practice: predict, then reveal. A generated problem (seeded, small inputs, readable fractions) opens
+//! in its view with the verdict hidden; the student types the unknowns or names the outcome, the
+//! answer is checked exactly (decimals within a stated tolerance), and a wrong answer gets the first
+//! step of the solve that differs as a hint, then the next. A score counts the session.
+
+use egui::{RichText, Ui};
+
+use super::widgets::palette::{self, Readable as _};
+use super::{ActiveSolve, Notice, RaylabApp, step_panel, view_of};
+use crate::exercise::{self, DECIMAL_TOLERANCE, Inputs, Kind, Level, Practice, Verdict};
+use crate::scene::{ParallelogramScene, Problem, Scene, SegmentsScene, TriangleScene};
+
+/// A practice session.
+#[derive(Clone, Debug)]
+pub struct PracticeRun {
+    /// The solver practised.
+    pub kind: Kind,
+    /// The outcome practised.
+    pub level: Level,
+    /// The problem's seed (shown, so a class can compare the same problem).
+    pub seed: u64,
+    /// The problem and the wrong answers so far.
+    pub practice: Practice,
+    /// What the student typed.
+    pub answer: String,
+    /// The last check.
+    pub verdict: Option<Verdict>,
+    /// The steps are shown (after a right answer, or on request).
+    pub revealed: bool,
+    /// Problems answered right this session.
+    pub right: usize,
+    /// Problems tried this session.
+    pub tried: usize,
+}
+
+impl RaylabApp {
+    /// Starts practising `kind` at `level` with a new problem.
+    pub fn start_practice(&mut self, kind: Kind, level: Level) {
+        let (right, tried) = self
+            .practice
+            .as_ref()
+            .map_or((0, 0), |run| (run.right, run.tried));
+        self.practice_seed += 1;
+        let level = if level.kinds().contains(&kind) {
+            level
+        } else {
+            Level::Hit
+        };
+        let seed = self.practice_seed;
+        match exercise::problem_for(seed, kind, level) {
+            Ok(problem) => {
+                let scene = scene_of(&problem.inputs, seed, level);
+                if let Err(error) = self.load_scene(&scene) {
+                    self.notice = Some(Notice {
+                        text: error,
+                        error: true,
+                        view: None,
+                    });
+                    return;
+                }
+                self.state.view = view_of(&scene.problem);
+                self.state.precision = crate::geometry::Precision::Exact;
+                self.state.symbolic = false;
+                self.presentation = None;
+                self.lesson = None;
+                self.practice = Some(PracticeRun {
+                    kind,
+                    level,
+                    seed,
+                    practice: Practice::new(problem),
+                    answer: String::new(),
+                    verdict: None,
+                    revealed: false,
+                    right,
+                    tried: tried + 1,
+                });
+            }
+            Err(error) => {
+                self.notice = Some(Notice {
+                    text: format!("Could not make a problem: {error}"),
+                    error: true,
+                    view: None,
+                })
+            }
+        }
+    }
+
+    /// The practice screen: a bar with the level and score, the problem and the answer box beside the
+    /// view, whose verdict stays hidden until the answer is right (or revealed).
+    pub(super) fn practice_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve) {
+        let Some(mut run) = self.practice.clone() else {
+            return;
+        };
+        let mut new_level = None;
+        let mut leave = ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Escape));
+        egui::Panel::top("practice-bar").show(ui, |ui| {
+            ui.horizontal_wrapped(|ui| {
+                ui.label(RichText::new(format!("Practice: {}", run.kind.name())).strong());
+                ui.label("level");
+                for level in Level::ALL {
+                    if !level.kinds().contains(&run.kind) {
+                        continue;
+                    }
+                    let chosen = ui
+                        .selectable_label(run.level == level, level.name())
+                        .on_hover_text(level_tip(level));
+                    if chosen.clicked() {
+                        new_level = Some(level);
+                    }
+                }
+                ui.separator();
+                ui.label(format!("Score: {} right of {} tried", run.right, run.tried));
+                if ui
+                    .button("New problem")
+                    .on_hover_text("Another problem at this level")
+                    .clicked()
+                {
+                    new_level = Some(run.level);
+                }
+                leave |= ui
+                    .button("Leave (Esc)")
+                    .on_hover_text("Back to the usual layout")
+                    .clicked();
+            });
+        });
+        if leave {
+            self.practice = None;
+            return;
+        }
+        if let Some(level) = new_level {
+            self.start_practice(run.kind, level);
+            ui.ctx().request_repaint();
+            return;
+        }
+        let full = ui.available_width();
+        egui::Panel::right("practice-panel")
+            .resizable(false)
+            .exact_size((full * 0.42).max(240.0))
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| problem_ui(ui, &mut run, solved));
+            });
+        super::widgets::hide_answers(ui.ctx(), !run.revealed);
+        let view = egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, true));
+        super::widgets::hide_answers(ui.ctx(), false);
+        self.view_rect = Some(view.response.rect);
+        self.practice = Some(run);
+    }
+}
+
+/// The problem, the answer box, the verdict and the hint.
+fn problem_ui(ui: &mut Ui, run: &mut PracticeRun, solved: &ActiveSolve) {
+    let problem = run.practice.problem.clone();
+    ui.heading(format!("Problem {}", run.seed));
+    for input in problem.inputs.named() {
+        let coordinates: Vec<String> = input.value.iter().map(|x| x.fraction()).collect();
+        ui.label(
+            RichText::new(format!("{} = ({})", input.name, coordinates.join(", "))).monospace(),
+        );
+    }
+    let unknowns: Vec<&str> = run.kind.unknowns().iter().map(|(_, s, _)| *s).collect();
+    let edges = run.kind.edges().join(", ");
+    ui.add(
+        egui::Label::new(
+            RichText::new(format!(
+                "Predict {}, or name the outcome: hit, outside (and the edge: {edges}), behind, \
+                 parallel or degenerate. Fractions such as 17/22 are checked exactly, decimals to \
+                 within {DECIMAL_TOLERANCE}.",
+                unknowns.join(", ")
+            ))
+            .weak(),
+        )
+        .wrap(),
+    );
+    let mut check = false;
+    let label = ui.label(RichText::new("Your answer:").strong());
+    ui.horizontal(|ui| {
+        let edit = ui
+            .add(
+                egui::TextEdit::singleline(&mut run.answer)
+                    .hint_text(format!("{} = …", unknowns.join(", ")))
+                    .desired_width(ui.available_width() - 90.0),
+            )
+            .labelled_by(label.id);
+        check |= edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        check |= ui
+            .button("Check")
+            .on_hover_text("Check the answer (Enter)")
+            .clicked();
+    });
+    if check && !run.answer.trim().is_empty() {
+        let verdict = run.practice.check(&run.answer);
+        if matches!(verdict, Verdict::Right { .. }) && !run.revealed {
+            run.right += 1;
+            run.revealed = true;
+        }
+        run.verdict = Some(verdict);
+    }
+    match &run.verdict {
+        Some(Verdict::Right { answer }) => {
+            ui.add(
+                egui::Label::new(
+                    RichText::new(format!("Right: {answer}"))
+                        .strong()
+                        .color(palette::INSIDE.readable(ui)),
+                )
+                .wrap(),
+            );
+        }
+        Some(Verdict::Wrong { hint }) => {
+            ui.add(
+                egui::Label::new(
+                    RichText::new(format!(
+                        "Not yet ({} wrong so far). Look again at “{}”:",
+                        run.practice.wrong_answers, hint.title
+                    ))
+                    .strong()
+                    .color(palette::OUTSIDE.readable(ui)),
+                )
+                .wrap(),
+            );
+            ui.add(egui::Label::new(&hint.text).wrap());
+        }
+        Some(Verdict::Unreadable { message }) => {
+            ui.add(
+                egui::Label::new(RichText::new(message).color(palette::RHS.readable(ui))).wrap(),
+            );
+        }
+        None => {}
+    }
+    if !run.revealed
+        && ui
+            .button("Reveal the answer")
+            .on_hover_text("Show the answer and every step (the problem counts as not right)")
+            .clicked()
+    {
+        run.revealed = true;
+    }
+    if run.revealed {
+        ui.separator();
+        ui.label(RichText::new(format!("Answer: {}", problem.answer.text())).strong());
+        if let Some(trace) = solved.trace() {
+            for (index, step) in trace.steps.iter().enumerate() {
+                step_panel::step_ui(ui, index + 1, step, None);
+            }
+        }
+    }
+}
+
+fn level_tip(level: Level) -> &'static str {
+    match level {
+        Level::Hit => "The ray (or segment) hits: find the parameters",
+        Level::Outside => "It meets the plane (or line) beyond one edge: which one?",
+        Level::Behind => "Inside, but behind the ray's origin",
+        Level::Parallel => "Parallel: |M| = 0, no single solution",
+        Level::Degenerate => "The triangle, parallelogram or a segment has no extent",
+    }
+}
+
+/// The problem as a scene its view can load (the inputs are small integers, exact as floats).
+fn scene_of(inputs: &Inputs, seed: u64, level: Level) -> Scene {
+    let f = |v: &[crate::exact::Exact]| -> Vec<f64> { v.iter().map(|x| x.to_f64()).collect() };
+    let v2 = |v: &[crate::exact::Exact; 2]| -> [f64; 2] { [v[0].to_f64(), v[1].to_f64()] };
+    let v3 = |v: &[crate::exact::Exact; 3]| -> [f64; 3] {
+        let x = f(v);
+        [x[0], x[1], x[2]]
+    };
+    let problem = match inputs {
+        Inputs::Segments([a1, a2, b1, b2]) => Problem::Segments(SegmentsScene {
+            a1: v2(a1),
+            a2: v2(a2),
+            b1: v2(b1),
+            b2: v2(b2),
+        }),
+        Inputs::Triangle([a, b, c, origin, dir]) => Problem::Triangle(TriangleScene {
+            a: v3(a),
+            b: v3(b),
+            c: v3(c),
+            origin: v3(origin),
+            dir: v3(dir),
+            t_min: 0.0,
+        }),
+        Inputs::Parallelogram([corner, e1, e2, origin, dir]) => {
+            Problem::Parallelogram(ParallelogramScene {
+                corner: v3(corner),
+                e1: v3(e1),
+                e2: v3(e2),
+                origin: v3(origin),
+                dir: v3(dir),
+            })
+        }
+    };
+    Scene {
+        title: format!("Practice problem {seed}"),
+        note: format!("A {} problem: predict, then check.", level.name()),
+        problem,
+    }
+}
