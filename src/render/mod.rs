@@ -28,6 +28,7 @@ use shade::Shader;
 
 /// A camera: seed 003's image plane, or a pinhole looking at a target.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Camera {
     /// Seed 003: pixel (row, column) is the point (x, y, z) of a plane, x from `x.0` (left) to `x.1`
     /// (right), y from `y.0` (top) to `y.1` (bottom), both ends included; the ray starts there and goes
@@ -154,6 +155,7 @@ impl From<SceneMethod> for String {
 
 /// A scene to render (the `Render` problem of a scene file).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RenderScene {
     /// Image width in pixels.
     pub width: usize,
