@@ -86,6 +86,7 @@ impl AssetSource for OnDisk {
 /// vertex has them.
 pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTriangle>, String> {
     let bytes = assets.read(name)?;
+    faces_follow_their_vertices(&bytes).map_err(|e| format!("{name}: {e}"))?;
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -98,6 +99,8 @@ pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTri
     let mut triangles = Vec::new();
     for model in &models {
         let mesh = &model.mesh;
+        super::check_numbers("vertex coordinates", &mesh.positions)
+            .map_err(|e| format!("{name}: {e}"))?;
         let point = |i: u32| -> V3<f64> {
             let i = i as usize * 3;
             [
@@ -111,9 +114,6 @@ pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTri
         for face in mesh.indices.chunks_exact(3) {
             let face: [u32; 3] = [face[0], face[1], face[2]];
             let vertices = [point(face[0]), point(face[1]), point(face[2])];
-            if vertices.iter().flatten().any(|c| !c.is_finite()) {
-                return Err(format!("{name}: a vertex is not a finite number"));
-            }
             let normals = has_normals.then(|| {
                 face.map(|i| {
                     let i = i as usize * 3;
@@ -133,6 +133,41 @@ pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTri
         return Err(format!("{name}: the OBJ file has no faces"));
     }
     Ok(triangles)
+}
+
+/// An OBJ face may only use the vertices above it (tobj resolves the indices at the end of the file,
+/// so a face before its vertices would otherwise draw whatever comes later).
+fn faces_follow_their_vertices(obj: &[u8]) -> Result<(), String> {
+    let mut vertices = 0u64;
+    for (number, line) in obj.split(|b| *b == b'\n').enumerate() {
+        let line = String::from_utf8_lossy(line);
+        let mut tokens = line.split_whitespace();
+        match tokens.next() {
+            Some("v") => vertices += 1,
+            Some("f") => {
+                for token in tokens {
+                    let index = token.split('/').next().unwrap_or("");
+                    let Ok(index) = index.parse::<i64>() else {
+                        continue; // tobj reports what it cannot read.
+                    };
+                    if index.unsigned_abs() > vertices {
+                        let before = match vertices {
+                            0 => "no vertex comes".to_string(),
+                            1 => "only 1 vertex comes".to_string(),
+                            n => format!("only {n} vertices come"),
+                        };
+                        return Err(format!(
+                            "line {}: the face uses vertex {index}, but {before} before it (an OBJ \
+                             file's faces must follow their vertices)",
+                            number + 1
+                        ));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// A decoded texture: linear RGB texels, row 0 at the top (v = 1), wrapping in both directions.
