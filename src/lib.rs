@@ -9,6 +9,7 @@ pub mod app;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
 pub mod exact;
+pub mod files;
 pub mod geometry;
 pub mod platform;
 pub mod render;

@@ -130,21 +130,33 @@ impl Scene {
         ron::ser::to_string_pretty(self, config).expect("scenes always serialize")
     }
 
-    /// Reads a scene file from disk.
+    /// Reads a scene file from disk (a regular file of at most [`crate::files::SCENE`]'s size).
     pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
+        use crate::files::{ReadError, SCENE, read_regular};
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        let failed = |message: String| SceneError {
             file: name.clone(),
             line: None,
             column: None,
-            message: e.to_string(),
+            message,
+        };
+        let bytes = read_regular(path, SCENE).map_err(|e| match e {
+            ReadError::NotFound => failed("no such file".into()),
+            ReadError::Refused(why) => failed(why),
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            failed(format!(
+                "not a text file (invalid UTF-8 at byte {})",
+                e.utf8_error().valid_up_to()
+            ))
         })?;
         Scene::from_ron(&text, &name)
     }
 
-    /// Writes the scene to disk.
+    /// Writes the scene to disk: into a temporary file beside `path`, renamed over it when complete.
     pub fn save(&self, path: &std::path::Path) -> std::io::Result<()> {
-        std::fs::write(path, self.to_ron())
+        let text = self.to_ron();
+        crate::files::write_atomically(path, |out| out.write_all(text.as_bytes()))
     }
 
     /// NaN and infinities are not valid coordinates in a file.

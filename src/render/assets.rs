@@ -7,6 +7,7 @@ use std::io::BufReader;
 use std::path::PathBuf;
 
 use super::objects::{PreparedTriangle, mesh_triangle};
+use crate::files::{FileKind, MESH, ReadError, TEXTURE, read_regular};
 use crate::geometry::linalg::V3;
 
 /// The meshes and textures under `assets/`, by their name relative to it.
@@ -23,15 +24,15 @@ const EMBEDDED: [(&str, &[u8]); 2] = [
 
 /// Where a scene's files come from.
 pub trait AssetSource {
-    /// The bytes of `name` (relative to `assets/`), or why not.
-    fn read(&self, name: &str) -> Result<Vec<u8>, String>;
+    /// The bytes of `name` (relative to `assets/`), a file of `kind` and at most its size, or why not.
+    fn read(&self, name: &str, kind: FileKind) -> Result<Vec<u8>, String>;
 }
 
 /// Only the files embedded in the binary.
 pub struct Embedded;
 
 impl AssetSource for Embedded {
-    fn read(&self, name: &str) -> Result<Vec<u8>, String> {
+    fn read(&self, name: &str, _: FileKind) -> Result<Vec<u8>, String> {
         embedded(name).map(<[u8]>::to_vec).ok_or_else(|| {
             let names: Vec<&str> = EMBEDDED.iter().map(|(n, _)| *n).collect();
             format!(
@@ -61,13 +62,16 @@ impl OnDisk {
 }
 
 impl AssetSource for OnDisk {
-    fn read(&self, name: &str) -> Result<Vec<u8>, String> {
+    fn read(&self, name: &str, kind: FileKind) -> Result<Vec<u8>, String> {
         if let Some(bytes) = embedded(name) {
             return Ok(bytes.to_vec());
         }
         for folder in &self.0 {
-            if let Ok(bytes) = std::fs::read(folder.join(name)) {
-                return Ok(bytes);
+            let path = folder.join(name);
+            match read_regular(&path, kind) {
+                Ok(bytes) => return Ok(bytes),
+                Err(ReadError::NotFound) => continue,
+                Err(ReadError::Refused(why)) => return Err(format!("{}: {why}", path.display())),
             }
         }
         let tried: Vec<String> = self
@@ -85,7 +89,7 @@ impl AssetSource for OnDisk {
 /// Reads an OBJ file's triangles (polygons are triangulated), with its normals and UVs when every
 /// vertex has them.
 pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTriangle>, String> {
-    let bytes = assets.read(name)?;
+    let bytes = assets.read(name, MESH)?;
     faces_follow_their_vertices(&bytes).map_err(|e| format!("{name}: {e}"))?;
     let options = tobj::LoadOptions {
         triangulate: true,
@@ -170,32 +174,54 @@ fn faces_follow_their_vertices(obj: &[u8]) -> Result<(), String> {
     Ok(())
 }
 
-/// A decoded texture: linear RGB texels, row 0 at the top (v = 1), wrapping in both directions.
+/// The most pixels a texture may have (4096 × 4096): its texels then take 48 MiB.
+pub const MAX_TEXTURE_PIXELS: u64 = 4096 * 4096;
+
+/// The most memory the PNG decoder may allocate (a 4096 × 4096 image of 16-bit RGBA takes 128 MiB).
+const MAX_DECODER_BYTES: u64 = 256 << 20;
+
+/// A decoded texture: 8-bit RGB texels (3 bytes each), row 0 at the top (v = 1), wrapping in both
+/// directions.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
     /// Width in texels.
     pub width: usize,
     /// Height in texels.
     pub height: usize,
-    /// RGB in [0, 1].
-    pub texels: Vec<[f32; 3]>,
+    /// RGB, 0 to 255.
+    pub texels: Vec<[u8; 3]>,
 }
 
 impl Texture {
-    /// Decodes a PNG.
+    /// Decodes a PNG of at most [`MAX_TEXTURE_PIXELS`]; its size is read from the header and
+    /// refused before anything is decoded.
     pub fn load(assets: &dyn AssetSource, name: &str) -> Result<Texture, String> {
-        let bytes = assets.read(name)?;
-        let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-            .map_err(|e| format!("{name}: not a readable PNG: {e}"))?
-            .to_rgb8();
-        let (width, height) = (image.width() as usize, image.height() as usize);
+        let bytes = assets.read(name, TEXTURE)?;
+        let unreadable = |e: image::ImageError| format!("{name}: not a readable PNG: {e}");
+        let reader = || {
+            image::ImageReader::with_format(std::io::Cursor::new(&bytes), image::ImageFormat::Png)
+        };
+        let (width, height) = reader().into_dimensions().map_err(unreadable)?;
+        if u64::from(width) * u64::from(height) > MAX_TEXTURE_PIXELS {
+            return Err(format!(
+                "{name}: the texture is {width}x{height} pixels, more than the {} million a \
+                 texture may have (4096x4096)",
+                MAX_TEXTURE_PIXELS >> 20
+            ));
+        }
+        let mut reader = reader();
+        let mut limits = image::Limits::default();
+        limits.max_alloc = Some(MAX_DECODER_BYTES);
+        reader.limits(limits);
+        let image = reader.decode().map_err(unreadable)?.into_rgb8();
         let texels = image
-            .pixels()
-            .map(|p| p.0.map(|c| c as f32 / 255.0))
+            .as_raw()
+            .chunks_exact(3)
+            .map(|p| [p[0], p[1], p[2]])
             .collect();
         Ok(Texture {
-            width,
-            height,
+            width: width as usize,
+            height: height as usize,
             texels,
         })
     }
@@ -208,7 +234,7 @@ impl Texture {
         };
         let column = wrap(u, self.width);
         let row = self.height - 1 - wrap(v, self.height);
-        self.texels[row * self.width + column]
+        self.texels[row * self.width + column].map(|c| c as f32 / 255.0)
     }
 }
 
@@ -231,7 +257,7 @@ mod tests {
         assert!(missing.contains("meshes/none.obj"), "{missing}");
         struct Garbage;
         impl AssetSource for Garbage {
-            fn read(&self, _: &str) -> Result<Vec<u8>, String> {
+            fn read(&self, _: &str, _: FileKind) -> Result<Vec<u8>, String> {
                 Ok(b"not a png".to_vec())
             }
         }
