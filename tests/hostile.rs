@@ -165,8 +165,15 @@ fn meshes_with_bad_vertices_or_faces_first_are_refused() {
             "f 1 2 3\nv 0 0 3\nv 1 0 3\nv 0 1 3\n",
             "meshes/early.obj: line 1: the face uses vertex 1, but no vertex comes before it",
         ),
+        (
+            // One polygon of 2 000 004 corners: 2 000 002 triangles.
+            "many.obj",
+            &format!("v 0 0 3\nv 1 0 3\nv 0 1 3\nf{}\n", " 1 2 3".repeat(666_668)),
+            "meshes/many.obj: line 4: the mesh has more than 2 million triangles, the most a mesh \
+             may have",
+        ),
     ] {
-        std::fs::write(dir.join("meshes").join(obj), text).unwrap();
+        std::fs::write(dir.join("meshes").join(obj), text.as_bytes()).unwrap();
         let scene = with_object(&format!("(shape: Mesh(obj: \"meshes/{obj}\"))"));
         let message = refused(&dir, &format!("{obj}.ron"), &scene);
         assert!(message.contains(expected), "{obj}: {message}");

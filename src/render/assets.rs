@@ -90,7 +90,7 @@ impl AssetSource for OnDisk {
 /// vertex has them.
 pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTriangle>, String> {
     let bytes = assets.read(name, MESH)?;
-    faces_follow_their_vertices(&bytes).map_err(|e| format!("{name}: {e}"))?;
+    check_faces(&bytes).map_err(|e| format!("{name}: {e}"))?;
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -139,16 +139,33 @@ pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTri
     Ok(triangles)
 }
 
-/// An OBJ face may only use the vertices above it (tobj resolves the indices at the end of the file,
-/// so a face before its vertices would otherwise draw whatever comes later).
-fn faces_follow_their_vertices(obj: &[u8]) -> Result<(), String> {
+/// The most triangles a mesh may have (polygons count as the triangles they are cut into): a
+/// prepared triangle with normals and texture coordinates takes about 300 bytes, so 2 million take
+/// about 600 MB.
+pub const MAX_MESH_TRIANGLES: u64 = 2_000_000;
+
+/// Checks an OBJ file before it is parsed: a face may only use the vertices above it (tobj resolves
+/// the indices at the end of the file, so a face before its vertices would otherwise draw whatever
+/// comes later), and the faces make at most [`MAX_MESH_TRIANGLES`] triangles.
+fn check_faces(obj: &[u8]) -> Result<(), String> {
     let mut vertices = 0u64;
+    let mut triangles = 0u64;
     for (number, line) in obj.split(|b| *b == b'\n').enumerate() {
         let line = String::from_utf8_lossy(line);
         let mut tokens = line.split_whitespace();
         match tokens.next() {
             Some("v") => vertices += 1,
             Some("f") => {
+                let corners = tokens.clone().count() as u64;
+                triangles += corners.saturating_sub(2);
+                if triangles > MAX_MESH_TRIANGLES {
+                    return Err(format!(
+                        "line {}: the mesh has more than {} million triangles, the most a mesh may \
+                         have",
+                        number + 1,
+                        MAX_MESH_TRIANGLES / 1_000_000
+                    ));
+                }
                 for token in tokens {
                     let index = token.split('/').next().unwrap_or("");
                     let Ok(index) = index.parse::<i64>() else {
@@ -188,8 +205,8 @@ pub struct Texture {
     pub width: usize,
     /// Height in texels.
     pub height: usize,
-    /// RGB, 0 to 255.
-    pub texels: Vec<[u8; 3]>,
+    /// R, G, B of each texel in turn, 0 to 255 (3 bytes a texel).
+    pub texels: Vec<u8>,
 }
 
 impl Texture {
@@ -213,12 +230,8 @@ impl Texture {
         let mut limits = image::Limits::default();
         limits.max_alloc = Some(MAX_DECODER_BYTES);
         reader.limits(limits);
-        let image = reader.decode().map_err(unreadable)?.into_rgb8();
-        let texels = image
-            .as_raw()
-            .chunks_exact(3)
-            .map(|p| [p[0], p[1], p[2]])
-            .collect();
+        // An 8-bit RGB PNG decodes straight into these bytes; other kinds are converted once.
+        let texels = reader.decode().map_err(unreadable)?.into_rgb8().into_raw();
         Ok(Texture {
             width: width as usize,
             height: height as usize,
@@ -234,7 +247,8 @@ impl Texture {
         };
         let column = wrap(u, self.width);
         let row = self.height - 1 - wrap(v, self.height);
-        self.texels[row * self.width + column].map(|c| c as f32 / 255.0)
+        let at = (row * self.width + column) * 3;
+        std::array::from_fn(|k| self.texels[at + k] as f32 / 255.0)
     }
 }
 
@@ -249,6 +263,7 @@ mod tests {
         assert!(mesh.iter().all(|t| t.normals.is_some() && t.uvs.is_some()));
         let texture = Texture::load(&Embedded, "textures/checker.png").unwrap();
         assert!(texture.width > 0 && texture.height > 0);
+        assert_eq!(texture.texels.len(), texture.width * texture.height * 3);
     }
 
     #[test]
