@@ -10,6 +10,7 @@ pub mod app;
 pub mod cli;
 pub mod exact;
 pub mod exercise;
+pub mod files;
 pub mod geometry;
 pub mod lesson;
 pub mod platform;

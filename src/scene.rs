@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 /// Two 2D segments A1–A2 and B1–B2.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SegmentsScene {
     /// Start of segment A.
     pub a1: [f64; 2],
@@ -20,6 +21,7 @@ pub struct SegmentsScene {
 
 /// A triangle A, B, C and a ray L + tD.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct TriangleScene {
     /// Vertex A.
     pub a: [f64; 3],
@@ -38,6 +40,7 @@ pub struct TriangleScene {
 
 /// A parallelogram c + α e1 + β e2 and a ray o + t d.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ParallelogramScene {
     /// The corner c.
     pub corner: [f64; 3],
@@ -53,6 +56,7 @@ pub struct ParallelogramScene {
 
 /// The problem a scene sets.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Problem {
     /// Two 2D segments.
     Segments(SegmentsScene),
@@ -66,6 +70,7 @@ pub enum Problem {
 
 /// A scene file: a title, a one-line note, and the problem.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Scene {
     /// Shown in the preset menu.
     pub title: String,
@@ -108,7 +113,7 @@ impl Scene {
             file: file.into(),
             line: Some(e.span.start.line),
             column: Some(e.span.start.col),
-            message: e.code.to_string(),
+            message: describe(&e.code),
         })?;
         scene.check_finite().map_err(|message| SceneError {
             file: file.into(),
@@ -125,21 +130,33 @@ impl Scene {
         ron::ser::to_string_pretty(self, config).expect("scenes always serialize")
     }
 
-    /// Reads a scene file from disk.
+    /// Reads a scene file from disk (a regular file of at most [`crate::files::SCENE`]'s size).
     pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
+        use crate::files::{ReadError, SCENE, read_regular};
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        let failed = |message: String| SceneError {
             file: name.clone(),
             line: None,
             column: None,
-            message: e.to_string(),
+            message,
+        };
+        let bytes = read_regular(path, SCENE).map_err(|e| match e {
+            ReadError::NotFound => failed("no such file".into()),
+            ReadError::Refused(why) => failed(why),
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            failed(format!(
+                "not a text file (invalid UTF-8 at byte {})",
+                e.utf8_error().valid_up_to()
+            ))
         })?;
         Scene::from_ron(&text, &name)
     }
 
-    /// Writes the scene to disk.
+    /// Writes the scene to disk: into a temporary file beside `path`, renamed over it when complete.
     pub fn save(&self, path: &std::path::Path) -> std::io::Result<()> {
-        std::fs::write(path, self.to_ron())
+        let text = self.to_ron();
+        crate::files::write_atomically(path, |out| out.write_all(text.as_bytes()))
     }
 
     /// NaN and infinities are not valid coordinates in a file.
@@ -154,6 +171,29 @@ impl Scene {
             Some(bad) => Err(format!("coordinates must be finite numbers, found {bad}")),
             None => Ok(()),
         }
+    }
+}
+
+/// What ron's error says, with an unknown field (usually a typo) named plainly.
+fn describe(code: &ron::Error) -> String {
+    match code {
+        ron::Error::NoSuchStructField {
+            expected,
+            found,
+            outer,
+        } => {
+            let within = outer
+                .as_ref()
+                .map(|o| format!(" in {o}"))
+                .unwrap_or_default();
+            let names: Vec<String> = expected.iter().map(|n| format!("'{n}'")).collect();
+            let expected = match names.len() {
+                1 => names[0].clone(),
+                _ => format!("one of {}", names.join(", ")),
+            };
+            format!("unknown field '{found}'{within}, expected {expected}")
+        }
+        other => other.to_string(),
     }
 }
 
@@ -280,6 +320,95 @@ mod tests {
             assert!(!scene.title.is_empty() && !scene.note.is_empty());
             let again = Scene::from_ron(&scene.to_ron(), "again").unwrap();
             assert_eq!(again, scene);
+        }
+    }
+
+    /// True when every field and value of `original` is in `written` (which may add defaults).
+    fn keeps_everything(original: &ron::Value, written: &ron::Value) -> bool {
+        use ron::Value;
+        match (original, written) {
+            (Value::Map(a), Value::Map(b)) => a
+                .iter()
+                .all(|(key, value)| b.get(key).is_some_and(|w| keeps_everything(value, w))),
+            (Value::Seq(a), Value::Seq(b)) => {
+                a.len() == b.len() && a.iter().zip(b).all(|(x, y)| keeps_everything(x, y))
+            }
+            (Value::Option(Some(a)), Value::Option(Some(b))) => keeps_everything(a, b),
+            (Value::Number(a), Value::Number(b)) => a.into_f64() == b.into_f64(),
+            (a, b) => a == b,
+        }
+    }
+
+    /// Each shipped file, written back from what was read, still holds every field it had: a field
+    /// renamed or dropped in code fails here (and, being unknown, fails to read at all).
+    #[test]
+    fn every_shipped_scene_is_written_back_unchanged() {
+        for (file, text) in BUILT_IN {
+            let scene = Scene::from_ron(text, file).unwrap();
+            let written = scene.to_ron();
+            let original: ron::Value = ron::from_str(text).unwrap();
+            let again: ron::Value = ron::from_str(&written).unwrap();
+            assert!(
+                keeps_everything(&original, &again),
+                "{file} lost data when written back:\n{written}"
+            );
+            assert_eq!(Scene::from_ron(&written, file).unwrap(), scene, "{file}");
+        }
+    }
+
+    #[test]
+    fn an_unknown_field_is_refused_where_it_is() {
+        let base = BUILT_IN
+            .iter()
+            .find(|(file, _)| *file == "render-mesh.ron")
+            .unwrap()
+            .1;
+        for (from, to, found, within) in [
+            (
+                "effects:",
+                "methd: Some(\"bogus\"), effects:",
+                "methd",
+                "RenderScene",
+            ),
+            (
+                "color: (0.3",
+                "transfrom: (scale: (2.0, 2.0, 2.0)), color: (0.3",
+                "transfrom",
+                "Object",
+            ),
+            (
+                "color: (0.3",
+                "texure: Some(\"x.png\"), color: (0.3",
+                "texure",
+                "Object",
+            ),
+            ("title:", "bogus: 1, title:", "bogus", "Scene"),
+            ("fov_y: 35.0", "fov_y: 35.0, roll: 3.0", "roll", "Pinhole"),
+            ("obj: \"", "ob: \"", "ob", "Mesh"),
+        ] {
+            let text = base.replacen(from, to, 1);
+            let line = text
+                .lines()
+                .position(|l| l.contains(&format!("{found}:")))
+                .unwrap()
+                + 1;
+            let err = Scene::from_ron(&text, "typo.ron").unwrap_err();
+            assert_eq!(err.line, Some(line), "{err}");
+            let message = err.to_string();
+            assert!(
+                message.contains(&format!("unknown field '{found}' in {within}, expected ")),
+                "{message}"
+            );
+        }
+        // Every other scene type too: segments, triangle, parallelogram and a transform.
+        for text in [
+            "(title: \"x\", note: \"y\", problem: Segments((a1: (0.0, 0.0), a2: (1.0, 0.0), b1: (0.0, 1.0), b2: (1.0, 1.0), a3: (0.0, 0.0))))",
+            "(title: \"x\", note: \"y\", problem: Triangle((a: (0.0, 0.0, 0.0), b: (1.0, 0.0, 0.0), c: (0.0, 1.0, 0.0), origin: (0.0, 0.0, 1.0), dir: (0.0, 0.0, -1.0), tmin: 0.5)))",
+            "(title: \"x\", note: \"y\", problem: Parallelogram((corner: (0.0, 0.0, 0.0), e1: (1.0, 0.0, 0.0), e2: (0.0, 1.0, 0.0), origin: (0.0, 0.0, 1.0), direction: (0.0, 0.0, -1.0))))",
+            "(title: \"x\", note: \"y\", problem: Render((width: 4, height: 4, camera: ImagePlane(x: (1.0, -1.0), y: (1.0, -1.0), z: 1.0), objects: [(shape: Parallelogram(corner: (0.0, 0.0, 3.0), e1: (1.0, 0.0, 0.0), e2: (0.0, 1.0, 0.0)), transform: (translation: (1.0, 0.0, 0.0)))], effects: [])))",
+        ] {
+            let err = Scene::from_ron(text, "typo.ron").unwrap_err();
+            assert!(err.message.starts_with("unknown field"), "{err}");
         }
     }
 

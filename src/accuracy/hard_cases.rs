@@ -9,6 +9,7 @@ use crate::geometry::Precision;
 
 /// A named hard case.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct HardCase {
     /// Its name.
     pub name: String,

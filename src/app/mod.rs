@@ -1441,4 +1441,50 @@ mod tests {
         );
         assert_eq!(file_name("  "), "raylab-scene.ron");
     }
+
+    /// A typo in a scene file is refused with its line and column, and the app keeps its scene; Save
+    /// replaces a file whole and leaves no temporary file, and a folder is not overwritten.
+    #[test]
+    fn open_refuses_a_typo_and_save_replaces_files_whole() {
+        let dir = std::env::temp_dir().join(format!("raylab-app-files-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut app = RaylabApp::new();
+        app.launch(&Launch::from_query("?preset=render-mesh"));
+        let before = app.state.render.scene.clone();
+        let typo = dir.join("typo.ron");
+        let text = scene::preset("render-mesh").unwrap().to_ron();
+        std::fs::write(
+            &typo,
+            text.replace("effects:", "methd: Some(\"plane\"), effects:"),
+        )
+        .unwrap();
+        app.state.scene_path = typo.display().to_string();
+        let notice = app.run_dialog_path(false);
+        assert!(notice.error);
+        assert!(
+            notice.text.contains("typo.ron:") && notice.text.contains("unknown field 'methd'"),
+            "{}",
+            notice.text
+        );
+        assert_eq!(app.state.render.scene, before);
+
+        let saved = dir.join("saved.ron");
+        std::fs::write(&saved, "an older file").unwrap();
+        app.state.scene_path = saved.display().to_string();
+        assert!(!app.run_dialog_path(true).error);
+        assert_eq!(
+            Scene::load(&saved).unwrap().problem,
+            Problem::Render(before)
+        );
+        app.state.scene_path = dir.display().to_string();
+        assert!(app.run_dialog_path(true).error);
+        let mut names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(names, ["saved.ron", "typo.ron"]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -95,7 +95,7 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 2019)]
     pub seed: u64,
     /// Print the hard-case gallery instead: what every method decides on each named case.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "out")]
     pub hard_cases: bool,
 }
 
@@ -318,10 +318,48 @@ pub fn run(cli: Cli) -> i32 {
     }
 }
 
+/// Only PNG can be written: said before anything is rendered or any file touched.
+fn check_png_name(output: &std::path::Path) -> Result<(), String> {
+    match image::ImageFormat::from_path(output) {
+        Ok(image::ImageFormat::Png) => Ok(()),
+        Ok(other) => Err(format!(
+            "-o {}: raylab writes PNG images only, not {other:?} (name the file .png)",
+            output.display()
+        )),
+        Err(_) => Err(format!(
+            "-o {}: raylab writes PNG images only (name the file .png)",
+            output.display()
+        )),
+    }
+}
+
+/// Encodes the image as a PNG into a temporary file beside `output`, renamed over it when complete.
+fn write_png(image: &crate::render::Image, output: &std::path::Path) -> Result<(), String> {
+    use image::ImageEncoder;
+    if image.width == 0 || image.height == 0 {
+        return Err("the image has no pixels".into());
+    }
+    crate::files::write_atomically(output, |out| {
+        image::codecs::png::PngEncoder::new(out)
+            .write_image(
+                &image.to_rgb8(),
+                image.width as u32,
+                image.height as u32,
+                image::ExtendedColorType::Rgb8,
+            )
+            .map_err(std::io::Error::other)
+    })
+    .map_err(|e| e.to_string())
+}
+
 fn run_render(args: RenderArgs) -> i32 {
     use crate::render::{Effect, Prepared, assets::OnDisk, render};
     use crate::scene::{Problem, Scene};
     let name = args.scene.display().to_string();
+    if let Err(message) = check_png_name(&args.output) {
+        eprintln!("raylab: {message}");
+        return 2;
+    }
     let scene = match Scene::load(&args.scene) {
         Ok(Scene {
             problem: Problem::Render(scene),
@@ -370,12 +408,7 @@ fn run_render(args: RenderArgs) -> i32 {
     times.sort_by(f64::total_cmp);
     let seconds = times[times.len() / 2];
     let (image, stats) = result.expect("at least one render");
-    let buffer =
-        image::RgbImage::from_raw(image.width as u32, image.height as u32, image.to_rgb8());
-    let written = buffer
-        .ok_or_else(|| "the image has no pixels".to_string())
-        .and_then(|b| b.save(&args.output).map_err(|e| e.to_string()));
-    if let Err(message) = written {
+    if let Err(message) = write_png(&image, &args.output) {
         eprintln!(
             "raylab: could not write {}: {message}",
             args.output.display()
@@ -431,12 +464,30 @@ fn print_hard_cases() -> i32 {
     0
 }
 
+/// `bench --out` names a folder (made if missing); anything else there is said before the run.
+fn check_out_folder(dir: &std::path::Path) -> Result<(), String> {
+    match std::fs::metadata(dir) {
+        Ok(metadata) if metadata.is_dir() => Ok(()),
+        Ok(_) => Err(
+            "is a file, not a folder (bench writes results.json and results.csv into a folder)"
+                .into(),
+        ),
+        Err(_) => Ok(()),
+    }
+}
+
 fn run_bench(args: BenchArgs) -> i32 {
     use crate::accuracy::study;
     if args.hard_cases {
         return print_hard_cases();
     }
     use std::io::IsTerminal;
+    if let Some(dir) = &args.out
+        && let Err(message) = check_out_folder(dir)
+    {
+        eprintln!("raylab: --out {}: {message}", dir.display());
+        return 2;
+    }
     let mut config = if args.quick {
         study::Config::quick()
     } else {
@@ -469,12 +520,16 @@ fn run_bench(args: BenchArgs) -> i32 {
         clock.seconds()
     );
     if let Some(dir) = args.out {
+        use crate::files::write_atomically;
+        let json = serde_json::to_string_pretty(&records).expect("records serialize");
+        let csv = study::csv(&records);
         let written = std::fs::create_dir_all(&dir)
             .and_then(|()| {
-                let json = serde_json::to_string_pretty(&records).expect("records serialize");
-                std::fs::write(dir.join("results.json"), json)
+                write_atomically(&dir.join("results.json"), |o| o.write_all(json.as_bytes()))
             })
-            .and_then(|()| std::fs::write(dir.join("results.csv"), study::csv(&records)));
+            .and_then(|()| {
+                write_atomically(&dir.join("results.csv"), |o| o.write_all(csv.as_bytes()))
+            });
         if let Err(error) = written {
             eprintln!("raylab: could not write to {}: {error}", dir.display());
             return 1;

@@ -7,6 +7,7 @@ use std::io::BufReader;
 use std::path::PathBuf;
 
 use super::objects::{PreparedTriangle, mesh_triangle};
+use crate::files::{FileKind, MESH, ReadError, TEXTURE, read_regular};
 use crate::geometry::linalg::V3;
 
 /// The meshes and textures under `assets/`, by their name relative to it.
@@ -23,15 +24,15 @@ const EMBEDDED: [(&str, &[u8]); 2] = [
 
 /// Where a scene's files come from.
 pub trait AssetSource {
-    /// The bytes of `name` (relative to `assets/`), or why not.
-    fn read(&self, name: &str) -> Result<Vec<u8>, String>;
+    /// The bytes of `name` (relative to `assets/`), a file of `kind` and at most its size, or why not.
+    fn read(&self, name: &str, kind: FileKind) -> Result<Vec<u8>, String>;
 }
 
 /// Only the files embedded in the binary.
 pub struct Embedded;
 
 impl AssetSource for Embedded {
-    fn read(&self, name: &str) -> Result<Vec<u8>, String> {
+    fn read(&self, name: &str, _: FileKind) -> Result<Vec<u8>, String> {
         embedded(name).map(<[u8]>::to_vec).ok_or_else(|| {
             let names: Vec<&str> = EMBEDDED.iter().map(|(n, _)| *n).collect();
             format!(
@@ -61,13 +62,16 @@ impl OnDisk {
 }
 
 impl AssetSource for OnDisk {
-    fn read(&self, name: &str) -> Result<Vec<u8>, String> {
+    fn read(&self, name: &str, kind: FileKind) -> Result<Vec<u8>, String> {
         if let Some(bytes) = embedded(name) {
             return Ok(bytes.to_vec());
         }
         for folder in &self.0 {
-            if let Ok(bytes) = std::fs::read(folder.join(name)) {
-                return Ok(bytes);
+            let path = folder.join(name);
+            match read_regular(&path, kind) {
+                Ok(bytes) => return Ok(bytes),
+                Err(ReadError::NotFound) => continue,
+                Err(ReadError::Refused(why)) => return Err(format!("{}: {why}", path.display())),
             }
         }
         let tried: Vec<String> = self
@@ -85,7 +89,8 @@ impl AssetSource for OnDisk {
 /// Reads an OBJ file's triangles (polygons are triangulated), with its normals and UVs when every
 /// vertex has them.
 pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTriangle>, String> {
-    let bytes = assets.read(name)?;
+    let bytes = assets.read(name, MESH)?;
+    check_faces(&bytes).map_err(|e| format!("{name}: {e}"))?;
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -98,6 +103,8 @@ pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTri
     let mut triangles = Vec::new();
     for model in &models {
         let mesh = &model.mesh;
+        super::check_numbers("vertex coordinates", &mesh.positions)
+            .map_err(|e| format!("{name}: {e}"))?;
         let point = |i: u32| -> V3<f64> {
             let i = i as usize * 3;
             [
@@ -111,9 +118,6 @@ pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTri
         for face in mesh.indices.chunks_exact(3) {
             let face: [u32; 3] = [face[0], face[1], face[2]];
             let vertices = [point(face[0]), point(face[1]), point(face[2])];
-            if vertices.iter().flatten().any(|c| !c.is_finite()) {
-                return Err(format!("{name}: a vertex is not a finite number"));
-            }
             let normals = has_normals.then(|| {
                 face.map(|i| {
                     let i = i as usize * 3;
@@ -135,32 +139,102 @@ pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTri
     Ok(triangles)
 }
 
-/// A decoded texture: linear RGB texels, row 0 at the top (v = 1), wrapping in both directions.
+/// The most triangles a mesh may have (polygons count as the triangles they are cut into): a
+/// prepared triangle with normals and texture coordinates takes about 300 bytes, so 2 million take
+/// about 600 MB.
+pub const MAX_MESH_TRIANGLES: u64 = 2_000_000;
+
+/// Checks an OBJ file before it is parsed: a face may only use the vertices above it (tobj resolves
+/// the indices at the end of the file, so a face before its vertices would otherwise draw whatever
+/// comes later), and the faces make at most [`MAX_MESH_TRIANGLES`] triangles.
+fn check_faces(obj: &[u8]) -> Result<(), String> {
+    let mut vertices = 0u64;
+    let mut triangles = 0u64;
+    for (number, line) in obj.split(|b| *b == b'\n').enumerate() {
+        let line = String::from_utf8_lossy(line);
+        let mut tokens = line.split_whitespace();
+        match tokens.next() {
+            Some("v") => vertices += 1,
+            Some("f") => {
+                let corners = tokens.clone().count() as u64;
+                triangles += corners.saturating_sub(2);
+                if triangles > MAX_MESH_TRIANGLES {
+                    return Err(format!(
+                        "line {}: the mesh has more than {} million triangles, the most a mesh may \
+                         have",
+                        number + 1,
+                        MAX_MESH_TRIANGLES / 1_000_000
+                    ));
+                }
+                for token in tokens {
+                    let index = token.split('/').next().unwrap_or("");
+                    let Ok(index) = index.parse::<i64>() else {
+                        continue; // tobj reports what it cannot read.
+                    };
+                    if index.unsigned_abs() > vertices {
+                        let before = match vertices {
+                            0 => "no vertex comes".to_string(),
+                            1 => "only 1 vertex comes".to_string(),
+                            n => format!("only {n} vertices come"),
+                        };
+                        return Err(format!(
+                            "line {}: the face uses vertex {index}, but {before} before it (an OBJ \
+                             file's faces must follow their vertices)",
+                            number + 1
+                        ));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// The most pixels a texture may have (4096 × 4096): its texels then take 48 MiB.
+pub const MAX_TEXTURE_PIXELS: u64 = 4096 * 4096;
+
+/// The most memory the PNG decoder may allocate (a 4096 × 4096 image of 16-bit RGBA takes 128 MiB).
+const MAX_DECODER_BYTES: u64 = 256 << 20;
+
+/// A decoded texture: 8-bit RGB texels (3 bytes each), row 0 at the top (v = 1), wrapping in both
+/// directions.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
     /// Width in texels.
     pub width: usize,
     /// Height in texels.
     pub height: usize,
-    /// RGB in [0, 1].
-    pub texels: Vec<[f32; 3]>,
+    /// R, G, B of each texel in turn, 0 to 255 (3 bytes a texel).
+    pub texels: Vec<u8>,
 }
 
 impl Texture {
-    /// Decodes a PNG.
+    /// Decodes a PNG of at most [`MAX_TEXTURE_PIXELS`]; its size is read from the header and
+    /// refused before anything is decoded.
     pub fn load(assets: &dyn AssetSource, name: &str) -> Result<Texture, String> {
-        let bytes = assets.read(name)?;
-        let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-            .map_err(|e| format!("{name}: not a readable PNG: {e}"))?
-            .to_rgb8();
-        let (width, height) = (image.width() as usize, image.height() as usize);
-        let texels = image
-            .pixels()
-            .map(|p| p.0.map(|c| c as f32 / 255.0))
-            .collect();
+        let bytes = assets.read(name, TEXTURE)?;
+        let unreadable = |e: image::ImageError| format!("{name}: not a readable PNG: {e}");
+        let reader = || {
+            image::ImageReader::with_format(std::io::Cursor::new(&bytes), image::ImageFormat::Png)
+        };
+        let (width, height) = reader().into_dimensions().map_err(unreadable)?;
+        if u64::from(width) * u64::from(height) > MAX_TEXTURE_PIXELS {
+            return Err(format!(
+                "{name}: the texture is {width}x{height} pixels, more than the {} million a \
+                 texture may have (4096x4096)",
+                MAX_TEXTURE_PIXELS >> 20
+            ));
+        }
+        let mut reader = reader();
+        let mut limits = image::Limits::default();
+        limits.max_alloc = Some(MAX_DECODER_BYTES);
+        reader.limits(limits);
+        // An 8-bit RGB PNG decodes straight into these bytes; other kinds are converted once.
+        let texels = reader.decode().map_err(unreadable)?.into_rgb8().into_raw();
         Ok(Texture {
-            width,
-            height,
+            width: width as usize,
+            height: height as usize,
             texels,
         })
     }
@@ -173,7 +247,8 @@ impl Texture {
         };
         let column = wrap(u, self.width);
         let row = self.height - 1 - wrap(v, self.height);
-        self.texels[row * self.width + column]
+        let at = (row * self.width + column) * 3;
+        std::array::from_fn(|k| self.texels[at + k] as f32 / 255.0)
     }
 }
 
@@ -188,6 +263,7 @@ mod tests {
         assert!(mesh.iter().all(|t| t.normals.is_some() && t.uvs.is_some()));
         let texture = Texture::load(&Embedded, "textures/checker.png").unwrap();
         assert!(texture.width > 0 && texture.height > 0);
+        assert_eq!(texture.texels.len(), texture.width * texture.height * 3);
     }
 
     #[test]
@@ -196,7 +272,7 @@ mod tests {
         assert!(missing.contains("meshes/none.obj"), "{missing}");
         struct Garbage;
         impl AssetSource for Garbage {
-            fn read(&self, _: &str) -> Result<Vec<u8>, String> {
+            fn read(&self, _: &str, _: FileKind) -> Result<Vec<u8>, String> {
                 Ok(b"not a png".to_vec())
             }
         }

@@ -28,6 +28,7 @@ use shade::Shader;
 
 /// A camera: seed 003's image plane, or a pinhole looking at a target.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Camera {
     /// Seed 003: pixel (row, column) is the point (x, y, z) of a plane, x from `x.0` (left) to `x.1`
     /// (right), y from `y.0` (top) to `y.1` (bottom), both ends included; the ray starts there and goes
@@ -154,6 +155,7 @@ impl From<SceneMethod> for String {
 
 /// A scene to render (the `Render` problem of a scene file).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RenderScene {
     /// Image width in pixels.
     pub width: usize,
@@ -171,7 +173,8 @@ pub struct RenderScene {
 }
 
 impl RenderScene {
-    /// Checks what the file format cannot: finite numbers, a usable size and field of view.
+    /// Checks what the file format cannot: finite numbers within [`MAX_MAGNITUDE`], a usable size,
+    /// camera and field of view, scales that can be inverted.
     pub fn check(&self) -> Result<(), String> {
         if !(1..=MAX_SIDE).contains(&self.width) || !(1..=MAX_SIDE).contains(&self.height) {
             return Err(format!(
@@ -179,8 +182,27 @@ impl RenderScene {
                 self.width, self.height
             ));
         }
-        let mut numbers: Vec<f64> = match &self.camera {
-            Camera::ImagePlane { x, y, z } => vec![x.0, x.1, y.0, y.1, *z],
+        check_numbers("the camera's numbers", &self.camera.numbers())?;
+        self.check_camera()?;
+        for (i, object) in self.objects.iter().enumerate() {
+            let mut numbers = Vec::new();
+            object.numbers(&mut numbers);
+            check_numbers("coordinates", &numbers)
+                .and_then(|()| check_scale(&object.transform.scale))
+                .map_err(|e| format!("object {}: {e}", i + 1))?;
+        }
+        Ok(())
+    }
+
+    /// A camera whose every ray has a direction.
+    fn check_camera(&self) -> Result<(), String> {
+        match &self.camera {
+            Camera::ImagePlane { z, .. } if z.abs() < MIN_MAGNITUDE => Err(format!(
+                "the image plane is at z = {z}: rays start on the plane and point away from the \
+                 origin, so at z = 0 they run along the plane and the one through the origin has no \
+                 direction; put the plane at |z| ≥ {MIN_MAGNITUDE:e}"
+            )),
+            Camera::ImagePlane { .. } => Ok(()),
             Camera::Pinhole {
                 position,
                 target,
@@ -191,35 +213,77 @@ impl RenderScene {
                         "the field of view is {fov_y}°: it must be between 0° and 180°"
                     ));
                 }
-                if position == target {
-                    return Err("the camera's position and target are the same point".into());
+                let apart = sub(target, position);
+                if dot(&apart, &apart).sqrt() < MIN_MAGNITUDE {
+                    return Err(format!(
+                        "the camera's position and target are the same point (or closer than \
+                         {MIN_MAGNITUDE:e}): the camera has no direction"
+                    ));
                 }
-                let across = (target[0] - position[0]).hypot(target[1] - position[1]);
-                let along = (target[2] - position[2]).abs();
-                if across <= 1e-9 * along {
+                let across = apart[0].hypot(apart[1]);
+                if across <= 1e-9 * apart[2].abs() {
                     return Err(
                         "the camera looks straight up or down: z is the image's up, so move the \
                          target off the vertical through the position"
                             .into(),
                     );
                 }
-                [*position, *target].concat()
-            }
-        };
-        for (i, object) in self.objects.iter().enumerate() {
-            let before = numbers.len();
-            object.numbers(&mut numbers);
-            if let Some(bad) = numbers[before..].iter().find(|v| !v.is_finite()) {
-                return Err(format!(
-                    "object {}: coordinates must be finite numbers, found {bad}",
-                    i + 1
-                ));
+                Ok(())
             }
         }
-        match numbers.iter().find(|v| !v.is_finite()) {
-            Some(bad) => Err(format!("the camera's numbers must be finite, found {bad}")),
-            None => Ok(()),
+    }
+}
+
+impl Camera {
+    /// Every number the camera holds.
+    pub fn numbers(&self) -> Vec<f64> {
+        match self {
+            Camera::ImagePlane { x, y, z } => vec![x.0, x.1, y.0, y.1, *z],
+            Camera::Pinhole {
+                position,
+                target,
+                fov_y,
+            } => [&position[..], &target[..], &[*fov_y]].concat(),
         }
+    }
+}
+
+/// The largest magnitude of any number in a render scene (and of a mesh's vertices): products of
+/// three coordinates, as the intersection tests form them, then stay far inside f64's range, even
+/// after a transform's inverse (at most 1 / [`MIN_MAGNITUDE`]) has been applied.
+pub const MAX_MAGNITUDE: f64 = 1e30;
+
+/// The smallest magnitude of a transform's scale and of an image plane's z.
+pub const MIN_MAGNITUDE: f64 = 1e-30;
+
+/// Finite, and within ±[`MAX_MAGNITUDE`]; `what` names the numbers in the message.
+pub fn check_numbers(what: &str, numbers: &[f64]) -> Result<(), String> {
+    if let Some(bad) = numbers.iter().find(|v| !v.is_finite()) {
+        return Err(format!("{what} must be finite numbers, found {bad}"));
+    }
+    match numbers.iter().find(|v| v.abs() > MAX_MAGNITUDE) {
+        Some(big) => Err(format!(
+            "{what} must be at most {MAX_MAGNITUDE:e} in magnitude (so the renderer's arithmetic \
+             cannot overflow), found {big:e}"
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A scale whose inverse stays within [`MAX_MAGNITUDE`].
+fn check_scale(scale: &[f64; 3]) -> Result<(), String> {
+    if scale.contains(&0.0) {
+        return Err(format!(
+            "the transform's scale {scale:?} has a zero component: the object would be flat and \
+             its transform has no inverse"
+        ));
+    }
+    match scale.iter().find(|s| s.abs() < MIN_MAGNITUDE) {
+        Some(small) => Err(format!(
+            "the transform's scale component {small:e} is too small to invert safely: each must be \
+             at least {MIN_MAGNITUDE:e} in magnitude"
+        )),
+        None => Ok(()),
     }
 }
 
@@ -348,12 +412,7 @@ pub struct Prepared {
 impl Prepared {
     /// Reads the scene's meshes and textures and inverts its transforms.
     pub fn new(scene: &RenderScene, assets: &dyn AssetSource) -> Result<Prepared, String> {
-        if !(1..=MAX_SIDE).contains(&scene.width) || !(1..=MAX_SIDE).contains(&scene.height) {
-            return Err(format!(
-                "the image is {}x{}: each side must be 1 to {MAX_SIDE} pixels",
-                scene.width, scene.height
-            ));
-        }
+        scene.check()?;
         let objects = scene
             .objects
             .iter()

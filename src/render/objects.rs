@@ -14,6 +14,7 @@ use crate::geometry::linalg::{V3, cross, sub};
 // the scene files' Rust side.
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Shape {
     /// One triangle with optional per-vertex attributes.
     Triangle {
@@ -47,7 +48,7 @@ pub enum Shape {
 
 /// Object to world: scale, then rotate (degrees about x, then y, then z), then translate.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct Transform {
     /// Translation.
     pub translate: [f64; 3],
@@ -86,6 +87,7 @@ impl Transform {
 
 /// One object of a scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Object {
     /// Its geometry in object space.
     pub shape: Shape,

@@ -1,0 +1,364 @@
+//! Hostile files through the real binary: scenes with typos, scenes that would hang the renderer,
+//! meshes and textures that are not what they claim, outputs that must not be destroyed. Each case
+//! ends within a second with a one-line error that names the problem.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+/// Address space the child may use: a debug render of a shipped scene needs far less, and reading a
+/// 4 GB file or decoding a 13 000 × 13 000 texture far more.
+const ADDRESS_SPACE_KIB: u64 = 512 * 1024;
+
+/// Runs the binary under `sh -c` with these shell limits (`ulimit -v …`), in `dir`.
+fn raylab_limited(limits: &str, dir: &Path, args: &[&str]) -> Output {
+    Command::new("sh")
+        .arg("-c")
+        .arg(format!("{limits} && exec \"$0\" \"$@\""))
+        .arg(env!("CARGO_BIN_EXE_raylab"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("sh runs")
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// A fresh scratch folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("raylab-hostile-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The shipped closed-mesh scene's text.
+fn mesh_scene() -> String {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/render-mesh.ron");
+    std::fs::read_to_string(path).unwrap()
+}
+
+/// Renders `scene` (written into `dir`) to `dir/out.png` under an address-space limit; the run must
+/// fail within a second with one line on standard error, which is returned.
+fn refused(dir: &Path, name: &str, scene: &str) -> String {
+    let file = dir.join(name);
+    std::fs::write(&file, scene).unwrap();
+    let png = dir.join("out.png");
+    let clock = Instant::now();
+    let limit = format!("ulimit -v {ADDRESS_SPACE_KIB}");
+    let output = raylab_limited(&limit, dir, &["render", name, "-o", "out.png"]);
+    let elapsed = clock.elapsed();
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{name}: {message}");
+    assert!(elapsed < Duration::from_secs(1), "{name} took {elapsed:?}");
+    assert_eq!(message.trim_end().lines().count(), 1, "{name}: {message}");
+    assert!(!png.exists(), "{name}: an image was written");
+    message
+}
+
+#[test]
+fn a_typo_in_a_scene_is_refused_with_file_line_and_column() {
+    let dir = scratch("typo");
+    let text = mesh_scene().replace(
+        "effects:",
+        "methd: Some(\"bogus-method\"),\n        effects:",
+    );
+    let message = refused(&dir, "typo.ron", &text);
+    assert!(
+        message.starts_with(
+            "raylab: typo.ron:11:9: unknown field 'methd' in RenderScene, expected one of"
+        ),
+        "{message}"
+    );
+    let text = mesh_scene().replace(
+        "color: (0.3",
+        "texure: Some(\"no/such/file.png\"), color: (0.3",
+    );
+    let message = refused(&dir, "texure.ron", &text);
+    assert!(
+        message.contains("unknown field 'texure' in Object"),
+        "{message}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The render scene of `mesh_scene` with this object instead of the shipped sphere.
+fn with_object(object: &str) -> String {
+    mesh_scene().replace(
+        "(shape: Mesh(obj: \"meshes/octasphere.obj\"), color: (0.3, 0.6, 0.9))",
+        object,
+    )
+}
+
+#[test]
+fn numbers_that_would_overflow_or_hang_the_renderer_are_refused() {
+    let dir = scratch("overflow");
+    let sphere = "shape: Mesh(obj: \"meshes/octasphere.obj\")";
+    let image_plane = |camera: &str| {
+        mesh_scene().replace(
+            "Pinhole(position: (0.0, -4.0, 0.0), target: (0.0, 0.0, 0.0), fov_y: 35.0)",
+            camera,
+        )
+    };
+    for (name, scene, expected) in [
+        (
+            // This one rendered for minutes: every ray tested every triangle in exact arithmetic.
+            "translate.ron",
+            with_object(&format!(
+                "({sphere}, transform: (translate: (1e308, 1e308, 1e308)))"
+            )),
+            "object 1: coordinates must be at most 1e30 in magnitude (so the renderer's arithmetic \
+             cannot overflow), found 1e308",
+        ),
+        (
+            "scale.ron",
+            with_object(&format!(
+                "({sphere}, transform: (scale: (1e-200, 1.0, 1.0)))"
+            )),
+            "object 1: the transform's scale component 1e-200 is too small to invert safely",
+        ),
+        (
+            "camera.ron",
+            image_plane(
+                "Pinhole(position: (0.0, -1e300, 0.0), target: (0.0, 0.0, 0.0), fov_y: 35.0)",
+            ),
+            "the camera's numbers must be at most 1e30 in magnitude",
+        ),
+        (
+            "target.ron",
+            image_plane(
+                "Pinhole(position: (0.0, -4.0, 0.0), target: (0.0, -4.0, 1e-310), fov_y: 35.0)",
+            ),
+            "the camera's position and target are the same point (or closer than 1e-30)",
+        ),
+        (
+            "plane.ron",
+            image_plane("ImagePlane(x: (0.0, 0.0), y: (0.0, 0.0), z: 0.0)"),
+            "the image plane is at z = 0: rays start on the plane",
+        ),
+    ] {
+        let message = refused(&dir, name, &scene);
+        assert!(message.contains(expected), "{name}: {message}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn meshes_with_bad_vertices_or_faces_first_are_refused() {
+    let dir = scratch("obj");
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    for (obj, text, expected) in [
+        (
+            "nan.obj",
+            "v nan 0 3\nv 1 0 3\nv 0 1 3\nf 1 2 3\n",
+            "meshes/nan.obj: vertex coordinates must be finite numbers, found NaN",
+        ),
+        (
+            "huge.obj",
+            "v 1e300 0 3\nv 1 0 3\nv 0 1 3\nf 1 2 3\n",
+            "meshes/huge.obj: vertex coordinates must be at most 1e30 in magnitude",
+        ),
+        (
+            "early.obj",
+            "f 1 2 3\nv 0 0 3\nv 1 0 3\nv 0 1 3\n",
+            "meshes/early.obj: line 1: the face uses vertex 1, but no vertex comes before it",
+        ),
+        (
+            // One polygon of 2 000 004 corners: 2 000 002 triangles.
+            "many.obj",
+            &format!("v 0 0 3\nv 1 0 3\nv 0 1 3\nf{}\n", " 1 2 3".repeat(666_668)),
+            "meshes/many.obj: line 4: the mesh has more than 2 million triangles, the most a mesh \
+             may have",
+        ),
+    ] {
+        std::fs::write(dir.join("meshes").join(obj), text.as_bytes()).unwrap();
+        let scene = with_object(&format!("(shape: Mesh(obj: \"meshes/{obj}\"))"));
+        let message = refused(&dir, &format!("{obj}.ron"), &scene);
+        assert!(message.contains(expected), "{obj}: {message}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A sparse file of `bytes` (no disk space used): `fs::read` of it would allocate them all.
+fn sparse(path: &Path, bytes: u64) {
+    std::fs::File::create(path).unwrap().set_len(bytes).unwrap();
+}
+
+#[test]
+fn paths_that_are_not_regular_files_or_too_large_are_refused_at_once() {
+    let dir = scratch("kinds");
+    std::fs::create_dir_all(dir.join("folder.ron")).unwrap();
+    sparse(&dir.join("4gb.ron"), 4 << 30);
+    sparse(&dir.join("4gb.obj"), 4 << 30);
+    sparse(&dir.join("4gb.png"), 4 << 30);
+    let limit = format!("ulimit -v {ADDRESS_SPACE_KIB}");
+    for (scene, expected) in [
+        (
+            "/dev/zero",
+            "raylab: /dev/zero: a character device, not a scene file",
+        ),
+        (
+            "folder.ron",
+            "raylab: folder.ron: a directory, not a scene file",
+        ),
+        (
+            "4gb.ron",
+            "raylab: 4gb.ron: 4.0 GiB, larger than a scene file may be (16.0 MiB)",
+        ),
+    ] {
+        let clock = Instant::now();
+        let output = raylab_limited(&limit, &dir, &["render", scene, "-o", "out.png"]);
+        let message = stderr(&output);
+        assert_eq!(output.status.code(), Some(1), "{scene}: {message}");
+        assert_eq!(message.trim_end(), expected);
+        assert!(clock.elapsed() < Duration::from_secs(1), "{scene}");
+    }
+    for (shape, expected) in [
+        (
+            "Mesh(obj: \"/dev/zero\")",
+            "object 1: /dev/zero: a character device, not a mesh",
+        ),
+        (
+            "Mesh(obj: \"/tmp\")",
+            "object 1: /tmp: a directory, not a mesh",
+        ),
+        (
+            "Mesh(obj: \"4gb.obj\")",
+            "4gb.obj: 4.0 GiB, larger than a mesh may be (256.0 MiB)",
+        ),
+    ] {
+        let message = refused(&dir, "mesh.ron", &with_object(&format!("(shape: {shape})")));
+        assert!(message.contains(expected), "{shape}: {message}");
+    }
+    let sphere = "shape: Mesh(obj: \"meshes/octasphere.obj\")";
+    for (texture, expected) in [
+        (
+            "/dev/urandom",
+            "object 1: /dev/urandom: a character device, not a texture",
+        ),
+        (
+            "4gb.png",
+            "4gb.png: 4.0 GiB, larger than a texture may be (64.0 MiB)",
+        ),
+    ] {
+        let object = format!("({sphere}, texture: Some(\"{texture}\"))");
+        let message = refused(&dir, "texture.ron", &with_object(&object));
+        assert!(message.contains(expected), "{texture}: {message}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A 20 KB PNG of 13 000 × 13 000 one-bit pixels: decoded and widened to f32 texels it took 2.5 GB.
+#[test]
+fn a_texture_over_the_pixel_limit_is_refused_from_its_header() {
+    let dir = scratch("texture");
+    let fixture = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/13000x13000.png"
+    );
+    std::fs::copy(fixture, dir.join("huge.png")).unwrap();
+    let object = "(shape: Mesh(obj: \"meshes/octasphere.obj\"), texture: Some(\"huge.png\"))";
+    let message = refused(&dir, "huge.ron", &with_object(object));
+    assert!(
+        message.contains(
+            "object 1: huge.png: the texture is 13000x13000 pixels, more than the 16 million a \
+             texture may have (4096x4096)"
+        ),
+        "{message}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The seed 003 facing-ratio scene (its PNG is about 30 KB).
+const FACING: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/scenes/seed003-facing.ron"
+);
+
+/// The folder's file names, sorted.
+fn names_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn an_existing_output_file_is_never_destroyed() {
+    let dir = scratch("output");
+    // A format raylab cannot write: refused before rendering, the file untouched.
+    std::fs::write(dir.join("existing.jpg"), "precious").unwrap();
+    let clock = Instant::now();
+    let output = raylab_limited("true", &dir, &["render", FACING, "-o", "existing.jpg"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert_eq!(
+        stderr(&output).trim_end(),
+        "raylab: -o existing.jpg: raylab writes PNG images only, not Jpeg (name the file .png)"
+    );
+    assert!(clock.elapsed() < Duration::from_secs(1));
+    assert_eq!(
+        std::fs::read_to_string(dir.join("existing.jpg")).unwrap(),
+        "precious"
+    );
+    // A full disk, simulated by a file-size limit of 8 blocks on the child: the write fails, the old
+    // file stays whole and no temporary file is left.
+    std::fs::write(dir.join("existing.png"), "precious").unwrap();
+    let output = raylab_limited(
+        "ulimit -f 8",
+        &dir,
+        &["render", FACING, "-o", "existing.png"],
+    );
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("could not write existing.png: File too large"),
+        "{}",
+        stderr(&output)
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("existing.png")).unwrap(),
+        "precious"
+    );
+    assert_eq!(names_in(&dir), ["existing.jpg", "existing.png"]);
+    // Without the limit the new image replaces the old file, complete.
+    let output = raylab_limited("true", &dir, &["render", FACING, "-o", "existing.png"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let png = std::fs::read(dir.join("existing.png")).unwrap();
+    assert!(
+        png.len() > 8192 && png.ends_with(b"IEND\xaeB`\x82"),
+        "{}",
+        png.len()
+    );
+    assert_eq!(names_in(&dir), ["existing.jpg", "existing.png"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bench_out_must_name_a_folder_and_does_not_apply_to_hard_cases() {
+    let dir = scratch("bench");
+    std::fs::write(dir.join("results"), "precious").unwrap();
+    let clock = Instant::now();
+    let output = raylab_limited("true", &dir, &["bench", "--quick", "--out", "results"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert_eq!(
+        stderr(&output).trim_end(),
+        "raylab: --out results: is a file, not a folder (bench writes results.json and \
+         results.csv into a folder)"
+    );
+    assert!(
+        clock.elapsed() < Duration::from_secs(1),
+        "checked before the run"
+    );
+    let output = raylab_limited("true", &dir, &["bench", "--hard-cases", "--out", "gallery"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        stderr(&output).contains("'--hard-cases' cannot be used with '--out <DIR>'"),
+        "{}",
+        stderr(&output)
+    );
+    assert_eq!(names_in(&dir), ["results"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
