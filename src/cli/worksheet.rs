@@ -73,5 +73,7 @@ fn write(args: &WorksheetArgs) -> Result<(), String> {
 
 fn save(dir: &Path, name: &str, text: &str) -> Result<(), String> {
     let path = dir.join(name);
-    std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    // Whole or not at all: a full disk leaves the old file as it was.
+    crate::files::write_atomically(&path, |out| out.write_all(text.as_bytes()))
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
