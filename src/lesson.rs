@@ -41,6 +41,9 @@ pub struct Slide {
     /// Show the steps in symbols (seed 002's derivation, for a triangle scene) instead of numbers.
     #[serde(default)]
     pub symbolic: bool,
+    /// Where a 3D view's camera looks from (the scene is framed to fill the view from there).
+    #[serde(default)]
+    pub camera: Option<Camera>,
     /// What the teacher says, a line each. Math is written as text (β = |M1| / |M|).
     pub narration: Vec<String>,
     /// A question for the room, with its answer revealed on request.
@@ -50,6 +53,16 @@ pub struct Slide {
 
 fn exact() -> Precision {
     Precision::Exact
+}
+
+/// A camera direction for a 3D slide, in degrees.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Camera {
+    /// Around the vertical (z) axis.
+    pub yaw: f64,
+    /// Above the xy plane (−89 to 89).
+    pub pitch: f64,
 }
 
 /// A question on a slide.
@@ -113,6 +126,22 @@ impl Lesson {
                 problems.push(format!("{at}: no built-in scene named “{}”", slide.scene));
                 continue;
             };
+            if let Some(camera) = slide.camera {
+                let three_d = matches!(
+                    scene.problem,
+                    Problem::Triangle(_) | Problem::Parallelogram(_)
+                );
+                if !three_d {
+                    problems.push(format!(
+                        "{at}: a camera is for the Triangle and Parallelogram views"
+                    ));
+                }
+                if !(camera.yaw.is_finite() && (-89.0..=89.0).contains(&camera.pitch)) {
+                    problems.push(format!(
+                        "{at}: the camera's pitch must be −89 to 89 degrees"
+                    ));
+                }
+            }
             if let Some(step) = &slide.step {
                 let trace = if slide.symbolic {
                     matches!(scene.problem, Problem::Triangle(_))

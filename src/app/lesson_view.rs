@@ -93,6 +93,14 @@ impl RaylabApp {
                     });
                 }
                 self.state.view = view_of(&scene.problem);
+                if let Some(camera) = slide.camera {
+                    let (yaw, pitch) = (camera.yaw.to_radians(), camera.pitch.to_radians());
+                    // The views frame the scene from this direction on their next frame.
+                    self.state.triangle.camera.yaw = yaw;
+                    self.state.triangle.camera.pitch = pitch;
+                    self.state.parallelogram.camera.yaw = yaw;
+                    self.state.parallelogram.camera.pitch = pitch;
+                }
             }
             None => {
                 self.notice = Some(Notice {
