@@ -308,3 +308,50 @@ fn hovering_a_step_highlights_it_in_the_view() {
     harness.run();
     assert!(harness.state().state.triangle.highlight.is_empty());
 }
+
+/// Every slide of every lesson, and a practice problem of each kind, read cleanly on the projector at
+/// 150% and 200%: the narration, the step and the view share the screen without overprinting.
+#[test]
+fn lessons_and_practice_read_cleanly_at_150_and_200_percent() {
+    let mut problems = Vec::new();
+    for zoom in [1.5, 2.0] {
+        let screen = Rect::from_min_size(egui::Pos2::ZERO, Vec2::new(1280.0, 800.0) / zoom);
+        let mut harness = projector(1280.0, 800.0, zoom);
+        for name in raylab::lesson::lesson_names() {
+            harness
+                .state_mut()
+                .start_lesson(name)
+                .expect("a shipped lesson");
+            common::wait_for_render(&mut harness);
+            let slides = harness.state().lesson.as_ref().unwrap().lesson.slides.len();
+            for slide in 0..slides {
+                common::wait_for_render(&mut harness);
+                harness.remove_cursor();
+                harness.run();
+                for problem in layout_problems(&harness, screen) {
+                    problems.push(format!("{name} slide {} at {zoom}x: {problem}", slide + 1));
+                }
+                harness.key_press(egui::Key::Space);
+                common::wait_for_render(&mut harness);
+            }
+            harness.key_press(egui::Key::Escape);
+            harness.run();
+        }
+        for kind in [
+            raylab::exercise::Kind::Segments,
+            raylab::exercise::Kind::Triangle,
+            raylab::exercise::Kind::Parallelogram,
+        ] {
+            harness
+                .state_mut()
+                .start_practice(kind, raylab::exercise::Level::Hit);
+            harness.run();
+            for problem in layout_problems(&harness, screen) {
+                problems.push(format!("practice {} at {zoom}x: {problem}", kind.name()));
+            }
+            harness.key_press(egui::Key::Escape);
+            harness.run();
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
