@@ -1303,6 +1303,9 @@ pub fn set_style(ctx: &egui::Context) {
         ]
         .into();
         style.spacing.slider_width = 160.0;
+        // Solid scroll bars, shown whenever there is more: on a zoomed projector a student must see
+        // that the controls or the steps go on (egui's floating bars hide until hovered).
+        style.spacing.scroll = egui::style::ScrollStyle::solid();
         readable_visuals(&mut style.visuals);
     });
 }
