@@ -1,0 +1,136 @@
+//! Presentation mode: the view fills the screen beside one step at a time, stepped with the keys a
+//! clicker sends, each step highlighting what it is about (and sliding the handles it computes).
+
+use egui::{RichText, Ui};
+
+use super::widgets::palette::Readable as _;
+use super::{
+    ActiveSolve, Notice, RaylabApp, ViewKind, enlarge, highlight, lesson_view, step_panel, widgets,
+};
+
+impl RaylabApp {
+    /// Enters or leaves presentation mode (only views that solve one problem have steps to show).
+    pub fn toggle_presentation(&mut self, ctx: &egui::Context) {
+        if self.presentation.take().is_some() {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(false));
+            return;
+        }
+        if matches!(
+            self.state.view,
+            ViewKind::Segments | ViewKind::Triangle | ViewKind::Parallelogram
+        ) {
+            self.presentation = Some(0);
+            ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(true));
+        } else {
+            self.notice = Some(Notice {
+                text: "Presentation steps through one solve: open the Segments, Triangle or \
+                       Parallelogram view first"
+                    .into(),
+                error: true,
+                view: Some(self.state.view),
+            });
+        }
+    }
+
+    /// Presentation mode: the view fills the window, one step at a time beside it, large; the keys a
+    /// presentation clicker sends move between steps.
+    pub(super) fn presentation_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve, index: usize) {
+        let Some(trace) = solved.trace().filter(|t| !t.steps.is_empty()) else {
+            self.presentation = None;
+            return;
+        };
+        let count = trace.steps.len();
+        let mut index = index.min(count - 1);
+        let lesson_view::PresenterKeys { next, back, leave } = lesson_view::presenter_keys(ui);
+        let mut moved = (next && index + 1 < count) || (back && index > 0);
+        if next && index + 1 < count {
+            index += 1;
+        } else if back && index > 0 {
+            index -= 1;
+        }
+        let step = &trace.steps[index];
+        let elements = highlight::of_step(&trace.solver, &step.id);
+        let mut leave = leave;
+        egui::Panel::top("presenter").show(ui, |ui| {
+            ui.horizontal_wrapped(|ui| {
+                if ui
+                    .add_enabled(index > 0, egui::Button::new("◀ Back"))
+                    .on_hover_text("The step before (← or Page Up)")
+                    .clicked()
+                {
+                    index -= 1;
+                    moved = true;
+                }
+                ui.label(RichText::new(format!("Step {} of {count}", index + 1)).strong());
+                if ui
+                    .add_enabled(index + 1 < count, egui::Button::new("Next ▶"))
+                    .on_hover_text("The next step (Space, → or Page Down)")
+                    .clicked()
+                {
+                    index += 1;
+                    moved = true;
+                }
+                if ui
+                    .button("Leave (Esc)")
+                    .on_hover_text("Back to the usual layout")
+                    .clicked()
+                {
+                    leave = true;
+                }
+                ui.separator();
+                let names: Vec<String> = elements.iter().map(|e| e.name()).collect();
+                if !names.is_empty() {
+                    ui.label(
+                        RichText::new(format!("Highlighted: {}", names.join(", ")))
+                            .color(widgets::palette::SOLUTION.readable(ui)),
+                    );
+                }
+            });
+        });
+        if leave {
+            self.toggle_presentation(ui.ctx());
+            return;
+        }
+        self.presentation = Some(index);
+        let step = &trace.steps[index];
+        let elements = highlight::of_step(&trace.solver, &step.id);
+        if moved {
+            self.reveal(&elements, solved, ui.input(|i| i.time));
+        }
+        let full = ui.available_width();
+        egui::Panel::right("presented-step")
+            .resizable(false)
+            .exact_size((full * 0.42).max(200.0))
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    enlarge(ui, 1.4);
+                    step_panel::step_ui(ui, index + 1, step, None);
+                });
+            });
+        self.set_highlight(elements);
+        let view = egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, true));
+        self.view_rect = Some(view.response.rect);
+    }
+
+    /// Moves the handles a newly shown step computes to their solution (β = |M1|/|M| slides β).
+    pub(super) fn reveal(
+        &mut self,
+        elements: &[highlight::Element],
+        solved: &ActiveSolve,
+        now: f64,
+    ) {
+        for element in elements {
+            let highlight::Element::Parameter(parameter) = element else {
+                continue;
+            };
+            match solved {
+                ActiveSolve::Triangle(s) => self.state.triangle.show_parameter(*parameter, s, now),
+                ActiveSolve::Segments(s) => self.state.segments.show_parameter(*parameter, s, now),
+                ActiveSolve::Parallelogram(s) => {
+                    self.state.parallelogram.show_parameter(*parameter, s)
+                }
+                ActiveSolve::Nothing => {}
+            }
+        }
+    }
+}
