@@ -112,8 +112,98 @@ fn number(value: &Value) -> Result<Literal, String> {
     Literal::parse(&number_text(value)?)
 }
 
+/// The longest batch line read, in bytes; a longer line is refused (and skipped to its end) without
+/// being held in memory.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// One line of input, read with bounded memory.
+enum RawLine {
+    /// The line's bytes (in [`LineReader::buf`]), without the line break.
+    Bytes,
+    /// The line has more than [`MAX_LINE_BYTES`] bytes: reported at once, the rest skipped unread.
+    TooLong,
+}
+
+/// Splits input into lines of at most [`MAX_LINE_BYTES`], whatever the input holds (no line break at
+/// all, as from `/dev/zero`, included).
+struct LineReader<R> {
+    input: R,
+    buf: Vec<u8>,
+    /// Inside a line already reported as too long: drop bytes up to its line break.
+    skipping: bool,
+}
+
+impl<R: BufRead> LineReader<R> {
+    fn new(input: R) -> Self {
+        LineReader {
+            input,
+            buf: Vec::new(),
+            skipping: false,
+        }
+    }
+
+    /// The next line; `None` at the end of the input.
+    fn next_line(&mut self) -> std::io::Result<Option<RawLine>> {
+        self.buf.clear();
+        let mut read_any = false;
+        loop {
+            let available = match self.input.fill_buf() {
+                Ok(bytes) => bytes,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            };
+            if available.is_empty() {
+                return Ok((read_any && !self.skipping).then_some(RawLine::Bytes));
+            }
+            let (chunk, ends_line) = match available.iter().position(|&b| b == b'\n') {
+                Some(i) => (&available[..i], true),
+                None => (available, false),
+            };
+            let used = chunk.len() + usize::from(ends_line);
+            if self.skipping {
+                self.input.consume(used);
+                self.skipping = !ends_line;
+                continue;
+            }
+            read_any = true;
+            if self.buf.len() + chunk.len() > MAX_LINE_BYTES {
+                self.input.consume(used);
+                self.skipping = !ends_line;
+                self.buf.clear();
+                return Ok(Some(RawLine::TooLong));
+            }
+            self.buf.extend_from_slice(chunk);
+            self.input.consume(used);
+            if ends_line {
+                if self.buf.last() == Some(&b'\r') {
+                    self.buf.pop();
+                }
+                return Ok(Some(RawLine::Bytes));
+            }
+        }
+    }
+}
+
+/// The text of a line, or why it cannot be read as text.
+fn line_text<'a>(line: &RawLine, bytes: &'a [u8]) -> Result<&'a str, String> {
+    match line {
+        RawLine::TooLong => Err(format!(
+            "the line is longer than {MAX_LINE_BYTES} bytes; skipped to its end"
+        )),
+        RawLine::Bytes => std::str::from_utf8(bytes).map_err(|e| {
+            format!(
+                "not valid UTF-8 (byte {} of the line); skipped",
+                e.valid_up_to() + 1
+            )
+        }),
+    }
+}
+
 /// Solves every line of `input`, writing one JSON line each to `output` and a one-line note for each
 /// bad line to `errors`. Returns how many lines were bad. Blank lines are skipped.
+///
+/// A line that is not UTF-8 or is too long is a bad line like any other: the batch goes on. Only a
+/// failure to read the input or to write `output` stops it; `errors` is best effort (it may be closed).
 pub fn run_batch(
     input: impl BufRead,
     mut output: impl Write,
@@ -122,21 +212,27 @@ pub fn run_batch(
     with_trace: bool,
 ) -> std::io::Result<usize> {
     let mut bad = 0;
-    for (index, line) in input.lines().enumerate() {
-        let number = index + 1;
-        let line = line?;
-        if line.trim().is_empty() {
-            continue;
-        }
-        let result = match parse_case(&line, default) {
-            Ok((case, precision)) => {
+    let mut lines = LineReader::new(input);
+    let mut number = 0;
+    while let Some(line) = lines.next_line()? {
+        number += 1;
+        let parsed = line_text(&line, &lines.buf).and_then(|text| {
+            if text.trim().is_empty() {
+                Ok(None)
+            } else {
+                parse_case(text, default).map(Some)
+            }
+        });
+        let result = match parsed {
+            Ok(None) => continue,
+            Ok(Some((case, precision))) => {
                 let mut value = run(&case, precision).to_json(with_trace);
                 value["line"] = json!(number);
                 value
             }
             Err(message) => {
                 bad += 1;
-                writeln!(errors, "raylab: line {number}: {message}")?;
+                let _ = writeln!(errors, "raylab: line {number}: {message}");
                 json!({"line": number, "status": "error", "error": message})
             }
         };
@@ -220,5 +316,57 @@ mod tests {
                 .unwrap()
                 .starts_with("raylab: line 3: not valid JSON")
         );
+    }
+
+    fn statuses(input: &[u8]) -> (usize, Vec<Value>) {
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let bad = run_batch(input, &mut out, &mut err, Precision::F64, false).unwrap();
+        let lines = String::from_utf8(out)
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        (bad, lines)
+    }
+
+    #[test]
+    fn a_line_of_invalid_utf8_is_one_bad_line() {
+        let good = br#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1"}"#;
+        let mut input = Vec::new();
+        input.extend_from_slice(good);
+        input.extend_from_slice(b"\n\xff\xfe\r\n");
+        input.extend_from_slice(good);
+        let (bad, lines) = statuses(&input);
+        assert_eq!(bad, 1);
+        assert_eq!(lines.len(), 3);
+        assert_eq!(lines[1]["line"], 2);
+        assert!(lines[1]["error"].as_str().unwrap().contains("UTF-8"));
+        assert_eq!(lines[2]["line"], 3);
+        assert_eq!(lines[2]["status"], "crossing");
+    }
+
+    #[test]
+    fn a_line_past_the_limit_is_refused_and_the_batch_goes_on() {
+        let good = br#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1"}"#;
+        let mut input = vec![b' '; MAX_LINE_BYTES + 10];
+        input.push(b'\n');
+        input.extend_from_slice(good);
+        // A reader that hands out small chunks, as a pipe does.
+        let reader = std::io::BufReader::with_capacity(1000, input.as_slice());
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let bad = run_batch(reader, &mut out, &mut err, Precision::F64, false).unwrap();
+        assert_eq!(bad, 1);
+        let out = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines.len(), 2);
+        assert!(lines[0].contains("longer than"), "{}", lines[0]);
+        assert!(lines[1].contains("\"line\":2"), "{}", lines[1]);
+    }
+
+    #[test]
+    fn the_last_line_needs_no_line_break() {
+        let (bad, lines) =
+            statuses(br#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1"}"#);
+        assert_eq!((bad, lines.len()), (0, 1));
     }
 }
