@@ -119,3 +119,122 @@ fn dev_zero_as_input_is_refused_at_once_and_memory_stays_bounded() {
     let _ = child.wait();
     assert!(still_running, "the batch died reading /dev/zero");
 }
+
+/// Segments A = (0,0)–(x,0) and B = (1,1)–(1,−1): they meet at (1,0), the end of A when x = 1.
+fn segments_ending_at(x: &str) -> String {
+    format!(r#"{{"kind":"segments","a1":[0,0],"a2":[{x},0],"b1":[1,1],"b2":[1,-1]}}"#)
+}
+
+#[test]
+fn exact_reads_json_numbers_as_written_even_with_a_thousand_digits() {
+    // 0.999…9 with 999 nines: just short of 1, so B crosses A's line beyond A's end.
+    let x = format!("0.{}", "9".repeat(999));
+    let input = format!(
+        "{}\n{}\n",
+        segments_ending_at(&x),
+        segments_ending_at("1.0000000000000000000001")
+            .replace("\"kind\"", "\"precision\":\"f64\",\"kind\"")
+    );
+    let clock = std::time::Instant::now();
+    let output = batch(&["--precision", "exact", "--no-trace"], input.as_bytes());
+    let seconds = clock.elapsed().as_secs_f64();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let lines = json_lines(&output);
+    assert_eq!(lines[0]["status"], "lines-cross-outside");
+    let t = format!("1{}/{}", "0".repeat(999), "9".repeat(999));
+    assert_eq!(lines[0]["exact"]["t"], t.as_str());
+    // The same numbers in f64 round to 1: touching.
+    assert_eq!(lines[1]["status"], "touching");
+    assert!(seconds < 1.0, "{seconds} s");
+}
+
+#[test]
+fn exact_keeps_every_digit_of_a_long_integer() {
+    let line = r#"{"kind":"triangle","a":[123456789012345678901234567890,0,0],"b":[0,3,0],"c":[0,0,3],"origin":[0,0,0],"dir":[1,1,1]}"#;
+    let output = batch(&["--precision", "exact", "--no-trace"], line.as_bytes());
+    let lines = json_lines(&output);
+    assert_eq!(lines[0]["status"], "hit");
+    // The plane through (a,0,0), (0,3,0), (0,0,3) meets x = y = z at 1/(1/a + 2/3).
+    let a: u128 = 123456789012345678901234567890;
+    let (numerator, denominator) = (3 * a, 2 * a + 3);
+    let gcd = |mut x: u128, mut y: u128| {
+        while y != 0 {
+            (x, y) = (y, x % y);
+        }
+        x
+    };
+    let g = gcd(numerator, denominator);
+    let expected = format!("{}/{}", numerator / g, denominator / g);
+    assert_eq!(lines[0]["exact"]["t"], expected.as_str());
+}
+
+#[test]
+fn numbers_past_the_limits_are_refused_fast_with_short_messages() {
+    let million = "1".repeat(1_000_000);
+    let mut input = String::new();
+    for precision in ["f32", "f64", "exact"] {
+        input += &format!(
+            r#"{{"kind":"segments","precision":"{precision}","a1":[{million},0],"a2":[1,0],"b1":[1,1],"b2":[1,-1]}}"#
+        );
+        input.push('\n');
+    }
+    let huge = format!("1{}", "0".repeat(5000));
+    input += &segments_ending_at(&huge);
+    input.push('\n');
+    let clock = std::time::Instant::now();
+    let output = batch(&["--no-trace"], input.as_bytes());
+    assert!(clock.elapsed().as_secs_f64() < 2.0);
+    let lines = json_lines(&output);
+    for line in &lines[..3] {
+        let error = line["error"].as_str().unwrap();
+        assert!(error.contains("longer than the limit of 10000"), "{error}");
+        assert!(error.len() < 120, "{error}");
+    }
+    let error = lines[3]["error"].as_str().unwrap();
+    assert!(error.contains("too large for a 64-bit float"), "{error}");
+    assert!(error.len() < 160, "{error}");
+}
+
+#[test]
+fn a_flag_beyond_the_float_range_is_exact_in_exact_mode_and_refused_briefly_in_f64() {
+    let huge = format!("1{}", "0".repeat(5000));
+    let args = |precision: &str| {
+        [
+            "solve",
+            "segments",
+            "--a1",
+            "0,0",
+            "--a2",
+            &format!("{huge},0"),
+            "--b1",
+            "1,1",
+            "--b2",
+            "1,-1",
+            "--format",
+            "json",
+            "--no-trace",
+            "--precision",
+            precision,
+        ]
+        .map(String::from)
+    };
+    let exact = Command::new(BIN).args(args("exact")).output().unwrap();
+    assert!(
+        exact.status.success(),
+        "{}",
+        String::from_utf8_lossy(&exact.stderr)
+    );
+    let report: Value = serde_json::from_slice(&exact.stdout).unwrap();
+    assert_eq!(report["status"], "crossing");
+    assert_eq!(report["exact"]["t"], format!("1/{huge}").as_str());
+    let float = Command::new(BIN).args(args("f64")).output().unwrap();
+    assert_eq!(float.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&float.stderr);
+    assert!(stderr.starts_with("raylab: --a2: component 1:"), "{stderr}");
+    assert!(stderr.contains("too large for a 64-bit float"), "{stderr}");
+    assert!(stderr.len() < 160, "{stderr}");
+}

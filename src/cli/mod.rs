@@ -506,7 +506,14 @@ fn run_solve(args: SolveArgs) -> i32 {
                 }
             }
         }
-        _ => solve::run(&problem.into_case(), precision),
+        _ => {
+            let case = problem.into_case();
+            if let Err(message) = case.fits(precision) {
+                eprintln!("raylab: {message}");
+                return 2;
+            }
+            solve::run(&case, precision)
+        }
     };
     let output = match args.format.unwrap_or(Format::Text) {
         Format::Text => trace::to_text(&report.trace),

@@ -33,6 +33,27 @@ pub enum Case {
 }
 
 impl Case {
+    /// Ok if `precision` can hold every number (exact holds any), else the refusal naming the flag.
+    pub fn fits(&self, precision: Precision) -> Result<(), String> {
+        let named =
+            |flag: &str, result: Result<(), String>| result.map_err(|e| format!("--{flag}: {e}"));
+        match self {
+            Case::Segments { points } => ["a1", "a2", "b1", "b2"]
+                .iter()
+                .zip(points)
+                .try_for_each(|(flag, p)| named(flag, p.fits(precision))),
+            Case::Triangle { vectors, t_min } => ["a", "b", "c", "origin", "dir"]
+                .iter()
+                .zip(vectors)
+                .try_for_each(|(flag, v)| named(flag, v.fits(precision)))
+                .and_then(|()| named("tmin", t_min.fits(precision))),
+            Case::Parallelogram { vectors } => ["corner", "e1", "e2", "origin", "dir"]
+                .iter()
+                .zip(vectors)
+                .try_for_each(|(flag, v)| named(flag, v.fits(precision))),
+        }
+    }
+
     /// `segments`, `triangle` or `parallelogram`.
     pub fn kind(&self) -> &'static str {
         match self {
@@ -76,15 +97,74 @@ pub fn run(case: &Case, precision: Precision) -> Report {
 }
 
 fn run_in<R: Real>(case: &Case) -> Report {
+    let (fields, trace) = solve_posed(&pose::<R>(case), true);
+    Report {
+        fields,
+        trace: trace.expect("recorded"),
+    }
+}
+
+/// A problem in one precision, ready to solve.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Posed<R> {
+    /// Two 2D segments.
+    Segments(SegmentPair<R>),
+    /// A ray and a triangle.
+    Triangle(RayTriangle<R>),
+    /// A ray and a parallelogram.
+    Parallelogram(RayParallelogram<R>),
+}
+
+impl<R> Posed<R> {
+    /// `segments`, `triangle` or `parallelogram`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Posed::Segments(_) => "segments",
+            Posed::Triangle(_) => "triangle",
+            Posed::Parallelogram(_) => "parallelogram",
+        }
+    }
+}
+
+/// The case's numbers in precision `R` (rounded once from the exact value of the text).
+fn pose<R: Real>(case: &Case) -> Posed<R> {
+    match case {
+        Case::Segments { points } => Posed::Segments(SegmentPair {
+            a1: convert(&points[0]),
+            a2: convert(&points[1]),
+            b1: convert(&points[2]),
+            b2: convert(&points[3]),
+        }),
+        Case::Triangle { vectors, t_min } => Posed::Triangle(RayTriangle {
+            a: convert(&vectors[0]),
+            b: convert(&vectors[1]),
+            c: convert(&vectors[2]),
+            origin: convert(&vectors[3]),
+            dir: convert(&vectors[4]),
+            t_min: R::from_exact(&t_min.exact),
+        }),
+        Case::Parallelogram { vectors } => Posed::Parallelogram(RayParallelogram {
+            corner: convert(&vectors[0]),
+            e1: convert(&vectors[1]),
+            e2: convert(&vectors[2]),
+            origin: convert(&vectors[3]),
+            dir: convert(&vectors[4]),
+        }),
+    }
+}
+
+/// Solves a posed problem: the report's fields, and the trace when `record` is set (a solve without a
+/// trace formats no steps at all).
+pub fn solve_posed<R: Real>(posed: &Posed<R>, record: bool) -> (Map<String, Value>, Option<Trace>) {
     let mut fields = Map::new();
-    fields.insert("kind".into(), json!(case.kind()));
+    fields.insert("kind".into(), json!(posed.kind()));
     fields.insert("precision".into(), json!(R::PRECISION.name()));
-    let trace = match case {
-        Case::Segments { points } => segments_report::<R>(points, &mut fields),
-        Case::Triangle { vectors, t_min } => triangle_report::<R>(vectors, t_min, &mut fields),
-        Case::Parallelogram { vectors } => parallelogram_report::<R>(vectors, &mut fields),
+    let trace = match posed {
+        Posed::Segments(pair) => segments_report(pair, record, &mut fields),
+        Posed::Triangle(problem) => triangle_report(problem, record, &mut fields),
+        Posed::Parallelogram(problem) => parallelogram_report(problem, record, &mut fields),
     };
-    Report { fields, trace }
+    (fields, trace)
 }
 
 fn convert<R: Real, const N: usize>(c: &Coords<N>) -> [R; N] {
@@ -139,16 +219,14 @@ impl ExactFields {
     }
 }
 
-fn segments_report<R: Real>(points: &[Coords<2>; 4], fields: &mut Map<String, Value>) -> Trace {
-    let pair = SegmentPair {
-        a1: convert::<R, 2>(&points[0]),
-        a2: convert::<R, 2>(&points[1]),
-        b1: convert::<R, 2>(&points[2]),
-        b2: convert::<R, 2>(&points[3]),
-    };
-    let solution = segments::solve(&pair, true);
+fn segments_report<R: Real>(
+    pair: &SegmentPair<R>,
+    record: bool,
+    fields: &mut Map<String, Value>,
+) -> Option<Trace> {
+    let solution = segments::solve(pair, record);
     fields.insert("status".into(), json!(solution.outcome.status()));
-    insert_message(fields, solution.trace.as_ref());
+    fields.insert("message".into(), json!(solution.message()));
     match &solution.outcome {
         SegmentsOutcome::LinesCrossOutside {
             t_outside,
@@ -181,25 +259,17 @@ fn segments_report<R: Real>(points: &[Coords<2>; 4], fields: &mut Map<String, Va
     exact.vector("point", solution.point.as_ref());
     exact.vector("overlap", solution.overlap.as_ref());
     exact.finish(fields);
-    solution.trace.expect("recorded")
+    solution.trace
 }
 
 fn triangle_report<R: Real>(
-    vectors: &[Coords<3>; 5],
-    t_min: &Literal,
+    problem: &RayTriangle<R>,
+    record: bool,
     fields: &mut Map<String, Value>,
-) -> Trace {
-    let problem = RayTriangle {
-        a: convert::<R, 3>(&vectors[0]),
-        b: convert::<R, 3>(&vectors[1]),
-        c: convert::<R, 3>(&vectors[2]),
-        origin: convert::<R, 3>(&vectors[3]),
-        dir: convert::<R, 3>(&vectors[4]),
-        t_min: R::from_exact(&t_min.exact),
-    };
-    let solved = triangle::solve(&problem, true);
+) -> Option<Trace> {
+    let solved = triangle::solve(problem, record);
     fields.insert("status".into(), json!(solved.outcome.status()));
-    insert_message(fields, solved.trace.as_ref());
+    fields.insert("message".into(), json!(solved.message()));
     if let TriangleOutcome::Miss(miss) = &solved.outcome {
         insert_triangle_miss(fields, miss);
     }
@@ -231,7 +301,7 @@ fn triangle_report<R: Real>(
         exact.0.insert("distance".into(), json!(distance.full()));
     }
     exact.finish(fields);
-    solved.trace.expect("recorded")
+    solved.trace
 }
 
 fn insert_triangle_miss(fields: &mut Map<String, Value>, miss: &TriangleMiss) {
@@ -257,19 +327,13 @@ fn insert_triangle_miss(fields: &mut Map<String, Value>, miss: &TriangleMiss) {
 }
 
 fn parallelogram_report<R: Real>(
-    vectors: &[Coords<3>; 5],
+    problem: &RayParallelogram<R>,
+    record: bool,
     fields: &mut Map<String, Value>,
-) -> Trace {
-    let problem = RayParallelogram {
-        corner: convert::<R, 3>(&vectors[0]),
-        e1: convert::<R, 3>(&vectors[1]),
-        e2: convert::<R, 3>(&vectors[2]),
-        origin: convert::<R, 3>(&vectors[3]),
-        dir: convert::<R, 3>(&vectors[4]),
-    };
-    let solved = parallelogram::solve(&problem, true);
+) -> Option<Trace> {
+    let solved = parallelogram::solve(problem, record);
     fields.insert("status".into(), json!(solved.outcome.status()));
-    insert_message(fields, solved.trace.as_ref());
+    fields.insert("message".into(), json!(solved.message()));
     match &solved.outcome {
         parallelogram::ParallelogramOutcome::Outside { sides } => {
             let failed: Vec<&str> = sides.iter().map(|s| s.inequality()).collect();
@@ -308,7 +372,7 @@ fn parallelogram_report<R: Real>(
         solved.point.as_ref(),
     );
     exact.finish(fields);
-    solved.trace.expect("recorded")
+    solved.trace
 }
 
 /// Copies the verdict's sentence into the report as `message`.
@@ -338,6 +402,9 @@ pub fn method_report(
             "--method {} tests t > 0; --tmin applies to cramer and exact only",
             method.name()
         ));
+    }
+    if method != Method::Exact {
+        lecture().fits(precision)?;
     }
     let named = |mut report: Report| {
         report.fields.insert("method".into(), json!(method.name()));
