@@ -238,3 +238,83 @@ fn a_flag_beyond_the_float_range_is_exact_in_exact_mode_and_refused_briefly_in_f
     assert!(stderr.contains("too large for a 64-bit float"), "{stderr}");
     assert!(stderr.len() < 160, "{stderr}");
 }
+
+/// Runs the binary with standard output and standard error both a pipe whose reading end is already
+/// closed: every write fails with EPIPE, deterministically.
+fn with_closed_streams(args: &[&str], stdin: Stdio) -> Option<i32> {
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    Command::new(BIN)
+        .args(args)
+        .stdin(stdin)
+        .stdout(writer.try_clone().unwrap())
+        .stderr(writer)
+        .status()
+        .unwrap()
+        .code()
+}
+
+fn lecture() -> Stdio {
+    Stdio::from(std::fs::File::open("assets/examples/lecture.jsonl").unwrap())
+}
+
+#[test]
+fn closed_streams_never_panic() {
+    // A panic exits with 101; each of these must end with its own status instead.
+    assert_eq!(
+        with_closed_streams(&["solve", "--batch"], lecture()),
+        Some(1)
+    );
+    assert_eq!(with_closed_streams(&["solve"], Stdio::null()), Some(2));
+    assert_eq!(
+        with_closed_streams(&["solve", "segments", "--a1", "x"], Stdio::null()),
+        Some(2)
+    );
+    assert_eq!(
+        with_closed_streams(&["solve", "--batch", "--format", "text"], Stdio::null()),
+        Some(2)
+    );
+    assert_eq!(
+        with_closed_streams(&["bench", "--hard-cases"], Stdio::null()),
+        Some(0)
+    );
+    let missing = with_closed_streams(
+        &["render", "no-such-scene.ron", "-o", "x.png"],
+        Stdio::null(),
+    );
+    assert_eq!(missing, Some(1));
+}
+
+/// Runs `pipeline` under `sh` with `$0` the binary; returns what it printed and the binary's status.
+fn through_head(command: &str) -> (String, String) {
+    let dir = std::env::temp_dir().join(format!("raylab-head-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let status_file = dir.join(format!("status-{}", command.len()));
+    let script = format!(
+        "{{ \"$0\" {command} 2>&1; echo $? > '{}'; }} | head -1",
+        status_file.display()
+    );
+    let output = Command::new("sh")
+        .arg("-c")
+        .arg(script)
+        .arg(BIN)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let status = std::fs::read_to_string(&status_file).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    (
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        status.trim().to_string(),
+    )
+}
+
+#[test]
+fn piping_both_streams_into_head_does_not_panic() {
+    let (first, status) = through_head("solve --batch < assets/examples/lecture.jsonl");
+    assert!(first.starts_with('{'), "{first}");
+    // 0 if everything fit in the pipe before head left, 1 if a write failed: never 101.
+    assert!(status == "0" || status == "1", "status {status}");
+    let (_, status) = through_head("solve");
+    assert_eq!(status, "2");
+}
