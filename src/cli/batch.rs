@@ -13,16 +13,16 @@ use std::fmt;
 use std::io::{BufRead, Write};
 
 use serde::de::{self, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
+use serde_json::json;
 use serde_json::value::RawValue;
-use serde_json::{Map, Value, json};
 
 use super::input::{ReadNumber, quoted};
-use super::solve::{Posed, solve_posed};
+use super::solve::{FieldSink, Posed, solve_posed};
 use crate::exact::Exact;
-use crate::geometry::Precision;
 use crate::geometry::parallelogram::RayParallelogram;
 use crate::geometry::segments::SegmentPair;
 use crate::geometry::triangle::RayTriangle;
+use crate::geometry::{Precision, Real};
 
 /// Every field a case may have besides `kind` and `precision`.
 const FIELDS: [&str; 13] = [
@@ -291,24 +291,51 @@ impl LineCase<'_> {
         })
     }
 
-    /// Solves the case in its precision: the report's fields, with the trace if asked for.
-    pub fn solve(&self, with_trace: bool) -> Result<Map<String, Value>, String> {
+    /// Solves the case in its precision and writes its report as one JSON line (with `"line"`, and
+    /// the trace if asked for) to `out`.
+    pub fn solve_into(
+        &self,
+        line: usize,
+        with_trace: bool,
+        out: &mut Vec<u8>,
+    ) -> Result<(), String> {
         match self.precision {
-            Precision::F32 => solved(&self.pose::<f32>()?, with_trace),
-            Precision::F64 => solved(&self.pose::<f64>()?, with_trace),
-            Precision::Exact => solved(&self.pose::<Exact>()?, with_trace),
+            Precision::F32 => write_report(&self.pose::<f32>()?, line, with_trace, out),
+            Precision::F64 => write_report(&self.pose::<f64>()?, line, with_trace, out),
+            Precision::Exact => write_report(&self.pose::<Exact>()?, line, with_trace, out),
         }
+        Ok(())
     }
 }
 
-fn solved<R: ReadNumber>(posed: &Posed<R>, with_trace: bool) -> Result<Map<String, Value>, String> {
-    let (mut fields, trace) = solve_posed(posed, with_trace);
-    if let Some(trace) = trace {
-        let trace = serde_json::to_value(&trace).map_err(|e| e.to_string())?;
-        fields.insert("trace".into(), trace);
-    }
-    Ok(fields)
+/// Writes a JSON object's fields one by one as they come, with no map in between.
+struct JsonLine<'a> {
+    out: &'a mut Vec<u8>,
+    empty: bool,
 }
+
+impl FieldSink for JsonLine<'_> {
+    fn put(&mut self, key: &'static str, value: impl serde::Serialize) {
+        self.out.push(if self.empty { b'{' } else { b',' });
+        self.empty = false;
+        self.out.push(b'"');
+        self.out.extend_from_slice(key.as_bytes());
+        self.out.extend_from_slice(b"\":");
+        serde_json::to_writer(&mut *self.out, &value).expect("report fields always serialize");
+    }
+}
+
+fn write_report<R: Real>(posed: &Posed<R>, line: usize, with_trace: bool, out: &mut Vec<u8>) {
+    let mut fields = JsonLine { out, empty: true };
+    if let Some(trace) = solve_posed(posed, with_trace, &mut fields) {
+        fields.put("trace", &trace);
+    }
+    fields.put("line", line);
+    fields.out.extend_from_slice(b"}\n");
+}
+
+/// Output is written in chunks of about this many bytes (and whenever the input may block).
+const OUTPUT_CHUNK: usize = 1 << 16;
 
 /// The longest batch line read, in bytes; a longer line is refused (and skipped to its end) without
 /// being held in memory.
@@ -329,6 +356,8 @@ struct LineReader<R> {
     buf: Vec<u8>,
     /// Inside a line already reported as too long: drop bytes up to its line break.
     skipping: bool,
+    /// The input's buffer was used up by the last read.
+    drained: bool,
 }
 
 impl<R: BufRead> LineReader<R> {
@@ -337,7 +366,13 @@ impl<R: BufRead> LineReader<R> {
             input,
             buf: Vec::new(),
             skipping: false,
+            drained: true,
         }
+    }
+
+    /// True if the next read may wait for more input (everything read so far is used).
+    fn will_wait(&self) -> bool {
+        self.drained
     }
 
     /// The next line; `None` at the end of the input.
@@ -358,6 +393,7 @@ impl<R: BufRead> LineReader<R> {
                 None => (available, false),
             };
             let used = chunk.len() + usize::from(ends_line);
+            self.drained = used == available.len();
             if self.skipping {
                 self.input.consume(used);
                 self.skipping = !ends_line;
@@ -412,35 +448,45 @@ pub fn run_batch(
     let mut bad = 0;
     let mut lines = LineReader::new(input);
     let mut number = 0;
-    while let Some(line) = lines.next_line()? {
+    let mut out = Vec::with_capacity(OUTPUT_CHUNK + 4096);
+    loop {
+        if lines.will_wait() || out.len() >= OUTPUT_CHUNK {
+            // Before the input may block, send what is answered (someone may be waiting for it).
+            output.write_all(&out)?;
+            out.clear();
+            if lines.will_wait() {
+                output.flush()?;
+            }
+        }
+        let Some(line) = lines.next_line()? else {
+            break;
+        };
         number += 1;
+        let start = out.len();
         let solved = line_text(&line, &lines.buf).and_then(|text| {
             if text.trim().is_empty() {
-                Ok(None)
-            } else {
-                parse_case(text, default)?.solve(with_trace).map(Some)
+                return Ok(());
             }
+            parse_case(text, default)?.solve_into(number, with_trace, &mut out)
         });
-        let result = match solved {
-            Ok(None) => continue,
-            Ok(Some(mut fields)) => {
-                fields.insert("line".into(), json!(number));
-                Value::Object(fields)
-            }
-            Err(message) => {
-                bad += 1;
-                let _ = writeln!(errors, "raylab: line {number}: {message}");
-                json!({"line": number, "status": "error", "error": message})
-            }
-        };
-        writeln!(output, "{result}")?;
+        if let Err(message) = solved {
+            out.truncate(start);
+            bad += 1;
+            let _ = writeln!(errors, "raylab: line {number}: {message}");
+            let error = json!({"line": number, "status": "error", "error": message});
+            serde_json::to_writer(&mut out, &error).expect("JSON values always serialize");
+            out.push(b'\n');
+        }
     }
+    output.write_all(&out)?;
+    output.flush()?;
     Ok(bad)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use serde_json::Value;
 
     #[test]
     fn accepts_strings_arrays_and_fractions() {
@@ -448,7 +494,7 @@ mod tests {
         let case = parse_case(line, Precision::F64).unwrap();
         assert_eq!(case.precision, Precision::Exact);
         assert_eq!(case.kind, "triangle");
-        assert!(case.solve(false).is_ok());
+        assert!(case.solve_into(1, false, &mut Vec::new()).is_ok());
     }
 
     #[test]
@@ -481,7 +527,7 @@ mod tests {
         ];
         for (line, expected) in cases {
             let err = parse_case(line, Precision::F64)
-                .and_then(|case| case.solve(false))
+                .and_then(|case| case.solve_into(1, false, &mut Vec::new()))
                 .unwrap_err();
             assert!(err.contains(expected), "{line}: {err}");
         }

@@ -1,5 +1,6 @@
 //! `raylab solve`: one case from flags, or many from JSON lines, printed as text, JSON or LaTeX.
 
+use serde::Serialize;
 use serde_json::{Map, Value, json};
 
 use super::input::{Coords, Literal};
@@ -78,8 +79,8 @@ impl Report {
     pub fn to_json(&self, with_trace: bool) -> Value {
         let mut fields = self.fields.clone();
         if with_trace {
-            fields.insert(
-                "trace".into(),
+            fields.put(
+                "trace",
                 serde_json::to_value(&self.trace).expect("a trace always serializes"),
             );
         }
@@ -97,7 +98,8 @@ pub fn run(case: &Case, precision: Precision) -> Report {
 }
 
 fn run_in<R: Real>(case: &Case) -> Report {
-    let (fields, trace) = solve_posed(&pose::<R>(case), true);
+    let mut fields = Map::new();
+    let trace = solve_posed(&pose::<R>(case), true, &mut fields);
     Report {
         fields,
         trace: trace.expect("recorded"),
@@ -155,16 +157,18 @@ fn pose<R: Real>(case: &Case) -> Posed<R> {
 
 /// Solves a posed problem: the report's fields, and the trace when `record` is set (a solve without a
 /// trace formats no steps at all).
-pub fn solve_posed<R: Real>(posed: &Posed<R>, record: bool) -> (Map<String, Value>, Option<Trace>) {
-    let mut fields = Map::new();
-    fields.insert("kind".into(), json!(posed.kind()));
-    fields.insert("precision".into(), json!(R::PRECISION.name()));
-    let trace = match posed {
-        Posed::Segments(pair) => segments_report(pair, record, &mut fields),
-        Posed::Triangle(problem) => triangle_report(problem, record, &mut fields),
-        Posed::Parallelogram(problem) => parallelogram_report(problem, record, &mut fields),
-    };
-    (fields, trace)
+pub fn solve_posed<R: Real>(
+    posed: &Posed<R>,
+    record: bool,
+    fields: &mut impl FieldSink,
+) -> Option<Trace> {
+    fields.put("kind", posed.kind());
+    fields.put("precision", R::PRECISION.name());
+    match posed {
+        Posed::Segments(pair) => segments_report(pair, record, fields),
+        Posed::Triangle(problem) => triangle_report(problem, record, fields),
+        Posed::Parallelogram(problem) => parallelogram_report(problem, record, fields),
+    }
 }
 
 fn convert<R: Real, const N: usize>(c: &Coords<N>) -> [R; N] {
@@ -173,18 +177,27 @@ fn convert<R: Real, const N: usize>(c: &Coords<N>) -> [R; N] {
 }
 
 /// A float as JSON (null for NaN or ±inf, which JSON cannot hold).
-fn number<R: Real>(x: &R) -> Value {
-    serde_json::Number::from_f64(x.to_f64()).map_or(Value::Null, Value::Number)
+/// A value as a JSON float (serde_json writes NaN and ±inf, which JSON cannot hold, as null).
+fn optional<R: Real>(x: Option<&R>) -> Option<f64> {
+    x.map(Real::to_f64)
 }
 
-fn optional<R: Real>(x: Option<&R>) -> Value {
-    x.map_or(Value::Null, number)
+fn vector<R: Real, const N: usize>(v: Option<&[R; N]>) -> Option<[f64; N]> {
+    v.map(|v| std::array::from_fn(|i| v[i].to_f64()))
 }
 
-fn vector<R: Real, const N: usize>(v: Option<&[R; N]>) -> Value {
-    v.map_or(Value::Null, |v| {
-        Value::Array(v.iter().map(number).collect())
-    })
+/// Where a report's fields go, in order: a JSON map (for a single solve, which adds to it), or
+/// straight onto a batch's output line (no map, no allocation per field).
+pub trait FieldSink {
+    /// Adds the field `key`.
+    fn put(&mut self, key: &'static str, value: impl Serialize);
+}
+
+impl FieldSink for Map<String, Value> {
+    fn put(&mut self, key: &'static str, value: impl Serialize) {
+        let value = serde_json::to_value(value).expect("report fields always serialize");
+        self.insert(key.into(), value);
+    }
 }
 
 /// Collects exact strings for named values when the precision is exact; empty otherwise.
@@ -212,9 +225,9 @@ impl ExactFields {
         }
     }
 
-    fn finish(self, fields: &mut Map<String, Value>) {
+    fn finish(self, fields: &mut impl FieldSink) {
         if !self.0.is_empty() {
-            fields.insert("exact".into(), Value::Object(self.0));
+            fields.put("exact", self.0);
         }
     }
 }
@@ -222,11 +235,11 @@ impl ExactFields {
 fn segments_report<R: Real>(
     pair: &SegmentPair<R>,
     record: bool,
-    fields: &mut Map<String, Value>,
+    fields: &mut impl FieldSink,
 ) -> Option<Trace> {
     let solution = segments::solve(pair, record);
-    fields.insert("status".into(), json!(solution.outcome.status()));
-    fields.insert("message".into(), json!(solution.message()));
+    fields.put("status", solution.outcome.status());
+    fields.put("message", solution.message());
     match &solution.outcome {
         SegmentsOutcome::LinesCrossOutside {
             t_outside,
@@ -239,20 +252,20 @@ fn segments_report<R: Real>(
             if *s_outside {
                 outside.push("s");
             }
-            fields.insert("outside".into(), json!(outside));
+            fields.put("outside", json!(outside));
         }
         SegmentsOutcome::DegenerateSegment { a, b } => {
-            fields.insert("zero_length".into(), json!({"a": a, "b": b}));
+            fields.put("zero_length", json!({"a": a, "b": b}));
         }
         SegmentsOutcome::InvalidInput(bad) => {
-            fields.insert("field".into(), json!(bad.field));
+            fields.put("field", json!(bad.field));
         }
         _ => {}
     }
-    fields.insert("t".into(), optional(solution.t.as_ref()));
-    fields.insert("s".into(), optional(solution.s.as_ref()));
-    fields.insert("point".into(), vector(solution.point.as_ref()));
-    fields.insert("overlap".into(), vector(solution.overlap.as_ref()));
+    fields.put("t", optional(solution.t.as_ref()));
+    fields.put("s", optional(solution.s.as_ref()));
+    fields.put("point", vector(solution.point.as_ref()));
+    fields.put("overlap", vector(solution.overlap.as_ref()));
     let mut exact = ExactFields::new();
     exact.scalar("t", solution.t.as_ref());
     exact.scalar("s", solution.s.as_ref());
@@ -265,28 +278,24 @@ fn segments_report<R: Real>(
 fn triangle_report<R: Real>(
     problem: &RayTriangle<R>,
     record: bool,
-    fields: &mut Map<String, Value>,
+    fields: &mut impl FieldSink,
 ) -> Option<Trace> {
     let solved = triangle::solve(problem, record);
-    fields.insert("status".into(), json!(solved.outcome.status()));
-    fields.insert("message".into(), json!(solved.message()));
+    fields.put("status", solved.outcome.status());
+    fields.put("message", solved.message());
     if let TriangleOutcome::Miss(miss) = &solved.outcome {
         insert_triangle_miss(fields, miss);
     }
     let s = solved.solution.as_ref();
     let hit = solved.outcome.is_hit();
-    fields.insert("beta".into(), optional(s.map(|s| &s.beta)));
-    fields.insert("gamma".into(), optional(s.map(|s| &s.gamma)));
-    fields.insert("t".into(), optional(s.map(|s| &s.t)));
-    fields.insert("alpha".into(), optional(s.map(|s| &s.alpha)));
-    fields.insert(
-        "distance".into(),
-        s.and_then(|s| serde_json::Number::from_f64(s.distance))
-            .map_or(Value::Null, Value::Number),
-    );
-    fields.insert("point".into(), vector(s.filter(|_| hit).map(|s| &s.point)));
+    fields.put("beta", optional(s.map(|s| &s.beta)));
+    fields.put("gamma", optional(s.map(|s| &s.gamma)));
+    fields.put("t", optional(s.map(|s| &s.t)));
+    fields.put("alpha", optional(s.map(|s| &s.alpha)));
+    fields.put("distance", s.map(|s| s.distance));
+    fields.put("point", vector(s.filter(|_| hit).map(|s| &s.point)));
     if !hit {
-        fields.insert("plane_point".into(), vector(s.map(|s| &s.point)));
+        fields.put("plane_point", vector(s.map(|s| &s.point)));
     }
     let mut exact = ExactFields::new();
     exact.scalar("beta", s.map(|s| &s.beta));
@@ -304,23 +313,23 @@ fn triangle_report<R: Real>(
     solved.trace
 }
 
-fn insert_triangle_miss(fields: &mut Map<String, Value>, miss: &TriangleMiss) {
+fn insert_triangle_miss(fields: &mut impl FieldSink, miss: &TriangleMiss) {
     match miss {
         TriangleMiss::Outside { edges } => {
             let failed: Vec<&str> = edges.iter().map(|e| e.inequality()).collect();
             let beyond: Vec<&str> = edges.iter().map(|e| e.name()).collect();
-            fields.insert("failed".into(), json!(failed));
-            fields.insert("beyond_edges".into(), json!(beyond));
+            fields.put("failed", json!(failed));
+            fields.put("beyond_edges", json!(beyond));
         }
         TriangleMiss::Parallel { in_plane } => {
-            fields.insert("in_plane".into(), json!(in_plane));
+            fields.put("in_plane", json!(in_plane));
         }
         TriangleMiss::ZeroDirection => {
-            fields.insert("field".into(), json!("D"));
-            fields.insert("reason".into(), json!("zero-direction"));
+            fields.put("field", json!("D"));
+            fields.put("reason", json!("zero-direction"));
         }
         TriangleMiss::InvalidInput(bad) => {
-            fields.insert("field".into(), json!(bad.field));
+            fields.put("field", json!(bad.field));
         }
         TriangleMiss::Behind | TriangleMiss::DegenerateTriangle => {}
     }
@@ -329,39 +338,36 @@ fn insert_triangle_miss(fields: &mut Map<String, Value>, miss: &TriangleMiss) {
 fn parallelogram_report<R: Real>(
     problem: &RayParallelogram<R>,
     record: bool,
-    fields: &mut Map<String, Value>,
+    fields: &mut impl FieldSink,
 ) -> Option<Trace> {
     let solved = parallelogram::solve(problem, record);
-    fields.insert("status".into(), json!(solved.outcome.status()));
-    fields.insert("message".into(), json!(solved.message()));
+    fields.put("status", solved.outcome.status());
+    fields.put("message", solved.message());
     match &solved.outcome {
         parallelogram::ParallelogramOutcome::Outside { sides } => {
             let failed: Vec<&str> = sides.iter().map(|s| s.inequality()).collect();
-            fields.insert("failed".into(), json!(failed));
+            fields.put("failed", json!(failed));
         }
         parallelogram::ParallelogramOutcome::Degenerate => {
-            fields.insert("reason".into(), json!("degenerate-parallelogram"));
+            fields.put("reason", json!("degenerate-parallelogram"));
         }
         parallelogram::ParallelogramOutcome::ZeroDirection => {
-            fields.insert("field".into(), json!("d"));
-            fields.insert("reason".into(), json!("zero-direction"));
+            fields.put("field", json!("d"));
+            fields.put("reason", json!("zero-direction"));
         }
         parallelogram::ParallelogramOutcome::InvalidInput(bad) => {
-            fields.insert("field".into(), json!(bad.field));
+            fields.put("field", json!(bad.field));
         }
         _ => {}
     }
     let x = solved.alpha_beta_t.as_ref();
     let hit = solved.outcome.is_hit();
-    fields.insert("alpha".into(), optional(x.map(|x| &x[0])));
-    fields.insert("beta".into(), optional(x.map(|x| &x[1])));
-    fields.insert("t".into(), optional(x.map(|x| &x[2])));
-    fields.insert(
-        "point".into(),
-        vector(solved.point.as_ref().filter(|_| hit)),
-    );
+    fields.put("alpha", optional(x.map(|x| &x[0])));
+    fields.put("beta", optional(x.map(|x| &x[1])));
+    fields.put("t", optional(x.map(|x| &x[2])));
+    fields.put("point", vector(solved.point.as_ref().filter(|_| hit)));
     if !hit {
-        fields.insert("plane_point".into(), vector(solved.point.as_ref()));
+        fields.put("plane_point", vector(solved.point.as_ref()));
     }
     let mut exact = ExactFields::new();
     exact.scalar("alpha", x.map(|x| &x[0]));
@@ -378,7 +384,7 @@ fn parallelogram_report<R: Real>(
 /// Copies the verdict's sentence into the report as `message`.
 fn insert_message(fields: &mut Map<String, Value>, trace: Option<&Trace>) {
     if let Some(verdict) = trace.and_then(Trace::verdict) {
-        fields.insert("message".into(), json!(verdict.message));
+        fields.put("message", json!(verdict.message));
     }
 }
 
@@ -407,7 +413,7 @@ pub fn method_report(
         lecture().fits(precision)?;
     }
     let named = |mut report: Report| {
-        report.fields.insert("method".into(), json!(method.name()));
+        report.fields.put("method", json!(method.name()));
         report
     };
     match (method, precision) {
@@ -450,16 +456,16 @@ fn float_method_report<F: crate::accuracy::Float + crate::accuracy::InverseSolve
         }
     };
     let mut fields = Map::new();
-    fields.insert("kind".into(), json!("triangle"));
-    fields.insert("method".into(), json!(method.name()));
-    fields.insert("precision".into(), json!(F::PRECISION.name()));
-    fields.insert("status".into(), json!(status));
+    fields.put("kind", json!("triangle"));
+    fields.put("method", json!(method.name()));
+    fields.put("precision", json!(F::PRECISION.name()));
+    fields.put("status", json!(status));
     insert_message(&mut fields, Some(&trace));
     let values = answer.values;
-    fields.insert("t".into(), optional(values.as_ref().map(|v| &v[0])));
-    fields.insert("beta".into(), optional(values.as_ref().map(|v| &v[1])));
-    fields.insert("gamma".into(), optional(values.as_ref().map(|v| &v[2])));
-    fields.insert("exact_fallback".into(), json!(answer.exact_fallback));
+    fields.put("t", optional(values.as_ref().map(|v| &v[0])));
+    fields.put("beta", optional(values.as_ref().map(|v| &v[1])));
+    fields.put("gamma", optional(values.as_ref().map(|v| &v[2])));
+    fields.put("exact_fallback", json!(answer.exact_fallback));
     Report { fields, trace }
 }
 
