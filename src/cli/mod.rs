@@ -481,9 +481,9 @@ fn run_solve(args: SolveArgs) -> i32 {
             err!("raylab: --batch writes JSON lines; --format text and latex do not apply");
             return 2;
         }
-        let stdin = std::io::stdin();
+        let stdin = std::io::BufReader::with_capacity(1 << 16, std::io::stdin().lock());
         return match batch::run_batch(
-            stdin.lock(),
+            stdin,
             std::io::stdout().lock(),
             std::io::stderr(),
             precision,
