@@ -299,17 +299,58 @@ impl FromStr for Exact {
             let den = parse_decimal(den.trim())?;
             return num
                 .checked_div(&den)
-                .ok_or_else(|| ParseExactError(format!("'{text}' divides by zero")));
+                .ok_or_else(|| ParseExactError(format!("{} divides by zero", quoted(text))));
         }
         parse_decimal(text)
     }
 }
 
-/// Parses `[+-]digits[.digits][e[+-]digits]` exactly.
-fn parse_decimal(text: &str) -> Result<Exact, ParseExactError> {
-    let bad = || ParseExactError(format!("'{text}' is not a number"));
+/// The largest decimal exponent read (`1e10000`), so that no text asks for an unbounded power of ten.
+pub const MAX_EXPONENT: i64 = 10_000;
+
+/// How much of a bad number an error message quotes.
+const QUOTED_CHARS: usize = 32;
+
+/// A number text for an error message: whole when short, else its start, its end and its length.
+pub fn quoted(text: &str) -> String {
+    let count = text.chars().count();
+    if count <= QUOTED_CHARS {
+        return format!("'{text}'");
+    }
+    let head: String = text.chars().take(QUOTED_CHARS - 8).collect();
+    let tail: String = text.chars().skip(count - 6).collect();
+    format!("'{head}…{tail}' ({count} characters)")
+}
+
+/// A decimal split into its parts: `[+-]whole[.frac][e[+-]exponent]`.
+struct Decimal<'a> {
+    negative: bool,
+    whole: &'a str,
+    frac: &'a str,
+    exponent: i64,
+}
+
+/// Splits and checks `[+-]digits[.digits][e[+-]digits]`, with at least one digit and an exponent of at
+/// most [`MAX_EXPONENT`] either way.
+fn split_decimal(text: &str) -> Result<Decimal<'_>, ParseExactError> {
+    let bad = || ParseExactError(format!("{} is not a number", quoted(text)));
+    let all_digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
     let (mantissa, exponent) = match text.find(['e', 'E']) {
-        Some(i) => (&text[..i], text[i + 1..].parse::<i32>().map_err(|_| bad())?),
+        Some(i) => {
+            let written = &text[i + 1..];
+            let unsigned = written.strip_prefix(['+', '-']).unwrap_or(written);
+            if unsigned.is_empty() || !all_digits(unsigned) {
+                return Err(bad());
+            }
+            let exponent = written.parse::<i64>().unwrap_or(i64::MAX);
+            if exponent.unsigned_abs() > MAX_EXPONENT as u64 {
+                return Err(ParseExactError(format!(
+                    "{} has an exponent past ±{MAX_EXPONENT}",
+                    quoted(text)
+                )));
+            }
+            (&text[..i], exponent)
+        }
         None => (text, 0),
     };
     let (negative, unsigned) = match mantissa.strip_prefix('-') {
@@ -317,25 +358,46 @@ fn parse_decimal(text: &str) -> Result<Exact, ParseExactError> {
         None => (false, mantissa.strip_prefix('+').unwrap_or(mantissa)),
     };
     let (whole, frac) = unsigned.split_once('.').unwrap_or((unsigned, ""));
-    let all_digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
     if whole.is_empty() && frac.is_empty() || !all_digits(whole) || !all_digits(frac) {
         return Err(bad());
     }
-    if exponent.unsigned_abs() > 4000 {
-        return Err(ParseExactError(format!(
-            "'{text}' has an exponent too large"
-        )));
-    }
-    let digits: BigInt = format!("{whole}{frac}0").parse().map_err(|_| bad())?;
-    // The trailing "0" above keeps an empty digit string parseable; divide it back out.
-    let scale = exponent - frac.len() as i32 - 1;
-    let ten = BigRational::from_integer(BigInt::from(10));
-    let power = if scale >= 0 {
-        num_traits::pow(ten, scale as usize)
+    Ok(Decimal {
+        negative,
+        whole,
+        frac,
+        exponent,
+    })
+}
+
+/// Checks that `text` is a decimal [`Exact`] would read, without computing its value.
+pub fn check_decimal(text: &str) -> Result<(), ParseExactError> {
+    split_decimal(text).map(|_| ())
+}
+
+/// Parses `[+-]digits[.digits][e[+-]digits]` exactly.
+fn parse_decimal(text: &str) -> Result<Exact, ParseExactError> {
+    let Decimal {
+        negative,
+        whole,
+        frac,
+        exponent,
+    } = split_decimal(text)?;
+    let digits: BigInt = if whole.is_empty() || frac.is_empty() {
+        format!("{whole}{frac}").parse()
     } else {
-        BigRational::one() / num_traits::pow(ten, (-scale) as usize)
+        let mut both = String::with_capacity(whole.len() + frac.len());
+        both.push_str(whole);
+        both.push_str(frac);
+        both.parse()
+    }
+    .map_err(|_| ParseExactError(format!("{} is not a number", quoted(text))))?;
+    let scale = exponent - frac.len() as i64;
+    let power = num_traits::pow(BigInt::from(10), scale.unsigned_abs() as usize);
+    let value = if scale >= 0 {
+        BigRational::from_integer(digits * power)
+    } else {
+        BigRational::new(digits, power)
     };
-    let value = BigRational::from_integer(digits) * power;
     Ok(Exact(if negative { -value } else { value }))
 }
 
@@ -414,6 +476,23 @@ mod tests {
         ] {
             assert!(bad.parse::<Exact>().is_err(), "{bad:?} should not parse");
         }
+    }
+
+    #[test]
+    fn long_numbers_read_exactly_and_errors_quote_them_briefly() {
+        let digits = format!("1.{}1", "0".repeat(998));
+        let value = q(&digits);
+        assert_eq!(value.0.denom().to_string().len(), 1000);
+        assert_eq!(q("1e10000").0.numer().to_string().len(), 10001);
+        let err = format!("1e{}", MAX_EXPONENT + 1)
+            .parse::<Exact>()
+            .unwrap_err();
+        assert!(err.0.contains("exponent past"), "{err}");
+        let err = format!("{}x", "5".repeat(5000))
+            .parse::<Exact>()
+            .unwrap_err();
+        assert!(err.0.len() < 80, "{err}");
+        assert!(err.0.contains("(5001 characters)"), "{err}");
     }
 
     #[test]

@@ -4,116 +4,440 @@
 //! (`a1 a2 b1 b2`; `a b c origin dir tmin`; `corner e1 e2 origin dir`), each a string `"1,2"` or an
 //! array `[1, 2]` (numbers, or strings such as `"1/3"`), and optionally `"precision"`.
 
+//!
+//! Numbers are read as written, straight from the line's text: a float precision parses them to floats
+//! (no exact value is built, so a batch runs at JSON speed), exact precision reads every digit.
+
+use std::borrow::Cow;
+use std::fmt;
 use std::io::{BufRead, Write};
 
-use serde_json::{Map, Value, json};
+use serde::de::{self, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
+use serde_json::json;
+use serde_json::value::RawValue;
 
-use super::input::{Coords, Literal};
-use super::solve::{Case, run};
-use crate::geometry::Precision;
+use super::input::{ReadNumber, quoted};
+use super::solve::{FieldSink, Posed, solve_posed};
+use crate::exact::Exact;
+use crate::geometry::parallelogram::RayParallelogram;
+use crate::geometry::segments::SegmentPair;
+use crate::geometry::triangle::RayTriangle;
+use crate::geometry::{Precision, Real};
 
-/// Reads one case from a JSON object; the precision is the case's own or `default`.
-pub fn parse_case(line: &str, default: Precision) -> Result<(Case, Precision), String> {
-    let value: Value = serde_json::from_str(line).map_err(|e| format!("not valid JSON: {e}"))?;
-    let Value::Object(object) = value else {
-        return Err("expected a JSON object".into());
-    };
-    let kind = match object.get("kind") {
-        Some(Value::String(kind)) => kind.clone(),
-        Some(_) => return Err("field 'kind' must be a string".into()),
+/// Every field a case may have besides `kind` and `precision`.
+const FIELDS: [&str; 13] = [
+    "a1", "a2", "b1", "b2", "a", "b", "c", "origin", "dir", "tmin", "corner", "e1", "e2",
+];
+
+/// The fields of one kind of case, in order.
+fn allowed(kind: &str) -> Option<&'static [&'static str]> {
+    match kind {
+        "segments" => Some(&["a1", "a2", "b1", "b2"]),
+        "triangle" => Some(&["a", "b", "c", "origin", "dir", "tmin"]),
+        "parallelogram" => Some(&["corner", "e1", "e2", "origin", "dir"]),
+        _ => None,
+    }
+}
+
+/// One line's JSON object, its values kept as the raw text of the line (nothing parsed yet).
+#[derive(Default)]
+struct RawCase<'a> {
+    kind: Option<&'a RawValue>,
+    precision: Option<&'a RawValue>,
+    /// By index in [`FIELDS`], with the key's position in the object.
+    values: [Option<(usize, &'a RawValue)>; FIELDS.len()],
+    /// The first key that is no field at all, with its position.
+    stranger: Option<(usize, String)>,
+}
+
+impl<'de> de::Deserialize<'de> for RawCase<'de> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_map(RawCaseVisitor)
+    }
+}
+
+struct RawCaseVisitor;
+
+impl<'de> Visitor<'de> for RawCaseVisitor {
+    type Value = RawCase<'de>;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a JSON object")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<RawCase<'de>, A::Error> {
+        let mut case = RawCase::default();
+        let mut position = 0;
+        while let Some(key) = map.next_key::<Cow<'de, str>>()? {
+            let value: &'de RawValue = map.next_value()?;
+            match key.as_ref() {
+                "kind" => case.kind = Some(value),
+                "precision" => case.precision = Some(value),
+                name => match FIELDS.iter().position(|f| *f == name) {
+                    Some(i) => case.values[i] = Some((position, value)),
+                    None if case.stranger.is_none() => {
+                        case.stranger = Some((position, name.to_string()))
+                    }
+                    None => {}
+                },
+            }
+            position += 1;
+        }
+        Ok(case)
+    }
+}
+
+/// A JSON string's text (borrowed unless it has escapes), or `None` if the value is not a string.
+fn string_of(raw: &RawValue) -> Option<Cow<'_, str>> {
+    if !raw.get().starts_with('"') {
+        return None;
+    }
+    match serde_json::from_str::<&str>(raw.get()) {
+        Ok(text) => Some(Cow::Borrowed(text)),
+        Err(_) => serde_json::from_str::<String>(raw.get())
+            .ok()
+            .map(Cow::Owned),
+    }
+}
+
+/// The items of a JSON array: the first `N` raw values, and how many there were.
+struct Items<'a, const N: usize> {
+    first: [Option<&'a RawValue>; N],
+    count: usize,
+}
+
+impl<'de, const N: usize> de::Deserialize<'de> for Items<'de, N> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ItemsVisitor<const N: usize>;
+        impl<'de, const N: usize> Visitor<'de> for ItemsVisitor<N> {
+            type Value = Items<'de, N>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an array")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Items<'de, N>, A::Error> {
+                let mut items = Items {
+                    first: [None; N],
+                    count: 0,
+                };
+                while items.count < N {
+                    match seq.next_element::<&'de RawValue>()? {
+                        Some(item) => items.first[items.count] = Some(item),
+                        None => return Ok(items),
+                    }
+                    items.count += 1;
+                }
+                while seq.next_element::<IgnoredAny>()?.is_some() {
+                    items.count += 1;
+                }
+                Ok(items)
+            }
+        }
+        deserializer.deserialize_seq(ItemsVisitor::<N>)
+    }
+}
+
+/// One number of a case as number text: a JSON number as written, or a string's text.
+fn number_text(raw: &RawValue) -> Result<Cow<'_, str>, String> {
+    let text = raw.get();
+    match text.as_bytes().first() {
+        Some(b'-' | b'0'..=b'9') => Ok(Cow::Borrowed(text)),
+        Some(b'"') => string_of(raw).ok_or_else(|| "not a valid string".to_string()),
+        _ if text == "null" => Err("null is not a number".into()),
+        _ => Err(format!("{} is not a number", quoted(text))),
+    }
+}
+
+/// The wrong count of numbers in a vector.
+fn count_error<const N: usize>(count: usize) -> String {
+    let form = if N == 2 { "x,y" } else { "x,y,z" };
+    format!("expected {N} numbers separated by commas ({form}), got {count}")
+}
+
+/// Reads N numbers, given as `"x,y,z"` or `[x, y, z]`, into precision `R`.
+fn vector<R: ReadNumber, const N: usize>(raw: &RawValue) -> Result<[R; N], String> {
+    let component =
+        |i: usize, text: &str| R::read(text).map_err(|e| format!("component {}: {e}", i + 1));
+    let mut values: [Option<R>; N] = std::array::from_fn(|_| None);
+    if let Some(text) = string_of(raw) {
+        let count = text.split(',').count();
+        if count != N {
+            return Err(count_error::<N>(count));
+        }
+        for (i, part) in text.split(',').enumerate() {
+            values[i] = Some(component(i, part)?);
+        }
+    } else if raw.get().starts_with('[') {
+        let items: Items<N> =
+            serde_json::from_str(raw.get()).map_err(|e| format!("not valid JSON: {e}"))?;
+        if items.count != N {
+            return Err(count_error::<N>(items.count));
+        }
+        for (i, item) in items.first.iter().enumerate() {
+            let text = number_text(item.expect("N items counted"))
+                .map_err(|e| format!("component {}: {e}", i + 1))?;
+            values[i] = Some(component(i, &text)?);
+        }
+    } else {
+        return Err("expected a string \"x,y,…\" or an array of numbers".into());
+    }
+    Ok(values.map(|v| v.expect("every component read")))
+}
+
+/// One line's case, its precision settled, its numbers still text.
+pub struct LineCase<'a> {
+    /// `segments`, `triangle` or `parallelogram`.
+    pub kind: &'static str,
+    /// The case's own precision, or the batch's.
+    pub precision: Precision,
+    raw: RawCase<'a>,
+}
+
+/// Reads one case from a JSON object; the precision is the case's own or `default`. Numbers are not
+/// read yet ([`LineCase::pose`] reads them in the case's precision).
+pub fn parse_case(line: &str, default: Precision) -> Result<LineCase<'_>, String> {
+    if !line.trim_start().starts_with('{') {
+        return Err(match serde_json::from_str::<IgnoredAny>(line) {
+            Ok(_) => "expected a JSON object".into(),
+            Err(e) => format!("not valid JSON: {e}"),
+        });
+    }
+    let raw: RawCase = serde_json::from_str(line).map_err(|e| format!("not valid JSON: {e}"))?;
+    let kind = match raw.kind.map(string_of) {
+        Some(Some(kind)) => kind,
+        Some(None) => return Err("field 'kind' must be a string".into()),
         None => return Err("missing field 'kind' (segments, triangle or parallelogram)".into()),
     };
-    let precision = match object.get("precision") {
+    let precision = match raw.precision {
         None => default,
-        Some(Value::String(p)) => p.parse().map_err(|e| format!("field 'precision': {e}"))?,
-        Some(_) => return Err("field 'precision' must be a string".into()),
+        Some(p) => string_of(p)
+            .ok_or("field 'precision' must be a string")?
+            .parse()
+            .map_err(|e| format!("field 'precision': {e}"))?,
     };
-    let allowed: &[&str] = match kind.as_str() {
-        "segments" => &["a1", "a2", "b1", "b2"],
-        "triangle" => &["a", "b", "c", "origin", "dir", "tmin"],
-        "parallelogram" => &["corner", "e1", "e2", "origin", "dir"],
-        other => {
-            return Err(format!(
-                "unknown kind '{other}' (expected segments, triangle or parallelogram)"
-            ));
-        }
-    };
-    if let Some(unknown) = object
-        .keys()
-        .find(|k| !allowed.contains(&k.as_str()) && !["kind", "precision"].contains(&k.as_str()))
-    {
+    let Some(fields) = allowed(&kind) else {
         return Err(format!(
-            "unknown field '{unknown}' for kind {kind} (expected {})",
-            allowed.join(", ")
+            "unknown kind {} (expected segments, triangle or parallelogram)",
+            quoted(&kind)
+        ));
+    };
+    let misplaced = FIELDS
+        .iter()
+        .zip(&raw.values)
+        .filter_map(|(name, v)| v.map(|(at, _)| (at, name.to_string())))
+        .filter(|(_, name)| !fields.contains(&name.as_str()));
+    if let Some((_, unknown)) = misplaced.chain(raw.stranger.clone()).min() {
+        return Err(format!(
+            "unknown field {} for kind {kind} (expected {})",
+            quoted(&unknown),
+            fields.join(", ")
         ));
     }
-    let case = match kind.as_str() {
-        "segments" => Case::Segments {
-            points: [
-                coords(&object, "a1")?,
-                coords(&object, "a2")?,
-                coords(&object, "b1")?,
-                coords(&object, "b2")?,
-            ],
-        },
-        "triangle" => Case::Triangle {
-            vectors: [
-                coords(&object, "a")?,
-                coords(&object, "b")?,
-                coords(&object, "c")?,
-                coords(&object, "origin")?,
-                coords(&object, "dir")?,
-            ],
-            t_min: match object.get("tmin") {
-                None => Literal::parse("0").expect("0 is a number"),
-                Some(v) => number(v).map_err(|e| format!("field 'tmin': {e}"))?,
-            },
-        },
-        _ => Case::Parallelogram {
-            vectors: [
-                coords(&object, "corner")?,
-                coords(&object, "e1")?,
-                coords(&object, "e2")?,
-                coords(&object, "origin")?,
-                coords(&object, "dir")?,
-            ],
-        },
+    let kind = match kind.as_ref() {
+        "segments" => "segments",
+        "triangle" => "triangle",
+        _ => "parallelogram",
     };
-    Ok((case, precision))
+    Ok(LineCase {
+        kind,
+        precision,
+        raw,
+    })
 }
 
-fn coords<const N: usize>(object: &Map<String, Value>, name: &str) -> Result<Coords<N>, String> {
-    let value = object
-        .get(name)
-        .ok_or_else(|| format!("missing field '{name}'"))?;
-    let parsed = match value {
-        Value::String(text) => Coords::parse(text),
-        Value::Array(items) => {
-            let texts: Result<Vec<String>, String> = items.iter().map(number_text).collect();
-            texts
-                .and_then(|t| Coords::from_parts(&t.iter().map(String::as_str).collect::<Vec<_>>()))
+impl LineCase<'_> {
+    fn field(&self, name: &str) -> Result<&RawValue, String> {
+        let index = FIELDS
+            .iter()
+            .position(|f| *f == name)
+            .expect("a known field");
+        self.raw.values[index]
+            .map(|(_, raw)| raw)
+            .ok_or_else(|| format!("missing field '{name}'"))
+    }
+
+    fn vector<R: ReadNumber, const N: usize>(&self, name: &str) -> Result<[R; N], String> {
+        vector(self.field(name)?).map_err(|e| format!("field '{name}': {e}"))
+    }
+
+    /// The case in precision `R`, every number read from its text.
+    pub fn pose<R: ReadNumber>(&self) -> Result<Posed<R>, String> {
+        Ok(match self.kind {
+            "segments" => Posed::Segments(SegmentPair {
+                a1: self.vector("a1")?,
+                a2: self.vector("a2")?,
+                b1: self.vector("b1")?,
+                b2: self.vector("b2")?,
+            }),
+            "triangle" => Posed::Triangle(RayTriangle {
+                a: self.vector("a")?,
+                b: self.vector("b")?,
+                c: self.vector("c")?,
+                origin: self.vector("origin")?,
+                dir: self.vector("dir")?,
+                t_min: match self.field("tmin") {
+                    Err(_) => R::zero(),
+                    Ok(raw) => number_text(raw)
+                        .and_then(|text| R::read(&text))
+                        .map_err(|e| format!("field 'tmin': {e}"))?,
+                },
+            }),
+            _ => Posed::Parallelogram(RayParallelogram {
+                corner: self.vector("corner")?,
+                e1: self.vector("e1")?,
+                e2: self.vector("e2")?,
+                origin: self.vector("origin")?,
+                dir: self.vector("dir")?,
+            }),
+        })
+    }
+
+    /// Solves the case in its precision and writes its report as one JSON line (with `"line"`, and
+    /// the trace if asked for) to `out`.
+    pub fn solve_into(
+        &self,
+        line: usize,
+        with_trace: bool,
+        out: &mut Vec<u8>,
+    ) -> Result<(), String> {
+        match self.precision {
+            Precision::F32 => write_report(&self.pose::<f32>()?, line, with_trace, out),
+            Precision::F64 => write_report(&self.pose::<f64>()?, line, with_trace, out),
+            Precision::Exact => write_report(&self.pose::<Exact>()?, line, with_trace, out),
         }
-        _ => Err("expected a string \"x,y,…\" or an array of numbers".into()),
-    };
-    parsed.map_err(|e| format!("field '{name}': {e}"))
-}
-
-/// A JSON number or string as number text (JSON numbers print as their shortest decimal form).
-fn number_text(value: &Value) -> Result<String, String> {
-    match value {
-        Value::Number(n) => Ok(n.to_string()),
-        Value::String(s) => Ok(s.clone()),
-        Value::Null => Err("null is not a number".into()),
-        other => Err(format!("{other} is not a number")),
+        Ok(())
     }
 }
 
-fn number(value: &Value) -> Result<Literal, String> {
-    Literal::parse(&number_text(value)?)
+/// Writes a JSON object's fields one by one as they come, with no map in between.
+struct JsonLine<'a> {
+    out: &'a mut Vec<u8>,
+    empty: bool,
+}
+
+impl FieldSink for JsonLine<'_> {
+    fn put(&mut self, key: &'static str, value: impl serde::Serialize) {
+        self.out.push(if self.empty { b'{' } else { b',' });
+        self.empty = false;
+        self.out.push(b'"');
+        self.out.extend_from_slice(key.as_bytes());
+        self.out.extend_from_slice(b"\":");
+        serde_json::to_writer(&mut *self.out, &value).expect("report fields always serialize");
+    }
+}
+
+fn write_report<R: Real>(posed: &Posed<R>, line: usize, with_trace: bool, out: &mut Vec<u8>) {
+    let mut fields = JsonLine { out, empty: true };
+    if let Some(trace) = solve_posed(posed, with_trace, &mut fields) {
+        fields.put("trace", &trace);
+    }
+    fields.put("line", line);
+    fields.out.extend_from_slice(b"}\n");
+}
+
+/// Output is written in chunks of about this many bytes (and whenever the input may block).
+const OUTPUT_CHUNK: usize = 1 << 16;
+
+/// The longest batch line read, in bytes; a longer line is refused (and skipped to its end) without
+/// being held in memory.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// One line of input, read with bounded memory.
+enum RawLine {
+    /// The line's bytes (in [`LineReader::buf`]), without the line break.
+    Bytes,
+    /// The line has more than [`MAX_LINE_BYTES`] bytes: reported at once, the rest skipped unread.
+    TooLong,
+}
+
+/// Splits input into lines of at most [`MAX_LINE_BYTES`], whatever the input holds (no line break at
+/// all, as from `/dev/zero`, included).
+struct LineReader<R> {
+    input: R,
+    buf: Vec<u8>,
+    /// Inside a line already reported as too long: drop bytes up to its line break.
+    skipping: bool,
+    /// The input's buffer was used up by the last read.
+    drained: bool,
+}
+
+impl<R: BufRead> LineReader<R> {
+    fn new(input: R) -> Self {
+        LineReader {
+            input,
+            buf: Vec::new(),
+            skipping: false,
+            drained: true,
+        }
+    }
+
+    /// True if the next read may wait for more input (everything read so far is used).
+    fn will_wait(&self) -> bool {
+        self.drained
+    }
+
+    /// The next line; `None` at the end of the input.
+    fn next_line(&mut self) -> std::io::Result<Option<RawLine>> {
+        self.buf.clear();
+        let mut read_any = false;
+        loop {
+            let available = match self.input.fill_buf() {
+                Ok(bytes) => bytes,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            };
+            if available.is_empty() {
+                return Ok((read_any && !self.skipping).then_some(RawLine::Bytes));
+            }
+            let (chunk, ends_line) = match available.iter().position(|&b| b == b'\n') {
+                Some(i) => (&available[..i], true),
+                None => (available, false),
+            };
+            let used = chunk.len() + usize::from(ends_line);
+            self.drained = used == available.len();
+            if self.skipping {
+                self.input.consume(used);
+                self.skipping = !ends_line;
+                continue;
+            }
+            read_any = true;
+            if self.buf.len() + chunk.len() > MAX_LINE_BYTES {
+                self.input.consume(used);
+                self.skipping = !ends_line;
+                self.buf.clear();
+                return Ok(Some(RawLine::TooLong));
+            }
+            self.buf.extend_from_slice(chunk);
+            self.input.consume(used);
+            if ends_line {
+                if self.buf.last() == Some(&b'\r') {
+                    self.buf.pop();
+                }
+                return Ok(Some(RawLine::Bytes));
+            }
+        }
+    }
+}
+
+/// The text of a line, or why it cannot be read as text.
+fn line_text<'a>(line: &RawLine, bytes: &'a [u8]) -> Result<&'a str, String> {
+    match line {
+        RawLine::TooLong => Err(format!(
+            "the line is longer than {MAX_LINE_BYTES} bytes; skipped to its end"
+        )),
+        RawLine::Bytes => std::str::from_utf8(bytes).map_err(|e| {
+            format!(
+                "not valid UTF-8 (byte {} of the line); skipped",
+                e.valid_up_to() + 1
+            )
+        }),
+    }
 }
 
 /// Solves every line of `input`, writing one JSON line each to `output` and a one-line note for each
 /// bad line to `errors`. Returns how many lines were bad. Blank lines are skipped.
+///
+/// A line that is not UTF-8 or is too long is a bad line like any other: the batch goes on. Only a
+/// failure to read the input or to write `output` stops it; `errors` is best effort (it may be closed).
 pub fn run_batch(
     input: impl BufRead,
     mut output: impl Write,
@@ -122,39 +446,55 @@ pub fn run_batch(
     with_trace: bool,
 ) -> std::io::Result<usize> {
     let mut bad = 0;
-    for (index, line) in input.lines().enumerate() {
-        let number = index + 1;
-        let line = line?;
-        if line.trim().is_empty() {
-            continue;
+    let mut lines = LineReader::new(input);
+    let mut number = 0;
+    let mut out = Vec::with_capacity(OUTPUT_CHUNK + 4096);
+    loop {
+        if lines.will_wait() || out.len() >= OUTPUT_CHUNK {
+            // Before the input may block, send what is answered (someone may be waiting for it).
+            output.write_all(&out)?;
+            out.clear();
+            if lines.will_wait() {
+                output.flush()?;
+            }
         }
-        let result = match parse_case(&line, default) {
-            Ok((case, precision)) => {
-                let mut value = run(&case, precision).to_json(with_trace);
-                value["line"] = json!(number);
-                value
-            }
-            Err(message) => {
-                bad += 1;
-                writeln!(errors, "raylab: line {number}: {message}")?;
-                json!({"line": number, "status": "error", "error": message})
-            }
+        let Some(line) = lines.next_line()? else {
+            break;
         };
-        writeln!(output, "{result}")?;
+        number += 1;
+        let start = out.len();
+        let solved = line_text(&line, &lines.buf).and_then(|text| {
+            if text.trim().is_empty() {
+                return Ok(());
+            }
+            parse_case(text, default)?.solve_into(number, with_trace, &mut out)
+        });
+        if let Err(message) = solved {
+            out.truncate(start);
+            bad += 1;
+            let _ = writeln!(errors, "raylab: line {number}: {message}");
+            let error = json!({"line": number, "status": "error", "error": message});
+            serde_json::to_writer(&mut out, &error).expect("JSON values always serialize");
+            out.push(b'\n');
+        }
     }
+    output.write_all(&out)?;
+    output.flush()?;
     Ok(bad)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use serde_json::Value;
 
     #[test]
     fn accepts_strings_arrays_and_fractions() {
         let line = r#"{"kind":"triangle","a":"3,0,0","b":[0,3,0],"c":["0","0","3"],"origin":[0,0,0],"dir":[1,1,1],"precision":"exact"}"#;
-        let (case, precision) = parse_case(line, Precision::F64).unwrap();
-        assert_eq!(precision, Precision::Exact);
-        assert_eq!(case.kind(), "triangle");
+        let case = parse_case(line, Precision::F64).unwrap();
+        assert_eq!(case.precision, Precision::Exact);
+        assert_eq!(case.kind, "triangle");
+        assert!(case.solve_into(1, false, &mut Vec::new()).is_ok());
     }
 
     #[test]
@@ -186,7 +526,9 @@ mod tests {
             ),
         ];
         for (line, expected) in cases {
-            let err = parse_case(line, Precision::F64).unwrap_err();
+            let err = parse_case(line, Precision::F64)
+                .and_then(|case| case.solve_into(1, false, &mut Vec::new()))
+                .unwrap_err();
             assert!(err.contains(expected), "{line}: {err}");
         }
     }
@@ -220,5 +562,57 @@ mod tests {
                 .unwrap()
                 .starts_with("raylab: line 3: not valid JSON")
         );
+    }
+
+    fn statuses(input: &[u8]) -> (usize, Vec<Value>) {
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let bad = run_batch(input, &mut out, &mut err, Precision::F64, false).unwrap();
+        let lines = String::from_utf8(out)
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        (bad, lines)
+    }
+
+    #[test]
+    fn a_line_of_invalid_utf8_is_one_bad_line() {
+        let good = br#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1"}"#;
+        let mut input = Vec::new();
+        input.extend_from_slice(good);
+        input.extend_from_slice(b"\n\xff\xfe\r\n");
+        input.extend_from_slice(good);
+        let (bad, lines) = statuses(&input);
+        assert_eq!(bad, 1);
+        assert_eq!(lines.len(), 3);
+        assert_eq!(lines[1]["line"], 2);
+        assert!(lines[1]["error"].as_str().unwrap().contains("UTF-8"));
+        assert_eq!(lines[2]["line"], 3);
+        assert_eq!(lines[2]["status"], "crossing");
+    }
+
+    #[test]
+    fn a_line_past_the_limit_is_refused_and_the_batch_goes_on() {
+        let good = br#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1"}"#;
+        let mut input = vec![b' '; MAX_LINE_BYTES + 10];
+        input.push(b'\n');
+        input.extend_from_slice(good);
+        // A reader that hands out small chunks, as a pipe does.
+        let reader = std::io::BufReader::with_capacity(1000, input.as_slice());
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let bad = run_batch(reader, &mut out, &mut err, Precision::F64, false).unwrap();
+        assert_eq!(bad, 1);
+        let out = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines.len(), 2);
+        assert!(lines[0].contains("longer than"), "{}", lines[0]);
+        assert!(lines[1].contains("\"line\":2"), "{}", lines[1]);
+    }
+
+    #[test]
+    fn the_last_line_needs_no_line_break() {
+        let (bad, lines) =
+            statuses(br#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1"}"#);
+        assert_eq!((bad, lines.len()), (0, 1));
     }
 }

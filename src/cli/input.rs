@@ -7,38 +7,134 @@
 use glam::{DVec2, DVec3};
 
 use crate::exact::Exact;
+use crate::geometry::{Precision, Real};
+
+/// The longest number text read, in characters, in every precision: a longer one is refused before any
+/// work is done on it (a decimal of a million digits would otherwise take minutes to convert).
+pub const MAX_NUMBER_CHARS: usize = 10_000;
+
+pub use crate::exact::quoted;
+
+/// Refuses NaN, the infinities and texts past [`MAX_NUMBER_CHARS`], with a message for people.
+fn refuse_non_numbers(trimmed: &str) -> Result<(), String> {
+    if trimmed.len() > MAX_NUMBER_CHARS {
+        let count = trimmed.chars().count();
+        if count > MAX_NUMBER_CHARS {
+            return Err(format!(
+                "a number of {count} characters is longer than the limit of {MAX_NUMBER_CHARS}"
+            ));
+        }
+    }
+    let bare = trimmed.trim_start_matches(['+', '-']);
+    if bare.eq_ignore_ascii_case("nan") {
+        return Err("NaN is not allowed: coordinates must be finite numbers".into());
+    }
+    if bare.eq_ignore_ascii_case("inf") || bare.eq_ignore_ascii_case("infinity") || bare == "∞" {
+        return Err(format!(
+            "{} is not allowed: coordinates must be finite numbers",
+            quoted(trimmed)
+        ));
+    }
+    Ok(())
+}
+
+/// Reads an exact number (integer, decimal or fraction) of at most [`MAX_NUMBER_CHARS`] characters.
+pub fn read_exact(text: &str) -> Result<Exact, String> {
+    let trimmed = text.trim();
+    refuse_non_numbers(trimmed)?;
+    trimmed
+        .parse()
+        .map_err(|e: crate::exact::ParseExactError| e.0)
+}
+
+/// The refusal of a number that a float precision cannot hold.
+fn too_large(quoted_text: &str, precision: Precision) -> String {
+    format!(
+        "{quoted_text} is too large for {}; exact precision reads it",
+        match precision {
+            Precision::F32 => "a 32-bit float",
+            _ => "a 64-bit float",
+        }
+    )
+}
+
+/// Reads number text straight into a solver's precision: floats without building an exact value
+/// (the batch's hot path), exact numbers exactly. A float precision refuses a number it cannot hold.
+pub trait ReadNumber: Real {
+    /// The nearest value of `text` in this precision, or why there is none.
+    fn read(text: &str) -> Result<Self, String>;
+}
+
+macro_rules! read_float {
+    ($t:ty) => {
+        impl ReadNumber for $t {
+            fn read(text: &str) -> Result<$t, String> {
+                let trimmed = text.trim();
+                refuse_non_numbers(trimmed)?;
+                let value = if trimmed.contains('/') {
+                    // A fraction: rounded once, from its exact value.
+                    <$t>::from_exact(&read_exact(trimmed)?)
+                } else {
+                    crate::exact::check_decimal(trimmed).map_err(|e| e.0)?;
+                    trimmed
+                        .parse::<$t>()
+                        .map_err(|_| format!("{} is not a number", quoted(trimmed)))?
+                };
+                if value.is_finite() {
+                    Ok(value)
+                } else {
+                    Err(too_large(&quoted(trimmed), <$t>::PRECISION))
+                }
+            }
+        }
+    };
+}
+
+read_float!(f32);
+read_float!(f64);
+
+impl ReadNumber for Exact {
+    fn read(text: &str) -> Result<Exact, String> {
+        read_exact(text)
+    }
+}
 
 /// A number as the user wrote it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Literal {
-    /// The nearest f64.
+    /// The nearest f64 (±inf past the f64 range: only exact precision can use such a number).
     pub value: f64,
     /// The exact value of the text.
     pub exact: Exact,
+    /// The text, as an error message quotes it.
+    pub quoted: String,
 }
 
 impl Literal {
-    /// Reads one number: `3`, `-2.5`, `1e-3`, `17/22`. NaN, infinities and overflow are refused.
+    /// Reads one number: `3`, `-2.5`, `1e-3`, `17/22`, of any size up to [`MAX_NUMBER_CHARS`]
+    /// characters. NaN and infinities are refused; a float precision refuses a number past its range
+    /// later ([`Literal::fits`]).
     pub fn parse(text: &str) -> Result<Literal, String> {
-        let trimmed = text.trim();
-        let lower = trimmed.to_ascii_lowercase();
-        let bare = lower.trim_start_matches(['+', '-']);
-        if bare == "nan" {
-            return Err("NaN is not allowed: coordinates must be finite numbers".into());
+        let exact = read_exact(text)?;
+        Ok(Literal {
+            value: exact.to_f64(),
+            quoted: quoted(text.trim()),
+            exact,
+        })
+    }
+
+    /// Ok if `precision` can hold the number (exact holds any), else the refusal.
+    pub fn fits(&self, precision: Precision) -> Result<(), String> {
+        let finite = match precision {
+            Precision::Exact => true,
+            Precision::F64 => self.value.is_finite(),
+            Precision::F32 => f32::from_exact(&self.exact).is_finite(),
+        };
+        if finite {
+            Ok(())
+        } else {
+            Err(too_large(&self.quoted, precision))
         }
-        if bare == "inf" || bare == "infinity" || bare == "∞" {
-            return Err(format!(
-                "'{trimmed}' is not allowed: coordinates must be finite numbers"
-            ));
-        }
-        let exact: Exact = trimmed
-            .parse()
-            .map_err(|e: crate::exact::ParseExactError| e.0)?;
-        let value = exact.to_f64();
-        if !value.is_finite() {
-            return Err(format!("'{trimmed}' is too large for a 64-bit float"));
-        }
-        Ok(Literal { value, exact })
     }
 }
 
@@ -67,6 +163,16 @@ impl<const N: usize> Coords<N> {
             literals.push(Literal::parse(part).map_err(|e| format!("component {}: {e}", i + 1))?);
         }
         Ok(Coords(literals.try_into().expect("length checked above")))
+    }
+
+    /// Ok if `precision` can hold every component, else the refusal naming the component.
+    pub fn fits(&self, precision: Precision) -> Result<(), String> {
+        for (i, literal) in self.0.iter().enumerate() {
+            literal
+                .fits(precision)
+                .map_err(|e| format!("component {}: {e}", i + 1))?;
+        }
+        Ok(())
     }
 
     /// The exact values.
@@ -124,13 +230,71 @@ mod tests {
 
     #[test]
     fn refuses_non_finite_and_malformed() {
-        for bad in ["nan", "NaN", "-inf", "inf", "1e400", "abc", "", "1/0"] {
+        for bad in ["nan", "NaN", "-inf", "inf", "abc", "", "1/0"] {
             assert!(Literal::parse(bad).is_err(), "{bad:?}");
         }
+        let huge = Literal::parse("1e400").unwrap();
+        assert!(huge.fits(Precision::Exact).is_ok());
+        assert_eq!(
+            huge.fits(Precision::F64).unwrap_err(),
+            "'1e400' is too large for a 64-bit float; exact precision reads it"
+        );
+        assert!(
+            Literal::parse("1e39")
+                .unwrap()
+                .fits(Precision::F32)
+                .is_err()
+        );
         let err = Coords::<2>::parse("1,2,3").unwrap_err();
         assert_eq!(err, "expected 2 numbers separated by commas (x,y), got 3");
         let err = Coords::<3>::parse("1,x,3").unwrap_err();
         assert_eq!(err, "component 2: 'x' is not a number");
         assert!(Coords::<3>::parse("1,nan,3").unwrap_err().contains("NaN"));
+    }
+
+    #[test]
+    fn any_size_up_to_the_limit_and_short_refusals_past_it() {
+        let digits = "7".repeat(5000);
+        let big = Literal::parse(&digits).unwrap();
+        assert_eq!(big.exact.fraction(), digits);
+        let err = big.fits(Precision::F64).unwrap_err();
+        assert!(err.len() < 120, "{err}");
+        assert!(err.contains("(5000 characters)"), "{err}");
+        let million = "1".repeat(1_000_000);
+        let clock = std::time::Instant::now();
+        for precision in [Precision::F32, Precision::F64, Precision::Exact] {
+            let err = match precision {
+                Precision::F32 => f32::read(&million).map(|_| ()),
+                Precision::F64 => f64::read(&million).map(|_| ()),
+                Precision::Exact => Exact::read(&million).map(|_| ()),
+            }
+            .unwrap_err();
+            assert!(err.contains("longer than the limit of 10000"), "{err}");
+        }
+        assert!(clock.elapsed().as_millis() < 200);
+        assert!(f64::read(&"9".repeat(400)).unwrap_err().len() < 120);
+        assert_eq!(f64::read("1.0000000000000000000001").unwrap(), 1.0);
+        assert_eq!(
+            Exact::read("1.0000000000000000000001").unwrap(),
+            "10000000000000000000001/10000000000000000000000"
+                .parse()
+                .unwrap()
+        );
+    }
+
+    #[test]
+    fn floats_read_from_text_equal_the_rounded_exact_value() {
+        for text in [
+            "0.1",
+            "-2.5e-3",
+            "1/3",
+            "123456789012345678901234567890",
+            "1e-400",
+            ".5",
+        ] {
+            let exact: Exact = text.parse().unwrap();
+            assert_eq!(f64::read(text).unwrap(), exact.to_f64(), "{text}");
+            assert_eq!(f32::read(text).unwrap(), f32::from_exact(&exact), "{text}");
+        }
     }
 }

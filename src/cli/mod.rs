@@ -16,6 +16,25 @@ macro_rules! out {
     }};
 }
 
+/// Prints a line to standard error, ignoring a closed or failing stream: a message about a problem
+/// must never become a panic of its own (`eprintln!` panics when standard error is a closed pipe).
+macro_rules! err {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr().lock(), $($arg)*);
+    }};
+}
+
+/// [`err!`] without the line break (a progress bar that redraws its line).
+macro_rules! err_part {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let mut stderr = std::io::stderr().lock();
+        let _ = write!(stderr, $($arg)*);
+        let _ = stderr.flush();
+    }};
+}
+
 use std::io::Write;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -277,7 +296,7 @@ pub fn parse_or_exit() -> Cli {
             .filter(|line| !line.is_empty() && !line.starts_with("For more information"))
             .collect();
         let message = message.join(" ");
-        eprintln!(
+        err!(
             "raylab: {} (see --help)",
             message.trim_start_matches("error: ")
         );
@@ -311,7 +330,7 @@ pub fn run(cli: Cli) -> i32 {
         }) {
             Ok(()) => 0,
             Err(error) => {
-                eprintln!("raylab: could not open the window: {error}");
+                err!("raylab: could not open the window: {error}");
                 1
             }
         },
@@ -366,18 +385,18 @@ fn run_render(args: RenderArgs) -> i32 {
             ..
         }) => scene,
         Ok(_) => {
-            eprintln!("raylab: {name}: not a render scene (its problem is not Render(...))");
+            err!("raylab: {name}: not a render scene (its problem is not Render(...))");
             return 1;
         }
         Err(error) => {
-            eprintln!("raylab: {error}");
+            err!("raylab: {error}");
             return 1;
         }
     };
     let mut prepared = match Prepared::new(&scene, &OnDisk::beside(&args.scene)) {
         Ok(prepared) => prepared,
         Err(message) => {
-            eprintln!("raylab: {name}: {message}");
+            err!("raylab: {name}: {message}");
             return 1;
         }
     };
@@ -393,7 +412,7 @@ fn run_render(args: RenderArgs) -> i32 {
         {
             Ok(effects) => prepared.effects = effects,
             Err(message) => {
-                eprintln!("raylab: --effects: {message}");
+                err!("raylab: --effects: {message}");
                 return 2;
             }
         }
@@ -409,7 +428,7 @@ fn run_render(args: RenderArgs) -> i32 {
     let seconds = times[times.len() / 2];
     let (image, stats) = result.expect("at least one render");
     if let Err(message) = write_png(&image, &args.output) {
-        eprintln!(
+        err!(
             "raylab: could not write {}: {message}",
             args.output.display()
         );
@@ -500,7 +519,7 @@ fn run_bench(args: BenchArgs) -> i32 {
         if terminal {
             let width = 40;
             let filled = width * done / total.max(1);
-            eprint!(
+            err_part!(
                 "\r[{}{}] {done}/{total} {:.0} s",
                 "#".repeat(filled),
                 " ".repeat(width - filled),
@@ -511,7 +530,7 @@ fn run_bench(args: BenchArgs) -> i32 {
     })
     .expect("the command line never cancels");
     if terminal {
-        eprintln!();
+        err!("");
     }
     out!("{}", study::table(&records).trim_end());
     out!(
@@ -531,10 +550,10 @@ fn run_bench(args: BenchArgs) -> i32 {
                 write_atomically(&dir.join("results.csv"), |o| o.write_all(csv.as_bytes()))
             });
         if let Err(error) = written {
-            eprintln!("raylab: could not write to {}: {error}", dir.display());
+            err!("raylab: could not write to {}: {error}", dir.display());
             return 1;
         }
-        eprintln!("wrote {0}/results.json and {0}/results.csv", dir.display());
+        err!("wrote {0}/results.json and {0}/results.csv", dir.display());
     }
     0
 }
@@ -582,12 +601,12 @@ fn run_solve(args: SolveArgs) -> i32 {
     }
     if args.batch {
         if matches!(args.format, Some(Format::Text | Format::Latex)) {
-            eprintln!("raylab: --batch writes JSON lines; --format text and latex do not apply");
+            err!("raylab: --batch writes JSON lines; --format text and latex do not apply");
             return 2;
         }
-        let stdin = std::io::stdin();
+        let stdin = std::io::BufReader::with_capacity(1 << 16, std::io::stdin().lock());
         return match batch::run_batch(
-            stdin.lock(),
+            stdin,
             std::io::stdout().lock(),
             std::io::stderr(),
             precision,
@@ -595,17 +614,17 @@ fn run_solve(args: SolveArgs) -> i32 {
         ) {
             Ok(0) => 0,
             Ok(bad) => {
-                eprintln!("raylab: {bad} bad line(s) in the batch");
+                err!("raylab: {bad} bad line(s) in the batch");
                 1
             }
             Err(error) => {
-                eprintln!("raylab: {error}");
+                err!("raylab: {error}");
                 1
             }
         };
     }
     let Some(problem) = args.problem else {
-        eprintln!(
+        err!(
             "raylab: name a problem (segments, triangle, parallelogram) or pass --batch (see --help)"
         );
         return 2;
@@ -627,12 +646,19 @@ fn run_solve(args: SolveArgs) -> i32 {
             match solve::method_report(&vectors, tmin, *method, precision) {
                 Ok(report) => report,
                 Err(message) => {
-                    eprintln!("raylab: {message}");
+                    err!("raylab: {message}");
                     return 2;
                 }
             }
         }
-        _ => solve::run(&problem.into_case(), precision),
+        _ => {
+            let case = problem.into_case();
+            if let Err(message) = case.fits(precision) {
+                err!("raylab: {message}");
+                return 2;
+            }
+            solve::run(&case, precision)
+        }
     };
     let output = match args.format.unwrap_or(Format::Text) {
         Format::Text => trace::to_text(&report.trace),

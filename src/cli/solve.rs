@@ -1,5 +1,6 @@
 //! `raylab solve`: one case from flags, or many from JSON lines, printed as text, JSON or LaTeX.
 
+use serde::Serialize;
 use serde_json::{Map, Value, json};
 
 use super::input::{Coords, Literal};
@@ -33,6 +34,27 @@ pub enum Case {
 }
 
 impl Case {
+    /// Ok if `precision` can hold every number (exact holds any), else the refusal naming the flag.
+    pub fn fits(&self, precision: Precision) -> Result<(), String> {
+        let named =
+            |flag: &str, result: Result<(), String>| result.map_err(|e| format!("--{flag}: {e}"));
+        match self {
+            Case::Segments { points } => ["a1", "a2", "b1", "b2"]
+                .iter()
+                .zip(points)
+                .try_for_each(|(flag, p)| named(flag, p.fits(precision))),
+            Case::Triangle { vectors, t_min } => ["a", "b", "c", "origin", "dir"]
+                .iter()
+                .zip(vectors)
+                .try_for_each(|(flag, v)| named(flag, v.fits(precision)))
+                .and_then(|()| named("tmin", t_min.fits(precision))),
+            Case::Parallelogram { vectors } => ["corner", "e1", "e2", "origin", "dir"]
+                .iter()
+                .zip(vectors)
+                .try_for_each(|(flag, v)| named(flag, v.fits(precision))),
+        }
+    }
+
     /// `segments`, `triangle` or `parallelogram`.
     pub fn kind(&self) -> &'static str {
         match self {
@@ -57,8 +79,8 @@ impl Report {
     pub fn to_json(&self, with_trace: bool) -> Value {
         let mut fields = self.fields.clone();
         if with_trace {
-            fields.insert(
-                "trace".into(),
+            fields.put(
+                "trace",
                 serde_json::to_value(&self.trace).expect("a trace always serializes"),
             );
         }
@@ -77,14 +99,76 @@ pub fn run(case: &Case, precision: Precision) -> Report {
 
 fn run_in<R: Real>(case: &Case) -> Report {
     let mut fields = Map::new();
-    fields.insert("kind".into(), json!(case.kind()));
-    fields.insert("precision".into(), json!(R::PRECISION.name()));
-    let trace = match case {
-        Case::Segments { points } => segments_report::<R>(points, &mut fields),
-        Case::Triangle { vectors, t_min } => triangle_report::<R>(vectors, t_min, &mut fields),
-        Case::Parallelogram { vectors } => parallelogram_report::<R>(vectors, &mut fields),
-    };
-    Report { fields, trace }
+    let trace = solve_posed(&pose::<R>(case), true, &mut fields);
+    Report {
+        fields,
+        trace: trace.expect("recorded"),
+    }
+}
+
+/// A problem in one precision, ready to solve.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Posed<R> {
+    /// Two 2D segments.
+    Segments(SegmentPair<R>),
+    /// A ray and a triangle.
+    Triangle(RayTriangle<R>),
+    /// A ray and a parallelogram.
+    Parallelogram(RayParallelogram<R>),
+}
+
+impl<R> Posed<R> {
+    /// `segments`, `triangle` or `parallelogram`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Posed::Segments(_) => "segments",
+            Posed::Triangle(_) => "triangle",
+            Posed::Parallelogram(_) => "parallelogram",
+        }
+    }
+}
+
+/// The case's numbers in precision `R` (rounded once from the exact value of the text).
+fn pose<R: Real>(case: &Case) -> Posed<R> {
+    match case {
+        Case::Segments { points } => Posed::Segments(SegmentPair {
+            a1: convert(&points[0]),
+            a2: convert(&points[1]),
+            b1: convert(&points[2]),
+            b2: convert(&points[3]),
+        }),
+        Case::Triangle { vectors, t_min } => Posed::Triangle(RayTriangle {
+            a: convert(&vectors[0]),
+            b: convert(&vectors[1]),
+            c: convert(&vectors[2]),
+            origin: convert(&vectors[3]),
+            dir: convert(&vectors[4]),
+            t_min: R::from_exact(&t_min.exact),
+        }),
+        Case::Parallelogram { vectors } => Posed::Parallelogram(RayParallelogram {
+            corner: convert(&vectors[0]),
+            e1: convert(&vectors[1]),
+            e2: convert(&vectors[2]),
+            origin: convert(&vectors[3]),
+            dir: convert(&vectors[4]),
+        }),
+    }
+}
+
+/// Solves a posed problem: the report's fields, and the trace when `record` is set (a solve without a
+/// trace formats no steps at all).
+pub fn solve_posed<R: Real>(
+    posed: &Posed<R>,
+    record: bool,
+    fields: &mut impl FieldSink,
+) -> Option<Trace> {
+    fields.put("kind", posed.kind());
+    fields.put("precision", R::PRECISION.name());
+    match posed {
+        Posed::Segments(pair) => segments_report(pair, record, fields),
+        Posed::Triangle(problem) => triangle_report(problem, record, fields),
+        Posed::Parallelogram(problem) => parallelogram_report(problem, record, fields),
+    }
 }
 
 fn convert<R: Real, const N: usize>(c: &Coords<N>) -> [R; N] {
@@ -93,18 +177,27 @@ fn convert<R: Real, const N: usize>(c: &Coords<N>) -> [R; N] {
 }
 
 /// A float as JSON (null for NaN or ±inf, which JSON cannot hold).
-fn number<R: Real>(x: &R) -> Value {
-    serde_json::Number::from_f64(x.to_f64()).map_or(Value::Null, Value::Number)
+/// A value as a JSON float (serde_json writes NaN and ±inf, which JSON cannot hold, as null).
+fn optional<R: Real>(x: Option<&R>) -> Option<f64> {
+    x.map(Real::to_f64)
 }
 
-fn optional<R: Real>(x: Option<&R>) -> Value {
-    x.map_or(Value::Null, number)
+fn vector<R: Real, const N: usize>(v: Option<&[R; N]>) -> Option<[f64; N]> {
+    v.map(|v| std::array::from_fn(|i| v[i].to_f64()))
 }
 
-fn vector<R: Real, const N: usize>(v: Option<&[R; N]>) -> Value {
-    v.map_or(Value::Null, |v| {
-        Value::Array(v.iter().map(number).collect())
-    })
+/// Where a report's fields go, in order: a JSON map (for a single solve, which adds to it), or
+/// straight onto a batch's output line (no map, no allocation per field).
+pub trait FieldSink {
+    /// Adds the field `key`.
+    fn put(&mut self, key: &'static str, value: impl Serialize);
+}
+
+impl FieldSink for Map<String, Value> {
+    fn put(&mut self, key: &'static str, value: impl Serialize) {
+        let value = serde_json::to_value(value).expect("report fields always serialize");
+        self.insert(key.into(), value);
+    }
 }
 
 /// Collects exact strings for named values when the precision is exact; empty otherwise.
@@ -132,23 +225,21 @@ impl ExactFields {
         }
     }
 
-    fn finish(self, fields: &mut Map<String, Value>) {
+    fn finish(self, fields: &mut impl FieldSink) {
         if !self.0.is_empty() {
-            fields.insert("exact".into(), Value::Object(self.0));
+            fields.put("exact", self.0);
         }
     }
 }
 
-fn segments_report<R: Real>(points: &[Coords<2>; 4], fields: &mut Map<String, Value>) -> Trace {
-    let pair = SegmentPair {
-        a1: convert::<R, 2>(&points[0]),
-        a2: convert::<R, 2>(&points[1]),
-        b1: convert::<R, 2>(&points[2]),
-        b2: convert::<R, 2>(&points[3]),
-    };
-    let solution = segments::solve(&pair, true);
-    fields.insert("status".into(), json!(solution.outcome.status()));
-    insert_message(fields, solution.trace.as_ref());
+fn segments_report<R: Real>(
+    pair: &SegmentPair<R>,
+    record: bool,
+    fields: &mut impl FieldSink,
+) -> Option<Trace> {
+    let solution = segments::solve(pair, record);
+    fields.put("status", solution.outcome.status());
+    fields.put("message", solution.message());
     match &solution.outcome {
         SegmentsOutcome::LinesCrossOutside {
             t_outside,
@@ -161,62 +252,50 @@ fn segments_report<R: Real>(points: &[Coords<2>; 4], fields: &mut Map<String, Va
             if *s_outside {
                 outside.push("s");
             }
-            fields.insert("outside".into(), json!(outside));
+            fields.put("outside", json!(outside));
         }
         SegmentsOutcome::DegenerateSegment { a, b } => {
-            fields.insert("zero_length".into(), json!({"a": a, "b": b}));
+            fields.put("zero_length", json!({"a": a, "b": b}));
         }
         SegmentsOutcome::InvalidInput(bad) => {
-            fields.insert("field".into(), json!(bad.field));
+            fields.put("field", json!(bad.field));
         }
         _ => {}
     }
-    fields.insert("t".into(), optional(solution.t.as_ref()));
-    fields.insert("s".into(), optional(solution.s.as_ref()));
-    fields.insert("point".into(), vector(solution.point.as_ref()));
-    fields.insert("overlap".into(), vector(solution.overlap.as_ref()));
+    fields.put("t", optional(solution.t.as_ref()));
+    fields.put("s", optional(solution.s.as_ref()));
+    fields.put("point", vector(solution.point.as_ref()));
+    fields.put("overlap", vector(solution.overlap.as_ref()));
     let mut exact = ExactFields::new();
     exact.scalar("t", solution.t.as_ref());
     exact.scalar("s", solution.s.as_ref());
     exact.vector("point", solution.point.as_ref());
     exact.vector("overlap", solution.overlap.as_ref());
     exact.finish(fields);
-    solution.trace.expect("recorded")
+    solution.trace
 }
 
 fn triangle_report<R: Real>(
-    vectors: &[Coords<3>; 5],
-    t_min: &Literal,
-    fields: &mut Map<String, Value>,
-) -> Trace {
-    let problem = RayTriangle {
-        a: convert::<R, 3>(&vectors[0]),
-        b: convert::<R, 3>(&vectors[1]),
-        c: convert::<R, 3>(&vectors[2]),
-        origin: convert::<R, 3>(&vectors[3]),
-        dir: convert::<R, 3>(&vectors[4]),
-        t_min: R::from_exact(&t_min.exact),
-    };
-    let solved = triangle::solve(&problem, true);
-    fields.insert("status".into(), json!(solved.outcome.status()));
-    insert_message(fields, solved.trace.as_ref());
+    problem: &RayTriangle<R>,
+    record: bool,
+    fields: &mut impl FieldSink,
+) -> Option<Trace> {
+    let solved = triangle::solve(problem, record);
+    fields.put("status", solved.outcome.status());
+    fields.put("message", solved.message());
     if let TriangleOutcome::Miss(miss) = &solved.outcome {
         insert_triangle_miss(fields, miss);
     }
     let s = solved.solution.as_ref();
     let hit = solved.outcome.is_hit();
-    fields.insert("beta".into(), optional(s.map(|s| &s.beta)));
-    fields.insert("gamma".into(), optional(s.map(|s| &s.gamma)));
-    fields.insert("t".into(), optional(s.map(|s| &s.t)));
-    fields.insert("alpha".into(), optional(s.map(|s| &s.alpha)));
-    fields.insert(
-        "distance".into(),
-        s.and_then(|s| serde_json::Number::from_f64(s.distance))
-            .map_or(Value::Null, Value::Number),
-    );
-    fields.insert("point".into(), vector(s.filter(|_| hit).map(|s| &s.point)));
+    fields.put("beta", optional(s.map(|s| &s.beta)));
+    fields.put("gamma", optional(s.map(|s| &s.gamma)));
+    fields.put("t", optional(s.map(|s| &s.t)));
+    fields.put("alpha", optional(s.map(|s| &s.alpha)));
+    fields.put("distance", s.map(|s| s.distance));
+    fields.put("point", vector(s.filter(|_| hit).map(|s| &s.point)));
     if !hit {
-        fields.insert("plane_point".into(), vector(s.map(|s| &s.point)));
+        fields.put("plane_point", vector(s.map(|s| &s.point)));
     }
     let mut exact = ExactFields::new();
     exact.scalar("beta", s.map(|s| &s.beta));
@@ -231,73 +310,64 @@ fn triangle_report<R: Real>(
         exact.0.insert("distance".into(), json!(distance.full()));
     }
     exact.finish(fields);
-    solved.trace.expect("recorded")
+    solved.trace
 }
 
-fn insert_triangle_miss(fields: &mut Map<String, Value>, miss: &TriangleMiss) {
+fn insert_triangle_miss(fields: &mut impl FieldSink, miss: &TriangleMiss) {
     match miss {
         TriangleMiss::Outside { edges } => {
             let failed: Vec<&str> = edges.iter().map(|e| e.inequality()).collect();
             let beyond: Vec<&str> = edges.iter().map(|e| e.name()).collect();
-            fields.insert("failed".into(), json!(failed));
-            fields.insert("beyond_edges".into(), json!(beyond));
+            fields.put("failed", json!(failed));
+            fields.put("beyond_edges", json!(beyond));
         }
         TriangleMiss::Parallel { in_plane } => {
-            fields.insert("in_plane".into(), json!(in_plane));
+            fields.put("in_plane", json!(in_plane));
         }
         TriangleMiss::ZeroDirection => {
-            fields.insert("field".into(), json!("D"));
-            fields.insert("reason".into(), json!("zero-direction"));
+            fields.put("field", json!("D"));
+            fields.put("reason", json!("zero-direction"));
         }
         TriangleMiss::InvalidInput(bad) => {
-            fields.insert("field".into(), json!(bad.field));
+            fields.put("field", json!(bad.field));
         }
         TriangleMiss::Behind | TriangleMiss::DegenerateTriangle => {}
     }
 }
 
 fn parallelogram_report<R: Real>(
-    vectors: &[Coords<3>; 5],
-    fields: &mut Map<String, Value>,
-) -> Trace {
-    let problem = RayParallelogram {
-        corner: convert::<R, 3>(&vectors[0]),
-        e1: convert::<R, 3>(&vectors[1]),
-        e2: convert::<R, 3>(&vectors[2]),
-        origin: convert::<R, 3>(&vectors[3]),
-        dir: convert::<R, 3>(&vectors[4]),
-    };
-    let solved = parallelogram::solve(&problem, true);
-    fields.insert("status".into(), json!(solved.outcome.status()));
-    insert_message(fields, solved.trace.as_ref());
+    problem: &RayParallelogram<R>,
+    record: bool,
+    fields: &mut impl FieldSink,
+) -> Option<Trace> {
+    let solved = parallelogram::solve(problem, record);
+    fields.put("status", solved.outcome.status());
+    fields.put("message", solved.message());
     match &solved.outcome {
         parallelogram::ParallelogramOutcome::Outside { sides } => {
             let failed: Vec<&str> = sides.iter().map(|s| s.inequality()).collect();
-            fields.insert("failed".into(), json!(failed));
+            fields.put("failed", json!(failed));
         }
         parallelogram::ParallelogramOutcome::Degenerate => {
-            fields.insert("reason".into(), json!("degenerate-parallelogram"));
+            fields.put("reason", json!("degenerate-parallelogram"));
         }
         parallelogram::ParallelogramOutcome::ZeroDirection => {
-            fields.insert("field".into(), json!("d"));
-            fields.insert("reason".into(), json!("zero-direction"));
+            fields.put("field", json!("d"));
+            fields.put("reason", json!("zero-direction"));
         }
         parallelogram::ParallelogramOutcome::InvalidInput(bad) => {
-            fields.insert("field".into(), json!(bad.field));
+            fields.put("field", json!(bad.field));
         }
         _ => {}
     }
     let x = solved.alpha_beta_t.as_ref();
     let hit = solved.outcome.is_hit();
-    fields.insert("alpha".into(), optional(x.map(|x| &x[0])));
-    fields.insert("beta".into(), optional(x.map(|x| &x[1])));
-    fields.insert("t".into(), optional(x.map(|x| &x[2])));
-    fields.insert(
-        "point".into(),
-        vector(solved.point.as_ref().filter(|_| hit)),
-    );
+    fields.put("alpha", optional(x.map(|x| &x[0])));
+    fields.put("beta", optional(x.map(|x| &x[1])));
+    fields.put("t", optional(x.map(|x| &x[2])));
+    fields.put("point", vector(solved.point.as_ref().filter(|_| hit)));
     if !hit {
-        fields.insert("plane_point".into(), vector(solved.point.as_ref()));
+        fields.put("plane_point", vector(solved.point.as_ref()));
     }
     let mut exact = ExactFields::new();
     exact.scalar("alpha", x.map(|x| &x[0]));
@@ -308,13 +378,13 @@ fn parallelogram_report<R: Real>(
         solved.point.as_ref(),
     );
     exact.finish(fields);
-    solved.trace.expect("recorded")
+    solved.trace
 }
 
 /// Copies the verdict's sentence into the report as `message`.
 fn insert_message(fields: &mut Map<String, Value>, trace: Option<&Trace>) {
     if let Some(verdict) = trace.and_then(Trace::verdict) {
-        fields.insert("message".into(), json!(verdict.message));
+        fields.put("message", json!(verdict.message));
     }
 }
 
@@ -339,8 +409,11 @@ pub fn method_report(
             method.name()
         ));
     }
+    if method != Method::Exact {
+        lecture().fits(precision)?;
+    }
     let named = |mut report: Report| {
-        report.fields.insert("method".into(), json!(method.name()));
+        report.fields.put("method", json!(method.name()));
         report
     };
     match (method, precision) {
@@ -383,16 +456,16 @@ fn float_method_report<F: crate::accuracy::Float + crate::accuracy::InverseSolve
         }
     };
     let mut fields = Map::new();
-    fields.insert("kind".into(), json!("triangle"));
-    fields.insert("method".into(), json!(method.name()));
-    fields.insert("precision".into(), json!(F::PRECISION.name()));
-    fields.insert("status".into(), json!(status));
+    fields.put("kind", json!("triangle"));
+    fields.put("method", json!(method.name()));
+    fields.put("precision", json!(F::PRECISION.name()));
+    fields.put("status", json!(status));
     insert_message(&mut fields, Some(&trace));
     let values = answer.values;
-    fields.insert("t".into(), optional(values.as_ref().map(|v| &v[0])));
-    fields.insert("beta".into(), optional(values.as_ref().map(|v| &v[1])));
-    fields.insert("gamma".into(), optional(values.as_ref().map(|v| &v[2])));
-    fields.insert("exact_fallback".into(), json!(answer.exact_fallback));
+    fields.put("t", optional(values.as_ref().map(|v| &v[0])));
+    fields.put("beta", optional(values.as_ref().map(|v| &v[1])));
+    fields.put("gamma", optional(values.as_ref().map(|v| &v[2])));
+    fields.put("exact_fallback", json!(answer.exact_fallback));
     Report { fields, trace }
 }
 

@@ -138,6 +138,13 @@ pub struct ParallelogramSolution<R> {
     pub trace: Option<Trace>,
 }
 
+impl<R> ParallelogramSolution<R> {
+    /// The verdict's sentence for people (the same as in the trace, which need not be recorded).
+    pub fn message(&self) -> String {
+        verdict_message(&self.outcome)
+    }
+}
+
 const LABELS: [&str; 3] = ["e1", "e2", "−d"];
 
 /// Solves by the inverse matrix, recording each step when `record` is set.

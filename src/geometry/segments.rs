@@ -139,6 +139,13 @@ impl<R> SegmentsSolution<R> {
     }
 }
 
+impl<R: Real> SegmentsSolution<R> {
+    /// The verdict's sentence for people (the same as in the trace, which need not be recorded).
+    pub fn message(&self) -> String {
+        verdict_message(self)
+    }
+}
+
 const LABELS: [&str; 2] = ["A2−A1", "B1−B2"];
 
 /// Solves the 2x2 system by Cramer's rule and classifies, recording each step when `record` is set.

@@ -174,6 +174,13 @@ pub struct TriangleSolution<R> {
     pub trace: Option<Trace>,
 }
 
+impl<R: Real> TriangleSolution<R> {
+    /// The verdict's sentence for people (the same as in the trace, which need not be recorded).
+    pub fn message(&self) -> String {
+        verdict_message(&self.outcome, self.solution.as_ref())
+    }
+}
+
 /// Solves the lecture's system by Cramer's rule, recording each step when `record` is set.
 pub fn solve<R: Real>(problem: &RayTriangle<R>, record: bool) -> TriangleSolution<R> {
     let mut rec = Recorder::new(record, "triangle", R::PRECISION);

@@ -91,6 +91,7 @@ impl AssetSource for OnDisk {
 pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTriangle>, String> {
     let bytes = assets.read(name, MESH)?;
     check_faces(&bytes).map_err(|e| format!("{name}: {e}"))?;
+    check_face_indices(&bytes).map_err(|e| format!("{name}: not a readable OBJ mesh: {e}"))?;
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -250,6 +251,41 @@ impl Texture {
         let at = (row * self.width + column) * 3;
         std::array::from_fn(|k| self.texels[at + k] as f32 / 255.0)
     }
+}
+
+/// Refuses face indices that tobj would turn into wrapped-around array indices (0, a relative index
+/// reaching before the first vertex, or one past any mesh): it panics on them in debug builds and
+/// reads the wrong vertex in release builds.
+fn check_face_indices(bytes: &[u8]) -> Result<(), String> {
+    const LARGEST_INDEX: i64 = 1 << 32;
+    let mut counts = [0i64; 3];
+    for (number, line) in String::from_utf8_lossy(bytes).lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f" | "l" | "p") => {
+                for vertex in words {
+                    for (slot, part) in vertex.split('/').enumerate().take(3) {
+                        let Ok(index) = part.parse::<i64>() else {
+                            continue; // empty (v//vn) or malformed: tobj reports those itself
+                        };
+                        let known = counts[slot];
+                        if index == 0 || index < -known || index > LARGEST_INDEX {
+                            return Err(format!(
+                                "line {}: index {index} is out of range ({known} {} before it)",
+                                number + 1,
+                                ["vertices", "texture coordinates", "normals"][slot]
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
