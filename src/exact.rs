@@ -236,6 +236,29 @@ impl SignedRoot {
         if self.negative { "−" } else { "" }
     }
 
+    /// The nearest float: ±√ of the square's nearest float, or, when that is out of the float range,
+    /// of its value scaled by a power of four first (so √(10^800) is 10^400, not ∞).
+    pub fn to_f64(&self) -> f64 {
+        let sign = if self.negative { -1.0 } else { 1.0 };
+        let square = self.square.to_f64();
+        if square.is_finite() && (square != 0.0 || self.square.is_zero()) {
+            return sign * square.sqrt();
+        }
+        // Out of range: take out 4^k (whose root is 2^k) until the rest is a normal float.
+        let bits = self.square.0.numer().bits() as i64 - self.square.0.denom().bits() as i64;
+        let k = bits / 2;
+        let scale = Exact(BigRational::new(
+            BigInt::one(),
+            BigInt::one() << (2 * k.unsigned_abs()),
+        ));
+        let rest = if k >= 0 {
+            &self.square * &scale
+        } else {
+            self.square.checked_div(&scale).unwrap_or_default()
+        };
+        sign * rest.to_f64().sqrt() * 2f64.powi(k as i32)
+    }
+
     /// The whole exact value, however long: `√3`, `2/3`, `√(1/2)`, `−√(4131/2888)`.
     pub fn full(&self) -> String {
         let body = match self.square.exact_sqrt() {

@@ -531,3 +531,52 @@ fn symbolic_steps_derive_the_triangle_and_check_each_merge_on_the_numbers() {
         &["symbolic", "triangle"],
     );
 }
+
+#[test]
+fn exact_values_beyond_the_float_range_read_from_the_exact_value() {
+    // t = 10^400 along a D of length √3·10^-400: a float would say t = ∞ and t·|D| = NaN.
+    let args = [
+        "solve",
+        "triangle",
+        "--a",
+        "3,0,0",
+        "--b",
+        "0,3,0",
+        "--c",
+        "0,0,3",
+        "--origin",
+        "0,0,0",
+        "--dir",
+        "1e-400,1e-400,1e-400",
+        "--precision",
+        "exact",
+    ];
+    let text = stdout(&raylab(&args));
+    assert!(
+        text.contains("⇒ HIT: the ray hits the triangle at t = ≈1e400"),
+        "{text}"
+    );
+    assert!(text.contains("t·|D| = √3 ≈ 1.732050808"), "{text}");
+    for bad in ["inf", "NaN", "|D| = 0;"] {
+        assert!(!text.contains(bad), "{bad} in {text}");
+    }
+    let mut json_args = args.to_vec();
+    json_args.extend(["--format", "json", "--no-trace"]);
+    let json: serde_json::Value = serde_json::from_str(&stdout(&raylab(&json_args))).unwrap();
+    assert_eq!(json["t"], "≈1e400", "a string where a float cannot hold it");
+    assert!((json["distance"].as_f64().unwrap() - 3f64.sqrt()).abs() < 1e-15);
+    assert!(
+        json["exact"]["t"]
+            .as_str()
+            .unwrap()
+            .starts_with("1000000000")
+    );
+    let mut latex_args = args.to_vec();
+    latex_args.extend(["--format", "latex"]);
+    let latex = stdout(&raylab(&latex_args));
+    assert!(latex.contains("\\approx 1 \\times 10^{400}"), "{latex}");
+    assert!(
+        !latex.contains("\\infty") && !latex.contains("NaN"),
+        "{latex}"
+    );
+}

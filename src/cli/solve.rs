@@ -176,14 +176,36 @@ fn convert<R: Real, const N: usize>(c: &Coords<N>) -> [R; N] {
     std::array::from_fn(|i| R::from_exact(&exact[i]))
 }
 
-/// A float as JSON (null for NaN or ±inf, which JSON cannot hold).
-/// A value as a JSON float (serde_json writes NaN and ±inf, which JSON cannot hold, as null).
-fn optional<R: Real>(x: Option<&R>) -> Option<f64> {
-    x.map(Real::to_f64)
+/// A value in a report: a JSON float where a float holds it. An exact value beyond the float range
+/// (t = 10^400, which would be ∞, or 10^-400, which would be 0) is written as a string from the exact
+/// value, `"≈1e400"`; a float precision's NaN or ±inf is written as null (JSON has no such numbers).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum JsonNumber {
+    /// The value as a float.
+    Float(f64),
+    /// The exact value where no float holds it.
+    Text(String),
 }
 
-fn vector<R: Real, const N: usize>(v: Option<&[R; N]>) -> Option<[f64; N]> {
-    v.map(|v| std::array::from_fn(|i| v[i].to_f64()))
+impl JsonNumber {
+    fn of<R: Real>(x: &R) -> JsonNumber {
+        let float = x.to_f64();
+        match x.to_exact() {
+            Some(exact) if !float.is_finite() || (float == 0.0 && !exact.is_zero()) => {
+                JsonNumber::Text(exact.display())
+            }
+            _ => JsonNumber::Float(float),
+        }
+    }
+}
+
+fn optional<R: Real>(x: Option<&R>) -> Option<JsonNumber> {
+    x.map(JsonNumber::of)
+}
+
+fn vector<R: Real, const N: usize>(v: Option<&[R; N]>) -> Option<[JsonNumber; N]> {
+    v.map(|v| std::array::from_fn(|i| JsonNumber::of(&v[i])))
 }
 
 /// Where a report's fields go, in order: a JSON map (for a single solve, which adds to it), or

@@ -587,7 +587,6 @@ fn classify<R: Real>(
 
 /// t·|D|, with its exact closed form when exact (t²·(D·D) under a square root).
 fn distance_along<R: Real>(t: &R, dir: &V3<R>) -> (f64, Option<SignedRoot>) {
-    let distance = t.to_f64() * norm_f64(dir);
     let exact = t
         .to_exact()
         .zip(dot(dir, dir).to_exact())
@@ -595,6 +594,12 @@ fn distance_along<R: Real>(t: &R, dir: &V3<R>) -> (f64, Option<SignedRoot>) {
             negative: t < Exact::from_int(0),
             square: &(&t * &t) * &dd,
         });
+    // In exact precision the float comes from the exact square, so t = 10^400 along a D of length
+    // √3·10^-400 reads √3 ≈ 1.732, not ∞·0 = NaN.
+    let distance = match &exact {
+        Some(root) => root.to_f64(),
+        None => t.to_f64() * norm_f64(dir),
+    };
     (distance, exact)
 }
 
@@ -613,10 +618,13 @@ fn record_point<R: Real>(rec: &mut Recorder, p: &RayTriangle<R>, s: &Barycentric
         )
     });
     rec.push(|| {
-        let d_norm = norm_f64(&p.dir);
+        // |D| from the exact D·D where there is one: a D of 10^-400 is not of length 0.
+        let d_norm = match dot(&p.dir, &p.dir).to_exact() {
+            Some(dd) if !dd.is_zero() => format!("√({})", dd.display()).replace("√(≈", "≈√("),
+            _ => crate::trace::format_float(norm_f64(&p.dir), R::PRECISION),
+        };
         let explanation = format!(
-            "t counts steps of length |D| = {}; the distance along the ray is t·|D| (equal to t only for a unit D).",
-            crate::trace::format_float(d_norm, R::PRECISION)
+            "t counts steps of length |D| = {d_norm}; the distance along the ray is t·|D| (equal to t only for a unit D)."
         );
         let payload = Payload::Scalar(Scalar {
             symbol: "t·|D|".into(),
