@@ -136,6 +136,8 @@ struct Shared<T> {
     total: AtomicUsize,
     cancel: AtomicBool,
     result: Mutex<Option<T>>,
+    /// What went wrong, if the work panicked (the worker ends; the app shows this and goes on).
+    failure: Mutex<Option<String>>,
 }
 
 /// A running [`Sliced`] computation: on a named thread natively, in slices from [`Job::poll`] on the
@@ -159,6 +161,7 @@ impl<T: Send + 'static> Job<T> {
             total: AtomicUsize::new(1),
             cancel: AtomicBool::new(false),
             result: Mutex::new(None),
+            failure: Mutex::new(None),
         });
         #[cfg(not(target_arch = "wasm32"))]
         {
@@ -168,8 +171,22 @@ impl<T: Send + 'static> Job<T> {
                 .name(name.into())
                 .spawn(move || {
                     while !worker.cancel.load(Ordering::Relaxed) {
-                        if worker.record(work.step()) {
-                            break;
+                        // A bug in a slice must not leave the app "rendering…" forever: catch the
+                        // panic, say what it was, and end the job.
+                        let step =
+                            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work.step()));
+                        match step {
+                            Ok(progress) => {
+                                if worker.record(progress) {
+                                    break;
+                                }
+                            }
+                            Err(panic) => {
+                                if let Ok(mut failure) = worker.failure.lock() {
+                                    *failure = Some(panic_message(panic.as_ref()));
+                                }
+                                break;
+                            }
                         }
                         wake();
                     }
@@ -216,10 +233,25 @@ impl<T: Send + 'static> Job<T> {
         )
     }
 
+    /// Why the work stopped without a result, if it panicked (it then never finishes).
+    pub fn failure(&self) -> Option<String> {
+        self.shared.failure.lock().ok().and_then(|f| f.clone())
+    }
+
     /// Asks the work to stop at its next slice; [`Job::poll`] then never returns a result.
     pub fn cancel(&self) {
         self.shared.cancel.store(true, Ordering::Relaxed);
     }
+}
+
+/// The message a panic carried (`panic!("…")` gives a `&str` or a `String`).
+#[cfg(not(target_arch = "wasm32"))]
+fn panic_message(panic: &(dyn std::any::Any + Send)) -> String {
+    panic
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| panic.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "an internal error".into())
 }
 
 impl<T> Drop for Job<T> {
@@ -284,5 +316,32 @@ mod tests {
         };
         assert_eq!(result, 1000);
         assert_eq!(job.progress(), (1000, 1000));
+    }
+
+    /// Panics in its third slice.
+    struct Faulty(usize);
+
+    impl Sliced for Faulty {
+        type Output = ();
+        fn step(&mut self) -> Progress<()> {
+            self.0 += 1;
+            assert!(self.0 < 3, "slice {} went wrong", self.0);
+            Progress::Working {
+                done: self.0,
+                total: 10,
+            }
+        }
+    }
+
+    #[test]
+    fn a_job_that_panics_says_so_instead_of_running_forever() {
+        let mut job = Job::start("faulty", Faulty(0), || {}).unwrap();
+        let clock = Stopwatch::start();
+        while job.failure().is_none() {
+            assert!(clock.seconds() < 10.0, "the failure was never reported");
+            std::thread::yield_now();
+        }
+        assert!(job.failure().unwrap().contains("slice 3 went wrong"));
+        assert!(job.poll().is_none());
     }
 }

@@ -99,7 +99,12 @@ impl AccuracyView {
         let Some(job) = self.running.as_mut() else {
             return;
         };
-        if let Some(records) = job.poll() {
+        if let Some(failure) = job.failure() {
+            self.running = None;
+            self.status = format!(
+                "the study stopped on an internal error ({failure}); the app goes on: press Run to try again"
+            );
+        } else if let Some(records) = job.poll() {
             self.running = None;
             self.status = format!(
                 "{} tests measured",

@@ -93,6 +93,8 @@ struct Slot {
     running: Option<(String, Job<Rendered>)>,
     shown: Option<Shown>,
     error: Option<String>,
+    /// The choices whose render failed inside (a panic): not started again until they change.
+    failed: Option<String>,
 }
 
 /// A finished render on screen.
@@ -228,7 +230,7 @@ impl RenderView {
                 .as_ref()
                 .map(|(k, _)| k)
                 .or(slot.shown.as_ref().map(|s| &s.key));
-            if current != Some(&wanted) {
+            if current != Some(&wanted) && slot.failed.as_ref() != Some(&wanted) {
                 let started = self.prepared(bug).and_then(|prepared| {
                     let waker = ctx.clone();
                     Job::start("raylab-render", RenderJob::new(prepared), move || {
@@ -256,6 +258,14 @@ impl RenderView {
             ("render", &mut self.runtime.correct),
             ("render-bug", &mut self.runtime.buggy),
         ] {
+            if let Some(failure) = slot.running.as_ref().and_then(|(_, job)| job.failure()) {
+                let (key, _) = slot.running.take().expect("running");
+                slot.error = Some(format!(
+                    "the render stopped on an internal error: {failure}"
+                ));
+                slot.failed = Some(key);
+                continue;
+            }
             let finished = slot.running.as_mut().and_then(|(_, job)| job.poll());
             if let Some(rendered) = finished {
                 let (key, _) = slot.running.take().expect("running");

@@ -86,7 +86,8 @@ async fn run(launch: Launch) -> Result<(), String> {
         .get_element_by_id(CANVAS_ID)
         .and_then(|element| element.dyn_into::<web_sys::HtmlCanvasElement>().ok())
         .ok_or_else(|| format!("the page has no <canvas id=\"{CANVAS_ID}\">"))?;
-    eframe::WebRunner::new()
+    let runner = eframe::WebRunner::new();
+    runner
         .start(
             canvas,
             eframe::WebOptions::default(),
@@ -98,8 +99,23 @@ async fn run(launch: Launch) -> Result<(), String> {
         )
         .await
         .map_err(|error| describe(&error))?;
+    save_on_the_way_out(&runner)?;
     hide_status();
     Ok(())
+}
+
+/// Saves the state when the tab is hidden or the page goes away: eframe saves every 30 s and on
+/// `beforeunload`, which mobile browsers and closing tabs often never send.
+fn save_on_the_way_out(runner: &eframe::WebRunner) -> Result<(), String> {
+    let window: web_sys::EventTarget = web_sys::window().ok_or("no window")?.into();
+    let page: web_sys::EventTarget = document()?.into();
+    let listen = |target: &web_sys::EventTarget, event: &'static str| {
+        runner
+            .add_event_listener(target, event, |_: web_sys::Event, app| app.save())
+            .map_err(|error| describe(&error))
+    };
+    listen(&window, "pagehide")?;
+    listen(&page, "visibilitychange")
 }
 
 /// Offers `text` as a file download: a Blob behind a temporary link, clicked.
