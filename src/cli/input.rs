@@ -65,11 +65,30 @@ pub trait ReadNumber: Real {
     fn read(text: &str) -> Result<Self, String>;
 }
 
+/// `-12.5`, `3`, `+.5`: at most 24 bytes of digits with an optional leading sign and one point, and
+/// at least one digit (no exponent, so no float can overflow or underflow it).
+fn is_plain_decimal(text: &str) -> bool {
+    let bytes = text.as_bytes();
+    let digits = bytes.strip_prefix(b"-").or_else(|| bytes.strip_prefix(b"+")).unwrap_or(bytes);
+    bytes.len() <= 24
+        && digits.iter().any(u8::is_ascii_digit)
+        && digits.iter().all(|b| b.is_ascii_digit() || *b == b'.')
+        && digits.iter().filter(|b| **b == b'.').count() <= 1
+}
+
 macro_rules! read_float {
     ($t:ty) => {
         impl ReadNumber for $t {
             fn read(text: &str) -> Result<$t, String> {
                 let trimmed = text.trim();
+                // The common case first (batch lines hold millions): a short plain decimal, digits
+                // with at most a sign and a point, is exactly what the float parser and the exact
+                // reader agree on, so the full checks below are not needed.
+                if is_plain_decimal(trimmed)
+                    && let Ok(value) = trimmed.parse::<$t>()
+                {
+                    return Ok(value);
+                }
                 refuse_non_numbers(trimmed)?;
                 let value = if trimmed.contains('/') {
                     // A fraction: rounded once, from its exact value.
