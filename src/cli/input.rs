@@ -69,7 +69,10 @@ pub trait ReadNumber: Real {
 /// at least one digit (no exponent, so no float can overflow or underflow it).
 fn is_plain_decimal(text: &str) -> bool {
     let bytes = text.as_bytes();
-    let digits = bytes.strip_prefix(b"-").or_else(|| bytes.strip_prefix(b"+")).unwrap_or(bytes);
+    let digits = bytes
+        .strip_prefix(b"-")
+        .or_else(|| bytes.strip_prefix(b"+"))
+        .unwrap_or(bytes);
     bytes.len() <= 24
         && digits.iter().any(u8::is_ascii_digit)
         && digits.iter().all(|b| b.is_ascii_digit() || *b == b'.')
