@@ -708,3 +708,40 @@ fn painted(harness: &Harness<'static, RaylabApp>, needle: &str) -> bool {
         .iter()
         .any(|clipped| walk(&clipped.shape, needle))
 }
+
+#[test]
+fn an_outcome_is_picked_with_one_click() {
+    let mut harness = harness();
+    harness.get_by_label("Practice").click();
+    harness.run();
+    harness.get_by_label("Triangle: find β, γ and t").click();
+    harness.run();
+    // The level picker in the practice bar: a ray beyond one edge.
+    harness.get_by_label("outside").click();
+    harness.run();
+    let outcome = harness
+        .state()
+        .practice
+        .as_ref()
+        .unwrap()
+        .practice
+        .problem
+        .answer
+        .outcome
+        .text();
+    assert!(outcome.starts_with("outside "), "{outcome}");
+    // The wrong edge first, then the right one.
+    let wrong = ["outside AB", "outside BC", "outside CA"]
+        .into_iter()
+        .find(|o| *o != outcome)
+        .unwrap();
+    harness.get_by_label(wrong).click();
+    harness.run();
+    assert!(shows_text_containing(&harness, "Not yet (1 wrong so far)"));
+    harness.get_by_label(&outcome).click();
+    harness.run();
+    assert!(shows_text_containing(
+        &harness,
+        &format!("Right: {outcome}")
+    ));
+}

@@ -187,6 +187,26 @@ fn problem_ui(ui: &mut Ui, run: &mut PracticeRun, solved: &ActiveSolve) {
             .on_hover_text("Check the answer (Enter)")
             .clicked();
     });
+    // Or pick the outcome: one click names it and checks it.
+    ui.horizontal_wrapped(|ui| {
+        ui.label(RichText::new("The outcome:").weak());
+        let mut outcomes = vec!["hit".to_string()];
+        outcomes.extend(run.kind.edges().iter().map(|e| format!("outside {e}")));
+        if Level::Behind.kinds().contains(&run.kind) {
+            outcomes.push("behind".into());
+        }
+        outcomes.extend(["parallel".into(), "degenerate".into()]);
+        for outcome in outcomes {
+            if ui
+                .small_button(&outcome)
+                .on_hover_text(format!("Answer “{outcome}” and check it"))
+                .clicked()
+            {
+                run.answer = outcome;
+                check = true;
+            }
+        }
+    });
     if check && !run.answer.trim().is_empty() {
         let verdict = run.practice.check(&run.answer);
         if matches!(verdict, Verdict::Right { .. }) && !run.revealed {
