@@ -688,6 +688,10 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
     harness.get_by_label("New problem").click();
     harness.run();
     assert!(shows(&harness, "Score: 1 right of 2 tried"));
+    // F5 does not present an unanswered problem (the steps would give it away).
+    harness.key_press(egui::Key::F5);
+    harness.run();
+    assert!(harness.state().presentation.is_none());
     harness.key_press(egui::Key::Escape);
     harness.run();
     assert!(harness.state().practice.is_none());

@@ -43,6 +43,7 @@ impl RaylabApp {
             )
         })?;
         self.presentation = None;
+        self.practice = None;
         self.lesson = Some(LessonRun {
             name: name.to_string(),
             lesson,

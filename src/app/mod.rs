@@ -504,7 +504,8 @@ impl eframe::App for RaylabApp {
         if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::F5)) {
             if self.lesson.is_some() {
                 self.leave_lesson(ui.ctx());
-            } else {
+            } else if self.practice.is_none() {
+                // Presenting a practice problem would show its answer: F5 waits until it is left.
                 self.toggle_presentation(ui.ctx());
             }
         }
