@@ -149,6 +149,11 @@ pub fn of_step(solver: &str, step_id: &str) -> Vec<Element> {
         (_, "M1" | "det_M1") => replaced(0),
         (_, "M2" | "det_M2") => replaced(1),
         (_, "M3" | "det_M3") => replaced(2),
+        // Seed 002's merges: |M| and |Mi| as triple products of the same columns.
+        (_, "merge_M") => all_columns(),
+        (_, "merge_M1") => replaced(0),
+        (_, "merge_M2") => replaced(1),
+        (_, "merge_M3") => replaced(2),
         (_, "beta") => vec![P(Parameter::Beta)],
         (_, "gamma") => vec![P(Parameter::Gamma)],
         (_, "alpha") => vec![P(Parameter::Alpha)],
@@ -186,6 +191,25 @@ mod tests {
             of_step("segments", "M2"),
             vec![Element::Rhs, Element::Column(Column::B1MinusB2)]
         );
+    }
+
+    #[test]
+    fn seed_002s_merges_highlight_the_columns_of_their_triple_products() {
+        assert_eq!(of_step("triangle-symbolic", "merge_M").len(), 3);
+        assert_eq!(
+            of_step("triangle-symbolic", "merge_M2"),
+            vec![Element::Rhs, Element::Column(Column::AMinusC)]
+        );
+        // Every merge step of the derivation highlights something.
+        for step in crate::symbolic::trace(None).steps {
+            if step.id.starts_with("merge_") {
+                assert!(
+                    !of_step("triangle-symbolic", &step.id).is_empty(),
+                    "{}",
+                    step.id
+                );
+            }
+        }
     }
 
     #[test]
