@@ -214,10 +214,7 @@ pub fn lesson(name: &str) -> Option<Lesson> {
 
 /// The built-in lessons' names for [`lesson`].
 pub fn lesson_names() -> Vec<&'static str> {
-    BUILT_IN
-        .iter()
-        .map(|(file, _)| file.trim_end_matches(".ron"))
-        .collect()
+    scene::stems(BUILT_IN)
 }
 
 #[cfg(test)]
@@ -234,16 +231,7 @@ mod tests {
 
     #[test]
     fn the_list_matches_the_folder() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/lessons");
-        let mut on_disk: Vec<String> = std::fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|name| name.ends_with(".ron"))
-            .collect();
-        on_disk.sort();
-        let mut listed: Vec<String> = BUILT_IN.iter().map(|(f, _)| f.to_string()).collect();
-        listed.sort();
-        assert_eq!(on_disk, listed);
+        scene::assert_lists_the_folder(BUILT_IN, "lessons");
     }
 
     #[test]

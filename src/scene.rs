@@ -304,10 +304,34 @@ pub fn preset(stem: &str) -> Option<Scene> {
 
 /// The built-in scenes' names for [`preset`].
 pub fn preset_names() -> Vec<&'static str> {
-    BUILT_IN
+    stems(BUILT_IN)
+}
+
+/// The names of files built into the binary, without `.ron` (scenes here, lessons too).
+pub(crate) fn stems(files: &[(&'static str, &str)]) -> Vec<&'static str> {
+    files
         .iter()
         .map(|(file, _)| file.trim_end_matches(".ron"))
         .collect()
+}
+
+/// Checks that `files` lists exactly the `.ron` files of `assets/<folder>` (a file added to the
+/// folder but not to the list would never ship).
+#[cfg(test)]
+pub(crate) fn assert_lists_the_folder(files: &[(&str, &str)], folder: &str) {
+    let dir = format!("{}/assets/{folder}", env!("CARGO_MANIFEST_DIR"));
+    let mut on_disk: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name.ends_with(".ron"))
+        .collect();
+    on_disk.sort();
+    let mut listed: Vec<String> = files.iter().map(|(f, _)| f.to_string()).collect();
+    listed.sort();
+    assert_eq!(
+        listed, on_disk,
+        "every file of {dir} is listed, and only those"
+    );
 }
 
 #[cfg(test)]
@@ -424,19 +448,7 @@ mod tests {
 
     #[test]
     fn built_in_list_matches_the_folder() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes");
-        let mut on_disk: Vec<String> = std::fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|name| name.ends_with(".ron"))
-            .collect();
-        on_disk.sort();
-        let mut listed: Vec<String> = BUILT_IN.iter().map(|(f, _)| f.to_string()).collect();
-        listed.sort();
-        assert_eq!(
-            listed, on_disk,
-            "every scene file is in BUILT_IN, and only those"
-        );
+        assert_lists_the_folder(BUILT_IN, "scenes");
     }
 
     #[test]

@@ -531,18 +531,6 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The "Highlighted: …" line of the presenter bar, as a screen reader reads it.
-fn highlighted(harness: &Harness<'static, RaylabApp>) -> String {
-    harness
-        .query_all_by(|node| {
-            node.value()
-                .is_some_and(|text| text.starts_with("Highlighted:"))
-        })
-        .next()
-        .and_then(|node| node.accesskit_node().value())
-        .unwrap_or_default()
-}
-
 #[test]
 fn a_lesson_plays_with_the_keys_and_a_slide_survives_exploring() {
     let mut harness = harness();
@@ -566,7 +554,10 @@ fn a_lesson_plays_with_the_keys_and_a_slide_survives_exploring() {
         harness.run();
     }
     assert!(shows(&harness, "Slide 4 of 14"));
-    assert_eq!(highlighted(&harness), "Highlighted: s at its solution");
+    assert_eq!(
+        common::highlighted(&harness),
+        "Highlighted: s at its solution"
+    );
     for _ in 4..8 {
         harness.key_press(egui::Key::Space);
         harness.run();
@@ -574,7 +565,7 @@ fn a_lesson_plays_with_the_keys_and_a_slide_survives_exploring() {
     assert!(shows(&harness, "Slide 8 of 14"));
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
     assert_eq!(
-        highlighted(&harness),
+        common::highlighted(&harness),
         "Highlighted: right-hand side Y, column A−B"
     );
     // β = |M1|/|M| slides the β handle to 1/3.

@@ -149,7 +149,9 @@ fn exact_reads_json_numbers_as_written_even_with_a_thousand_digits() {
     assert_eq!(lines[0]["exact"]["t"], t.as_str());
     // The same numbers in f64 round to 1: touching.
     assert_eq!(lines[1]["status"], "touching");
-    assert!(seconds < 1.0, "{seconds} s");
+    // A guard against the old behaviour (a long decimal took minutes), not a speed figure: the
+    // figure is measured by the README's command. Generous, so a loaded CI machine does not flake.
+    assert!(seconds < 10.0, "{seconds} s");
 }
 
 #[test]
@@ -187,7 +189,8 @@ fn numbers_past_the_limits_are_refused_fast_with_short_messages() {
     input.push('\n');
     let clock = std::time::Instant::now();
     let output = batch(&["--no-trace"], input.as_bytes());
-    assert!(clock.elapsed().as_secs_f64() < 2.0);
+    // Refused before any arithmetic: a guard against the minutes a million digits used to take.
+    assert!(clock.elapsed().as_secs_f64() < 10.0);
     let lines = json_lines(&output);
     for line in &lines[..3] {
         let error = line["error"].as_str().unwrap();

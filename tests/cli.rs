@@ -535,22 +535,8 @@ fn symbolic_steps_derive_the_triangle_and_check_each_merge_on_the_numbers() {
 #[test]
 fn exact_values_beyond_the_float_range_read_from_the_exact_value() {
     // t = 10^400 along a D of length √3·10^-400: a float would say t = ∞ and t·|D| = NaN.
-    let args = [
-        "solve",
-        "triangle",
-        "--a",
-        "3,0,0",
-        "--b",
-        "0,3,0",
-        "--c",
-        "0,0,3",
-        "--origin",
-        "0,0,0",
-        "--dir",
-        "1e-400,1e-400,1e-400",
-        "--precision",
-        "exact",
-    ];
+    let mut args = LECTURE_TRIANGLE[..10].to_vec();
+    args.extend(["--dir", "1e-400,1e-400,1e-400", "--precision", "exact"]);
     let text = stdout(&raylab(&args));
     assert!(
         text.contains("⇒ HIT: the ray hits the triangle at t = ≈1e400"),

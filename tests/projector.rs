@@ -173,18 +173,6 @@ fn the_top_bar_folds_what_does_not_fit_into_the_view_menu() {
     }
 }
 
-/// The "Highlighted: …" line of presentation mode.
-fn highlighted(harness: &Harness<'static, RaylabApp>) -> String {
-    harness
-        .query_all_by(|node| {
-            node.value()
-                .is_some_and(|text| text.starts_with("Highlighted:"))
-        })
-        .next()
-        .and_then(|node| node.accesskit_node().value())
-        .unwrap_or_default()
-}
-
 #[test]
 fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting() {
     let mut harness = projector(1280.0, 800.0, 1.0);
@@ -195,7 +183,7 @@ fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting(
     assert!(harness.query_by_label("Step 1 of 23").is_some());
     // The system: the three column vectors of M.
     assert_eq!(
-        highlighted(&harness),
+        common::highlighted(&harness),
         "Highlighted: column A−B, column A−C, column D"
     );
     // Space, → and Page Down go forward, as presentation clickers send them.
@@ -204,7 +192,10 @@ fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting(
     harness.key_press(egui::Key::ArrowRight);
     harness.run();
     assert!(harness.query_by_label("Step 3 of 23").is_some());
-    assert_eq!(highlighted(&harness), "Highlighted: right-hand side Y");
+    assert_eq!(
+        common::highlighted(&harness),
+        "Highlighted: right-hand side Y"
+    );
     // Step 5 is M1: Y in place of the first column, A−B.
     harness.key_press(egui::Key::PageDown);
     harness.run();
@@ -212,7 +203,7 @@ fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting(
     harness.run();
     assert!(harness.query_by_label("Step 5 of 23").is_some());
     assert_eq!(
-        highlighted(&harness),
+        common::highlighted(&harness),
         "Highlighted: right-hand side Y, column A−B"
     );
     // On to β = |M1|/|M| (step 13): the β handle slides to β* = 1/3.
@@ -221,20 +212,26 @@ fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting(
         harness.run();
     }
     assert!(harness.query_by_label("Step 13 of 23").is_some());
-    assert_eq!(highlighted(&harness), "Highlighted: β at its solution");
+    assert_eq!(
+        common::highlighted(&harness),
+        "Highlighted: β at its solution"
+    );
     assert!((harness.state().state.triangle.beta - 1.0 / 3.0).abs() < 1e-12);
     // The check β + γ ≤ 1 (step 19) highlights edge BC; ← and Page Up go back.
     for _ in 13..19 {
         harness.key_press(egui::Key::ArrowRight);
         harness.run();
     }
-    assert_eq!(highlighted(&harness), "Highlighted: edge BC (β + γ ≤ 1)");
+    assert_eq!(
+        common::highlighted(&harness),
+        "Highlighted: edge BC (β + γ ≤ 1)"
+    );
     harness.key_press(egui::Key::ArrowRight);
     harness.run();
     harness.key_press(egui::Key::ArrowRight);
     harness.run();
     assert!(harness.query_by_label("Step 21 of 23").is_some());
-    assert_eq!(highlighted(&harness), "Highlighted: the hit point");
+    assert_eq!(common::highlighted(&harness), "Highlighted: the hit point");
     harness.key_press(egui::Key::ArrowLeft);
     harness.run();
     harness.key_press(egui::Key::PageUp);

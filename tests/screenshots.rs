@@ -4,6 +4,7 @@
 //! `RAYLAB_SCREENSHOTS=1 cargo test --test screenshots` rewrites `assets/screenshots/*.png`;
 //! `UPDATE_SNAPSHOTS=1 cargo test --test screenshots` accepts changed snapshots in `tests/snapshots/`.
 
+#[allow(dead_code)] // the shared helpers these pictures do not need
 mod common;
 
 use common::{click_image, load_preset, wait_for_render};
@@ -183,13 +184,7 @@ fn presentation_screenshot(folder: &str, write: bool) {
         harness.run();
     }
     assert!(harness.query_by_label("Step 5 of 23").is_some());
-    harness.remove_cursor();
-    harness.run();
-    let image = harness.render().expect("the CPU renderer draws");
-    assert_eq!(image.width(), 1280);
-    if write {
-        image.save(format!("{folder}/presentation.png")).unwrap();
-    }
+    save_shot(&mut harness, folder, "presentation", write);
 }
 
 /// A lesson on the projector at 150%: seed 000's slide on β = |M1|/|M|, with its narration and step.
@@ -205,13 +200,7 @@ fn lesson_screenshot(folder: &str, write: bool) {
         harness.run();
     }
     assert!(harness.query_by_label("Slide 9 of 14").is_some());
-    harness.remove_cursor();
-    harness.run();
-    let image = harness.render().expect("the CPU renderer draws");
-    assert_eq!(image.width(), 1280);
-    if write {
-        image.save(format!("{folder}/lesson.png")).unwrap();
-    }
+    save_shot(&mut harness, folder, "lesson", write);
 }
 
 /// Practice at 150%: a triangle problem beyond an edge, after a wrong answer and its hint.
@@ -229,11 +218,17 @@ fn practice_screenshot(folder: &str, write: bool) {
     harness.run();
     harness.get_by_label("Check").click();
     harness.run();
+    save_shot(&mut harness, folder, "practice", write);
+}
+
+/// The picture of a 1280-pixel-wide screen as it stands, with the pointer away, saved as
+/// `folder/name.png` when the screenshots are being rewritten.
+fn save_shot(harness: &mut Harness<'static, RaylabApp>, folder: &str, name: &str, write: bool) {
     harness.remove_cursor();
     harness.run();
     let image = harness.render().expect("the CPU renderer draws");
     assert_eq!(image.width(), 1280);
     if write {
-        image.save(format!("{folder}/practice.png")).unwrap();
+        image.save(format!("{folder}/{name}.png")).unwrap();
     }
 }

@@ -201,46 +201,38 @@ impl RaylabApp {
                 run.reveal_pending = false;
             }
         }
-        let full = ui.available_width();
         let mut answer_shown = run.answer_shown;
-        egui::Panel::right("lesson-slide")
-            .resizable(false)
-            .exact_size((full * 0.42).max(220.0))
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    enlarge(ui, 1.3);
-                    ui.add(egui::Label::new(RichText::new(&slide.title).heading()).wrap());
-                    for line in &slide.narration {
-                        ui.add(egui::Label::new(line).wrap());
-                    }
-                    if let Some(question) = &slide.question {
-                        ui.add_space(6.0);
-                        let ask = RichText::new(format!("? {}", question.ask))
-                            .strong()
-                            .color(palette::SOLUTION.readable(ui));
-                        ui.add(egui::Label::new(ask).wrap());
-                        if answer_shown {
-                            ui.add(egui::Label::new(&question.answer).wrap());
-                        } else if ui
-                            .button("Show the answer")
-                            .on_hover_text("Reveal the answer to the room")
-                            .clicked()
-                        {
-                            answer_shown = true;
-                        }
-                    }
-                    if let Some((index, step, _)) = &step {
-                        ui.add_space(8.0);
-                        step_panel::step_ui(ui, index + 1, step, None);
-                    }
-                });
-            });
+        self.set_highlight(elements);
+        self.beside_the_view(ui, solved, "lesson-slide", |ui| {
+            enlarge(ui, 1.3);
+            ui.add(egui::Label::new(RichText::new(&slide.title).heading()).wrap());
+            for line in &slide.narration {
+                ui.add(egui::Label::new(line).wrap());
+            }
+            if let Some(question) = &slide.question {
+                ui.add_space(6.0);
+                let ask = RichText::new(format!("? {}", question.ask))
+                    .strong()
+                    .color(palette::SOLUTION.readable(ui));
+                ui.add(egui::Label::new(ask).wrap());
+                if answer_shown {
+                    ui.add(egui::Label::new(&question.answer).wrap());
+                } else if ui
+                    .button("Show the answer")
+                    .on_hover_text("Reveal the answer to the room")
+                    .clicked()
+                {
+                    answer_shown = true;
+                }
+            }
+            if let Some((index, step, _)) = &step {
+                ui.add_space(8.0);
+                step_panel::step_ui(ui, index + 1, step, None);
+            }
+        });
         if let Some(run) = &mut self.lesson {
             run.answer_shown = answer_shown;
         }
-        self.set_highlight(elements);
-        let view = egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, true));
-        self.view_rect = Some(view.response.rect);
     }
 }
 

@@ -132,17 +132,14 @@ impl RaylabApp {
             ui.ctx().request_repaint();
             return;
         }
-        let full = ui.available_width();
-        egui::Panel::right("practice-panel")
-            .resizable(false)
-            .exact_size((full * 0.42).max(240.0))
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| problem_ui(ui, &mut run, solved));
-            });
-        super::widgets::hide_answers(ui.ctx(), !run.revealed);
-        let view = egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, true));
-        super::widgets::hide_answers(ui.ctx(), false);
-        self.view_rect = Some(view.response.rect);
+        // The view keeps the verdict to itself while the problem is open (the flag is read as the
+        // view draws, after the panel has taken this frame's answer).
+        let ctx = ui.ctx().clone();
+        self.beside_the_view(ui, solved, "practice-panel", |ui| {
+            problem_ui(ui, &mut run, solved);
+            super::widgets::hide_answers(&ctx, !run.revealed);
+        });
+        super::widgets::hide_answers(&ctx, false);
         self.practice = Some(run);
     }
 }

@@ -97,17 +97,29 @@ impl RaylabApp {
         if moved {
             self.reveal(&elements, solved, ui.input(|i| i.time));
         }
-        let full = ui.available_width();
-        egui::Panel::right("presented-step")
-            .resizable(false)
-            .exact_size((full * 0.42).max(200.0))
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    enlarge(ui, 1.4);
-                    step_panel::step_ui(ui, index + 1, step, None);
-                });
-            });
         self.set_highlight(elements);
+        self.beside_the_view(ui, solved, "presented-step", |ui| {
+            enlarge(ui, 1.4);
+            step_panel::step_ui(ui, index + 1, step, None);
+        });
+    }
+
+    /// The layout every presenter screen shares (presentation, lessons, practice): `side` in a
+    /// scrolling panel of about 42% of the width on the right, the open view's canvas filling the rest.
+    pub(super) fn beside_the_view(
+        &mut self,
+        ui: &mut Ui,
+        solved: &ActiveSolve,
+        id: &'static str,
+        side: impl FnOnce(&mut Ui),
+    ) {
+        let full = ui.available_width();
+        egui::Panel::right(id)
+            .resizable(false)
+            .exact_size((full * 0.42).max(220.0))
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, side);
+            });
         let view = egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, true));
         self.view_rect = Some(view.response.rect);
     }

@@ -382,37 +382,11 @@ fn determinant_ui(ui: &mut Ui, id: &str, det: &crate::trace::Determinant) {
                 .show(ui, &format!("{id}-minor-{i}"));
             });
         }
-        let products: String = det
-            .terms
-            .iter()
-            .enumerate()
-            .map(|(i, t)| {
-                let sign = match (i, t.sign < 0) {
-                    (0, true) => "−",
-                    (0, false) => "",
-                    (_, true) => " − ",
-                    (_, false) => " + ",
-                };
-                format!("{sign}{}·{}", t.element.factor(), t.minor_det.factor())
-            })
-            .collect();
+        let products = trace::expansion_products(det);
         ui.add(egui::Label::new(RichText::new(format!("{pad}= {products}")).monospace()).wrap());
     } else {
         // A 2x2 determinant: ad − bc on one line.
-        let terms: String = det
-            .terms
-            .iter()
-            .enumerate()
-            .map(|(i, t)| {
-                let sign = match (i, t.sign < 0) {
-                    (0, true) => "−",
-                    (0, false) => "",
-                    (_, true) => " − ",
-                    (_, false) => " + ",
-                };
-                format!("{sign}{}·{}", t.element.factor(), t.minor_det.factor())
-            })
-            .collect();
+        let terms = trace::expansion_products(det);
         ui.add(egui::Label::new(RichText::new(format!("{name}= {terms}")).monospace()).wrap());
     }
     let value = if det.value.is_zero() {

@@ -211,30 +211,39 @@ fn determinant_lines(det: &Determinant) -> Vec<String> {
             format!("|{}|", rows.join("; "))
         }
     };
-    let join = |term_text: &dyn Fn(&super::ExpansionTerm) -> String| {
-        let mut text = String::new();
-        for (i, term) in det.terms.iter().enumerate() {
-            let sign = match (i, term.sign) {
-                (0, s) if s < 0 => "−",
-                (0, _) => "",
-                (_, s) if s < 0 => " − ",
-                _ => " + ",
-            };
-            text.push_str(sign);
-            text.push_str(&term_text(term));
-        }
-        text
-    };
-    let symbolic = join(&|t| format!("{}·{}", paren(&t.element), minor_text(&t.minor)));
+    let symbolic = join_terms(det, |t| {
+        format!("{}·{}", paren(&t.element), minor_text(&t.minor))
+    });
     let name = format!("|{}| = ", det.of);
     let pad = " ".repeat(name.chars().count() - 2);
     let mut lines = vec![format!("{name}{symbolic}")];
     if det.terms.first().is_some_and(|t| t.minor.len() > 1) {
-        let products = join(&|t| format!("{}·{}", paren(&t.element), paren(&t.minor_det)));
-        lines.push(format!("{pad}= {products}"));
+        lines.push(format!("{pad}= {}", expansion_products(det)));
     }
     lines.push(format!("{pad}= {}", with_float(&det.value)));
     lines
+}
+
+/// The expansion's terms, each written by `term_text`, joined by their signs: `a − b + c`.
+fn join_terms(det: &Determinant, term_text: impl Fn(&super::ExpansionTerm) -> String) -> String {
+    let mut text = String::new();
+    for (i, term) in det.terms.iter().enumerate() {
+        text.push_str(match (i, term.sign < 0) {
+            (0, true) => "−",
+            (0, false) => "",
+            (_, true) => " − ",
+            (_, false) => " + ",
+        });
+        text.push_str(&term_text(term));
+    }
+    text
+}
+
+/// Each element times its minor's determinant: `(11/2)·5 − (−3)·(−11/4)` (the app draws it too).
+pub fn expansion_products(det: &Determinant) -> String {
+    join_terms(det, |t| {
+        format!("{}·{}", paren(&t.element), paren(&t.minor_det))
+    })
 }
 
 fn vector_line(vector: &Vector) -> String {

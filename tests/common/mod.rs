@@ -3,7 +3,7 @@
 use egui::Vec2;
 use egui::accesskit::Role;
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use raylab::app::RaylabApp;
 
 /// Steps frames until the Render view's renders are done (they run on a worker thread): one frame
@@ -46,4 +46,16 @@ pub fn load_preset(harness: &mut Harness<'static, RaylabApp>, title: &str) {
     harness.run();
     harness.get_by_role_and_label(Role::Button, title).click();
     wait_for_render(harness);
+}
+
+/// The "Highlighted: …" line of presentation mode and lessons, as a screen reader reads it.
+pub fn highlighted(harness: &Harness<'static, RaylabApp>) -> String {
+    harness
+        .query_all_by(|node| {
+            node.value()
+                .is_some_and(|text| text.starts_with("Highlighted:"))
+        })
+        .next()
+        .and_then(|node| node.accesskit_node().value())
+        .unwrap_or_default()
 }
