@@ -231,13 +231,16 @@ pub fn trace(scene: Option<&[[Exact; 3]; 5]>) -> Trace {
         scene.map(|s| std::array::from_fn(|i| s[i / 3][i % 3].clone()));
     let mut trace = Trace::new("triangle-symbolic", Precision::Exact);
     let (e1, e2, d, t) = (&system.e1, &system.e2, &system.d, &system.t);
-    let columns = |c: [&Vec3; 3]| -> Vec<String> {
-        (0..3)
-            .map(|row| {
-                let cells: Vec<String> = c.iter().map(|col| col[row].text()).collect();
-                format!("[ {} ]", cells.join(" | "))
-            })
-            .collect()
+    // A matrix as its named columns, a line each: a line wraps on a narrow panel, a matrix row of
+    // three expressions would not.
+    let columns = |name: &str, c: [(&str, &Vec3); 3]| -> Vec<String> {
+        let names: Vec<&str> = c.iter().map(|(n, _)| *n).collect();
+        let mut lines = vec![format!("{name} = [{}], with", names.join(" | "))];
+        for (column, v) in c {
+            let parts: Vec<String> = v.iter().map(Poly::text).collect();
+            lines.push(format!("{column} = ({})", parts.join(", ")));
+        }
+        lines
     };
     let matrix_latex = |c: [&Vec3; 3]| -> String {
         let rows: Vec<String> = (0..3)
@@ -253,13 +256,10 @@ pub fn trace(scene: Option<&[[Exact; 3]; 5]>) -> Trace {
             rows.join(" \\\\ ")
         )
     };
-    let mut lines = columns([e1, e2, d]);
-    lines.push("X = (β, γ, t),  Y = A − L:".into());
-    lines.extend(
-        t.iter()
-            .map(|p| format!("[ {} ]", p.text()))
-            .collect::<Vec<_>>(),
-    );
+    let mut lines = columns("M", [("A−B", e1), ("A−C", e2), ("D", d)]);
+    lines.push("X = (β, γ, t)".into());
+    let y: Vec<String> = t.iter().map(Poly::text).collect();
+    lines.push(format!("Y = A − L = ({})", y.join(", ")));
     trace.steps.push(step(
         "system",
         "The system M X = Y in symbols",
@@ -272,17 +272,17 @@ pub fn trace(scene: Option<&[[Exact; 3]; 5]>) -> Trace {
         ),
     ));
     let matrices = [
-        ("M1", "M_1", [t, e2, d]),
-        ("M2", "M_2", [e1, t, d]),
-        ("M3", "M_3", [e1, e2, t]),
+        ("M1", "M_1", [("Y", t), ("A−C", e2), ("D", d)]),
+        ("M2", "M_2", [("A−B", e1), ("Y", t), ("D", d)]),
+        ("M3", "M_3", [("A−B", e1), ("A−C", e2), ("Y", t)]),
     ];
-    for (name, latex, cols) in &matrices {
+    for (name, latex, cols) in matrices {
         trace.steps.push(step(
             name,
             &format!("{name}: Y in column {}", &name[1..]),
             "Cramer's rule: replace one column of M by Y = A − L.",
-            columns(*cols),
-            format!("{latex} = {}", matrix_latex(*cols)),
+            columns(name, cols),
+            format!("{latex} = {}", matrix_latex(cols.map(|(_, v)| v))),
         ));
     }
     let dets = [

@@ -279,34 +279,6 @@ fn payload_body(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<
                     ui.add(egui::Label::new(&verdict.message).wrap());
                 });
         }
-        Payload::Symbolic(symbolic) => {
-            // A matrix row of expressions must stay one row (it scrolls sideways); a polynomial
-            // wraps to the panel.
-            let lines = &symbolic.lines;
-            let mut index = 0;
-            while index < lines.len() {
-                let rows = lines[index..]
-                    .iter()
-                    .take_while(|l| l.starts_with('['))
-                    .count();
-                if rows == 0 {
-                    let text = RichText::new(&lines[index]).monospace();
-                    ui.add(egui::Label::new(text).wrap());
-                    index += 1;
-                    continue;
-                }
-                // The rows of one matrix scroll together.
-                egui::ScrollArea::horizontal()
-                    .id_salt(format!("{id}-rows-{index}"))
-                    .auto_shrink([false, true])
-                    .show(ui, |ui| {
-                        for line in &lines[index..index + rows] {
-                            ui.add(egui::Label::new(RichText::new(line).monospace()).extend());
-                        }
-                    });
-                index += rows;
-            }
-        }
         other => {
             for line in trace::payload_lines(other) {
                 ui.add(egui::Label::new(RichText::new(line).monospace()).wrap());
