@@ -7,9 +7,9 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use raylab::accuracy::batch::{self, TrianglesSoA};
 use raylab::accuracy::families::{Family, generate};
-use raylab::accuracy::{Case, Method};
+use raylab::intersect::batch::{self, TrianglesSoA};
+use raylab::intersect::{Case, Method};
 
 const BATCH: usize = 4096;
 
@@ -57,7 +57,7 @@ fn methods(c: &mut Criterion) {
     exact.bench_function("exact/integer-reference", |b| {
         b.iter(|| {
             few.iter()
-                .filter(|case| raylab::accuracy::reference::reference(black_box(*case)).hit)
+                .filter(|case| raylab::intersect::reference::reference(black_box(*case)).hit)
                 .count()
         })
     });

@@ -6,11 +6,11 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{DVec2, DVec3};
-use raylab::exact::Exact;
 use raylab::geometry::Real;
 use raylab::geometry::parallelogram::{self, RayParallelogram};
 use raylab::geometry::segments::{self, SegmentPair};
 use raylab::geometry::triangle::{self, RayTriangle};
+use raylab::math::exact::Exact;
 
 /// Seed 003's ray and triangle: non-integer inputs, so the exact run meets real fractions.
 fn seed003<R: Real>() -> RayTriangle<R> {

@@ -17,10 +17,10 @@ use std::str::FromStr;
 
 use serde::Serialize;
 
-use crate::exact::Exact;
 use crate::geometry::parallelogram::{self, ParallelogramOutcome, RayParallelogram, Side};
 use crate::geometry::segments::{self, SegmentPair, SegmentsOutcome};
 use crate::geometry::triangle::{self, RayTriangle, TriangleMiss, TriangleOutcome};
+use crate::math::exact::Exact;
 use crate::trace::Trace;
 
 pub use check::{DECIMAL_TOLERANCE, Hint, Practice, Verdict, check};

@@ -6,8 +6,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::exact::Exact;
 use crate::geometry::{Precision, Reading, parallelogram, segments, triangle};
+use crate::math::exact::Exact;
 use crate::scene::{self, Problem};
 use crate::trace::Trace;
 

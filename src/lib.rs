@@ -8,11 +8,12 @@ pub mod accuracy;
 pub mod app;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
-pub mod exact;
 pub mod exercise;
 pub mod files;
 pub mod geometry;
+pub mod intersect;
 pub mod lesson;
+pub mod math;
 pub mod platform;
 pub mod render;
 pub mod scene;

@@ -8,8 +8,8 @@
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
-use crate::exact::Exact;
 use crate::geometry::Precision;
+use crate::math::exact::Exact;
 use crate::trace::{Payload, Step, Symbolic, Trace};
 
 /// The fifteen coordinates, in seed 002's order.

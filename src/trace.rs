@@ -5,9 +5,9 @@
 
 use serde::Serialize;
 
-use crate::exact::Exact;
-use crate::geometry::linalg::{CofactorTerm, M2, M3};
-use crate::geometry::real::{Precision, Real};
+use crate::math::exact::Exact;
+use crate::math::linalg::{CofactorTerm, M2, M3};
+use crate::math::real::{Precision, Real};
 
 mod latex;
 mod text;

@@ -3,8 +3,8 @@
 //! agree with each other; and the families are what they say.
 
 use raylab::accuracy::families::{Family, generate};
-use raylab::accuracy::reference::reference;
-use raylab::accuracy::{Case, Float, InverseSolve, Method, exact_answer, watertight};
+use raylab::intersect::reference::reference;
+use raylab::intersect::{Case, Float, InverseSolve, Method, exact_answer, watertight};
 
 /// Runs a method over a family's probes: (tests, wrong decisions, cracks, fallbacks).
 fn audit<F: Float + InverseSolve>(

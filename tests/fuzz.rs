@@ -16,9 +16,9 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use raylab::cli::batch::run_batch;
 use raylab::cli::input::{Coords, Literal, ReadNumber};
-use raylab::exact::Exact;
 use raylab::files::FileKind;
 use raylab::geometry::{Precision, Real};
+use raylab::math::exact::Exact;
 use raylab::render::assets::{AssetSource, Texture, load_mesh};
 
 /// The longest one input may run (debug build, a loaded machine) before the run counts it as a hang.

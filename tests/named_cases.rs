@@ -2,11 +2,11 @@
 //! renders, and no panic.
 
 use glam::{DVec2, DVec3};
-use raylab::exact::Exact;
 use raylab::geometry::Real;
 use raylab::geometry::parallelogram::{self, ParallelogramOutcome, RayParallelogram};
 use raylab::geometry::segments::{self, SegmentPair, SegmentsOutcome};
 use raylab::geometry::triangle::{self, RayTriangle, TriangleOutcome};
+use raylab::math::exact::Exact;
 use raylab::trace::{Trace, to_latex, to_text};
 
 const LECTURE: [[f64; 3]; 3] = [[3.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 3.0]];

@@ -14,11 +14,11 @@
 
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
-use raylab::exact::Exact;
 use raylab::geometry::Real;
-use raylab::geometry::linalg::{M2, M3, V3, cross, from_columns, norm_f64, sub, with_column};
 use raylab::geometry::segments::{self, SegmentPair};
 use raylab::geometry::triangle::{self, RayTriangle};
+use raylab::math::exact::Exact;
+use raylab::math::linalg::{M2, M3, V3, cross, from_columns, norm_f64, sub, with_column};
 
 /// γ₈ = 8u/(1 − 8u) with u = ε/2, rounded up generously.
 fn gamma8(eps: f64) -> f64 {
@@ -98,7 +98,7 @@ fn check_triangle<R: Real>(v: [[f64; 3]; 5], eps: f64) -> Result<bool, TestCaseE
     let p = &problem_exact;
     let (a_b, a_c, y) = (sub(&p.a, &p.b), sub(&p.a, &p.c), sub(&p.a, &p.origin));
     let m = from_columns([&a_b, &a_c, &p.dir]);
-    let det = raylab::geometry::linalg::det3(&m).to_f64();
+    let det = raylab::math::linalg::det3(&m).to_f64();
     let err = gamma8(eps) * perm3(&m);
     let normal: V3<Exact> = cross(&a_b, &a_c);
     let well_posed = err < det.abs() / 2.0
@@ -167,7 +167,7 @@ proptest! {
         let p = &pair_exact;
         let (d_a, b1_b2, y) = (sub(&p.a2, &p.a1), sub(&p.b1, &p.b2), sub(&p.b1, &p.a1));
         let m = from_columns([&d_a, &b1_b2]);
-        let det = raylab::geometry::linalg::det2(&m).to_f64();
+        let det = raylab::math::linalg::det2(&m).to_f64();
         let eps = f64::EPSILON;
         let err = gamma8(eps) * perm2(&m);
         if err >= det.abs() / 2.0 || det.abs() <= 32.0 * eps * norm_f64(&d_a) * norm_f64(&b1_b2) {

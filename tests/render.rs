@@ -5,9 +5,9 @@
 use std::path::Path;
 
 use glam::DVec3;
-use raylab::accuracy::reference::reference;
-use raylab::accuracy::{Case, Method};
-use raylab::geometry::linalg::{V3, dot, sub};
+use raylab::intersect::reference::reference;
+use raylab::intersect::{Case, Method};
+use raylab::math::linalg::{V3, dot, sub};
 use raylab::render::bvh::Bvh;
 use raylab::render::cast::{nearest_hit, test_triangle, to_object_space};
 use raylab::render::objects::{

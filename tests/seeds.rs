@@ -1,11 +1,11 @@
 //! The lecture's worked examples, with their exact answers (seeds 000, 001 and 003).
 
 use glam::{DVec2, DVec3};
-use raylab::exact::Exact;
 use raylab::geometry::Real;
 use raylab::geometry::parallelogram::{self, ParallelogramOutcome, RayParallelogram};
 use raylab::geometry::segments::{self, SegmentPair, SegmentsOutcome};
 use raylab::geometry::triangle::{self, Edge, RayTriangle, TriangleMiss, TriangleOutcome};
+use raylab::math::exact::Exact;
 
 fn q(text: &str) -> Exact {
     text.parse().unwrap()

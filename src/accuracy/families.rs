@@ -8,8 +8,8 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use serde::{Deserialize, Serialize};
 
-use super::Case;
-use crate::geometry::linalg::{V3, add, cross, dot, scale, sub};
+use crate::intersect::Case;
+use crate::math::linalg::{V3, add, cross, dot, scale, sub};
 
 /// The families of the study.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -287,7 +287,11 @@ mod tests {
             let a = generate(family, 50, 7);
             assert_eq!(a, generate(family, 50, 7));
             assert_ne!(a, generate(family, 50, 8));
-            assert!(a.iter().flat_map(|p| &p.cases).all(crate::accuracy::finite));
+            assert!(
+                a.iter()
+                    .flat_map(|p| &p.cases)
+                    .all(crate::intersect::finite)
+            );
         }
     }
 }

@@ -3,9 +3,9 @@
 
 use serde::Deserialize;
 
-use super::reference::reference;
-use super::{Case, Float, Method, finite};
 use crate::geometry::Precision;
+use crate::intersect::reference::reference;
+use crate::intersect::{Case, Float, Method, finite};
 
 /// A named hard case.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -68,7 +68,7 @@ pub fn verdicts(case: &Case<f64>) -> Vec<Verdict> {
     out
 }
 
-fn verdict<F: Float + super::InverseSolve>(
+fn verdict<F: Float + crate::intersect::InverseSolve>(
     method: Method,
     case: &Case<F>,
     precision: Precision,

@@ -8,9 +8,9 @@
 use serde::Serialize;
 
 use super::families::{Family, Probe, generate};
-use super::reference::{Reference, reference};
-use super::{Answer, Case, Float, InverseSolve, Method};
 use crate::geometry::Precision;
+use crate::intersect::reference::{Reference, reference};
+use crate::intersect::{Answer, Case, Float, InverseSolve, Method};
 use crate::platform::{Progress, Sliced, Stopwatch};
 
 /// How big a study to run.
@@ -418,7 +418,7 @@ fn measure_exact(prepared: &Prepared, config: &Config) -> Record {
     let sample = &prepared.cases64[..prepared.cases64.len().min(500)];
     let ns = ns_per_test(config.timing_seconds, sample.len(), || {
         for case in sample {
-            std::hint::black_box(super::exact_answer(std::hint::black_box(case)));
+            std::hint::black_box(crate::intersect::exact_answer(std::hint::black_box(case)));
         }
     });
     Record::new(Method::Exact, "exact", prepared, prepared.cases64.len(), ns)

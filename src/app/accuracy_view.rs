@@ -9,9 +9,10 @@ use egui::{Color32, RichText, Ui};
 use egui_plot::{Line, MarkerShape, Plot, PlotPoints, Points};
 
 use super::widgets::palette;
+use crate::accuracy::families::Family;
 use crate::accuracy::hard_cases::{HardCase, gallery, verdicts};
 use crate::accuracy::study::{self, Config, Record, StudyRun};
-use crate::accuracy::{Method, families::Family};
+use crate::intersect::Method;
 use crate::platform::Job;
 use crate::scene::TriangleScene;
 

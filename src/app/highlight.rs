@@ -214,7 +214,7 @@ mod tests {
 
     #[test]
     fn every_step_of_the_lecture_triangle_highlights_something() {
-        let solved = crate::geometry::triangle::solve_inputs::<crate::exact::Exact>(
+        let solved = crate::geometry::triangle::solve_inputs::<crate::math::exact::Exact>(
             crate::geometry::Reading::AsWritten,
             [
                 [3.0, 0.0, 0.0],

@@ -592,13 +592,15 @@ impl RaylabApp {
         {
             let reading = self.state.triangle.reading;
             // The scene's numbers as the Triangle view reads them; none if one is not finite.
-            let numbers = crate::geometry::triangle::RayTriangle::<crate::exact::Exact>::read(
-                reading,
-                [scene.a, scene.b, scene.c, scene.origin, scene.dir].map(glam::DVec3::from_array),
-                scene.t_min,
-            )
-            .ok()
-            .map(|p| [p.a, p.b, p.c, p.origin, p.dir]);
+            let numbers =
+                crate::geometry::triangle::RayTriangle::<crate::math::exact::Exact>::read(
+                    reading,
+                    [scene.a, scene.b, scene.c, scene.origin, scene.dir]
+                        .map(glam::DVec3::from_array),
+                    scene.t_min,
+                )
+                .ok()
+                .map(|p| [p.a, p.b, p.c, p.origin, p.dir]);
             let trace = crate::symbolic::trace(numbers.as_ref());
             self.symbolic = Some((scene, trace));
         }

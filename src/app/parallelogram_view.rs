@@ -12,9 +12,9 @@ use super::widgets::labels::{LabelLayer, PlacedLabel, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, status_line, vector_editor};
-use crate::exact::Exact;
 use crate::geometry::parallelogram::{self, ParallelogramOutcome, ParallelogramSolution};
 use crate::geometry::{Precision, Reading};
+use crate::math::exact::Exact;
 use crate::scene::ParallelogramScene;
 use crate::trace::{Trace, format_float};
 

@@ -275,9 +275,10 @@ fn level_tip(level: Level) -> &'static str {
 
 /// The problem as a scene its view can load (the inputs are small integers, exact as floats).
 fn scene_of(inputs: &Inputs, seed: u64, level: Level) -> Scene {
-    let f = |v: &[crate::exact::Exact]| -> Vec<f64> { v.iter().map(|x| x.to_f64()).collect() };
-    let v2 = |v: &[crate::exact::Exact; 2]| -> [f64; 2] { [v[0].to_f64(), v[1].to_f64()] };
-    let v3 = |v: &[crate::exact::Exact; 3]| -> [f64; 3] {
+    let f =
+        |v: &[crate::math::exact::Exact]| -> Vec<f64> { v.iter().map(|x| x.to_f64()).collect() };
+    let v2 = |v: &[crate::math::exact::Exact; 2]| -> [f64; 2] { [v[0].to_f64(), v[1].to_f64()] };
+    let v3 = |v: &[crate::math::exact::Exact; 3]| -> [f64; 3] {
         let x = f(v);
         [x[0], x[1], x[2]]
     };

@@ -15,8 +15,8 @@ use serde::{Deserialize, Serialize};
 use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette;
 use super::widgets::scene3d::{Canvas, OrbitCamera};
-use crate::accuracy::Method;
-use crate::geometry::linalg::{add, norm_f64, scale};
+use crate::intersect::Method;
+use crate::math::linalg::{add, norm_f64, scale};
 use crate::platform::Job;
 use crate::render::assets::OnDisk;
 use crate::render::objects::Geometry;
@@ -683,8 +683,8 @@ impl RenderView {
             Geometry::Triangles { triangles, .. } => triangles[primitive].vertices,
             Geometry::Parallelogram { corner, e1, e2, .. } => [
                 *corner,
-                crate::geometry::linalg::add(corner, e1),
-                crate::geometry::linalg::add(corner, e2),
+                crate::math::linalg::add(corner, e1),
+                crate::math::linalg::add(corner, e2),
             ],
         };
         let world_vertices = object_vertices.map(|v| {
@@ -715,7 +715,7 @@ impl RenderView {
                     ui.label(RichText::new(title).strong());
                     // Each space solves its own problem (Cramer, f64, the t where the ray meets the
                     // plane): the t shown is not copied from the other side.
-                    let own = crate::accuracy::Method::Cramer.run(&crate::accuracy::Case {
+                    let own = crate::intersect::Method::Cramer.run(&crate::intersect::Case {
                         tri: vertices,
                         origin,
                         dir,

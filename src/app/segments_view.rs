@@ -14,9 +14,9 @@ use super::highlight::{Column, Element, Parameter, Side};
 use super::widgets::labels::{LabelLayer, PlacedLabel, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
-use crate::exact::Exact;
 use crate::geometry::segments::{self, SegmentsOutcome, SegmentsSolution};
 use crate::geometry::{Precision, Reading};
+use crate::math::exact::Exact;
 use crate::scene::SegmentsScene;
 use crate::trace::{Trace, format_float};
 

@@ -15,9 +15,9 @@ use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
-use crate::exact::Exact;
 use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome, TriangleSolution};
 use crate::geometry::{Precision, Reading};
+use crate::math::exact::Exact;
 use crate::scene::TriangleScene;
 use crate::trace::{Trace, format_float};
 

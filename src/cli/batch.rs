@@ -18,11 +18,11 @@ use serde_json::value::RawValue;
 
 use super::input::{ReadNumber, quoted};
 use super::solve::{FieldSink, Posed, solve_posed};
-use crate::exact::Exact;
 use crate::geometry::parallelogram::RayParallelogram;
 use crate::geometry::segments::SegmentPair;
 use crate::geometry::triangle::RayTriangle;
 use crate::geometry::{Precision, Real};
+use crate::math::exact::Exact;
 
 /// Every field a case may have besides `kind` and `precision`.
 const FIELDS: [&str; 13] = [

@@ -6,14 +6,14 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::exact::Exact;
 use crate::geometry::{Precision, Real};
+use crate::math::exact::Exact;
 
 /// The longest number text read, in characters, in every precision: a longer one is refused before any
 /// work is done on it (a decimal of a million digits would otherwise take minutes to convert).
 pub const MAX_NUMBER_CHARS: usize = 10_000;
 
-pub use crate::exact::quoted;
+pub use crate::math::exact::quoted;
 
 /// Refuses NaN, the infinities and texts past [`MAX_NUMBER_CHARS`], with a message for people.
 fn refuse_non_numbers(trimmed: &str) -> Result<(), String> {
@@ -44,7 +44,7 @@ pub fn read_exact(text: &str) -> Result<Exact, String> {
     refuse_non_numbers(trimmed)?;
     trimmed
         .parse()
-        .map_err(|e: crate::exact::ParseExactError| e.0)
+        .map_err(|e: crate::math::exact::ParseExactError| e.0)
 }
 
 /// The refusal of a number that a float precision cannot hold.
@@ -97,7 +97,7 @@ macro_rules! read_float {
                     // A fraction: rounded once, from its exact value.
                     <$t>::from_exact(&read_exact(trimmed)?)
                 } else {
-                    crate::exact::check_decimal(trimmed).map_err(|e| e.0)?;
+                    crate::math::exact::check_decimal(trimmed).map_err(|e| e.0)?;
                     trimmed
                         .parse::<$t>()
                         .map_err(|_| format!("{} is not a number", quoted(trimmed)))?

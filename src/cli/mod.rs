@@ -86,7 +86,7 @@ pub struct RenderArgs {
     /// The intersection method (default: the scene's, else watertight for meshes and moller-trumbore
     /// otherwise).
     #[arg(long, value_name = "NAME")]
-    pub method: Option<crate::accuracy::Method>,
+    pub method: Option<crate::intersect::Method>,
     /// Render with a common bug: and-for-or, negative-t, v-instead-of-sum, normalized-direction.
     #[arg(long, value_name = "BUG")]
     pub bug: Option<crate::render::Bug>,
@@ -221,7 +221,7 @@ pub enum Problem {
         /// degenerate tolerances), moller-trumbore, plane, normal-equations, inverse, watertight (these
         /// five are the accuracy study's, in f32 or f64, testing t > 0), exact.
         #[arg(long, value_name = "NAME")]
-        method: Option<crate::accuracy::Method>,
+        method: Option<crate::intersect::Method>,
     },
     /// A ray o + t d against the parallelogram c + α e1 + β e2 (seed 001).
     Parallelogram {

@@ -4,11 +4,11 @@ use serde::Serialize;
 use serde_json::{Map, Value, json};
 
 use super::input::{Coords, Literal};
-use crate::exact::Exact;
 use crate::geometry::parallelogram::{self, RayParallelogram};
 use crate::geometry::segments::{self, SegmentPair, SegmentsOutcome};
 use crate::geometry::triangle::{self, RayTriangle, TriangleMiss, TriangleOutcome};
 use crate::geometry::{Precision, Real};
+use crate::math::exact::Exact;
 use crate::trace::Trace;
 
 /// One problem to solve, with its inputs as the user wrote them.
@@ -417,10 +417,10 @@ fn insert_message(fields: &mut Map<String, Value>, trace: Option<&Trace>) {
 pub fn method_report(
     vectors: &[Coords<3>; 5],
     t_min: &Literal,
-    method: crate::accuracy::Method,
+    method: crate::intersect::Method,
     precision: Precision,
 ) -> Result<Report, String> {
-    use crate::accuracy::Method;
+    use crate::intersect::Method;
     let lecture = || Case::Triangle {
         vectors: vectors.clone(),
         t_min: t_min.clone(),
@@ -450,12 +450,12 @@ pub fn method_report(
     }
 }
 
-fn float_method_report<F: crate::accuracy::Float + crate::accuracy::InverseSolve>(
+fn float_method_report<F: crate::intersect::Float + crate::intersect::InverseSolve>(
     vectors: &[Coords<3>; 5],
-    method: crate::accuracy::Method,
+    method: crate::intersect::Method,
 ) -> Report {
     let v = |i: usize| convert::<F, 3>(&vectors[i]);
-    let case = crate::accuracy::Case {
+    let case = crate::intersect::Case {
         tri: [v(0), v(1), v(2)],
         origin: v(3),
         dir: v(4),
@@ -492,8 +492,8 @@ fn float_method_report<F: crate::accuracy::Float + crate::accuracy::InverseSolve
 }
 
 /// Why a float method found no solution, in the triangle status words, as the exact solver sees it.
-fn unsolved_status<F: crate::accuracy::Float>(case: &crate::accuracy::Case<F>) -> &'static str {
-    let Some(problem) = crate::accuracy::exact_problem(case) else {
+fn unsolved_status<F: crate::intersect::Float>(case: &crate::intersect::Case<F>) -> &'static str {
+    let Some(problem) = crate::intersect::exact_problem(case) else {
         return "invalid-input";
     };
     match triangle::solve(&problem, false).outcome {

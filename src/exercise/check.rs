@@ -7,7 +7,7 @@
 //! a point or an exponent) may be off by at most [`DECIMAL_TOLERANCE`].
 
 use super::{Kind, Outcome, Problem};
-use crate::exact::Exact;
+use crate::math::exact::Exact;
 use crate::trace::{Formula, Payload, Step};
 
 /// A decimal answer counts as right when it is within this of the exact value (absolute): `0.773` is
@@ -227,7 +227,7 @@ fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, String> {
         };
         let value: Exact = number
             .parse()
-            .map_err(|e: crate::exact::ParseExactError| e.0)?;
+            .map_err(|e: crate::math::exact::ParseExactError| e.0)?;
         let decimal = number.contains(['.', 'e', 'E']);
         let tolerance = if decimal {
             Exact::from_f64(DECIMAL_TOLERANCE).expect("finite")

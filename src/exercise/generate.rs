@@ -7,7 +7,7 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 
 use super::{Inputs, Kind, Level, Problem};
-use crate::exact::Exact;
+use crate::math::exact::Exact;
 
 /// The most problems one call makes (a worksheet of more is not a worksheet).
 pub const MAX_COUNT: usize = 100;

@@ -4,7 +4,7 @@
 use serde_json::{Value as Json, json};
 
 use super::{Answer, Input, Kind, Problem};
-use crate::exact::Exact;
+use crate::math::exact::Exact;
 use crate::trace::{Payload, latex_number};
 
 const PREAMBLE: &str = "\\documentclass[11pt]{article}\n\\usepackage{amsmath}\n\

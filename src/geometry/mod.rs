@@ -1,12 +1,10 @@
 //! Pure geometry: the lecture's solvers, generic over the precision they run in. Never imports egui.
 
-pub mod linalg;
 pub mod parallelogram;
-pub mod real;
 pub mod segments;
 pub mod triangle;
 
-pub use real::{Precision, Real};
+pub use crate::math::{Precision, Real};
 
 /// A named input that is not a finite number (or does not fit the precision).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -26,7 +24,7 @@ impl std::fmt::Display for InvalidInput {
 /// How float inputs become solver numbers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum Reading {
-    /// The float's own value (exact for [`crate::exact::Exact`]: 0.1 is 3602879701896397/2^55).
+    /// The float's own value (exact for [`crate::math::exact::Exact`]: 0.1 is 3602879701896397/2^55).
     #[default]
     FloatValue,
     /// The shortest decimal that prints as the float (0.1 is 1/10), as a person typed or dragged it.

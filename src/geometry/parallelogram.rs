@@ -10,12 +10,12 @@
 
 use glam::DVec3;
 
-use super::linalg::{
+use super::{InvalidInput, Reading, check_finite, negligible, read_vec};
+use crate::math::linalg::{
     V3, adjugate3, all_finite, cofactor_terms3, cross, from_columns, is_zero_vector, mul_vec, neg,
     norm_f64, scale, sub, sum_terms,
 };
-use super::real::Real;
-use super::{InvalidInput, Reading, check_finite, negligible, read_vec};
+use crate::math::real::Real;
 use crate::trace::{
     Check, Determinant, Formula, Matrix, Number, Payload, Recorder, Scalar, Step, Trace, Vector,
     Verdict,
@@ -153,7 +153,7 @@ pub fn solve<R: Real>(p: &RayParallelogram<R>, record: bool) -> ParallelogramSol
     let (outcome, alpha_beta_t) = solve_recorded(p, &mut rec);
     let point = alpha_beta_t
         .as_ref()
-        .map(|x| super::linalg::add(&p.origin, &scale(&x[2], &p.dir)));
+        .map(|x| crate::math::linalg::add(&p.origin, &scale(&x[2], &p.dir)));
     rec.push(|| {
         Step::new("verdict", "Verdict", "What the checks decide.", {
             Payload::Verdict(Verdict {
@@ -479,14 +479,14 @@ pub struct Exploration<R> {
 
 /// The parametric form p(α, β) = c + α e1 + β e2: any point of the parallelogram's plane.
 pub fn point_at<R: Real>(p: &RayParallelogram<R>, alpha: &R, beta: &R) -> V3<R> {
-    let along = super::linalg::add(&scale(alpha, &p.e1), &scale(beta, &p.e2));
-    super::linalg::add(&p.corner, &along)
+    let along = crate::math::linalg::add(&scale(alpha, &p.e1), &scale(beta, &p.e2));
+    crate::math::linalg::add(&p.corner, &along)
 }
 
 /// Evaluates both parametric forms.
 pub fn explore<R: Real>(p: &RayParallelogram<R>, alpha: &R, beta: &R, t: &R) -> Exploration<R> {
     let plane_point = point_at(p, alpha, beta);
-    let ray_point = super::linalg::add(&p.origin, &scale(t, &p.dir));
+    let ray_point = crate::math::linalg::add(&p.origin, &scale(t, &p.dir));
     let gap = norm_f64(&sub(&plane_point, &ray_point));
     let unit = |x: &R| x >= &R::zero() && x <= &R::one();
     Exploration {

@@ -6,11 +6,11 @@
 
 use glam::DVec2;
 
-use super::linalg::{
+use super::{InvalidInput, Reading, check_finite, negligible, read_vec};
+use crate::math::linalg::{
     V2, cross2, dot, from_columns, is_zero_vector, norm_f64, scale, sub, with_column,
 };
-use super::real::Real;
-use super::{InvalidInput, Reading, check_finite, negligible, read_vec};
+use crate::math::real::Real;
 use crate::trace::{
     Check, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar, Step, Trace,
     Vector, Verdict,
@@ -331,7 +331,7 @@ fn solve_recorded<R: Real>(p: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSo
             s_outside: !s_inside,
         },
     };
-    let point = super::linalg::add(&p.a1, &scale(&t, &d_a));
+    let point = crate::math::linalg::add(&p.a1, &scale(&t, &d_a));
     SegmentsSolution {
         point: Some(point),
         t: Some(t),
@@ -446,7 +446,7 @@ fn parallel_case<R: Real>(
     }
 }
 
-fn record_system<R: Real>(rec: &mut Recorder, m: &super::linalg::M2<R>, y: &V2<R>) {
+fn record_system<R: Real>(rec: &mut Recorder, m: &crate::math::linalg::M2<R>, y: &V2<R>) {
     rec.push(|| {
         Step::new(
             "system",
@@ -478,8 +478,13 @@ fn record_system<R: Real>(rec: &mut Recorder, m: &super::linalg::M2<R>, y: &V2<R
     });
 }
 
-fn record_det<R: Real>(rec: &mut Recorder, m: &super::linalg::M2<R>, name: &str, latex: &str) -> R {
-    let value = super::linalg::det2(m);
+fn record_det<R: Real>(
+    rec: &mut Recorder,
+    m: &crate::math::linalg::M2<R>,
+    name: &str,
+    latex: &str,
+) -> R {
+    let value = crate::math::linalg::det2(m);
     rec.push(|| Step::new(format!("det_{name}"), format!("|{name}|"), "A 2x2 determinant: the product of the diagonal minus the product of the anti-diagonal.", Payload::Determinant(Determinant::of2(name, latex, m, &value))));
     value
 }
@@ -627,7 +632,7 @@ pub fn explore<R: Real>(p: &SegmentPair<R>, t: &R, s: &R) -> Exploration<R> {
 
 /// P1 + u(P2 − P1).
 pub fn point_on<R: Real>(p1: &V2<R>, p2: &V2<R>, u: &R) -> V2<R> {
-    super::linalg::add(p1, &scale(u, &sub(p2, p1)))
+    crate::math::linalg::add(p1, &scale(u, &sub(p2, p1)))
 }
 
 /// The parameter of the point of the line P1 + u(P2 − P1) nearest to q (for dragging a handle along

@@ -8,13 +8,13 @@
 
 use glam::DVec3;
 
-use super::linalg::{
+use super::{InvalidInput, Reading, check_finite, negligible, read, read_vec};
+use crate::math::exact::{Exact, SignedRoot};
+use crate::math::linalg::{
     V3, all_finite, cofactor_terms3, cross, dot, from_columns, is_zero_vector, norm_f64, scale,
     sub, sum_terms, with_column,
 };
-use super::real::Real;
-use super::{InvalidInput, Reading, check_finite, negligible, read, read_vec};
-use crate::exact::{Exact, SignedRoot};
+use crate::math::real::Real;
 use crate::trace::{
     Check, ClosedForm, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar,
     Step, Trace, Vector, Verdict,
@@ -420,7 +420,7 @@ fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> 
     });
 
     let outcome = classify(rec, p, &beta, &gamma, &t);
-    let point = super::linalg::add(&p.origin, &scale(&t, &p.dir));
+    let point = crate::math::linalg::add(&p.origin, &scale(&t, &p.dir));
     let (distance, distance_exact) = distance_along(&t, &p.dir);
     let solution = Barycentric {
         beta,
@@ -461,7 +461,7 @@ fn overflow<R: Real>() -> Solved<R> {
     )
 }
 
-fn record_system<R: Real>(rec: &mut Recorder, m: &super::linalg::M3<R>, y: &V3<R>) {
+fn record_system<R: Real>(rec: &mut Recorder, m: &crate::math::linalg::M3<R>, y: &V3<R>) {
     rec.push(|| {
         Step::new(
             "system",
@@ -495,7 +495,7 @@ fn record_system<R: Real>(rec: &mut Recorder, m: &super::linalg::M3<R>, y: &V3<R
 
 fn record_det<R: Real>(
     rec: &mut Recorder,
-    m: &super::linalg::M3<R>,
+    m: &crate::math::linalg::M3<R>,
     name: &str,
     latex: &str,
     explanation: &str,
@@ -721,7 +721,7 @@ pub struct Exploration<R> {
 pub fn explore<R: Real>(p: &RayTriangle<R>, beta: &R, gamma: &R, t: &R) -> Exploration<R> {
     let beta_end = point_at(p, beta, &R::zero());
     let plane_point = point_at(p, beta, gamma);
-    let ray_point = super::linalg::add(&p.origin, &scale(t, &p.dir));
+    let ray_point = crate::math::linalg::add(&p.origin, &scale(t, &p.dir));
     let gap = norm_f64(&sub(&plane_point, &ray_point));
     Exploration {
         beta_end,
@@ -734,11 +734,11 @@ pub fn explore<R: Real>(p: &RayTriangle<R>, beta: &R, gamma: &R, t: &R) -> Explo
 
 /// The triangle's parametric form P(β, γ) = A + β(B−A) + γ(C−A): any point of its plane.
 pub fn point_at<R: Real>(p: &RayTriangle<R>, beta: &R, gamma: &R) -> V3<R> {
-    let legs = super::linalg::add(
+    let legs = crate::math::linalg::add(
         &scale(beta, &sub(&p.b, &p.a)),
         &scale(gamma, &sub(&p.c, &p.a)),
     );
-    super::linalg::add(&p.a, &legs)
+    crate::math::linalg::add(&p.a, &legs)
 }
 
 /// The edges a point with barycentrics (β, γ) is beyond (β < 0: CA, γ < 0: AB, β + γ > 1: BC).

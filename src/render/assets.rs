@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use super::objects::{PreparedTriangle, mesh_triangle};
 use crate::files::{FileKind, MESH, ReadError, TEXTURE, read_regular};
-use crate::geometry::linalg::V3;
+use crate::math::linalg::V3;
 
 /// The meshes and textures under `assets/`, by their name relative to it.
 const EMBEDDED: [(&str, &[u8]); 2] = [

@@ -1,6 +1,6 @@
 //! The batched coverage path: when every object is an untransformed triangle tested by
 //! Möller–Trumbore, a row's rays go through the vectorised f32 kernel
-//! ([`crate::accuracy::batch::intersect_rays`]) one triangle at a time, and only the hits are shaded.
+//! ([`crate::intersect::batch::intersect_rays`]) one triangle at a time, and only the hits are shaded.
 
 use std::cell::RefCell;
 
@@ -10,9 +10,9 @@ use super::shade::Shader;
 use std::ops::Range;
 
 use super::{Basis, Camera, Prepared, Stats, camera_ray, pinhole_basis};
-use crate::accuracy::Method;
-use crate::accuracy::batch::{Nearest, RayBatch, intersect_rays};
-use crate::geometry::linalg::dot;
+use crate::intersect::Method;
+use crate::intersect::batch::{Nearest, RayBatch, intersect_rays};
+use crate::math::linalg::dot;
 
 /// True when the scene can take the batched path.
 pub fn applies(prepared: &Prepared) -> bool {

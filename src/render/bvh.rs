@@ -6,7 +6,7 @@
 //! is zero is handled without 0 · ∞.
 
 use super::objects::PreparedTriangle;
-use crate::geometry::linalg::V3;
+use crate::math::linalg::V3;
 
 /// Triangles per leaf, at most.
 const LEAF_SIZE: usize = 4;
@@ -286,7 +286,7 @@ mod tests {
     /// index, as the renderer breaks them).
     #[test]
     fn the_bvh_finds_what_brute_force_finds() {
-        use crate::accuracy::{Case, Method};
+        use crate::intersect::{Case, Method};
         let mesh = load_mesh(&Embedded, "meshes/octasphere.obj").unwrap();
         let bvh = Bvh::build(&mesh);
         let nearest = |origin: V3<f64>, dir: V3<f64>, through_bvh: bool| {

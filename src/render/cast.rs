@@ -5,9 +5,9 @@ use serde::{Deserialize, Serialize};
 
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
 use super::{Prepared, Stats};
-use crate::accuracy::{Case, Method};
-use crate::geometry::linalg::V3;
 use crate::geometry::parallelogram::{RayParallelogram, solve};
+use crate::intersect::{Case, Method};
+use crate::math::linalg::V3;
 
 /// A mistake students make, rendered beside the correct image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -18,8 +18,8 @@ use std::sync::Arc;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::accuracy::Method;
-use crate::geometry::linalg::{V3, cross, dot, sub};
+use crate::intersect::Method;
+use crate::math::linalg::{V3, cross, dot, sub};
 use crate::platform::{Progress, Sliced, Stopwatch};
 use assets::AssetSource;
 pub use cast::{Bug, Hit};
@@ -731,7 +731,7 @@ mod tests {
         };
         let (origin, dir) = camera_ray(&camera, 512, 256, 0, 0);
         assert_eq!(origin, [1.0, 0.5, 1.0]);
-        assert!((crate::geometry::linalg::dot(&dir, &dir).sqrt() - 1.0).abs() < 1e-15);
+        assert!((crate::math::linalg::dot(&dir, &dir).sqrt() - 1.0).abs() < 1e-15);
         let (origin, _) = camera_ray(&camera, 512, 256, 255, 511);
         assert_eq!(origin, [-1.0, -0.5, 1.0]);
     }

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::assets::{AssetSource, Texture, load_mesh};
 use super::bvh::Bvh;
-use crate::geometry::linalg::{V3, cross, sub};
+use crate::math::linalg::{V3, cross, sub};
 
 /// An object's shape, in object space.
 // A scene holds a handful of objects: a large triangle variant costs nothing, boxing it would clutter

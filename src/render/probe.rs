@@ -4,8 +4,8 @@ use super::cast::{Hit, nearest_hit, to_object_space};
 use super::objects::Geometry;
 use super::shade::Shader;
 use super::{Prepared, Stats, world_triangle};
-use crate::accuracy::Method;
-use crate::geometry::linalg::V3;
+use crate::intersect::Method;
+use crate::math::linalg::V3;
 
 /// One pixel's story.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,7 +34,7 @@ pub fn probe(prepared: &Prepared, row: usize, column: usize) -> Probe {
     let mut stats = Stats::default();
     let hit = nearest_hit(prepared, origin, dir, &mut stats);
     let shading = hit.map(|hit| {
-        let inverse_length = 1.0 / crate::geometry::linalg::dot(&dir, &dir).sqrt();
+        let inverse_length = 1.0 / crate::math::linalg::dot(&dir, &dir).sqrt();
         Shader::new(&prepared.effects).shade(
             &prepared.objects[hit.object],
             &hit,
@@ -70,7 +70,7 @@ fn nearest_missed(prepared: &Prepared, origin: V3<f64>, dir: V3<f64>) -> Option<
         };
         let (ro, rd) = to_object_space(object, origin, dir, None, &mut Stats::default());
         for (p, triangle) in triangles.iter().enumerate() {
-            let case = crate::accuracy::Case {
+            let case = crate::intersect::Case {
                 tri: triangle.vertices,
                 origin: ro,
                 dir: rd,

@@ -3,7 +3,7 @@
 use super::cast::Hit;
 use super::objects::{Geometry, PreparedObject, unit};
 use super::{Effect, Stats};
-use crate::geometry::linalg::{V3, dot};
+use crate::math::linalg::{V3, dot};
 
 /// Which effects are on, decided once per render.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -267,7 +267,7 @@ fn escape_text(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::exact::Exact;
+    use crate::math::exact::Exact;
 
     #[test]
     fn exact_fractions_become_frac() {

@@ -4,7 +4,7 @@
 use std::fmt::Write;
 
 use super::{Check, Determinant, Formula, Matrix, Number, Payload, Scalar, Step, Trace, Vector};
-use crate::geometry::real::Precision;
+use crate::math::real::Precision;
 
 /// Formats a float with the digits its precision can mean: 8 significant digits for f32, 10 otherwise.
 /// Integers print without a decimal point; very large and small magnitudes use scientific notation.
@@ -362,7 +362,8 @@ mod readable_numbers {
 
     fn segments_text(points: [[f64; 2]; 4]) -> String {
         let pair =
-            SegmentPair::<crate::exact::Exact>::from_f64(points.map(DVec2::from_array)).unwrap();
+            SegmentPair::<crate::math::exact::Exact>::from_f64(points.map(DVec2::from_array))
+                .unwrap();
         to_text(&segments::solve(&pair, true).trace.unwrap())
     }
 
@@ -398,7 +399,8 @@ mod readable_numbers {
             [1.0, 1.0, 1.0],
         ];
         let problem =
-            RayTriangle::<crate::exact::Exact>::from_f64(v.map(DVec3::from_array), 0.0).unwrap();
+            RayTriangle::<crate::math::exact::Exact>::from_f64(v.map(DVec3::from_array), 0.0)
+                .unwrap();
         let trace = triangle::solve(&problem, true).trace.unwrap();
         let text = to_text(&trace);
         // The float −6.7 is computed with its exact value but read as the shortest decimal, and a

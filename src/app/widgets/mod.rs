@@ -153,7 +153,7 @@ pub struct ShownValue<'a> {
     /// The float solution, if the solve found one.
     pub solution: Option<f64>,
     /// The exact solution, if the solve was exact.
-    pub exact: Option<&'a crate::exact::Exact>,
+    pub exact: Option<&'a crate::math::exact::Exact>,
 }
 
 impl ShownValue<'_> {
@@ -163,8 +163,8 @@ impl ShownValue<'_> {
         match (self.solution, self.exact) {
             (Some(s), Some(e)) if s == self.value && e.is_short() => Some(e.fraction()),
             // Only beside an exact solve: with no exact answer to compare, decimals.
-            (_, Some(_)) => crate::exact::Exact::from_f64(self.value)
-                .filter(crate::exact::Exact::is_short)
+            (_, Some(_)) => crate::math::exact::Exact::from_f64(self.value)
+                .filter(crate::math::exact::Exact::is_short)
                 .map(|e| e.fraction()),
             _ => None,
         }
@@ -201,8 +201,8 @@ mod tests {
 
     #[test]
     fn a_status_line_uses_one_format() {
-        let quarter: crate::exact::Exact = "1/4".parse().unwrap();
-        let half: crate::exact::Exact = "1/2".parse().unwrap();
+        let quarter: crate::math::exact::Exact = "1/4".parse().unwrap();
+        let half: crate::math::exact::Exact = "1/2".parse().unwrap();
         // α on its solution 1/4, β at 0.5 (not its solution): both fractions.
         let both = shown_values(&[
             ShownValue {

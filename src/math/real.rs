@@ -8,7 +8,7 @@ use std::ops::{Add, Mul, Neg, Sub};
 
 use serde::{Deserialize, Serialize};
 
-use crate::exact::Exact;
+use crate::math::exact::Exact;
 
 /// The arithmetic precision a solver runs in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]

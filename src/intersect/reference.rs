@@ -116,7 +116,7 @@ fn decompose(x: f64) -> (i64, i32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accuracy::exact_answer;
+    use crate::intersect::exact_answer;
 
     #[test]
     fn decomposition_is_exact() {

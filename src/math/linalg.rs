@@ -182,7 +182,7 @@ pub fn adjugate3<R: Real>(m: &M3<R>) -> M3<R> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::exact::Exact;
+    use crate::math::exact::Exact;
 
     fn q(n: i64) -> Exact {
         Exact::from_int(n)

@@ -3,7 +3,7 @@
 //! No tolerance: |M| = 0 is the only rejection, so the method's own rounding decides every edge case.
 
 use super::{Answer, Case, Float, decide};
-use crate::geometry::linalg::{det3, from_columns, sub, with_column};
+use crate::math::linalg::{det3, from_columns, sub, with_column};
 
 /// Intersects by Cramer's rule.
 pub fn intersect<F: Float>(case: &Case<F>) -> Answer<F> {

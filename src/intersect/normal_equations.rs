@@ -3,7 +3,7 @@
 
 use super::plane::{PlaneHit, plane_hit};
 use super::{Answer, Case, Float, decide, record};
-use crate::geometry::linalg::{dot, sub};
+use crate::math::linalg::{dot, sub};
 use crate::trace::StepSink;
 
 /// Intersects the plane, then solves the normal equations for β and γ.

@@ -168,7 +168,7 @@ pub fn intersect_rays(
 mod tests {
     use super::*;
     use crate::accuracy::families::{Family, generate};
-    use crate::accuracy::moller_trumbore;
+    use crate::intersect::moller_trumbore;
 
     #[test]
     fn agrees_with_the_scalar_method() {
@@ -189,7 +189,7 @@ mod tests {
     fn many_rays_keep_the_nearest_scalar_hit() {
         let probes = generate(Family::Random, 300, 6);
         let cases: Vec<_> = probes.iter().map(|p| p.cases[0].to_f32()).collect();
-        let columns = |f: &dyn Fn(&crate::accuracy::Case<f32>) -> [f32; 3]| -> [Vec<f32>; 3] {
+        let columns = |f: &dyn Fn(&crate::intersect::Case<f32>) -> [f32; 3]| -> [Vec<f32>; 3] {
             std::array::from_fn(|k| cases.iter().map(|c| f(c)[k]).collect())
         };
         let origin = columns(&|c| c.origin);
@@ -215,7 +215,7 @@ mod tests {
         let triangle = cases[0].tri;
         intersect_rays(triangle, 7, &rays, &mut nearest);
         for (i, case) in cases.iter().enumerate() {
-            let scalar = moller_trumbore::intersect(&crate::accuracy::Case {
+            let scalar = moller_trumbore::intersect(&crate::intersect::Case {
                 tri: triangle,
                 ..*case
             });

@@ -2,7 +2,7 @@
 //! determinants become scalar triple products sharing the cross products p = D × e2 and q = s × e1.
 
 use super::{Answer, Case, Float, decide, record};
-use crate::geometry::linalg::{cross, dot, sub};
+use crate::math::linalg::{cross, dot, sub};
 use crate::trace::StepSink;
 
 /// Intersects by Möller–Trumbore.

@@ -3,7 +3,7 @@
 use glam::{DMat3, DVec3, Mat3, Vec3};
 
 use super::{Answer, Case, Float, decide, record};
-use crate::geometry::linalg::sub;
+use crate::math::linalg::sub;
 use crate::trace::StepSink;
 
 /// Solving a 3x3 system through glam's inverse, in the precision's own matrix type.

@@ -4,7 +4,7 @@
 //! The barycentrics are the edge tests divided by |n|², so the decision and the reported β, γ agree.
 
 use super::{Answer, Case, Float, decide, record};
-use crate::geometry::linalg::{V3, add, cross, dot, scale, sub};
+use crate::math::linalg::{V3, add, cross, dot, scale, sub};
 use crate::trace::StepSink;
 
 /// Intersects the plane, then tests inside-outside.
