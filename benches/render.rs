@@ -9,7 +9,8 @@ use criterion::{
     BenchmarkGroup, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
 };
 use raylab::render::objects::Geometry;
-use raylab::render::{Effect, Prepared, RenderScene, assets::Embedded, render};
+use raylab::render::{Prepared, assets::Embedded, render};
+use raylab::scene::render::{Effect, RenderScene};
 use raylab::scene::{Problem, Scene};
 
 fn scene(file: &str) -> RenderScene {

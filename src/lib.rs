@@ -1,17 +1,22 @@
 //! raylab: an interactive teaching visualizer for parametric forms and ray–primitive intersection.
 //!
-//! The pure core (`geometry`, `exact`, `trace`) never imports a UI crate; the command line in `cli`
-//! reads and prints the core's [`trace::Trace`]. The same app runs in a web page (wasm32): what differs
-//! between a desktop and a browser lives in `platform`, and the command line is desktop-only.
+//! Imports go one way, bottom to top (see [`layers`], which a test enforces): `platform` and `files`;
+//! `math`; `trace`; `geometry`; `intersect`, `symbolic`, `exercise`; `scene`; `render`, `accuracy`,
+//! `lesson`; `app` and `cli`. Everything below `app` and `cli` is the pure core: it builds without egui,
+//! eframe or clap (`cargo build --lib --no-default-features`). The same app runs in a web page (wasm32):
+//! what differs between a desktop and a browser lives in `platform`, and the command line is
+//! desktop-only.
 
 pub mod accuracy;
+#[cfg(feature = "app")]
 pub mod app;
-#[cfg(not(target_arch = "wasm32"))]
+#[cfg(all(feature = "app", not(target_arch = "wasm32")))]
 pub mod cli;
 pub mod exercise;
 pub mod files;
 pub mod geometry;
 pub mod intersect;
+pub mod layers;
 pub mod lesson;
 pub mod math;
 pub mod platform;

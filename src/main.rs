@@ -10,7 +10,7 @@ fn main() {
 
 #[cfg(target_arch = "wasm32")]
 fn main() {
-    raylab::platform::web::start();
+    raylab::app::launch::start();
 }
 
 /// A write past the file-size limit (`ulimit -f`) then fails with "File too large", which raylab reports,

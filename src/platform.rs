@@ -1,12 +1,12 @@
 //! The one place the code touches the platform: a monotonic clock for timing, background jobs, how
-//! scene files are opened and saved, and how the app starts.
+//! scene files are opened and saved.
 //!
-//! Everything else in `geometry`, `exact`, `accuracy` and `render` is plain computation, so it also
+//! Everything else in `math`, `geometry`, `intersect`, `render` and `accuracy` is plain computation, so it also
 //! builds for a web page. A web build has neither `std::time::Instant` nor threads: its clock is the
 //! browser's (`web-time`), and it runs a [`Job`] in slices from the UI's frames instead of on a thread.
 //! It has no file system either: a scene is saved as a download and opened with the browser's file
-//! picker. The desktop opens a window ([`open_window`]); the web page starts on its canvas
-//! ([`web::start`]).
+//! picker. How the app starts (a window or a canvas) is the app's own ([`crate::app::launch`]): the
+//! platform is below everything and imports nothing of raylab.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -85,27 +85,6 @@ pub fn pick_file(accept: &str, inbox: &Inbox, wake: impl Fn() + 'static) -> Resu
         let _ = (accept, inbox, wake);
         Err("the file picker is for the web page; the desktop opens a path".into())
     }
-}
-
-/// Opens the app in a desktop window (1280x800, the projector size), opening what `launch` asks for.
-#[cfg(not(target_arch = "wasm32"))]
-pub fn open_window(launch: crate::app::Launch) -> eframe::Result {
-    let options = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default()
-            .with_title("raylab")
-            .with_inner_size([1280.0, 800.0])
-            .with_min_inner_size([640.0, 420.0]),
-        ..Default::default()
-    };
-    eframe::run_native(
-        "raylab",
-        options,
-        Box::new(move |cc| {
-            let mut app = crate::app::RaylabApp::from_creation_context(cc);
-            app.launch(&launch);
-            Ok(Box::new(app))
-        }),
-    )
 }
 
 /// Where a sliced computation stands after one slice.

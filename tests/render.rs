@@ -10,10 +10,9 @@ use raylab::intersect::{Case, Method};
 use raylab::math::linalg::{V3, dot, sub};
 use raylab::render::bvh::Bvh;
 use raylab::render::cast::{nearest_hit, test_triangle, to_object_space};
-use raylab::render::objects::{
-    Geometry, Object, PreparedObject, PreparedTriangle, Shape, Transform, prepare,
-};
-use raylab::render::{Bug, Effect, Image, Prepared, RenderScene, Stats, assets::Embedded, render};
+use raylab::render::objects::{Geometry, PreparedObject, PreparedTriangle, prepare};
+use raylab::render::{Bug, Image, Prepared, Stats, assets::Embedded, render};
+use raylab::scene::render::{Effect, Object, RenderScene, Shape, Transform};
 use raylab::scene::{Problem, Scene};
 
 fn scene(file: &str) -> RenderScene {

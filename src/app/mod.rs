@@ -5,6 +5,7 @@
 
 pub mod accuracy_view;
 pub mod highlight;
+pub mod launch;
 pub mod lesson_view;
 pub mod parallelogram_view;
 pub mod practice_view;

@@ -21,7 +21,8 @@ use crate::platform::Job;
 use crate::render::assets::OnDisk;
 use crate::render::objects::Geometry;
 use crate::render::probe::{Probe, probe};
-use crate::render::{Bug, Effect, Prepared, RenderJob, RenderScene, Rendered};
+use crate::render::{Bug, Prepared, RenderJob, Rendered};
+use crate::scene::render::{Effect, RenderScene};
 use crate::scene::{ParallelogramScene, TriangleScene};
 
 /// What the image area shows.
@@ -654,9 +655,9 @@ impl RenderView {
 
     fn object_kind(&self, index: usize) -> &'static str {
         match self.scene.objects.get(index).map(|o| &o.shape) {
-            Some(crate::render::objects::Shape::Triangle { .. }) => "triangle",
-            Some(crate::render::objects::Shape::Parallelogram { .. }) => "parallelogram",
-            Some(crate::render::objects::Shape::Mesh { .. }) => "mesh",
+            Some(crate::scene::render::Shape::Triangle { .. }) => "triangle",
+            Some(crate::scene::render::Shape::Parallelogram { .. }) => "parallelogram",
+            Some(crate::scene::render::Shape::Mesh { .. }) => "mesh",
             None => "?",
         }
     }

@@ -324,7 +324,7 @@ pub fn run(cli: Cli) -> i32 {
             );
             2
         }
-        None => match crate::platform::open_window(crate::app::Launch {
+        None => match crate::app::launch::open_window(crate::app::Launch {
             lesson: cli.lesson,
             ..Default::default()
         }) {
@@ -372,7 +372,8 @@ fn write_png(image: &crate::render::Image, output: &std::path::Path) -> Result<(
 }
 
 fn run_render(args: RenderArgs) -> i32 {
-    use crate::render::{Effect, Prepared, assets::OnDisk, render};
+    use crate::render::{Prepared, assets::OnDisk, render};
+    use crate::scene::render::Effect;
     use crate::scene::{Problem, Scene};
     let name = args.scene.display().to_string();
     if let Err(message) = check_png_name(&args.output) {

@@ -1,29 +1,20 @@
-//! The web page's side of the platform: start the app on the page's canvas, show what went wrong on
-//! the page itself (not only in the console), save a scene as a download, open one with the file
-//! picker.
-//!
-//! The page is `assets/web/index.html`: a `<canvas id="raylab_canvas">` and a `<p id="raylab_status">`
-//! that says "Loading…" until the app runs, and the error if it cannot.
+//! The web page's side of the platform: save a scene as a download, open one with the file picker, and
+//! the page's document and errors as the app's launcher ([`crate::app::launch`]) needs them.
 
 use wasm_bindgen::JsCast as _;
 use wasm_bindgen::prelude::*;
 
 use super::{Inbox, Picked};
-use crate::app::{Launch, RaylabApp};
 
-/// The canvas the app draws on.
-const CANVAS_ID: &str = "raylab_canvas";
-/// The page's loading and error message.
-const STATUS_ID: &str = "raylab_status";
-
-fn document() -> Result<web_sys::Document, String> {
+/// The page's document.
+pub fn document() -> Result<web_sys::Document, String> {
     web_sys::window()
         .and_then(|window| window.document())
         .ok_or_else(|| "no document: raylab must run in a web page".to_string())
 }
 
 /// A JavaScript error as text.
-fn describe(value: &JsValue) -> String {
+pub fn describe(value: &JsValue) -> String {
     value
         .as_string()
         .or_else(|| {
@@ -32,90 +23,6 @@ fn describe(value: &JsValue) -> String {
                 .map(|error| String::from(error.message()))
         })
         .unwrap_or_else(|| format!("{value:?}"))
-}
-
-/// Shows `message` in the page's status line, as an error (the canvas is hidden, so the page is not
-/// blank or frozen).
-fn show_error(message: &str) {
-    let Ok(document) = document() else {
-        return;
-    };
-    if let Some(status) = document.get_element_by_id(STATUS_ID) {
-        status.set_text_content(Some(message));
-        let _ = status.set_attribute("class", "error");
-    }
-    if let Some(canvas) = document.get_element_by_id(CANVAS_ID) {
-        let _ = canvas.set_attribute("hidden", "");
-    }
-}
-
-/// Hides the loading message once the app runs.
-fn hide_status() {
-    if let Ok(document) = document()
-        && let Some(status) = document.get_element_by_id(STATUS_ID)
-    {
-        let _ = status.set_attribute("hidden", "");
-    }
-}
-
-/// The page's query string (`?preset=…&view=…`), which says what to open first.
-fn query() -> String {
-    web_sys::window()
-        .and_then(|window| window.location().search().ok())
-        .unwrap_or_default()
-}
-
-/// The web entry point (`main` of the wasm build): starts the app on the page's canvas.
-pub fn start() {
-    // A panic shows on the page. eframe's own panic handler, installed by WebRunner::new, logs it to
-    // the console and then calls this one.
-    std::panic::set_hook(Box::new(|info| {
-        show_error(&format!("raylab stopped with an error: {info}"))
-    }));
-    eframe::WebLogger::init(log::LevelFilter::Warn).ok();
-    let launch = Launch::from_query(&query());
-    wasm_bindgen_futures::spawn_local(async move {
-        if let Err(error) = run(launch).await {
-            show_error(&format!("raylab could not start: {error}"));
-        }
-    });
-}
-
-async fn run(launch: Launch) -> Result<(), String> {
-    let canvas = document()?
-        .get_element_by_id(CANVAS_ID)
-        .and_then(|element| element.dyn_into::<web_sys::HtmlCanvasElement>().ok())
-        .ok_or_else(|| format!("the page has no <canvas id=\"{CANVAS_ID}\">"))?;
-    let runner = eframe::WebRunner::new();
-    runner
-        .start(
-            canvas,
-            eframe::WebOptions::default(),
-            Box::new(move |cc| {
-                let mut app = RaylabApp::from_creation_context(cc);
-                app.launch(&launch);
-                Ok(Box::new(app))
-            }),
-        )
-        .await
-        .map_err(|error| describe(&error))?;
-    save_on_the_way_out(&runner)?;
-    hide_status();
-    Ok(())
-}
-
-/// Saves the state when the tab is hidden or the page goes away: eframe saves every 30 s and on
-/// `beforeunload`, which mobile browsers and closing tabs often never send.
-fn save_on_the_way_out(runner: &eframe::WebRunner) -> Result<(), String> {
-    let window: web_sys::EventTarget = web_sys::window().ok_or("no window")?.into();
-    let page: web_sys::EventTarget = document()?.into();
-    let listen = |target: &web_sys::EventTarget, event: &'static str| {
-        runner
-            .add_event_listener(target, event, |_: web_sys::Event, app| app.save())
-            .map_err(|error| describe(&error))
-    };
-    listen(&window, "pagehide")?;
-    listen(&page, "visibilitychange")
 }
 
 /// Offers `text` as a file download: a Blob behind a temporary link, clicked.

@@ -104,7 +104,7 @@ pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTri
     let mut triangles = Vec::new();
     for model in &models {
         let mesh = &model.mesh;
-        super::check_numbers("vertex coordinates", &mesh.positions)
+        crate::scene::render::check_numbers("vertex coordinates", &mesh.positions)
             .map_err(|e| format!("{name}: {e}"))?;
         let point = |i: u32| -> V3<f64> {
             let i = i as usize * 3;

@@ -2,135 +2,12 @@
 //! texture) and its prepared form: object-space geometry, the world-to-object transform, the normal
 //! matrix, a BVH for meshes, decoded textures.
 
-use glam::{DAffine3, DMat3, DVec3, EulerRot};
-use serde::{Deserialize, Serialize};
+use glam::{DAffine3, DMat3};
 
 use super::assets::{AssetSource, Texture, load_mesh};
 use super::bvh::Bvh;
 use crate::math::linalg::{V3, cross, sub};
-
-/// An object's shape, in object space.
-// A scene holds a handful of objects: a large triangle variant costs nothing, boxing it would clutter
-// the scene files' Rust side.
-#[allow(clippy::large_enum_variant)]
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub enum Shape {
-    /// One triangle with optional per-vertex attributes.
-    Triangle {
-        /// A, B, C.
-        vertices: [[f64; 3]; 3],
-        /// Colours of A, B, C (`barycentric-color`).
-        #[serde(default)]
-        colors: Option<[[f64; 3]; 3]>,
-        /// Normals of A, B, C (`smooth-normals`).
-        #[serde(default)]
-        normals: Option<[[f64; 3]; 3]>,
-        /// Texture coordinates of A, B, C (`texture`).
-        #[serde(default)]
-        uvs: Option<[[f64; 2]; 3]>,
-    },
-    /// c + α e1 + β e2 with α, β in [0, 1] (seed 001); its texture coordinates are (α, β).
-    Parallelogram {
-        /// The corner c.
-        corner: [f64; 3],
-        /// Edge e1.
-        e1: [f64; 3],
-        /// Edge e2.
-        e2: [f64; 3],
-    },
-    /// Triangles read from an OBJ file (with its normals and UVs when it has them).
-    Mesh {
-        /// The file, relative to `assets/` (for example `meshes/octasphere.obj`).
-        obj: String,
-    },
-}
-
-/// Object to world: scale, then rotate (degrees about x, then y, then z), then translate.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Transform {
-    /// Translation.
-    pub translate: [f64; 3],
-    /// Rotation about x, y, z in degrees, applied in that order.
-    pub rotate: [f64; 3],
-    /// Scale along x, y, z.
-    pub scale: [f64; 3],
-}
-
-impl Default for Transform {
-    fn default() -> Transform {
-        Transform {
-            translate: [0.0; 3],
-            rotate: [0.0; 3],
-            scale: [1.0; 3],
-        }
-    }
-}
-
-impl Transform {
-    /// The object-to-world matrix M.
-    pub fn matrix(&self) -> DAffine3 {
-        let [rx, ry, rz] = self.rotate.map(f64::to_radians);
-        DAffine3::from_scale_rotation_translation(
-            DVec3::from(self.scale),
-            glam::DQuat::from_euler(EulerRot::ZYX, rz, ry, rx),
-            DVec3::from(self.translate),
-        )
-    }
-
-    /// True for the identity (no transform to apply).
-    pub fn is_identity(&self) -> bool {
-        *self == Transform::default()
-    }
-}
-
-/// One object of a scene.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Object {
-    /// Its geometry in object space.
-    pub shape: Shape,
-    /// Its flat colour (shading effects).
-    #[serde(default = "default_color")]
-    pub color: [f64; 3],
-    /// A PNG relative to `assets/` (for example `textures/checker.png`), sampled by `texture`.
-    #[serde(default)]
-    pub texture: Option<String>,
-    /// Object to world.
-    #[serde(default)]
-    pub transform: Transform,
-}
-
-impl Object {
-    /// Every number in the object, appended to `out` (for the finiteness check).
-    pub fn numbers(&self, out: &mut Vec<f64>) {
-        match &self.shape {
-            Shape::Triangle {
-                vertices,
-                colors,
-                normals,
-                uvs,
-            } => {
-                out.extend(vertices.iter().flatten());
-                out.extend(colors.iter().flatten().flatten());
-                out.extend(normals.iter().flatten().flatten());
-                out.extend(uvs.iter().flatten().flatten());
-            }
-            Shape::Parallelogram { corner, e1, e2 } => {
-                out.extend([corner, e1, e2].into_iter().flatten())
-            }
-            Shape::Mesh { .. } => {}
-        }
-        out.extend(self.color);
-        let t = &self.transform;
-        out.extend(t.translate.iter().chain(&t.rotate).chain(&t.scale));
-    }
-}
-
-fn default_color() -> [f64; 3] {
-    [0.8, 0.8, 0.8]
-}
+use crate::scene::render::{Object, Shape};
 
 /// A triangle ready to test: vertices in object space, its unit face normal, and its attributes.
 #[derive(Clone, Debug, PartialEq)]
@@ -290,22 +167,5 @@ pub fn unit(v: V3<f64>) -> V3<f64> {
         v
     } else {
         v.map(|c| c / length)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_transform_scales_then_rotates_then_translates() {
-        let transform = Transform {
-            translate: [1.0, 2.0, 3.0],
-            rotate: [0.0, 0.0, 90.0],
-            scale: [2.0, 1.0, 1.0],
-        };
-        // (1, 0, 0) → scale (2, 0, 0) → rotate 90° about z (0, 2, 0) → translate (1, 4, 3).
-        let p = transform.matrix().transform_point3(DVec3::X);
-        assert!((p - DVec3::new(1.0, 4.0, 3.0)).length() < 1e-12, "{p}");
     }
 }

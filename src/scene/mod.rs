@@ -5,6 +5,10 @@
 
 use serde::{Deserialize, Serialize};
 
+pub mod render;
+
+pub use render::RenderScene;
+
 /// Two 2D segments A1–A2 and B1–B2.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -65,7 +69,7 @@ pub enum Problem {
     /// A ray and a parallelogram.
     Parallelogram(ParallelogramScene),
     /// A per-pixel render: camera, objects and effects.
-    Render(crate::render::RenderScene),
+    Render(RenderScene),
 }
 
 /// A scene file: a title, a one-line note, and the problem.
@@ -201,87 +205,87 @@ fn describe(code: &ron::Error) -> String {
 pub const BUILT_IN: &[(&str, &str)] = &[
     (
         "seed000-segments-cross.ron",
-        include_str!("../assets/scenes/seed000-segments-cross.ron"),
+        include_str!("../../assets/scenes/seed000-segments-cross.ron"),
     ),
     (
         "seed000-segments-miss.ron",
-        include_str!("../assets/scenes/seed000-segments-miss.ron"),
+        include_str!("../../assets/scenes/seed000-segments-miss.ron"),
     ),
     (
         "segments-touching.ron",
-        include_str!("../assets/scenes/segments-touching.ron"),
+        include_str!("../../assets/scenes/segments-touching.ron"),
     ),
     (
         "segments-parallel.ron",
-        include_str!("../assets/scenes/segments-parallel.ron"),
+        include_str!("../../assets/scenes/segments-parallel.ron"),
     ),
     (
         "segments-collinear.ron",
-        include_str!("../assets/scenes/segments-collinear.ron"),
+        include_str!("../../assets/scenes/segments-collinear.ron"),
     ),
     (
         "seed000-triangle.ron",
-        include_str!("../assets/scenes/seed000-triangle.ron"),
+        include_str!("../../assets/scenes/seed000-triangle.ron"),
     ),
     (
         "seed000-alternative-1.ron",
-        include_str!("../assets/scenes/seed000-alternative-1.ron"),
+        include_str!("../../assets/scenes/seed000-alternative-1.ron"),
     ),
     (
         "seed000-alternative-2.ron",
-        include_str!("../assets/scenes/seed000-alternative-2.ron"),
+        include_str!("../../assets/scenes/seed000-alternative-2.ron"),
     ),
     (
         "seed000-alternative-3.ron",
-        include_str!("../assets/scenes/seed000-alternative-3.ron"),
+        include_str!("../../assets/scenes/seed000-alternative-3.ron"),
     ),
     (
         "seed003-ray.ron",
-        include_str!("../assets/scenes/seed003-ray.ron"),
+        include_str!("../../assets/scenes/seed003-ray.ron"),
     ),
     (
         "triangle-parallel.ron",
-        include_str!("../assets/scenes/triangle-parallel.ron"),
+        include_str!("../../assets/scenes/triangle-parallel.ron"),
     ),
     (
         "triangle-outside.ron",
-        include_str!("../assets/scenes/triangle-outside.ron"),
+        include_str!("../../assets/scenes/triangle-outside.ron"),
     ),
     (
         "triangle-behind.ron",
-        include_str!("../assets/scenes/triangle-behind.ron"),
+        include_str!("../../assets/scenes/triangle-behind.ron"),
     ),
     (
         "triangle-degenerate.ron",
-        include_str!("../assets/scenes/triangle-degenerate.ron"),
+        include_str!("../../assets/scenes/triangle-degenerate.ron"),
     ),
     (
         "seed001-parallelogram.ron",
-        include_str!("../assets/scenes/seed001-parallelogram.ron"),
+        include_str!("../../assets/scenes/seed001-parallelogram.ron"),
     ),
     (
         "seed003-facing.ron",
-        include_str!("../assets/scenes/seed003-facing.ron"),
+        include_str!("../../assets/scenes/seed003-facing.ron"),
     ),
     (
         "seed003-barycentric.ron",
-        include_str!("../assets/scenes/seed003-barycentric.ron"),
+        include_str!("../../assets/scenes/seed003-barycentric.ron"),
     ),
     (
         "render-textured-quad.ron",
-        include_str!("../assets/scenes/render-textured-quad.ron"),
+        include_str!("../../assets/scenes/render-textured-quad.ron"),
     ),
     (
         "render-transformed.ron",
-        include_str!("../assets/scenes/render-transformed.ron"),
+        include_str!("../../assets/scenes/render-transformed.ron"),
     ),
     (
         "render-mesh.ron",
-        include_str!("../assets/scenes/render-mesh.ron"),
+        include_str!("../../assets/scenes/render-mesh.ron"),
     ),
     (
         "render-common-bugs.ron",
-        include_str!("../assets/scenes/render-common-bugs.ron"),
+        include_str!("../../assets/scenes/render-common-bugs.ron"),
     ),
 ];
 

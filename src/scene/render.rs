@@ -1,0 +1,413 @@
+//! What a render scene file holds: the image size, the camera, the objects (triangles, parallelograms,
+//! OBJ meshes, each with a transform, colour and texture), the intersection method and the effects, with
+//! the checks a file format cannot express. [`crate::render`] prepares and renders it.
+
+use glam::{DAffine3, DVec3, EulerRot};
+use serde::{Deserialize, Serialize};
+
+use crate::intersect::Method;
+use crate::math::linalg::{dot, sub};
+
+/// A camera: seed 003's image plane, or a pinhole looking at a target.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Camera {
+    /// Seed 003: pixel (row, column) is the point (x, y, z) of a plane, x from `x.0` (left) to `x.1`
+    /// (right), y from `y.0` (top) to `y.1` (bottom), both ends included; the ray starts there and goes
+    /// along that point's direction from the origin, normalised.
+    ImagePlane {
+        /// x at the left and right columns.
+        x: (f64, f64),
+        /// y at the top and bottom rows.
+        y: (f64, f64),
+        /// The plane's z.
+        z: f64,
+    },
+    /// A pinhole at `position` looking at `target`, z up, with a vertical field of view in degrees.
+    Pinhole {
+        /// The eye.
+        position: [f64; 3],
+        /// The point at the image's centre.
+        target: [f64; 3],
+        /// Vertical field of view, degrees.
+        fov_y: f64,
+    },
+}
+
+/// The effects a scene can call for; scene files name them as strings (`"facing-ratio"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", try_from = "String", into = "String")]
+pub enum Effect {
+    /// White where something is hit (a hit mask).
+    Coverage,
+    /// Darker with distance.
+    Depth,
+    /// The object's colour times the facing ratio n̂ · (−ê) (seed 003).
+    FacingRatio,
+    /// Per-vertex colours interpolated with the barycentrics (seed 003, seed 004).
+    BarycentricColor,
+    /// Facing ratio with the vertex normals interpolated (seed 004).
+    SmoothNormals,
+    /// A texture sampled at the interpolated texture coordinates (seed 004).
+    Texture,
+}
+
+impl Effect {
+    /// Every effect.
+    pub const ALL: [Effect; 6] = [
+        Effect::Coverage,
+        Effect::Depth,
+        Effect::FacingRatio,
+        Effect::BarycentricColor,
+        Effect::SmoothNormals,
+        Effect::Texture,
+    ];
+
+    /// The name in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Effect::Coverage => "coverage",
+            Effect::Depth => "depth",
+            Effect::FacingRatio => "facing-ratio",
+            Effect::BarycentricColor => "barycentric-color",
+            Effect::SmoothNormals => "smooth-normals",
+            Effect::Texture => "texture",
+        }
+    }
+
+    /// What it computes, for a tooltip.
+    pub fn explanation(self) -> &'static str {
+        match self {
+            Effect::Coverage => "White where a ray hits: the hit mask, and nothing else computed.",
+            Effect::Depth => "Darker with distance t·|D|: needs only t.",
+            Effect::FacingRatio => {
+                "Colour × n̂ · (−ê), seed 003's facing ratio: one dot product per hit."
+            }
+            Effect::BarycentricColor => {
+                "(1 − β − γ)·C_A + β·C_B + γ·C_C: the vertex colours interpolated per hit."
+            }
+            Effect::SmoothNormals => {
+                "The facing ratio with the vertex normals interpolated by β and γ, then taken to \
+                 world space by the inverse transpose."
+            }
+            Effect::Texture => "The texture sampled at the interpolated (u, v).",
+        }
+    }
+}
+
+impl TryFrom<String> for Effect {
+    type Error = String;
+    fn try_from(name: String) -> Result<Effect, String> {
+        Effect::ALL
+            .into_iter()
+            .find(|e| e.name() == name)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Effect::ALL.iter().map(|e| e.name()).collect();
+                format!(
+                    "unknown effect '{name}' (expected one of {})",
+                    names.join(", ")
+                )
+            })
+    }
+}
+
+impl From<Effect> for String {
+    fn from(effect: Effect) -> String {
+        effect.name().into()
+    }
+}
+
+/// A method named in a scene file (`"watertight"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct SceneMethod(pub Method);
+
+impl TryFrom<String> for SceneMethod {
+    type Error = String;
+    fn try_from(name: String) -> Result<SceneMethod, String> {
+        name.parse().map(SceneMethod)
+    }
+}
+
+impl From<SceneMethod> for String {
+    fn from(method: SceneMethod) -> String {
+        method.0.name().into()
+    }
+}
+
+/// A scene to render (the `Render` problem of a scene file).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderScene {
+    /// Image width in pixels.
+    pub width: usize,
+    /// Image height in pixels.
+    pub height: usize,
+    /// The camera.
+    pub camera: Camera,
+    /// The intersection method; by default watertight for meshes and Möller–Trumbore otherwise.
+    #[serde(default)]
+    pub method: Option<SceneMethod>,
+    /// The objects.
+    pub objects: Vec<Object>,
+    /// What to compute at a hit.
+    pub effects: Vec<Effect>,
+}
+
+impl RenderScene {
+    /// Checks what the file format cannot: finite numbers within [`MAX_MAGNITUDE`], a usable size,
+    /// camera and field of view, scales that can be inverted.
+    pub fn check(&self) -> Result<(), String> {
+        if !(1..=MAX_SIDE).contains(&self.width) || !(1..=MAX_SIDE).contains(&self.height) {
+            return Err(format!(
+                "the image is {}x{}: each side must be 1 to {MAX_SIDE} pixels",
+                self.width, self.height
+            ));
+        }
+        check_numbers("the camera's numbers", &self.camera.numbers())?;
+        self.check_camera()?;
+        for (i, object) in self.objects.iter().enumerate() {
+            let mut numbers = Vec::new();
+            object.numbers(&mut numbers);
+            check_numbers("coordinates", &numbers)
+                .and_then(|()| check_scale(&object.transform.scale))
+                .map_err(|e| format!("object {}: {e}", i + 1))?;
+        }
+        Ok(())
+    }
+
+    /// A camera whose every ray has a direction.
+    fn check_camera(&self) -> Result<(), String> {
+        match &self.camera {
+            Camera::ImagePlane { z, .. } if z.abs() < MIN_MAGNITUDE => Err(format!(
+                "the image plane is at z = {z}: rays start on the plane and point away from the \
+                 origin, so at z = 0 they run along the plane and the one through the origin has no \
+                 direction; put the plane at |z| ≥ {MIN_MAGNITUDE:e}"
+            )),
+            Camera::ImagePlane { .. } => Ok(()),
+            Camera::Pinhole {
+                position,
+                target,
+                fov_y,
+            } => {
+                if !(*fov_y > 0.0 && *fov_y < 180.0) {
+                    return Err(format!(
+                        "the field of view is {fov_y}°: it must be between 0° and 180°"
+                    ));
+                }
+                let apart = sub(target, position);
+                if dot(&apart, &apart).sqrt() < MIN_MAGNITUDE {
+                    return Err(format!(
+                        "the camera's position and target are the same point (or closer than \
+                         {MIN_MAGNITUDE:e}): the camera has no direction"
+                    ));
+                }
+                let across = apart[0].hypot(apart[1]);
+                if across <= 1e-9 * apart[2].abs() {
+                    return Err(
+                        "the camera looks straight up or down: z is the image's up, so move the \
+                         target off the vertical through the position"
+                            .into(),
+                    );
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+impl Camera {
+    /// Every number the camera holds.
+    pub fn numbers(&self) -> Vec<f64> {
+        match self {
+            Camera::ImagePlane { x, y, z } => vec![x.0, x.1, y.0, y.1, *z],
+            Camera::Pinhole {
+                position,
+                target,
+                fov_y,
+            } => [&position[..], &target[..], &[*fov_y]].concat(),
+        }
+    }
+}
+
+/// The largest magnitude of any number in a render scene (and of a mesh's vertices): products of
+/// three coordinates, as the intersection tests form them, then stay far inside f64's range, even
+/// after a transform's inverse (at most 1 / [`MIN_MAGNITUDE`]) has been applied.
+pub const MAX_MAGNITUDE: f64 = 1e30;
+
+/// The smallest magnitude of a transform's scale and of an image plane's z.
+pub const MIN_MAGNITUDE: f64 = 1e-30;
+
+/// Finite, and within ±[`MAX_MAGNITUDE`]; `what` names the numbers in the message.
+pub fn check_numbers(what: &str, numbers: &[f64]) -> Result<(), String> {
+    if let Some(bad) = numbers.iter().find(|v| !v.is_finite()) {
+        return Err(format!("{what} must be finite numbers, found {bad}"));
+    }
+    match numbers.iter().find(|v| v.abs() > MAX_MAGNITUDE) {
+        Some(big) => Err(format!(
+            "{what} must be at most {MAX_MAGNITUDE:e} in magnitude (so the renderer's arithmetic \
+             cannot overflow), found {big:e}"
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A scale whose inverse stays within [`MAX_MAGNITUDE`].
+fn check_scale(scale: &[f64; 3]) -> Result<(), String> {
+    if scale.contains(&0.0) {
+        return Err(format!(
+            "the transform's scale {scale:?} has a zero component: the object would be flat and \
+             its transform has no inverse"
+        ));
+    }
+    match scale.iter().find(|s| s.abs() < MIN_MAGNITUDE) {
+        Some(small) => Err(format!(
+            "the transform's scale component {small:e} is too small to invert safely: each must be \
+             at least {MIN_MAGNITUDE:e} in magnitude"
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The largest image side a scene may ask for.
+pub const MAX_SIDE: usize = 4096;
+
+/// An object's shape, in object space.
+// A scene holds a handful of objects: a large triangle variant costs nothing, boxing it would clutter
+// the scene files' Rust side.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Shape {
+    /// One triangle with optional per-vertex attributes.
+    Triangle {
+        /// A, B, C.
+        vertices: [[f64; 3]; 3],
+        /// Colours of A, B, C (`barycentric-color`).
+        #[serde(default)]
+        colors: Option<[[f64; 3]; 3]>,
+        /// Normals of A, B, C (`smooth-normals`).
+        #[serde(default)]
+        normals: Option<[[f64; 3]; 3]>,
+        /// Texture coordinates of A, B, C (`texture`).
+        #[serde(default)]
+        uvs: Option<[[f64; 2]; 3]>,
+    },
+    /// c + α e1 + β e2 with α, β in [0, 1] (seed 001); its texture coordinates are (α, β).
+    Parallelogram {
+        /// The corner c.
+        corner: [f64; 3],
+        /// Edge e1.
+        e1: [f64; 3],
+        /// Edge e2.
+        e2: [f64; 3],
+    },
+    /// Triangles read from an OBJ file (with its normals and UVs when it has them).
+    Mesh {
+        /// The file, relative to `assets/` (for example `meshes/octasphere.obj`).
+        obj: String,
+    },
+}
+
+/// Object to world: scale, then rotate (degrees about x, then y, then z), then translate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Transform {
+    /// Translation.
+    pub translate: [f64; 3],
+    /// Rotation about x, y, z in degrees, applied in that order.
+    pub rotate: [f64; 3],
+    /// Scale along x, y, z.
+    pub scale: [f64; 3],
+}
+
+impl Default for Transform {
+    fn default() -> Transform {
+        Transform {
+            translate: [0.0; 3],
+            rotate: [0.0; 3],
+            scale: [1.0; 3],
+        }
+    }
+}
+
+impl Transform {
+    /// The object-to-world matrix M.
+    pub fn matrix(&self) -> DAffine3 {
+        let [rx, ry, rz] = self.rotate.map(f64::to_radians);
+        DAffine3::from_scale_rotation_translation(
+            DVec3::from(self.scale),
+            glam::DQuat::from_euler(EulerRot::ZYX, rz, ry, rx),
+            DVec3::from(self.translate),
+        )
+    }
+
+    /// True for the identity (no transform to apply).
+    pub fn is_identity(&self) -> bool {
+        *self == Transform::default()
+    }
+}
+
+/// One object of a scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Object {
+    /// Its geometry in object space.
+    pub shape: Shape,
+    /// Its flat colour (shading effects).
+    #[serde(default = "default_color")]
+    pub color: [f64; 3],
+    /// A PNG relative to `assets/` (for example `textures/checker.png`), sampled by `texture`.
+    #[serde(default)]
+    pub texture: Option<String>,
+    /// Object to world.
+    #[serde(default)]
+    pub transform: Transform,
+}
+
+impl Object {
+    /// Every number in the object, appended to `out` (for the finiteness check).
+    pub fn numbers(&self, out: &mut Vec<f64>) {
+        match &self.shape {
+            Shape::Triangle {
+                vertices,
+                colors,
+                normals,
+                uvs,
+            } => {
+                out.extend(vertices.iter().flatten());
+                out.extend(colors.iter().flatten().flatten());
+                out.extend(normals.iter().flatten().flatten());
+                out.extend(uvs.iter().flatten().flatten());
+            }
+            Shape::Parallelogram { corner, e1, e2 } => {
+                out.extend([corner, e1, e2].into_iter().flatten())
+            }
+            Shape::Mesh { .. } => {}
+        }
+        out.extend(self.color);
+        let t = &self.transform;
+        out.extend(t.translate.iter().chain(&t.rotate).chain(&t.scale));
+    }
+}
+
+fn default_color() -> [f64; 3] {
+    [0.8, 0.8, 0.8]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_transform_scales_then_rotates_then_translates() {
+        let transform = Transform {
+            translate: [1.0, 2.0, 3.0],
+            rotate: [0.0, 0.0, 90.0],
+            scale: [2.0, 1.0, 1.0],
+        };
+        // (1, 0, 0) → scale (2, 0, 0) → rotate 90° about z (0, 2, 0) → translate (1, 4, 3).
+        let p = transform.matrix().transform_point3(DVec3::X);
+        assert!((p - DVec3::new(1.0, 4.0, 3.0)).length() < 1e-12, "{p}");
+    }
+}
