@@ -46,16 +46,16 @@ fn bench_precision<R: Real>(c: &mut Criterion) {
     let seg = seed000_segments::<R>();
     let par = square::<R>();
     c.bench_function(&format!("triangle/{name}"), |b| {
-        b.iter(|| triangle::solve(black_box(&tri), false))
+        b.iter(|| triangle::solve(black_box(&tri)))
     });
     c.bench_function(&format!("triangle/{name}/traced"), |b| {
-        b.iter(|| triangle::solve(black_box(&tri), true))
+        b.iter(|| triangle::solve_traced(black_box(&tri)))
     });
     c.bench_function(&format!("segments/{name}"), |b| {
-        b.iter(|| segments::solve(black_box(&seg), false))
+        b.iter(|| segments::solve(black_box(&seg)))
     });
     c.bench_function(&format!("parallelogram/{name}"), |b| {
-        b.iter(|| parallelogram::solve(black_box(&par), false))
+        b.iter(|| parallelogram::solve(black_box(&par)))
     });
 }
 

@@ -284,7 +284,7 @@ fn solve_segments([a1, a2, b1, b2]: &[[Exact; 2]; 4]) -> (Option<Outcome>, Vec<E
         b1: b1.clone(),
         b2: b2.clone(),
     };
-    let solved = segments::solve(&pair, true);
+    let (solved, trace) = segments::solve_traced(&pair);
     let outcome = match solved.outcome {
         SegmentsOutcome::Crossing => Some(Outcome::Hit),
         SegmentsOutcome::LinesCrossOutside {
@@ -298,7 +298,7 @@ fn solve_segments([a1, a2, b1, b2]: &[[Exact; 2]; 4]) -> (Option<Outcome>, Vec<E
         _ => None,
     };
     let values = solved.t.into_iter().chain(solved.s).collect();
-    (outcome, values, solved.trace.expect("recorded"))
+    (outcome, values, trace)
 }
 
 fn solve_triangle(
@@ -312,7 +312,7 @@ fn solve_triangle(
         dir: dir.clone(),
         t_min: Exact::from_int(0),
     };
-    let solved = triangle::solve(&problem, true);
+    let (solved, trace) = triangle::solve_traced(&problem);
     let outcome = match solved.outcome {
         TriangleOutcome::Hit => Some(Outcome::Hit),
         TriangleOutcome::Miss(TriangleMiss::Outside { edges }) if edges.len() == 1 => {
@@ -329,7 +329,7 @@ fn solve_triangle(
         .solution
         .map(|s| vec![s.beta, s.gamma, s.t])
         .unwrap_or_default();
-    (outcome, values, solved.trace.expect("recorded"))
+    (outcome, values, trace)
 }
 
 fn solve_parallelogram(
@@ -342,7 +342,7 @@ fn solve_parallelogram(
         origin: origin.clone(),
         dir: dir.clone(),
     };
-    let solved = parallelogram::solve(&problem, true);
+    let (solved, trace) = parallelogram::solve_traced(&problem);
     let outcome = match solved.outcome {
         ParallelogramOutcome::Hit => Some(Outcome::Hit),
         ParallelogramOutcome::Outside { sides } if sides.len() == 1 => Some(Outcome::Outside {
@@ -354,7 +354,7 @@ fn solve_parallelogram(
         _ => None,
     };
     let values = solved.alpha_beta_t.map(|x| x.to_vec()).unwrap_or_default();
-    (outcome, values, solved.trace.expect("recorded"))
+    (outcome, values, trace)
 }
 
 /// The line of the parallelogram a point is beyond, named by the bound it breaks.

@@ -6,8 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::geometry::{Precision, Reading, parallelogram, segments, triangle};
-use crate::math::exact::Exact;
+use crate::geometry::{Precision, Reading, traced};
 use crate::scene::{self, Problem};
 use crate::trace::Trace;
 
@@ -176,21 +175,8 @@ impl Lesson {
 /// The exact solve of a scene's problem, as the step panel shows it (inputs read as written);
 /// `None` for a render scene.
 pub fn trace_of(problem: &Problem) -> Option<Trace> {
-    match problem {
-        Problem::Segments(s) => {
-            let points = [s.a1, s.a2, s.b1, s.b2].map(glam::DVec2::from_array);
-            segments::solve_inputs::<Exact>(Reading::AsWritten, points, true).trace
-        }
-        Problem::Triangle(t) => {
-            let vectors = [t.a, t.b, t.c, t.origin, t.dir].map(glam::DVec3::from_array);
-            triangle::solve_inputs::<Exact>(Reading::AsWritten, vectors, t.t_min, true).trace
-        }
-        Problem::Parallelogram(p) => {
-            let vectors = [p.corner, p.e1, p.e2, p.origin, p.dir].map(glam::DVec3::from_array);
-            parallelogram::solve_inputs::<Exact>(Reading::AsWritten, vectors, true).trace
-        }
-        Problem::Render(_) => None,
-    }
+    let inputs = problem.inputs()?;
+    Some(traced(inputs, Reading::AsWritten, Precision::Exact))
 }
 
 /// Every built-in lesson, in menu order.

@@ -468,8 +468,7 @@ mod tests {
                 dir: scene[4].clone(),
                 t_min: Exact::from_int(0),
             };
-            let solved = triangle::solve(&problem, true);
-            let trace = solved.trace.unwrap();
+            let (_, trace) = triangle::solve_traced(&problem);
             for (poly, id) in dets.iter().zip(["det_M", "det_M1", "det_M2", "det_M3"]) {
                 let Some(step) = trace.step(id) else {
                     continue; // a degenerate or parallel draw stops before |M1|

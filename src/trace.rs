@@ -490,13 +490,17 @@ impl StepSink for Recorder {
 /// Collects steps when a trace was asked for, and costs nothing (not even formatting) when not.
 #[derive(Debug)]
 pub struct Recorder {
+    solver: &'static str,
+    precision: Precision,
     trace: Option<Trace>,
 }
 
 impl Recorder {
     /// Records when `enabled`.
-    pub fn new(enabled: bool, solver: &str, precision: Precision) -> Recorder {
+    pub fn new(enabled: bool, solver: &'static str, precision: Precision) -> Recorder {
         Recorder {
+            solver,
+            precision,
             trace: enabled.then(|| Trace::new(solver, precision)),
         }
     }
@@ -514,8 +518,9 @@ impl Recorder {
         }
     }
 
-    /// The trace, if one was recorded.
-    pub fn finish(self) -> Option<Trace> {
+    /// The recorded trace (with no steps if recording was off).
+    pub fn into_trace(self) -> Trace {
         self.trace
+            .unwrap_or_else(|| Trace::new(self.solver, self.precision))
     }
 }

@@ -25,8 +25,7 @@ fn triangle_status<R: Real>(v: [[f64; 3]; 5], t_min: f64) -> (&'static str, Stri
         // Only the exact type refuses to convert NaN and ∞; that is the invalid-input path too.
         Err(bad) => return ("invalid-input", bad.to_string()),
     };
-    let solved = triangle::solve(&problem, true);
-    let trace = solved.trace.unwrap();
+    let (solved, trace) = triangle::solve_traced(&problem);
     render_all(&trace);
     (
         solved.outcome.status(),
@@ -159,8 +158,8 @@ fn f32_overflow_is_named_not_nonsense() {
 fn segments_status<R: Real>(points: [[f64; 2]; 4]) -> segments::SegmentsSolution<R> {
     match SegmentPair::<R>::from_f64(points.map(DVec2::from_array)) {
         Ok(pair) => {
-            let solved = segments::solve(&pair, true);
-            render_all(solved.trace.as_ref().unwrap());
+            let (solved, trace) = segments::solve_traced(&pair);
+            render_all(&trace);
             solved
         }
         Err(_) => panic!("conversion fails only for the exact type on non-finite input"),
@@ -221,7 +220,7 @@ fn collinear_overlap_is_an_interval_of_t() {
         solved.t_of_b,
         Some([Exact::ratio(3, 2).unwrap(), half.clone()])
     );
-    let message = solved.trace.unwrap().verdict().unwrap().message.clone();
+    let message = solved.message();
     assert!(message.contains("t in [1/2, 1]"), "{message}");
     // Touching end to end is a one-point overlap.
     let solved = segments_status::<Exact>([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [2.0, 0.0]]);
@@ -266,11 +265,11 @@ fn segments_bad_input() {
 
 fn parallelogram_outcome(v: [[f64; 3]; 5]) -> ParallelogramOutcome {
     let exact = RayParallelogram::<Exact>::from_f64(v.map(DVec3::from_array)).unwrap();
-    let solved = parallelogram::solve(&exact, true);
-    render_all(solved.trace.as_ref().unwrap());
+    let (solved, trace) = parallelogram::solve_traced(&exact);
+    render_all(&trace);
     let float = RayParallelogram::<f64>::from_f64(v.map(DVec3::from_array)).unwrap();
     assert_eq!(
-        parallelogram::solve(&float, false).outcome.status(),
+        parallelogram::solve(&float).outcome.status(),
         solved.outcome.status()
     );
     solved.outcome

@@ -6,30 +6,30 @@ use raylab::geometry::parallelogram::{self, ParallelogramOutcome, RayParallelogr
 use raylab::geometry::segments::{self, SegmentPair, SegmentsOutcome};
 use raylab::geometry::triangle::{self, Edge, RayTriangle, TriangleMiss, TriangleOutcome};
 use raylab::math::exact::Exact;
+use raylab::trace::Trace;
 
 fn q(text: &str) -> Exact {
     text.parse().unwrap()
 }
 
-fn exact_segments(points: [[f64; 2]; 4]) -> segments::SegmentsSolution<Exact> {
+fn exact_segments(points: [[f64; 2]; 4]) -> (segments::SegmentsSolution<Exact>, Trace) {
     let pair = SegmentPair::from_f64(points.map(DVec2::from_array)).unwrap();
-    segments::solve(&pair, true)
+    segments::solve_traced(&pair)
 }
 
-fn triangle_in<R: Real>(v: [[f64; 3]; 5]) -> triangle::TriangleSolution<R> {
+fn triangle_in<R: Real>(v: [[f64; 3]; 5]) -> (triangle::TriangleSolution<R>, Trace) {
     let problem = RayTriangle::<R>::from_f64(v.map(DVec3::from_array), 0.0).unwrap();
-    triangle::solve(&problem, true)
+    triangle::solve_traced(&problem)
 }
 
 #[test]
 fn seed000_segments_meet_at_17_22_and_21_22() {
-    let solved = exact_segments([[1.0, 2.0], [6.0, 1.0], [2.0, 6.0], [5.0, 1.0]]);
+    let (solved, trace) = exact_segments([[1.0, 2.0], [6.0, 1.0], [2.0, 6.0], [5.0, 1.0]]);
     assert_eq!(solved.outcome, SegmentsOutcome::Crossing);
     assert_eq!(solved.t, Some(q("17/22")));
     assert_eq!(solved.s, Some(q("21/22")));
     assert_eq!(solved.point, Some([q("107/22"), q("27/22")]));
     // The trace shows the Cramer quotients with the determinants 17, 21 and 22.
-    let trace = solved.trace.unwrap();
     assert_eq!(
         trace.scalar("t").unwrap().value.exact.as_deref(),
         Some("17/22")
@@ -46,7 +46,7 @@ fn seed000_segments_meet_at_17_22_and_21_22() {
 #[test]
 fn seed000_first_segments_do_not_meet_and_say_why() {
     // A = (1,1)-(6,3), B = (2,6)-(4,3): the lines cross at t = 13/19, s = 23/19 > 1.
-    let solved = exact_segments([[1.0, 1.0], [6.0, 3.0], [2.0, 6.0], [4.0, 3.0]]);
+    let (solved, trace) = exact_segments([[1.0, 1.0], [6.0, 3.0], [2.0, 6.0], [4.0, 3.0]]);
     assert_eq!(
         solved.outcome,
         SegmentsOutcome::LinesCrossOutside {
@@ -56,13 +56,13 @@ fn seed000_first_segments_do_not_meet_and_say_why() {
     );
     assert_eq!(solved.t, Some(q("13/19")));
     assert_eq!(solved.s, Some(q("23/19")));
-    let verdict = solved.trace.unwrap().verdict().unwrap().message.clone();
+    let verdict = trace.verdict().unwrap().message.clone();
     assert!(verdict.contains("s = 23/19 is outside [0, 1]"), "{verdict}");
 }
 
 #[test]
 fn seed000_lecture_triangle_gives_thirds_and_t_one() {
-    let solved = triangle_in::<Exact>([
+    let (solved, trace) = triangle_in::<Exact>([
         [3.0, 0.0, 0.0],
         [0.0, 3.0, 0.0],
         [0.0, 0.0, 3.0],
@@ -77,7 +77,6 @@ fn seed000_lecture_triangle_gives_thirds_and_t_one() {
     // The lecture prints t = √3: that is the distance t·|D|, while t itself is 1.
     assert_eq!(s.distance_exact.unwrap().full(), "√3");
     assert!((s.distance - 3f64.sqrt()).abs() < 1e-15);
-    let trace = solved.trace.unwrap();
     for id in [
         "system", "M", "Y", "M1", "M2", "M3", "det_M", "det_M1", "det_M2", "det_M3", "beta",
         "gamma", "t", "alpha", "check_ca", "check_ab", "check_bc", "check_t", "verdict", "point",
@@ -99,7 +98,7 @@ fn seed000_three_alternatives() {
         ([0.0, 0.0, 0.0], [0.0, 1.0, 1.0], "1/2", "1/2", "3", "0"),
     ];
     for (origin, dir, beta, gamma, t, alpha) in cases {
-        let solved = triangle_in::<Exact>([big[0], big[1], big[2], origin, dir]);
+        let (solved, _) = triangle_in::<Exact>([big[0], big[1], big[2], origin, dir]);
         assert_eq!(
             solved.outcome,
             TriangleOutcome::Hit,
@@ -111,7 +110,7 @@ fn seed000_three_alternatives() {
             [q(beta), q(gamma), q(t), q(alpha)]
         );
         // The float run agrees on these small integer inputs.
-        let float = triangle_in::<f64>([big[0], big[1], big[2], origin, dir]);
+        let (float, _) = triangle_in::<f64>([big[0], big[1], big[2], origin, dir]);
         assert!(float.outcome.is_hit());
     }
 }
@@ -125,7 +124,7 @@ fn seed003_ray_hits_at_its_printed_point() {
         [0.0, 0.0, 0.0],
         [0.1, 0.1, 1.0],
     ];
-    let float = triangle_in::<f64>(v);
+    let (float, _) = triangle_in::<f64>(v);
     assert!(float.outcome.is_hit());
     let p = float.solution.unwrap().point;
     let printed = [0.11842105, 0.11842105, 1.18421053];
@@ -143,7 +142,7 @@ fn seed003_ray_hits_at_its_printed_point() {
         dir: [tenth.clone(), tenth, q("1")],
         t_min: q("0"),
     };
-    let exact = triangle::solve(&problem, false).solution.unwrap();
+    let exact = triangle::solve(&problem).solution.unwrap();
     assert_eq!(exact.point, [q("9/76"), q("9/76"), q("45/38")]);
     assert_eq!(exact.t, q("45/38"));
 }
@@ -161,10 +160,9 @@ fn seed001_parallelogram_by_inverse() {
         .map(DVec3::from_array),
     )
     .unwrap();
-    let solved = parallelogram::solve(&problem, true);
+    let (solved, trace) = parallelogram::solve_traced(&problem);
     assert_eq!(solved.outcome, ParallelogramOutcome::Hit);
     assert_eq!(solved.alpha_beta_t, Some([q("1/4"), q("1/2"), q("1")]));
-    let trace = solved.trace.unwrap();
     for id in ["system", "det_M", "adj_M", "inverse", "product", "check_t"] {
         assert!(trace.step(id).is_some(), "no step {id}");
     }
@@ -192,7 +190,7 @@ fn misses_name_the_edge() {
         ([3.0, -1.0, -1.0], vec![Edge::Ca, Edge::Ab]),
     ];
     for (dir, edges) in cases {
-        let solved = triangle_in::<Exact>([base[0], base[1], base[2], base[3], dir]);
+        let (solved, _) = triangle_in::<Exact>([base[0], base[1], base[2], base[3], dir]);
         let expected = TriangleOutcome::Miss(TriangleMiss::Outside {
             edges: edges.clone(),
         });

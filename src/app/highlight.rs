@@ -214,7 +214,7 @@ mod tests {
 
     #[test]
     fn every_step_of_the_lecture_triangle_highlights_something() {
-        let solved = crate::geometry::triangle::solve_inputs::<crate::math::exact::Exact>(
+        let (_, trace) = crate::geometry::triangle::solve_inputs_traced::<crate::math::exact::Exact>(
             crate::geometry::Reading::AsWritten,
             [
                 [3.0, 0.0, 0.0],
@@ -225,9 +225,7 @@ mod tests {
             ]
             .map(glam::DVec3::from),
             0.0,
-            true,
         );
-        let trace = solved.trace.expect("recorded");
         for step in &trace.steps {
             assert!(
                 !of_step(&trace.solver, &step.id).is_empty(),

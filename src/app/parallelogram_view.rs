@@ -13,7 +13,7 @@ use super::widgets::palette::{self, faded};
 use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, status_line, vector_editor};
 use crate::geometry::parallelogram::{self, ParallelogramOutcome, ParallelogramSolution};
-use crate::geometry::{Precision, Reading};
+use crate::geometry::{Inputs, Precision, Reading, traced};
 use crate::math::exact::Exact;
 use crate::scene::ParallelogramScene;
 use crate::trace::{Trace, format_float};
@@ -130,17 +130,10 @@ impl ParallelogramView {
     /// Solves the current inputs.
     pub fn solve(&self, precision: Precision) -> Solved {
         let v = self.vectors();
-        let trace = match precision {
-            Precision::F32 => parallelogram::solve_inputs::<f32>(Reading::AsWritten, v, true).trace,
-            Precision::F64 => parallelogram::solve_inputs::<f64>(Reading::AsWritten, v, true).trace,
-            Precision::Exact => {
-                parallelogram::solve_inputs::<Exact>(Reading::AsWritten, v, true).trace
-            }
-        };
         Solved {
-            float: parallelogram::solve_inputs(Reading::AsWritten, v, false),
-            exact: parallelogram::solve_inputs(Reading::AsWritten, v, false),
-            trace: trace.expect("recorded"),
+            float: parallelogram::solve_inputs(Reading::AsWritten, v),
+            exact: parallelogram::solve_inputs(Reading::AsWritten, v),
+            trace: traced(Inputs::Parallelogram(v), Reading::AsWritten, precision),
         }
     }
 

@@ -15,7 +15,7 @@ use super::widgets::labels::{LabelLayer, PlacedLabel, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::segments::{self, SegmentsOutcome, SegmentsSolution};
-use crate::geometry::{Precision, Reading};
+use crate::geometry::{Inputs, Precision, Reading, traced};
 use crate::math::exact::Exact;
 use crate::scene::SegmentsScene;
 use crate::trace::{Trace, format_float};
@@ -172,17 +172,10 @@ impl SegmentsView {
     /// Solves the current inputs.
     pub fn solve(&self, precision: Precision) -> Solved {
         let points = self.points();
-        let trace = match precision {
-            Precision::F32 => segments::solve_inputs::<f32>(Reading::AsWritten, points, true).trace,
-            Precision::F64 => segments::solve_inputs::<f64>(Reading::AsWritten, points, true).trace,
-            Precision::Exact => {
-                segments::solve_inputs::<Exact>(Reading::AsWritten, points, true).trace
-            }
-        };
         Solved {
-            float: segments::solve_inputs(Reading::AsWritten, points, false),
-            exact: segments::solve_inputs(Reading::AsWritten, points, false),
-            trace: trace.expect("recorded"),
+            float: segments::solve_inputs(Reading::AsWritten, points),
+            exact: segments::solve_inputs(Reading::AsWritten, points),
+            trace: traced(Inputs::Segments(points), Reading::AsWritten, precision),
         }
     }
 

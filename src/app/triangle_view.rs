@@ -16,7 +16,7 @@ use super::widgets::palette::{self, faded};
 use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome, TriangleSolution};
-use crate::geometry::{Precision, Reading};
+use crate::geometry::{Inputs, Precision, Reading, traced};
 use crate::math::exact::Exact;
 use crate::scene::TriangleScene;
 use crate::trace::{Trace, format_float};
@@ -176,21 +176,11 @@ impl TriangleView {
     /// Solves the current inputs.
     pub fn solve(&self, precision: Precision) -> Solved {
         let (vectors, t_min) = (self.vectors(), self.scene.t_min);
-        let traced = |p: Precision| match p {
-            Precision::F32 => {
-                triangle::solve_inputs::<f32>(self.reading, vectors, t_min, true).trace
-            }
-            Precision::F64 => {
-                triangle::solve_inputs::<f64>(self.reading, vectors, t_min, true).trace
-            }
-            Precision::Exact => {
-                triangle::solve_inputs::<Exact>(self.reading, vectors, t_min, true).trace
-            }
-        };
+        let inputs = Inputs::Triangle(vectors, t_min);
         Solved {
-            float: triangle::solve_inputs(self.reading, vectors, t_min, false),
-            exact: triangle::solve_inputs(self.reading, vectors, t_min, false),
-            trace: traced(precision).expect("recorded"),
+            float: triangle::solve_inputs(self.reading, vectors, t_min),
+            exact: triangle::solve_inputs(self.reading, vectors, t_min),
+            trace: traced(inputs, self.reading, precision),
         }
     }
 

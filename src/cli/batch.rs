@@ -17,7 +17,7 @@ use serde_json::json;
 use serde_json::value::RawValue;
 
 use super::input::{ReadNumber, quoted};
-use super::solve::{FieldSink, Posed, solve_posed};
+use super::solve::{FieldSink, Posed, solve_posed, solve_posed_traced};
 use crate::geometry::parallelogram::RayParallelogram;
 use crate::geometry::segments::SegmentPair;
 use crate::geometry::triangle::RayTriangle;
@@ -327,8 +327,11 @@ impl FieldSink for JsonLine<'_> {
 
 fn write_report<R: Real>(posed: &Posed<R>, line: usize, with_trace: bool, out: &mut Vec<u8>) {
     let mut fields = JsonLine { out, empty: true };
-    if let Some(trace) = solve_posed(posed, with_trace, &mut fields) {
+    if with_trace {
+        let trace = solve_posed_traced(posed, &mut fields);
         fields.put("trace", &trace);
+    } else {
+        solve_posed(posed, &mut fields);
     }
     fields.put("line", line);
     fields.out.extend_from_slice(b"}\n");

@@ -4,11 +4,13 @@ use serde::Serialize;
 use serde_json::{Map, Value, json};
 
 use super::input::{Coords, Literal};
-use crate::geometry::parallelogram::{self, RayParallelogram};
-use crate::geometry::segments::{self, SegmentPair, SegmentsOutcome};
-use crate::geometry::triangle::{self, RayTriangle, TriangleMiss, TriangleOutcome};
-use crate::geometry::{Precision, Real};
-use crate::math::exact::Exact;
+use crate::geometry::parallelogram::{self, ParallelogramSolution, RayParallelogram};
+use crate::geometry::segments::{SegmentPair, SegmentsOutcome, SegmentsSolution};
+use crate::geometry::triangle::{
+    self, RayTriangle, TriangleMiss, TriangleOutcome, TriangleSolution,
+};
+use crate::geometry::{Precision, Real, Solver};
+use crate::math::{InPrecision, in_precision};
 use crate::trace::Trace;
 
 /// One problem to solve, with its inputs as the user wrote them.
@@ -90,20 +92,16 @@ impl Report {
 
 /// Solves a case in the chosen precision.
 pub fn run(case: &Case, precision: Precision) -> Report {
-    match precision {
-        Precision::F32 => run_in::<f32>(case),
-        Precision::F64 => run_in::<f64>(case),
-        Precision::Exact => run_in::<Exact>(case),
+    struct Run<'a>(&'a Case);
+    impl InPrecision for Run<'_> {
+        type Output = Report;
+        fn run<R: Real>(self) -> Report {
+            let mut fields = Map::new();
+            let trace = solve_posed_traced(&pose::<R>(self.0), &mut fields);
+            Report { fields, trace }
+        }
     }
-}
-
-fn run_in<R: Real>(case: &Case) -> Report {
-    let mut fields = Map::new();
-    let trace = solve_posed(&pose::<R>(case), true, &mut fields);
-    Report {
-        fields,
-        trace: trace.expect("recorded"),
-    }
+    in_precision(precision, Run(case))
 }
 
 /// A problem in one precision, ready to solve.
@@ -155,19 +153,38 @@ fn pose<R: Real>(case: &Case) -> Posed<R> {
     }
 }
 
-/// Solves a posed problem: the report's fields, and the trace when `record` is set (a solve without a
-/// trace formats no steps at all).
-pub fn solve_posed<R: Real>(
-    posed: &Posed<R>,
-    record: bool,
-    fields: &mut impl FieldSink,
-) -> Option<Trace> {
+/// Solves a posed problem without recording a step (a solve without a trace formats no steps at all):
+/// the report's fields.
+pub fn solve_posed<R: Real>(posed: &Posed<R>, fields: &mut impl FieldSink) {
     fields.put("kind", posed.kind());
     fields.put("precision", R::PRECISION.name());
     match posed {
-        Posed::Segments(pair) => segments_report(pair, record, fields),
-        Posed::Triangle(problem) => triangle_report(problem, record, fields),
-        Posed::Parallelogram(problem) => parallelogram_report(problem, record, fields),
+        Posed::Segments(pair) => segments_report(&pair.solve(), fields),
+        Posed::Triangle(problem) => triangle_report(&problem.solve(), fields),
+        Posed::Parallelogram(problem) => parallelogram_report(&problem.solve(), fields),
+    }
+}
+
+/// Solves a posed problem with every step: the report's fields, and the trace.
+pub fn solve_posed_traced<R: Real>(posed: &Posed<R>, fields: &mut impl FieldSink) -> Trace {
+    fields.put("kind", posed.kind());
+    fields.put("precision", R::PRECISION.name());
+    match posed {
+        Posed::Segments(pair) => {
+            let (solution, trace) = pair.solve_traced();
+            segments_report(&solution, fields);
+            trace
+        }
+        Posed::Triangle(problem) => {
+            let (solution, trace) = problem.solve_traced();
+            triangle_report(&solution, fields);
+            trace
+        }
+        Posed::Parallelogram(problem) => {
+            let (solution, trace) = problem.solve_traced();
+            parallelogram_report(&solution, fields);
+            trace
+        }
     }
 }
 
@@ -254,12 +271,7 @@ impl ExactFields {
     }
 }
 
-fn segments_report<R: Real>(
-    pair: &SegmentPair<R>,
-    record: bool,
-    fields: &mut impl FieldSink,
-) -> Option<Trace> {
-    let solution = segments::solve(pair, record);
+fn segments_report<R: Real>(solution: &SegmentsSolution<R>, fields: &mut impl FieldSink) {
     fields.put("status", solution.outcome.status());
     fields.put("message", solution.message());
     match &solution.outcome {
@@ -294,15 +306,9 @@ fn segments_report<R: Real>(
     exact.vector("point", solution.point.as_ref());
     exact.vector("overlap", solution.overlap.as_ref());
     exact.finish(fields);
-    solution.trace
 }
 
-fn triangle_report<R: Real>(
-    problem: &RayTriangle<R>,
-    record: bool,
-    fields: &mut impl FieldSink,
-) -> Option<Trace> {
-    let solved = triangle::solve(problem, record);
+fn triangle_report<R: Real>(solved: &TriangleSolution<R>, fields: &mut impl FieldSink) {
     fields.put("status", solved.outcome.status());
     fields.put("message", solved.message());
     if let TriangleOutcome::Miss(miss) = &solved.outcome {
@@ -332,7 +338,6 @@ fn triangle_report<R: Real>(
         exact.0.insert("distance".into(), json!(distance.full()));
     }
     exact.finish(fields);
-    solved.trace
 }
 
 fn insert_triangle_miss(fields: &mut impl FieldSink, miss: &TriangleMiss) {
@@ -357,12 +362,7 @@ fn insert_triangle_miss(fields: &mut impl FieldSink, miss: &TriangleMiss) {
     }
 }
 
-fn parallelogram_report<R: Real>(
-    problem: &RayParallelogram<R>,
-    record: bool,
-    fields: &mut impl FieldSink,
-) -> Option<Trace> {
-    let solved = parallelogram::solve(problem, record);
+fn parallelogram_report<R: Real>(solved: &ParallelogramSolution<R>, fields: &mut impl FieldSink) {
     fields.put("status", solved.outcome.status());
     fields.put("message", solved.message());
     match &solved.outcome {
@@ -400,7 +400,6 @@ fn parallelogram_report<R: Real>(
         solved.point.as_ref(),
     );
     exact.finish(fields);
-    solved.trace
 }
 
 /// Copies the verdict's sentence into the report as `message`.
@@ -496,7 +495,7 @@ fn unsolved_status<F: crate::intersect::Float>(case: &crate::intersect::Case<F>)
     let Some(problem) = crate::intersect::exact_problem(case) else {
         return "invalid-input";
     };
-    match triangle::solve(&problem, false).outcome {
+    match triangle::solve(&problem).outcome {
         TriangleOutcome::Miss(TriangleMiss::DegenerateTriangle) => "degenerate-triangle",
         TriangleOutcome::Miss(TriangleMiss::ZeroDirection | TriangleMiss::InvalidInput(_)) => {
             "invalid-input"

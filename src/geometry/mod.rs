@@ -6,6 +6,96 @@ pub mod triangle;
 
 pub use crate::math::{Precision, Real};
 
+use glam::{DVec2, DVec3};
+
+use crate::math::{InPrecision, in_precision};
+use crate::trace::{Payload, Recorder, Step, Trace, Verdict};
+
+/// A lecture problem in one precision, and its solver: the answer alone (no step is even formatted),
+/// or the answer with every step.
+pub trait Solver {
+    /// What the solver decides and computes.
+    type Answer;
+    /// The answer.
+    fn solve(&self) -> Self::Answer;
+    /// The answer and every step that led to it.
+    fn solve_traced(&self) -> (Self::Answer, Trace);
+}
+
+impl<R: Real> Solver for segments::SegmentPair<R> {
+    type Answer = segments::SegmentsSolution<R>;
+    fn solve(&self) -> Self::Answer {
+        segments::solve(self)
+    }
+    fn solve_traced(&self) -> (Self::Answer, Trace) {
+        segments::solve_traced(self)
+    }
+}
+
+impl<R: Real> Solver for triangle::RayTriangle<R> {
+    type Answer = triangle::TriangleSolution<R>;
+    fn solve(&self) -> Self::Answer {
+        triangle::solve(self)
+    }
+    fn solve_traced(&self) -> (Self::Answer, Trace) {
+        triangle::solve_traced(self)
+    }
+}
+
+impl<R: Real> Solver for parallelogram::RayParallelogram<R> {
+    type Answer = parallelogram::ParallelogramSolution<R>;
+    fn solve(&self) -> Self::Answer {
+        parallelogram::solve(self)
+    }
+    fn solve_traced(&self) -> (Self::Answer, Trace) {
+        parallelogram::solve_traced(self)
+    }
+}
+
+/// A lecture problem as the app holds it: f64 inputs, read into a precision when solved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Inputs {
+    /// A1, A2, B1, B2.
+    Segments([DVec2; 4]),
+    /// A, B, C, L, D and t_min.
+    Triangle([DVec3; 5], f64),
+    /// c, e1, e2, o, d.
+    Parallelogram([DVec3; 5]),
+}
+
+/// The steps of solving `inputs`, read as `reading`, in `precision`.
+pub fn traced(inputs: Inputs, reading: Reading, precision: Precision) -> Trace {
+    struct Traced(Inputs, Reading);
+    impl InPrecision for Traced {
+        type Output = Trace;
+        fn run<R: Real>(self) -> Trace {
+            let Traced(inputs, reading) = self;
+            match inputs {
+                Inputs::Segments(points) => segments::solve_inputs_traced::<R>(reading, points).1,
+                Inputs::Triangle(vectors, t_min) => {
+                    triangle::solve_inputs_traced::<R>(reading, vectors, t_min).1
+                }
+                Inputs::Parallelogram(vectors) => {
+                    parallelogram::solve_inputs_traced::<R>(reading, vectors).1
+                }
+            }
+        }
+    }
+    in_precision(precision, Traced(inputs, reading))
+}
+
+/// Records the verdict on an input that cannot be used (the whole trace of such a solve).
+fn record_refusal(rec: &mut Recorder, status: &str, message: impl FnOnce() -> String) {
+    rec.push(|| {
+        Step::new("verdict", "Verdict", "An input cannot be used.", {
+            Payload::Verdict(Verdict {
+                status: status.into(),
+                message: message(),
+            })
+        })
+    });
+}
+
 /// A named input that is not a finite number (or does not fit the precision).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct InvalidInput {

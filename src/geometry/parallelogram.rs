@@ -134,8 +134,6 @@ pub struct ParallelogramSolution<R> {
     pub alpha_beta_t: Option<V3<R>>,
     /// o + t d, whenever M is invertible.
     pub point: Option<V3<R>>,
-    /// Every step, if asked for.
-    pub trace: Option<Trace>,
 }
 
 impl<R> ParallelogramSolution<R> {
@@ -147,10 +145,20 @@ impl<R> ParallelogramSolution<R> {
 
 const LABELS: [&str; 3] = ["e1", "e2", "−d"];
 
-/// Solves by the inverse matrix, recording each step when `record` is set.
-pub fn solve<R: Real>(p: &RayParallelogram<R>, record: bool) -> ParallelogramSolution<R> {
-    let mut rec = Recorder::new(record, "parallelogram", R::PRECISION);
-    let (outcome, alpha_beta_t) = solve_recorded(p, &mut rec);
+/// Solves by the inverse matrix.
+pub fn solve<R: Real>(p: &RayParallelogram<R>) -> ParallelogramSolution<R> {
+    solve_with(p, &mut Recorder::new(false, "parallelogram", R::PRECISION))
+}
+
+/// Solves by the inverse matrix, with every step.
+pub fn solve_traced<R: Real>(p: &RayParallelogram<R>) -> (ParallelogramSolution<R>, Trace) {
+    let mut rec = Recorder::new(true, "parallelogram", R::PRECISION);
+    let solution = solve_with(p, &mut rec);
+    (solution, rec.into_trace())
+}
+
+fn solve_with<R: Real>(p: &RayParallelogram<R>, rec: &mut Recorder) -> ParallelogramSolution<R> {
+    let (outcome, alpha_beta_t) = solve_recorded(p, rec);
     let point = alpha_beta_t
         .as_ref()
         .map(|x| crate::math::linalg::add(&p.origin, &scale(&x[2], &p.dir)));
@@ -178,35 +186,40 @@ pub fn solve<R: Real>(p: &RayParallelogram<R>, record: bool) -> ParallelogramSol
         outcome,
         alpha_beta_t,
         point,
-        trace: rec.finish(),
     }
 }
 
 /// Converts float inputs and solves; inputs the precision cannot hold (NaN for exact numbers) give an
-/// `invalid-input` solution with a one-step trace instead of an error.
-pub fn solve_inputs<R: Real>(
+/// `invalid-input` solution.
+pub fn solve_inputs<R: Real>(reading: Reading, vectors: [DVec3; 5]) -> ParallelogramSolution<R> {
+    let mut rec = Recorder::new(false, "parallelogram", R::PRECISION);
+    solve_inputs_with(reading, vectors, &mut rec)
+}
+
+/// [`solve_inputs`] with every step (a one-step trace for an input that cannot be used).
+pub fn solve_inputs_traced<R: Real>(
     reading: Reading,
     vectors: [DVec3; 5],
-    record: bool,
+) -> (ParallelogramSolution<R>, Trace) {
+    let mut rec = Recorder::new(true, "parallelogram", R::PRECISION);
+    let solution = solve_inputs_with(reading, vectors, &mut rec);
+    (solution, rec.into_trace())
+}
+
+fn solve_inputs_with<R: Real>(
+    reading: Reading,
+    vectors: [DVec3; 5],
+    rec: &mut Recorder,
 ) -> ParallelogramSolution<R> {
     match RayParallelogram::read(reading, vectors) {
-        Ok(problem) => solve(&problem, record),
+        Ok(problem) => solve_with(&problem, rec),
         Err(bad) => {
             let outcome = ParallelogramOutcome::InvalidInput(bad);
-            let mut rec = Recorder::new(record, "parallelogram", R::PRECISION);
-            rec.push(|| {
-                Step::new("verdict", "Verdict", "An input cannot be used.", {
-                    Payload::Verdict(Verdict {
-                        status: outcome.status().into(),
-                        message: verdict_message(&outcome),
-                    })
-                })
-            });
+            super::record_refusal(rec, outcome.status(), || verdict_message(&outcome));
             ParallelogramSolution {
                 outcome,
                 alpha_beta_t: None,
                 point: None,
-                trace: rec.finish(),
             }
         }
     }

@@ -121,8 +121,6 @@ pub struct SegmentsSolution<R> {
     pub t_of_b: Option<[R; 2]>,
     /// For overlapping collinear segments, the shared part as an interval [t0, t1] of t.
     pub overlap: Option<[R; 2]>,
-    /// Every step, if asked for.
-    pub trace: Option<Trace>,
 }
 
 impl<R> SegmentsSolution<R> {
@@ -134,7 +132,6 @@ impl<R> SegmentsSolution<R> {
             point: None,
             t_of_b: None,
             overlap: None,
-            trace: None,
         }
     }
 }
@@ -148,10 +145,20 @@ impl<R: Real> SegmentsSolution<R> {
 
 const LABELS: [&str; 2] = ["A2−A1", "B1−B2"];
 
-/// Solves the 2x2 system by Cramer's rule and classifies, recording each step when `record` is set.
-pub fn solve<R: Real>(pair: &SegmentPair<R>, record: bool) -> SegmentsSolution<R> {
-    let mut rec = Recorder::new(record, "segments", R::PRECISION);
-    let mut solution = solve_recorded(pair, &mut rec);
+/// Solves the 2x2 system by Cramer's rule and classifies.
+pub fn solve<R: Real>(pair: &SegmentPair<R>) -> SegmentsSolution<R> {
+    solve_with(pair, &mut Recorder::new(false, "segments", R::PRECISION))
+}
+
+/// Solves the 2x2 system by Cramer's rule and classifies, with every step.
+pub fn solve_traced<R: Real>(pair: &SegmentPair<R>) -> (SegmentsSolution<R>, Trace) {
+    let mut rec = Recorder::new(true, "segments", R::PRECISION);
+    let solution = solve_with(pair, &mut rec);
+    (solution, rec.into_trace())
+}
+
+fn solve_with<R: Real>(pair: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSolution<R> {
+    let solution = solve_recorded(pair, rec);
     rec.push(|| {
         Step::new(
             "verdict",
@@ -175,31 +182,41 @@ pub fn solve<R: Real>(pair: &SegmentPair<R>, record: bool) -> SegmentsSolution<R
             )
         });
     }
-    solution.trace = rec.finish();
     solution
 }
 
 /// Converts float inputs and solves; inputs the precision cannot hold (NaN for exact numbers) give an
-/// `invalid-input` solution with a one-step trace instead of an error.
-pub fn solve_inputs<R: Real>(
+/// `invalid-input` solution.
+pub fn solve_inputs<R: Real>(reading: Reading, points: [DVec2; 4]) -> SegmentsSolution<R> {
+    solve_inputs_with(
+        reading,
+        points,
+        &mut Recorder::new(false, "segments", R::PRECISION),
+    )
+}
+
+/// [`solve_inputs`] with every step (a one-step trace for an input that cannot be used).
+pub fn solve_inputs_traced<R: Real>(
     reading: Reading,
     points: [DVec2; 4],
-    record: bool,
+) -> (SegmentsSolution<R>, Trace) {
+    let mut rec = Recorder::new(true, "segments", R::PRECISION);
+    let solution = solve_inputs_with(reading, points, &mut rec);
+    (solution, rec.into_trace())
+}
+
+fn solve_inputs_with<R: Real>(
+    reading: Reading,
+    points: [DVec2; 4],
+    rec: &mut Recorder,
 ) -> SegmentsSolution<R> {
     match SegmentPair::read(reading, points) {
-        Ok(pair) => solve(&pair, record),
+        Ok(pair) => solve_with(&pair, rec),
         Err(bad) => {
-            let mut solution = SegmentsSolution::new(SegmentsOutcome::InvalidInput(bad));
-            let mut rec = Recorder::new(record, "segments", R::PRECISION);
-            rec.push(|| {
-                Step::new("verdict", "Verdict", "An input cannot be used.", {
-                    Payload::Verdict(Verdict {
-                        status: solution.outcome.status().into(),
-                        message: verdict_message(&solution),
-                    })
-                })
+            let solution = SegmentsSolution::new(SegmentsOutcome::InvalidInput(bad));
+            super::record_refusal(rec, solution.outcome.status(), || {
+                verdict_message(&solution)
             });
-            solution.trace = rec.finish();
             solution
         }
     }

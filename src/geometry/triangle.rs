@@ -170,8 +170,6 @@ pub struct TriangleSolution<R> {
     pub outcome: TriangleOutcome,
     /// β, γ, t, α and the point, whenever |M| ≠ 0.
     pub solution: Option<Barycentric<R>>,
-    /// Every step, if asked for.
-    pub trace: Option<Trace>,
 }
 
 impl<R: Real> TriangleSolution<R> {
@@ -181,10 +179,20 @@ impl<R: Real> TriangleSolution<R> {
     }
 }
 
-/// Solves the lecture's system by Cramer's rule, recording each step when `record` is set.
-pub fn solve<R: Real>(problem: &RayTriangle<R>, record: bool) -> TriangleSolution<R> {
-    let mut rec = Recorder::new(record, "triangle", R::PRECISION);
-    let (outcome, solution) = solve_recorded(problem, &mut rec);
+/// Solves the lecture's system by Cramer's rule.
+pub fn solve<R: Real>(problem: &RayTriangle<R>) -> TriangleSolution<R> {
+    solve_with(problem, &mut Recorder::new(false, "triangle", R::PRECISION))
+}
+
+/// Solves the lecture's system by Cramer's rule, with every step.
+pub fn solve_traced<R: Real>(problem: &RayTriangle<R>) -> (TriangleSolution<R>, Trace) {
+    let mut rec = Recorder::new(true, "triangle", R::PRECISION);
+    let solution = solve_with(problem, &mut rec);
+    (solution, rec.into_trace())
+}
+
+fn solve_with<R: Real>(problem: &RayTriangle<R>, rec: &mut Recorder) -> TriangleSolution<R> {
+    let (outcome, solution) = solve_recorded(problem, rec);
     rec.push(|| {
         Step::new("verdict", "Verdict", verdict_sentence(&outcome), {
             Payload::Verdict(Verdict {
@@ -194,40 +202,49 @@ pub fn solve<R: Real>(problem: &RayTriangle<R>, record: bool) -> TriangleSolutio
         })
     });
     if let Some(found) = &solution {
-        record_point(&mut rec, problem, found, outcome.is_hit());
+        record_point(rec, problem, found, outcome.is_hit());
     }
-    TriangleSolution {
-        outcome,
-        solution,
-        trace: rec.finish(),
-    }
+    TriangleSolution { outcome, solution }
 }
 
 /// Converts float inputs and solves; inputs the precision cannot hold (NaN for exact numbers) give an
-/// `invalid-input` solution with a one-step trace instead of an error.
+/// `invalid-input` solution.
 pub fn solve_inputs<R: Real>(
     reading: Reading,
     vectors: [DVec3; 5],
     t_min: f64,
-    record: bool,
+) -> TriangleSolution<R> {
+    let mut rec = Recorder::new(false, "triangle", R::PRECISION);
+    solve_inputs_with(reading, vectors, t_min, &mut rec)
+}
+
+/// [`solve_inputs`] with every step (a one-step trace for an input that cannot be used).
+pub fn solve_inputs_traced<R: Real>(
+    reading: Reading,
+    vectors: [DVec3; 5],
+    t_min: f64,
+) -> (TriangleSolution<R>, Trace) {
+    let mut rec = Recorder::new(true, "triangle", R::PRECISION);
+    let solution = solve_inputs_with(reading, vectors, t_min, &mut rec);
+    (solution, rec.into_trace())
+}
+
+fn solve_inputs_with<R: Real>(
+    reading: Reading,
+    vectors: [DVec3; 5],
+    t_min: f64,
+    rec: &mut Recorder,
 ) -> TriangleSolution<R> {
     match RayTriangle::read(reading, vectors, t_min) {
-        Ok(problem) => solve(&problem, record),
+        Ok(problem) => solve_with(&problem, rec),
         Err(bad) => {
             let outcome = TriangleOutcome::Miss(TriangleMiss::InvalidInput(bad));
-            let mut rec = Recorder::new(record, "triangle", R::PRECISION);
-            rec.push(|| {
-                Step::new("verdict", "Verdict", "An input cannot be used.", {
-                    Payload::Verdict(Verdict {
-                        status: outcome.status().into(),
-                        message: verdict_message::<R>(&outcome, None),
-                    })
-                })
+            super::record_refusal(rec, outcome.status(), || {
+                verdict_message::<R>(&outcome, None)
             });
             TriangleSolution {
                 outcome,
                 solution: None,
-                trace: rec.finish(),
             }
         }
     }

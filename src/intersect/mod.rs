@@ -216,12 +216,12 @@ impl Method {
                 dir: c.dir,
                 t_min: F::zero(),
             };
-            triangle::solve(&problem, true).trace.expect("recorded")
+            triangle::solve_traced(&problem).1
         };
         match self {
             Method::Cramer => lecture(case),
             Method::Exact => match exact_problem(case) {
-                Some(problem) => triangle::solve(&problem, true).trace.expect("recorded"),
+                Some(problem) => triangle::solve_traced(&problem).1,
                 None => {
                     let mut rec = Recorder::new(true, "exact", crate::geometry::Precision::Exact);
                     let refused = Answer {
@@ -229,7 +229,7 @@ impl Method {
                         ..Answer::miss()
                     };
                     record::outcome::<F>(&mut rec, &refused);
-                    rec.finish().expect("recorded")
+                    rec.into_trace()
                 }
             },
             Method::MollerTrumbore
@@ -254,7 +254,7 @@ impl Method {
                     Method::Inverse => inverse::intersect_recorded(case, &mut rec),
                     _ => watertight::intersect_recorded(case, &mut rec),
                 };
-                rec.finish().expect("recorded")
+                rec.into_trace()
             }
         }
     }
@@ -283,7 +283,7 @@ pub fn exact_answer<F: Float>(case: &Case<F>) -> Answer<Exact> {
             ..Answer::miss()
         };
     };
-    let solved = triangle::solve(&problem, false);
+    let solved = triangle::solve(&problem);
     Answer {
         hit: solved.outcome.is_hit(),
         values: solved.solution.map(|s| [s.t, s.beta, s.gamma]),

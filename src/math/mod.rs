@@ -6,4 +6,4 @@ pub mod exact;
 pub mod linalg;
 pub mod real;
 
-pub use real::{Precision, Real};
+pub use real::{InPrecision, Precision, Real, in_precision};

@@ -37,6 +37,24 @@ impl Precision {
     }
 }
 
+/// Work to do in a precision chosen at run time: [`in_precision`] calls [`InPrecision::run`] with its type.
+/// (A closure cannot be generic over the number type; a trait's method can.)
+pub trait InPrecision {
+    /// What the work gives.
+    type Output;
+    /// Does the work in numbers of type `R`.
+    fn run<R: Real>(self) -> Self::Output;
+}
+
+/// The one place a [`Precision`] chosen at run time becomes a number type.
+pub fn in_precision<W: InPrecision>(precision: Precision, work: W) -> W::Output {
+    match precision {
+        Precision::F32 => work.run::<f32>(),
+        Precision::F64 => work.run::<f64>(),
+        Precision::Exact => work.run::<crate::math::exact::Exact>(),
+    }
+}
+
 impl std::str::FromStr for Precision {
     type Err = String;
     fn from_str(text: &str) -> Result<Precision, String> {

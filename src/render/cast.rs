@@ -169,7 +169,7 @@ fn test_parallelogram(
         origin,
         dir,
     };
-    let solution = solve(&problem, false);
+    let solution = solve(&problem);
     let [alpha, beta, t] = solution.alpha_beta_t?;
     let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
     let hit = solution.outcome.is_hit() || (bug == Some(Bug::NegativeT) && inside && t != 0.0);

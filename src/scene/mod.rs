@@ -3,7 +3,10 @@
 //! Every lecture example and hard case ships as a file in `assets/scenes/`, embedded in the binary so the
 //! preset menu works wherever raylab runs. A malformed file is reported with its name, line and column.
 
+use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
+
+use crate::geometry::Inputs;
 
 pub mod render;
 
@@ -70,6 +73,39 @@ pub enum Problem {
     Parallelogram(ParallelogramScene),
     /// A per-pixel render: camera, objects and effects.
     Render(RenderScene),
+}
+
+impl SegmentsScene {
+    /// A1, A2, B1, B2 as the solver takes them.
+    pub fn points(&self) -> [DVec2; 4] {
+        [self.a1, self.a2, self.b1, self.b2].map(DVec2::from)
+    }
+}
+
+impl TriangleScene {
+    /// A, B, C, L, D as the solver takes them.
+    pub fn vectors(&self) -> [DVec3; 5] {
+        [self.a, self.b, self.c, self.origin, self.dir].map(DVec3::from)
+    }
+}
+
+impl ParallelogramScene {
+    /// c, e1, e2, o, d as the solver takes them.
+    pub fn vectors(&self) -> [DVec3; 5] {
+        [self.corner, self.e1, self.e2, self.origin, self.dir].map(DVec3::from)
+    }
+}
+
+impl Problem {
+    /// The lecture problem's inputs; `None` for a render scene.
+    pub fn inputs(&self) -> Option<Inputs> {
+        match self {
+            Problem::Segments(s) => Some(Inputs::Segments(s.points())),
+            Problem::Triangle(t) => Some(Inputs::Triangle(t.vectors(), t.t_min)),
+            Problem::Parallelogram(p) => Some(Inputs::Parallelogram(p.vectors())),
+            Problem::Render(_) => None,
+        }
+    }
 }
 
 /// A scene file: a title, a one-line note, and the problem.

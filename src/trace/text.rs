@@ -364,7 +364,7 @@ mod readable_numbers {
         let pair =
             SegmentPair::<crate::math::exact::Exact>::from_f64(points.map(DVec2::from_array))
                 .unwrap();
-        to_text(&segments::solve(&pair, true).trace.unwrap())
+        to_text(&segments::solve_traced(&pair).1)
     }
 
     #[test]
@@ -401,7 +401,7 @@ mod readable_numbers {
         let problem =
             RayTriangle::<crate::math::exact::Exact>::from_f64(v.map(DVec3::from_array), 0.0)
                 .unwrap();
-        let trace = triangle::solve(&problem, true).trace.unwrap();
+        let (_, trace) = triangle::solve_traced(&problem);
         let text = to_text(&trace);
         // The float −6.7 is computed with its exact value but read as the shortest decimal, and a
         // value that is not a float is marked ≈: never "≈-6.7000000000e0".
