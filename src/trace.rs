@@ -106,6 +106,56 @@ pub fn numbers<R: Real, const N: usize>(v: &[R; N]) -> Vec<Number> {
     v.iter().map(Number::of).collect()
 }
 
+/// A column of a system's matrix, by what it is: the app colours and marks columns by this, never by
+/// the label. JSON writes the label (`A−B`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Column {
+    /// A−B, the first column of the triangle's M (the β leg reversed).
+    AMinusB,
+    /// A−C, the second column of the triangle's M.
+    AMinusC,
+    /// D, the ray's direction (third column of the triangle's M).
+    D,
+    /// e1, the parallelogram's first edge.
+    E1,
+    /// e2, the parallelogram's second edge.
+    E2,
+    /// −d, the parallelogram ray's direction reversed.
+    MinusD,
+    /// A2−A1, segment A's direction.
+    A2MinusA1,
+    /// B1−B2, segment B's direction reversed.
+    B1MinusB2,
+    /// Y, the right-hand side (in Cramer's M1, M2, M3, where it replaces a column).
+    Y,
+    /// A column with no name (the entries of an inverse).
+    Unnamed,
+}
+
+impl Column {
+    /// The column's label as the step panel writes it.
+    pub fn label(self) -> &'static str {
+        match self {
+            Column::AMinusB => "A−B",
+            Column::AMinusC => "A−C",
+            Column::D => "D",
+            Column::E1 => "e1",
+            Column::E2 => "e2",
+            Column::MinusD => "−d",
+            Column::A2MinusA1 => "A2−A1",
+            Column::B1MinusB2 => "B1−B2",
+            Column::Y => "Y",
+            Column::Unnamed => "",
+        }
+    }
+}
+
+impl Serialize for Column {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.label())
+    }
+}
+
 /// A named matrix, with a label for each column and, for Cramer's M1..M3, the column replaced by Y.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Matrix {
@@ -115,31 +165,32 @@ pub struct Matrix {
     pub latex_name: String,
     /// The entries, row by row.
     pub rows: Vec<Vec<Number>>,
-    /// What each column is (`A−B`, `A−C`, `D`, `Y`): the app colours columns by these.
-    pub column_labels: Vec<String>,
+    /// What each column is (`A−B`, `A−C`, `D`, `Y`), written as its label.
+    #[serde(rename = "column_labels")]
+    pub columns: Vec<Column>,
     /// The column replaced by the right-hand side, if any (0-based).
     pub replaced_column: Option<usize>,
 }
 
 impl Matrix {
     /// Records a 3x3 matrix.
-    pub fn of3<R: Real>(name: &str, latex_name: &str, m: &M3<R>, labels: [&str; 3]) -> Matrix {
+    pub fn of3<R: Real>(name: &str, latex_name: &str, m: &M3<R>, columns: [Column; 3]) -> Matrix {
         Matrix {
             name: name.into(),
             latex_name: latex_name.into(),
             rows: m.iter().map(numbers).collect(),
-            column_labels: labels.iter().map(|s| s.to_string()).collect(),
+            columns: columns.to_vec(),
             replaced_column: None,
         }
     }
 
     /// Records a 2x2 matrix.
-    pub fn of2<R: Real>(name: &str, latex_name: &str, m: &M2<R>, labels: [&str; 2]) -> Matrix {
+    pub fn of2<R: Real>(name: &str, latex_name: &str, m: &M2<R>, columns: [Column; 2]) -> Matrix {
         Matrix {
             name: name.into(),
             latex_name: latex_name.into(),
             rows: m.iter().map(numbers).collect(),
-            column_labels: labels.iter().map(|s| s.to_string()).collect(),
+            columns: columns.to_vec(),
             replaced_column: None,
         }
     }
@@ -147,8 +198,8 @@ impl Matrix {
     /// Marks a column as replaced by the right-hand side Y (and labels it `Y`).
     pub fn replacing(mut self, column: usize) -> Matrix {
         self.replaced_column = Some(column);
-        if let Some(label) = self.column_labels.get_mut(column) {
-            *label = "Y".into();
+        if let Some(replaced) = self.columns.get_mut(column) {
+            *replaced = Column::Y;
         }
         self
     }
@@ -326,11 +377,92 @@ pub struct Check {
     pub meaning: String,
 }
 
+/// What a solver decided, in one word. JSON, the text and LaTeX readers write the kebab-case word; the
+/// app colours a verdict by [`Status::meets`] and [`Status::misses`], never by the word.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Status {
+    /// The ray meets the triangle or parallelogram.
+    Hit,
+    /// An intersection method's miss, without a reason.
+    Miss,
+    /// The ray's line meets the plane outside the shape.
+    MissOutside,
+    /// The shape is behind the ray's start (t ≤ t_min).
+    MissBehind,
+    /// The ray or the segments are parallel.
+    Parallel,
+    /// The triangle (or parallelogram) has no area.
+    DegenerateTriangle,
+    /// An input cannot be used (not finite, or a zero direction).
+    InvalidInput,
+    /// The segments cross inside both.
+    Crossing,
+    /// The segments touch at an end.
+    Touching,
+    /// The segments' lines cross outside a segment.
+    LinesCrossOutside,
+    /// Collinear segments that overlap.
+    CollinearOverlap,
+    /// Collinear segments apart.
+    CollinearDisjoint,
+    /// A segment of zero length.
+    DegenerateSegment,
+}
+
+impl Status {
+    /// The stable kebab-case word (`hit`, `miss-outside`, `crossing`, …).
+    pub fn word(self) -> &'static str {
+        match self {
+            Status::Hit => "hit",
+            Status::Miss => "miss",
+            Status::MissOutside => "miss-outside",
+            Status::MissBehind => "miss-behind",
+            Status::Parallel => "parallel",
+            Status::DegenerateTriangle => "degenerate-triangle",
+            Status::InvalidInput => "invalid-input",
+            Status::Crossing => "crossing",
+            Status::Touching => "touching",
+            Status::LinesCrossOutside => "lines-cross-outside",
+            Status::CollinearOverlap => "collinear-overlap",
+            Status::CollinearDisjoint => "collinear-disjoint",
+            Status::DegenerateSegment => "degenerate-segment",
+        }
+    }
+
+    /// The two meet: a hit, crossing or touching segments, or an overlap.
+    pub fn meets(self) -> bool {
+        matches!(
+            self,
+            Status::Hit | Status::Crossing | Status::Touching | Status::CollinearOverlap
+        )
+    }
+
+    /// A well-posed miss: outside, behind, crossing outside, collinear apart. (Parallel, degenerate
+    /// and invalid inputs are neither a meeting nor a miss.)
+    pub fn misses(self) -> bool {
+        matches!(
+            self,
+            Status::Miss
+                | Status::MissOutside
+                | Status::MissBehind
+                | Status::LinesCrossOutside
+                | Status::CollinearDisjoint
+        )
+    }
+}
+
+impl std::fmt::Display for Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.word())
+    }
+}
+
 /// The outcome of the solve.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Verdict {
-    /// A stable kebab-case word (`hit`, `miss-outside`, `crossing`, …).
-    pub status: String,
+    /// What was decided.
+    pub status: Status,
     /// One sentence for people.
     pub message: String,
 }

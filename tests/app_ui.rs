@@ -135,7 +135,7 @@ fn a_parallel_ray_shows_its_named_state() {
         .state
         .triangle
         .solve(raylab::geometry::Precision::F64);
-    assert_eq!(status.float.outcome.status(), "parallel");
+    assert_eq!(status.float.outcome.status().word(), "parallel");
     assert!(shows(
         &harness,
         "the ray is parallel to the triangle's plane and never meets it (|M| = 0, or negligible in floats)"

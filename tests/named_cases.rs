@@ -28,7 +28,7 @@ fn triangle_status<R: Real>(v: [[f64; 3]; 5], t_min: f64) -> (&'static str, Stri
     let (solved, trace) = triangle::solve_traced(&problem);
     render_all(&trace);
     (
-        solved.outcome.status(),
+        solved.outcome.status().word(),
         trace.verdict().unwrap().message.clone(),
     )
 }
@@ -168,17 +168,17 @@ fn segments_status<R: Real>(points: [[f64; 2]; 4]) -> segments::SegmentsSolution
 
 fn expect_segments(points: [[f64; 2]; 4], status: &str) {
     assert_eq!(
-        segments_status::<f32>(points).outcome.status(),
+        segments_status::<f32>(points).outcome.status().word(),
         status,
         "f32"
     );
     assert_eq!(
-        segments_status::<f64>(points).outcome.status(),
+        segments_status::<f64>(points).outcome.status().word(),
         status,
         "f64"
     );
     assert_eq!(
-        segments_status::<Exact>(points).outcome.status(),
+        segments_status::<Exact>(points).outcome.status().word(),
         status,
         "exact"
     );
@@ -253,7 +253,7 @@ fn segments_bad_input() {
             segments_status::<f32>(points).outcome,
             segments_status::<f64>(points).outcome,
         ] {
-            assert_eq!(solved.status(), "invalid-input");
+            assert_eq!(solved.status().word(), "invalid-input");
         }
         let converted = SegmentPair::<Exact>::from_f64(points.map(DVec2::from_array));
         assert_eq!(
@@ -294,7 +294,9 @@ fn parallelogram_named_outcomes() {
         ParallelogramOutcome::Hit
     );
     assert_eq!(
-        parallelogram_outcome(square([1.5, -0.5, 1.0], down)).status(),
+        parallelogram_outcome(square([1.5, -0.5, 1.0], down))
+            .status()
+            .word(),
         "miss-outside"
     );
     assert_eq!(

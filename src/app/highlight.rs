@@ -5,42 +5,7 @@
 //! Steps are looked up by their stable ids (`system`, `M1`, `det_M1`, `beta`, `check_bc`, `verdict`),
 //! which the solvers document as the key for readers that look a step up.
 
-/// A column vector of a system, by what it is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Column {
-    /// A−B, the first column of the triangle's M (the β leg reversed).
-    AMinusB,
-    /// A−C, the second column of the triangle's M.
-    AMinusC,
-    /// D, the ray's direction (third column of the triangle's M).
-    D,
-    /// e1, the parallelogram's first edge.
-    E1,
-    /// e2, the parallelogram's second edge.
-    E2,
-    /// −d, the parallelogram ray's direction reversed.
-    MinusD,
-    /// A2−A1, segment A's direction.
-    A2MinusA1,
-    /// B1−B2, segment B's direction reversed.
-    B1MinusB2,
-}
-
-impl Column {
-    /// The column's label as the step panel writes it.
-    pub fn label(self) -> &'static str {
-        match self {
-            Column::AMinusB => "A−B",
-            Column::AMinusC => "A−C",
-            Column::D => "D",
-            Column::E1 => "e1",
-            Column::E2 => "e2",
-            Column::MinusD => "−d",
-            Column::A2MinusA1 => "A2−A1",
-            Column::B1MinusB2 => "B1−B2",
-        }
-    }
-}
+pub use crate::trace::Column;
 
 /// A parameter whose handle moves to its solution.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

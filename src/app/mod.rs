@@ -469,28 +469,43 @@ impl RaylabApp {
         }
     }
 
-    /// A cheap fingerprint of everything a solve depends on.
-    fn fingerprint(&self) -> String {
+    /// Everything a solve depends on, to tell whether a frame changed it.
+    fn fingerprint(&self) -> Fingerprint {
         let s = &self.state;
-        format!(
-            "{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
-            s.view,
-            s.render.probed,
-            s.precision,
-            s.segments.scene,
-            (s.segments.t, s.segments.s),
-            s.triangle.scene,
-            (s.triangle.beta, s.triangle.gamma, s.triangle.t),
-            s.parallelogram.scene,
-            (
-                s.parallelogram.alpha,
-                s.parallelogram.beta,
-                s.parallelogram.t
+        Fingerprint {
+            view: s.view,
+            probed: s.render.probed,
+            precision: s.precision,
+            segments: (s.segments.scene.clone(), [s.segments.t, s.segments.s]),
+            show_lines: s.segments.show_lines,
+            triangle: (
+                s.triangle.scene.clone(),
+                [s.triangle.beta, s.triangle.gamma, s.triangle.t],
             ),
-            s.segments.show_lines,
-            s.titles
-        )
+            parallelogram: (
+                s.parallelogram.scene.clone(),
+                [
+                    s.parallelogram.alpha,
+                    s.parallelogram.beta,
+                    s.parallelogram.t,
+                ],
+            ),
+            titles: s.titles.clone(),
+        }
     }
+}
+
+/// What [`RaylabApp::fingerprint`] compares.
+#[derive(PartialEq)]
+struct Fingerprint {
+    view: ViewKind,
+    probed: Option<(usize, usize)>,
+    precision: Precision,
+    segments: (scene::SegmentsScene, [f64; 2]),
+    show_lines: bool,
+    triangle: (scene::TriangleScene, [f64; 3]),
+    parallelogram: (scene::ParallelogramScene, [f64; 3]),
+    titles: [(String, String); 4],
 }
 
 impl Default for RaylabApp {
@@ -546,7 +561,7 @@ impl RaylabApp {
                 .show(ui, |ui| match solved.trace() {
                     Some(trace) => {
                         let triangle = self.state.view == ViewKind::Triangle;
-                        let marked = self.state.triangle.hovered_column.map(|c| c.label());
+                        let marked = self.state.triangle.hovered_column;
                         let marked = marked.filter(|_| triangle);
                         let to_top = std::mem::take(&mut self.steps_to_top);
                         let symbolic_on = triangle && self.state.symbolic;

@@ -10,7 +10,7 @@ use egui::{Align, Color32, FontId, Layout, RichText, Stroke, TextStyle, Ui, Vec2
 
 use super::widgets::palette;
 use crate::geometry::Precision;
-use crate::trace::{self, Matrix, Number, Payload, Step, Trace};
+use crate::trace::{self, Column, Matrix, Number, Payload, Status, Step, Trace};
 
 /// How long "Copied ✓" stays on a LaTeX button after a click, in seconds.
 const COPIED_FOR: f64 = 2.0;
@@ -37,7 +37,7 @@ pub fn ui(
     ui: &mut Ui,
     trace: &Trace,
     choice: Choice<'_>,
-    marked_column: Option<&str>,
+    marked_column: Option<Column>,
     to_top: bool,
 ) -> PanelResponse {
     ui.horizontal_wrapped(|ui| {
@@ -108,7 +108,7 @@ pub fn step_ui(
     ui: &mut Ui,
     number: usize,
     step: &Step,
-    marked_column: Option<&str>,
+    marked_column: Option<Column>,
 ) -> egui::Response {
     egui::Frame::group(ui.style())
         .show(ui, |ui| {
@@ -175,7 +175,7 @@ fn galley_width(ui: &Ui, text: &str, font: FontId) -> f32 {
 
 /// A payload: text wraps to the panel; matrices and expansions, whose long decimals cannot wrap,
 /// scroll sideways inside their step when they do not fit, so the panel never widens under the view.
-fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<&str>) {
+fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<Column>) {
     match payload {
         Payload::System { .. } | Payload::Matrix(_) | Payload::Determinant(_) => {
             let width = ui.available_width();
@@ -192,7 +192,13 @@ fn payload_ui(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<&s
 }
 
 /// `width` is the panel's: what a row must fit in to stay on one line.
-fn payload_body(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<&str>, width: f32) {
+fn payload_body(
+    ui: &mut Ui,
+    id: &str,
+    payload: &Payload,
+    marked_column: Option<Column>,
+    width: f32,
+) {
     let visuals = ui.visuals().clone();
     let ink = |c: Color32| palette::ink(c, &visuals);
     match payload {
@@ -265,14 +271,14 @@ fn payload_body(ui: &mut Ui, id: &str, payload: &Payload, marked_column: Option<
             }
         }
         Payload::Verdict(verdict) => {
-            let color = ink(verdict_color(&verdict.status));
+            let color = ink(verdict_color(verdict.status));
             egui::Frame::new()
                 .stroke(Stroke::new(2.0, color))
                 .inner_margin(6.0)
                 .corner_radius(4.0)
                 .show(ui, |ui| {
                     ui.label(
-                        RichText::new(verdict.status.to_uppercase())
+                        RichText::new(verdict.status.word().to_uppercase())
                             .color(color)
                             .strong(),
                     );
@@ -407,13 +413,13 @@ fn signed(i: usize, sign: i8) -> &'static str {
 }
 
 /// Green for a meeting, red for a miss, amber for a degenerate or invalid case.
-pub fn verdict_color(status: &str) -> Color32 {
-    match status {
-        "hit" | "crossing" | "touching" | "collinear-overlap" => palette::INSIDE,
-        "miss-outside" | "miss-behind" | "lines-cross-outside" | "collinear-disjoint" => {
-            palette::OUTSIDE
-        }
-        _ => palette::RHS,
+pub fn verdict_color(status: Status) -> Color32 {
+    if status.meets() {
+        palette::INSIDE
+    } else if status.misses() {
+        palette::OUTSIDE
+    } else {
+        palette::RHS
     }
 }
 
@@ -518,20 +524,20 @@ impl Grid {
     }
 }
 
-fn matrix_grid(matrix: &Matrix, marked_column: Option<&str>, visuals: &egui::Visuals) -> Grid {
+fn matrix_grid(matrix: &Matrix, marked_column: Option<Column>, visuals: &egui::Visuals) -> Grid {
     let header: Vec<(String, Option<Color32>, bool)> = matrix
-        .column_labels
+        .columns
         .iter()
         .enumerate()
-        .map(|(col, label)| {
-            let color = if matrix.replaced_column == Some(col) {
+        .map(|(index, &column)| {
+            let color = if matrix.replaced_column == Some(index) {
                 Some(palette::RHS)
             } else {
-                palette::column_color(label)
+                palette::column_color(column)
             };
-            let marked = marked_column == Some(label.as_str());
+            let marked = marked_column == Some(column);
             (
-                label.clone(),
+                column.label().to_string(),
                 color.map(|c| palette::ink(c, visuals)),
                 marked,
             )

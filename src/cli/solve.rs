@@ -11,7 +11,7 @@ use crate::geometry::triangle::{
 };
 use crate::geometry::{Precision, Real, Solver};
 use crate::math::{InPrecision, in_precision};
-use crate::trace::Trace;
+use crate::trace::{Status, Trace};
 
 /// One problem to solve, with its inputs as the user wrote them.
 #[derive(Clone, Debug, PartialEq)]
@@ -462,17 +462,17 @@ fn float_method_report<F: crate::intersect::Float + crate::intersect::InverseSol
     let answer = method.run(&case);
     let trace = method.trace(&case);
     let status = match answer.values {
-        _ if answer.hit => "hit",
-        _ if answer.invalid_input => "invalid-input",
+        _ if answer.hit => Status::Hit,
+        _ if answer.invalid_input => Status::InvalidInput,
         // The method gave up before solving: the exact solver says why (parallel, degenerate, D = 0).
         None => unsolved_status(&case),
-        Some(values) if values.iter().any(|x| !x.is_finite()) => "invalid-input",
+        Some(values) if values.iter().any(|x| !x.is_finite()) => Status::InvalidInput,
         Some([_, beta, gamma]) => {
             let outside = beta < F::zero() || gamma < F::zero() || beta + gamma > F::one();
             if outside {
-                "miss-outside"
+                Status::MissOutside
             } else {
-                "miss-behind"
+                Status::MissBehind
             }
         }
     };
@@ -491,16 +491,16 @@ fn float_method_report<F: crate::intersect::Float + crate::intersect::InverseSol
 }
 
 /// Why a float method found no solution, in the triangle status words, as the exact solver sees it.
-fn unsolved_status<F: crate::intersect::Float>(case: &crate::intersect::Case<F>) -> &'static str {
+fn unsolved_status<F: crate::intersect::Float>(case: &crate::intersect::Case<F>) -> Status {
     let Some(problem) = crate::intersect::exact_problem(case) else {
-        return "invalid-input";
+        return Status::InvalidInput;
     };
     match triangle::solve(&problem).outcome {
-        TriangleOutcome::Miss(TriangleMiss::DegenerateTriangle) => "degenerate-triangle",
+        TriangleOutcome::Miss(TriangleMiss::DegenerateTriangle) => Status::DegenerateTriangle,
         TriangleOutcome::Miss(TriangleMiss::ZeroDirection | TriangleMiss::InvalidInput(_)) => {
-            "invalid-input"
+            Status::InvalidInput
         }
         // Exactly solvable, but this method's own rounding found |M| = 0.
-        _ => "parallel",
+        _ => Status::Parallel,
     }
 }

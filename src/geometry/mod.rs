@@ -9,7 +9,7 @@ pub use crate::math::{Precision, Real};
 use glam::{DVec2, DVec3};
 
 use crate::math::{InPrecision, in_precision};
-use crate::trace::{Payload, Recorder, Step, Trace, Verdict};
+use crate::trace::{Payload, Recorder, Status, Step, Trace, Verdict};
 
 /// A lecture problem in one precision, and its solver: the answer alone (no step is even formatted),
 /// or the answer with every step.
@@ -85,11 +85,11 @@ pub fn traced(inputs: Inputs, reading: Reading, precision: Precision) -> Trace {
 }
 
 /// Records the verdict on an input that cannot be used (the whole trace of such a solve).
-fn record_refusal(rec: &mut Recorder, status: &str, message: impl FnOnce() -> String) {
+fn record_refusal(rec: &mut Recorder, status: Status, message: impl FnOnce() -> String) {
     rec.push(|| {
         Step::new("verdict", "Verdict", "An input cannot be used.", {
             Payload::Verdict(Verdict {
-                status: status.into(),
+                status,
                 message: message(),
             })
         })

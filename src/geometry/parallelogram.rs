@@ -17,8 +17,8 @@ use crate::math::linalg::{
 };
 use crate::math::real::Real;
 use crate::trace::{
-    Check, Determinant, Formula, Matrix, Number, Payload, Recorder, Scalar, Step, Trace, Vector,
-    Verdict,
+    Check, Column, Determinant, Formula, Matrix, Number, Payload, Recorder, Scalar, Status, Step,
+    Trace, Vector, Verdict,
 };
 
 /// A ray and a parallelogram, in seed 001's names.
@@ -106,15 +106,15 @@ pub enum ParallelogramOutcome {
 
 impl ParallelogramOutcome {
     /// The stable status word, shared with triangles (`degenerate-triangle` for a flat parallelogram).
-    pub fn status(&self) -> &'static str {
+    pub fn status(&self) -> Status {
         match self {
-            ParallelogramOutcome::Hit => "hit",
-            ParallelogramOutcome::Outside { .. } => "miss-outside",
-            ParallelogramOutcome::Behind => "miss-behind",
-            ParallelogramOutcome::Parallel => "parallel",
-            ParallelogramOutcome::Degenerate => "degenerate-triangle",
+            ParallelogramOutcome::Hit => Status::Hit,
+            ParallelogramOutcome::Outside { .. } => Status::MissOutside,
+            ParallelogramOutcome::Behind => Status::MissBehind,
+            ParallelogramOutcome::Parallel => Status::Parallel,
+            ParallelogramOutcome::Degenerate => Status::DegenerateTriangle,
             ParallelogramOutcome::ZeroDirection | ParallelogramOutcome::InvalidInput(_) => {
-                "invalid-input"
+                Status::InvalidInput
             }
         }
     }
@@ -143,7 +143,7 @@ impl<R> ParallelogramSolution<R> {
     }
 }
 
-const LABELS: [&str; 3] = ["e1", "e2", "−d"];
+const LABELS: [Column; 3] = [Column::E1, Column::E2, Column::MinusD];
 
 /// Solves by the inverse matrix.
 pub fn solve<R: Real>(p: &RayParallelogram<R>) -> ParallelogramSolution<R> {
@@ -165,7 +165,7 @@ fn solve_with<R: Real>(p: &RayParallelogram<R>, rec: &mut Recorder) -> Parallelo
     rec.push(|| {
         Step::new("verdict", "Verdict", "What the checks decide.", {
             Payload::Verdict(Verdict {
-                status: outcome.status().into(),
+                status: outcome.status(),
                 message: verdict_message(&outcome),
             })
         })
@@ -324,7 +324,7 @@ fn solve_recorded<R: Real>(
                     "adj(M)",
                     "\\operatorname{adj}(M)",
                     &adjugate,
-                    ["", "", ""],
+                    [Column::Unnamed; 3],
                 ))
             },
         )
@@ -337,7 +337,7 @@ fn solve_recorded<R: Real>(
             "inverse",
             "M⁻¹ = adj(M) / |M|",
             "Each entry of the adjugate divided by the determinant.",
-            Payload::Matrix(Matrix::of3("M⁻¹", "M^{-1}", &inverse, ["", "", ""])),
+            Payload::Matrix(Matrix::of3("M⁻¹", "M^{-1}", &inverse, [Column::Unnamed; 3])),
         )
     });
     let x = mul_vec(&inverse, &y);

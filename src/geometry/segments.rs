@@ -12,8 +12,8 @@ use crate::math::linalg::{
 };
 use crate::math::real::Real;
 use crate::trace::{
-    Check, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar, Step, Trace,
-    Vector, Verdict,
+    Check, Column, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar,
+    Status, Step, Trace, Vector, Verdict,
 };
 
 /// Two segments, in the lecture's names.
@@ -82,16 +82,16 @@ pub enum SegmentsOutcome {
 
 impl SegmentsOutcome {
     /// The stable kebab-case status word used in JSON.
-    pub fn status(&self) -> &'static str {
+    pub fn status(&self) -> Status {
         match self {
-            SegmentsOutcome::Crossing => "crossing",
-            SegmentsOutcome::Touching => "touching",
-            SegmentsOutcome::LinesCrossOutside { .. } => "lines-cross-outside",
-            SegmentsOutcome::Parallel => "parallel",
-            SegmentsOutcome::CollinearOverlap => "collinear-overlap",
-            SegmentsOutcome::CollinearDisjoint => "collinear-disjoint",
-            SegmentsOutcome::DegenerateSegment { .. } => "degenerate-segment",
-            SegmentsOutcome::InvalidInput(_) => "invalid-input",
+            SegmentsOutcome::Crossing => Status::Crossing,
+            SegmentsOutcome::Touching => Status::Touching,
+            SegmentsOutcome::LinesCrossOutside { .. } => Status::LinesCrossOutside,
+            SegmentsOutcome::Parallel => Status::Parallel,
+            SegmentsOutcome::CollinearOverlap => Status::CollinearOverlap,
+            SegmentsOutcome::CollinearDisjoint => Status::CollinearDisjoint,
+            SegmentsOutcome::DegenerateSegment { .. } => Status::DegenerateSegment,
+            SegmentsOutcome::InvalidInput(_) => Status::InvalidInput,
         }
     }
 
@@ -143,7 +143,7 @@ impl<R: Real> SegmentsSolution<R> {
     }
 }
 
-const LABELS: [&str; 2] = ["A2−A1", "B1−B2"];
+const LABELS: [Column; 2] = [Column::A2MinusA1, Column::B1MinusB2];
 
 /// Solves the 2x2 system by Cramer's rule and classifies.
 pub fn solve<R: Real>(pair: &SegmentPair<R>) -> SegmentsSolution<R> {
@@ -166,7 +166,7 @@ fn solve_with<R: Real>(pair: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSol
             "What the numbers say about the two segments.",
             {
                 Payload::Verdict(Verdict {
-                    status: solution.outcome.status().into(),
+                    status: solution.outcome.status(),
                     message: verdict_message(&solution),
                 })
             },

@@ -16,8 +16,8 @@ use crate::math::linalg::{
 };
 use crate::math::real::Real;
 use crate::trace::{
-    Check, ClosedForm, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar,
-    Step, Trace, Vector, Verdict,
+    Check, ClosedForm, Column, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder,
+    Scalar, Status, Step, Trace, Vector, Verdict,
 };
 
 /// A ray and a triangle, in the lecture's names.
@@ -125,15 +125,15 @@ pub enum TriangleOutcome {
 
 impl TriangleOutcome {
     /// The stable kebab-case status word used in JSON.
-    pub fn status(&self) -> &'static str {
+    pub fn status(&self) -> Status {
         match self {
-            TriangleOutcome::Hit => "hit",
+            TriangleOutcome::Hit => Status::Hit,
             TriangleOutcome::Miss(miss) => match miss {
-                TriangleMiss::Outside { .. } => "miss-outside",
-                TriangleMiss::Behind => "miss-behind",
-                TriangleMiss::Parallel { .. } => "parallel",
-                TriangleMiss::DegenerateTriangle => "degenerate-triangle",
-                TriangleMiss::ZeroDirection | TriangleMiss::InvalidInput(_) => "invalid-input",
+                TriangleMiss::Outside { .. } => Status::MissOutside,
+                TriangleMiss::Behind => Status::MissBehind,
+                TriangleMiss::Parallel { .. } => Status::Parallel,
+                TriangleMiss::DegenerateTriangle => Status::DegenerateTriangle,
+                TriangleMiss::ZeroDirection | TriangleMiss::InvalidInput(_) => Status::InvalidInput,
             },
         }
     }
@@ -196,7 +196,7 @@ fn solve_with<R: Real>(problem: &RayTriangle<R>, rec: &mut Recorder) -> Triangle
     rec.push(|| {
         Step::new("verdict", "Verdict", verdict_sentence(&outcome), {
             Payload::Verdict(Verdict {
-                status: outcome.status().into(),
+                status: outcome.status(),
                 message: verdict_message(&outcome, solution.as_ref()),
             })
         })
@@ -452,7 +452,7 @@ fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> 
 }
 
 /// Column labels of M (the app colours columns by them).
-const LABELS: [&str; 3] = ["A−B", "A−C", "D"];
+const LABELS: [Column; 3] = [Column::AMinusB, Column::AMinusC, Column::D];
 const UNKNOWNS: [(&str, &str, &str); 3] = [
     ("beta", "β", "\\beta"),
     ("gamma", "γ", "\\gamma"),

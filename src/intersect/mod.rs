@@ -330,7 +330,7 @@ pub fn decide<F: Float>(t: F, beta: F, gamma: F) -> bool {
 pub(crate) mod record {
     use super::{Answer, Float};
     use crate::math::linalg::V3;
-    use crate::trace::{Check, Number, Payload, Scalar, Step, StepSink, Vector, Verdict};
+    use crate::trace::{Check, Number, Payload, Scalar, Status, Step, StepSink, Vector, Verdict};
 
     /// Records a named vector.
     #[inline(always)]
@@ -434,7 +434,11 @@ pub(crate) mod record {
                 "Verdict",
                 how,
                 Payload::Verdict(Verdict {
-                    status: if answer.hit { "hit" } else { "miss" }.into(),
+                    status: if answer.hit {
+                        Status::Hit
+                    } else {
+                        Status::Miss
+                    },
                     message: how.into(),
                 }),
             )

@@ -117,7 +117,7 @@ pub fn payload_lines(payload: &Payload) -> Vec<String> {
         Payload::Check(check) => vec![check_line(check)],
         Payload::Verdict(verdict) => vec![format!(
             "⇒ {}: {}",
-            verdict.status.to_uppercase(),
+            verdict.status.word().to_uppercase(),
             verdict.message
         )],
         Payload::Symbolic(symbolic) => symbolic.lines.clone(),
@@ -130,7 +130,11 @@ fn matrix_block(matrix: &Matrix) -> Vec<String> {
         .iter()
         .map(|row| row.iter().map(Number::shown).collect())
         .collect();
-    let mut labels = matrix.column_labels.clone();
+    let mut labels: Vec<String> = matrix
+        .columns
+        .iter()
+        .map(|c| c.label().to_string())
+        .collect();
     if let Some(column) = matrix.replaced_column {
         labels[column] = format!("▼{}", labels[column]);
     }

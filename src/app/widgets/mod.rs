@@ -58,7 +58,7 @@ pub fn verdict_overlay(
     }
     let verdict = trace.verdict()?;
     let color = palette::ink(
-        crate::app::step_panel::verdict_color(&verdict.status),
+        crate::app::step_panel::verdict_color(verdict.status),
         ui.visuals(),
     );
     let galley = painter.layout(

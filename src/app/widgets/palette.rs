@@ -2,6 +2,8 @@
 
 use egui::Color32;
 
+use crate::trace::Column;
+
 /// Segment A (seed 000 draws it dark red).
 pub const SEGMENT_A: Color32 = Color32::from_rgb(0xd0, 0x45, 0x3a);
 /// Segment B (seed 000 draws it dark green).
@@ -21,16 +23,16 @@ pub const OUTSIDE: Color32 = Color32::from_rgb(0xe0, 0x3c, 0x31);
 /// The solution point (orange, as seed 000 draws it).
 pub const SOLUTION: Color32 = Color32::from_rgb(0xf0, 0x80, 0x10);
 
-/// The colour of a matrix column, by the label the solver gave it.
-pub fn column_color(label: &str) -> Option<Color32> {
-    match label {
-        "A−B" | "e1" => Some(BETA),
-        "A−C" | "e2" => Some(GAMMA),
-        "D" | "−d" => Some(RAY),
-        "Y" => Some(RHS),
-        "A2−A1" => Some(SEGMENT_A),
-        "B1−B2" => Some(SEGMENT_B),
-        _ => None,
+/// The colour of a matrix column, by what the column is.
+pub fn column_color(column: Column) -> Option<Color32> {
+    match column {
+        Column::AMinusB | Column::E1 => Some(BETA),
+        Column::AMinusC | Column::E2 => Some(GAMMA),
+        Column::D | Column::MinusD => Some(RAY),
+        Column::Y => Some(RHS),
+        Column::A2MinusA1 => Some(SEGMENT_A),
+        Column::B1MinusB2 => Some(SEGMENT_B),
+        Column::Unnamed => None,
     }
 }
 
