@@ -472,25 +472,38 @@ impl RaylabApp {
     /// Everything a solve depends on, to tell whether a frame changed it.
     fn fingerprint(&self) -> Fingerprint {
         let s = &self.state;
+        let triangle = &s.triangle.scene;
+        let vectors = [
+            s.segments.scene.points().map(|p| p.extend(0.0)).to_vec(),
+            s.triangle.scene.vectors().to_vec(),
+            s.parallelogram.scene.vectors().to_vec(),
+        ];
+        let scalars = [
+            s.segments.t,
+            s.segments.s,
+            triangle.t_min,
+            s.triangle.beta,
+            s.triangle.gamma,
+            s.triangle.t,
+            s.parallelogram.alpha,
+            s.parallelogram.beta,
+            s.parallelogram.t,
+        ];
+        // Bits, not values: NaN (an input being typed) must equal itself, or every frame would differ.
+        let numbers = vectors
+            .iter()
+            .flatten()
+            .flat_map(|v| v.to_array())
+            .chain(scalars)
+            .map(f64::to_bits)
+            .collect();
         Fingerprint {
             view: s.view,
             probed: s.render.probed,
             precision: s.precision,
-            segments: (s.segments.scene.clone(), [s.segments.t, s.segments.s]),
             show_lines: s.segments.show_lines,
-            triangle: (
-                s.triangle.scene.clone(),
-                [s.triangle.beta, s.triangle.gamma, s.triangle.t],
-            ),
-            parallelogram: (
-                s.parallelogram.scene.clone(),
-                [
-                    s.parallelogram.alpha,
-                    s.parallelogram.beta,
-                    s.parallelogram.t,
-                ],
-            ),
             titles: s.titles.clone(),
+            numbers,
         }
     }
 }
@@ -501,11 +514,9 @@ struct Fingerprint {
     view: ViewKind,
     probed: Option<(usize, usize)>,
     precision: Precision,
-    segments: (scene::SegmentsScene, [f64; 2]),
     show_lines: bool,
-    triangle: (scene::TriangleScene, [f64; 3]),
-    parallelogram: (scene::ParallelogramScene, [f64; 3]),
     titles: [(String, String); 4],
+    numbers: Vec<u64>,
 }
 
 impl Default for RaylabApp {
