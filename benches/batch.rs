@@ -3,6 +3,9 @@
 //! `cargo bench --bench batch` prints the figure as `thrpt` (elements = lines), for f64 and exact.
 //! One thread: the batch itself is sequential.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};

@@ -3,6 +3,9 @@
 //!
 //! `cargo bench --bench frame`; the budget is 4 ms for the busiest view.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};

@@ -7,6 +7,9 @@
 //! same way, and prints both, the ratios, and whether the covered pixels agree. Without python3 and
 //! numpy it says it skipped.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::process::Command;
 
 use raylab::platform::Stopwatch;

@@ -3,6 +3,9 @@
 //!
 //! `cargo bench --bench render` (about a minute and a half; renders run in parallel over rows).
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::time::Duration;
 
 use criterion::{

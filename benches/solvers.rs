@@ -2,6 +2,9 @@
 //!
 //! `cargo bench --bench solvers` prints the figures; compare within one run (same machine, same load).
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};

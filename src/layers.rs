@@ -6,8 +6,9 @@
 
 /// The layers, bottom first. A module imports only from the layers below its own.
 pub const LAYERS: &[&[&str]] = &[
-    // Below everything: the clock, background jobs, file dialogs; atomic writes and size limits.
-    &["platform", "files"],
+    // Below everything: the clock, background jobs, file dialogs; atomic writes and size limits; the
+    // parser of enums named by a word.
+    &["platform", "files", "names"],
     // Numbers: exact rationals, the Real trait, small vectors and matrices.
     &["math"],
     // One record of every solver step, and its text and LaTeX readers.

@@ -180,6 +180,10 @@ pub fn trace_of(problem: &Problem) -> Option<Trace> {
 }
 
 /// Every built-in lesson, in menu order.
+#[allow(
+    clippy::expect_used,
+    reason = "the shipped lessons are embedded at build time; tests check every one"
+)]
 pub fn built_in() -> Vec<(&'static str, Lesson)> {
     BUILT_IN
         .iter()

@@ -7,6 +7,9 @@
 //! what differs between a desktop and a browser lives in `platform`, and the command line is
 //! desktop-only.
 
+// Tests may unwrap: a panic is how a test fails.
+#![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
+
 pub mod accuracy;
 #[cfg(feature = "app")]
 pub mod app;
@@ -19,6 +22,7 @@ pub mod intersect;
 pub mod layers;
 pub mod lesson;
 pub mod math;
+pub mod names;
 pub mod platform;
 pub mod render;
 pub mod scene;

@@ -19,6 +19,7 @@ fn main() {
 fn ignore_file_size_signal() {
     // SAFETY: setting a signal's disposition to SIG_IGN at start-up, before any thread exists, installs
     // no handler code and touches no Rust state.
+    #[allow(unsafe_code)]
     unsafe {
         libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
     }

@@ -2,6 +2,9 @@
 //! decision on the seam sweep and the vertex fan, while f32 Möller–Trumbore cracks; the exact references
 //! agree with each other; and the families are what they say.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use raylab::accuracy::families::{Family, generate};
 use raylab::intersect::reference::reference;
 use raylab::intersect::{Case, Float, InverseSolve, Method, exact_answer, watertight};

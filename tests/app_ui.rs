@@ -1,6 +1,9 @@
 //! The app driven like a person would: load presets by their labels, drag the painted handles, move
 //! sliders, press buttons, and read what is shown.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 mod common;
 
 use common::{click_image, load_preset, wait_for_render};
@@ -220,7 +223,7 @@ fn bad_inputs_never_panic() {
         }
         for view in ViewKind::ALL {
             harness.state_mut().state.view = view;
-            for precision in raylab::geometry::Precision::ALL {
+            for precision in <raylab::geometry::Precision as strum::IntoEnumIterator>::iter() {
                 harness.state_mut().state.precision = precision;
                 harness.run();
             }

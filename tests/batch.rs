@@ -1,6 +1,9 @@
 //! `raylab solve --batch` and the standard streams under hostile input, run as a user runs the binary:
 //! bytes that are not UTF-8, lines with no end, closed pipes.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Command, Output, Stdio};
 

@@ -1,5 +1,8 @@
 //! The `raylab` binary as a user runs it: flags in, text / JSON / LaTeX out, one-line errors.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::io::Write;
 use std::process::{Command, Output, Stdio};
 

@@ -7,6 +7,9 @@
 //! A panicking input is saved to the corpus folder; an input that runs past [`INPUT_LIMIT`] is saved
 //! and the run stops. `RAYLAB_FUZZ_SEED=n` tries other inputs; `RAYLAB_FUZZ_SCALE=k` tries k times more.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;

@@ -2,6 +2,9 @@
 //! only where `assets/hard_cases.ron` says so (the gallery shows those answers); the watertight method
 //! is never wrong.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use raylab::accuracy::hard_cases::{gallery, verdicts};
 
 #[test]

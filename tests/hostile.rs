@@ -2,6 +2,9 @@
 //! meshes and textures that are not what they claim, outputs that must not be destroyed. Each case
 //! ends within a second with a one-line error that names the problem.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};

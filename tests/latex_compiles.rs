@@ -3,6 +3,9 @@
 //! Needs `pdflatex` (Debian: texlive-latex-base, texlive-latex-recommended); where it is missing the test
 //! says so and passes, since the structure of the LaTeX is also checked by the unit tests.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::process::Command;
 
 fn raylab_latex(args: &[&str]) -> String {

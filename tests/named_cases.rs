@@ -1,6 +1,9 @@
 //! Every named outcome and every kind of bad input, in every precision: the right status, a trace that
 //! renders, and no panic.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use glam::{DVec2, DVec3};
 use raylab::geometry::Real;
 use raylab::geometry::parallelogram::{self, ParallelogramOutcome, RayParallelogram};

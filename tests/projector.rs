@@ -3,6 +3,9 @@
 //! no text is cut off at the side of its panel or the window, and the view keeps at least half the
 //! window's width. Then presentation mode, stepped through with the keys a clicker sends.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 #[allow(dead_code)] // the shared helpers this test does not need
 mod common;
 

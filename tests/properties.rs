@@ -12,6 +12,9 @@
 //! classification equals the exact one whenever every tested quantity is farther from its boundary
 //! than its error bound.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use raylab::geometry::Real;

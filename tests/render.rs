@@ -2,6 +2,9 @@
 //! zero work (read from the statistics), transformed rays giving the world-space t (judged by the
 //! exact reference), and a watertight mesh render without crack pixels.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::Path;
 
 use glam::DVec3;

@@ -4,6 +4,9 @@
 //! `RAYLAB_SCREENSHOTS=1 cargo test --test screenshots` rewrites `assets/screenshots/*.png`;
 //! `UPDATE_SNAPSHOTS=1 cargo test --test screenshots` accepts changed snapshots in `tests/snapshots/`.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 #[allow(dead_code)] // the shared helpers these pictures do not need
 mod common;
 

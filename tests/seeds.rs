@@ -1,5 +1,8 @@
 //! The lecture's worked examples, with their exact answers (seeds 000, 001 and 003).
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use glam::{DVec2, DVec3};
 use raylab::geometry::Real;
 use raylab::geometry::parallelogram::{self, ParallelogramOutcome, RayParallelogram};

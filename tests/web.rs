@@ -10,6 +10,9 @@
 //!
 //! `RAYLAB_SCREENSHOTS=1 cargo test --test web` also writes `assets/screenshots/web.png`.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
 use std::path::{Path, PathBuf};

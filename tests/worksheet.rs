@@ -5,6 +5,9 @@
 //! pdflatex (Debian: texlive-latex-base) is needed for the compile test; where it is missing that test
 //! says so and passes.
 
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

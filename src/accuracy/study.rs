@@ -560,28 +560,48 @@ pub fn table(records: &[Record]) -> String {
     out
 }
 
-/// The records as CSV with a header.
-pub fn csv(records: &[Record]) -> String {
-    let mut out = String::from(
-        "method,precision,family,rays,tests,wrong_decisions,cracks,double_hits,max_rel_err_t,max_ulps_t,max_eps_err_barycentric,exact_fallbacks,ns_per_test\n",
-    );
+/// One row of results.csv: a [`Record`] without its per-knob errors.
+#[derive(Serialize)]
+struct CsvRow<'a> {
+    method: &'a str,
+    precision: &'a str,
+    family: &'a str,
+    rays: usize,
+    tests: usize,
+    wrong_decisions: usize,
+    cracks: usize,
+    double_hits: usize,
+    max_rel_err_t: f64,
+    max_ulps_t: f64,
+    max_eps_err_barycentric: f64,
+    exact_fallbacks: usize,
+    ns_per_test: f64,
+}
+
+/// The records as CSV, a header and a line per record (the per-knob errors are in the JSON only).
+pub fn csv(records: &[Record]) -> Result<String, String> {
+    let mut writer = csv::Writer::from_writer(Vec::new());
     for r in records {
-        out.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            r.method,
-            r.precision,
-            r.family,
-            r.rays,
-            r.tests,
-            r.wrong_decisions,
-            r.cracks,
-            r.double_hits,
-            r.max_rel_err_t,
-            r.max_ulps_t,
-            r.max_eps_err_barycentric,
-            r.exact_fallbacks,
-            r.ns_per_test
-        ));
+        writer
+            .serialize(CsvRow {
+                method: &r.method,
+                precision: &r.precision,
+                family: &r.family,
+                rays: r.rays,
+                tests: r.tests,
+                wrong_decisions: r.wrong_decisions,
+                cracks: r.cracks,
+                double_hits: r.double_hits,
+                max_rel_err_t: r.max_rel_err_t,
+                max_ulps_t: r.max_ulps_t,
+                max_eps_err_barycentric: r.max_eps_err_barycentric,
+                exact_fallbacks: r.exact_fallbacks,
+                ns_per_test: r.ns_per_test,
+            })
+            .map_err(|e| format!("cannot write the CSV: {e}"))?;
     }
-    out
+    let bytes = writer
+        .into_inner()
+        .map_err(|e| format!("cannot write the CSV: {e}"))?;
+    String::from_utf8(bytes).map_err(|e| format!("cannot write the CSV: {e}"))
 }

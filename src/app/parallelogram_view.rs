@@ -51,13 +51,10 @@ pub struct ParallelogramView {
 
 impl Default for ParallelogramView {
     fn default() -> ParallelogramView {
-        let scene = crate::scene::built_in()
-            .into_iter()
-            .find_map(|s| match s.problem {
-                crate::scene::Problem::Parallelogram(p) => Some(p),
-                _ => None,
-            })
-            .expect("a parallelogram scene ships");
+        let scene = crate::scene::first_built_in(|s| match s {
+            crate::scene::Problem::Parallelogram(p) => Some(p),
+            _ => None,
+        });
         let mut view = ParallelogramView {
             scene: scene.clone(),
             alpha: 0.0,
@@ -201,15 +198,12 @@ impl ParallelogramView {
         let explored = self.exploration();
         status_line(ui, |ui| {
             let exact = solved.exact.alpha_beta_t.as_ref();
-            let values: Vec<ShownValue> = [self.alpha, self.beta, self.t]
-                .into_iter()
-                .enumerate()
-                .map(|(i, value)| ShownValue {
-                    value,
-                    solution: solved.float.alpha_beta_t.map(|x| x[i]),
-                    exact: exact.map(|e| &e[i]),
-                })
-                .collect();
+            let parameters = [self.alpha, self.beta, self.t];
+            let values: [ShownValue; 3] = std::array::from_fn(|i| ShownValue {
+                value: parameters[i],
+                solution: solved.float.alpha_beta_t.map(|x| x[i]),
+                exact: exact.map(|e| &e[i]),
+            });
             for (symbol, text) in ["α", "β", "t"].into_iter().zip(shown_values(&values)) {
                 ui.label(RichText::new(format!("{symbol} = {text}")).strong());
             }
@@ -270,7 +264,7 @@ impl ParallelogramView {
     }
 
     fn problem(&self) -> parallelogram::RayParallelogram<f64> {
-        parallelogram::RayParallelogram::from_f64(self.vectors()).expect("f64 holds every f64")
+        parallelogram::RayParallelogram::from_floats(self.vectors())
     }
 
     fn exploration(&self) -> parallelogram::Exploration<f64> {

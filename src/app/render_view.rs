@@ -118,13 +118,10 @@ pub enum Action {
 
 impl Default for RenderView {
     fn default() -> RenderView {
-        let scene = crate::scene::built_in()
-            .into_iter()
-            .find_map(|s| match s.problem {
-                crate::scene::Problem::Render(r) => Some(r),
-                _ => None,
-            })
-            .expect("a render scene ships");
+        let scene = crate::scene::first_built_in(|s| match s {
+            crate::scene::Problem::Render(r) => Some(r),
+            _ => None,
+        });
         RenderView {
             effects: scene.effects.clone(),
             scene,
@@ -185,6 +182,7 @@ impl RenderView {
     }
 
     /// The scene prepared with the current choices (and a bug), or why not.
+    #[allow(clippy::expect_used, reason = "the slot was filled just above")]
     fn prepared(&mut self, bug: Option<Bug>) -> Result<Arc<Prepared>, String> {
         let key = format!("{:?}", self.scene);
         if self
@@ -206,6 +204,10 @@ impl RenderView {
     }
 
     /// Starts renders whose inputs changed and takes finished ones; asks for frames while running.
+    #[allow(
+        clippy::expect_used,
+        reason = "the slot's job was running: it just finished"
+    )]
     pub fn update(&mut self, ctx: &egui::Context) {
         let key = |bug: Option<Bug>| {
             format!(
@@ -386,7 +388,7 @@ impl RenderView {
                 .selected_text(self.bug.map_or("none", Bug::name))
                 .show_ui(ui, |ui| {
                     ui.selectable_value(&mut self.bug, None, "none");
-                    for bug in Bug::ALL {
+                    for bug in <Bug as strum::IntoEnumIterator>::iter() {
                         ui.selectable_value(&mut self.bug, Some(bug), bug.name())
                             .on_hover_text(bug.sentence());
                     }

@@ -105,13 +105,10 @@ pub struct SegmentsView {
 
 impl Default for SegmentsView {
     fn default() -> SegmentsView {
-        let scene = crate::scene::built_in()
-            .into_iter()
-            .find_map(|s| match s.problem {
-                crate::scene::Problem::Segments(s) => Some(s),
-                _ => None,
-            })
-            .expect("a segments scene ships");
+        let scene = crate::scene::first_built_in(|s| match s {
+            crate::scene::Problem::Segments(s) => Some(s),
+            _ => None,
+        });
         let mut view = SegmentsView {
             scene: scene.clone(),
             t: 0.0,
@@ -331,8 +328,7 @@ impl SegmentsView {
     }
 
     fn exploration(&self) -> segments::Exploration<f64> {
-        let pair =
-            segments::SegmentPair::<f64>::from_f64(self.points()).expect("f64 holds every f64");
+        let pair = segments::SegmentPair::from_floats(self.points());
         segments::explore(&pair, &self.t, &self.s)
     }
 
@@ -350,9 +346,7 @@ impl SegmentsView {
                     solution: solved.float.s,
                     exact: solved.exact.s.as_ref(),
                 },
-            ])
-            .try_into()
-            .expect("two values");
+            ]);
             ui.label(
                 RichText::new(format!("t = {t_text}"))
                     .strong()

@@ -48,7 +48,7 @@ pub fn ui(
             mut symbolic,
         } = choice;
         let in_symbols = symbolic.as_deref().copied().unwrap_or(false);
-        for p in Precision::ALL {
+        for p in <Precision as strum::IntoEnumIterator>::iter() {
             let response = ui
                 .selectable_label(!in_symbols && *precision == p, p.name())
                 .on_hover_text(precision_tooltip(p));

@@ -84,13 +84,10 @@ pub struct TriangleView {
 
 impl Default for TriangleView {
     fn default() -> TriangleView {
-        let scene = crate::scene::built_in()
-            .into_iter()
-            .find_map(|s| match s.problem {
-                crate::scene::Problem::Triangle(t) => Some(t),
-                _ => None,
-            })
-            .expect("a triangle scene ships");
+        let scene = crate::scene::first_built_in(|s| match s {
+            crate::scene::Problem::Triangle(t) => Some(t),
+            _ => None,
+        });
         let mut view = TriangleView {
             scene: scene.clone(),
             beta: 0.0,
@@ -397,8 +394,7 @@ impl TriangleView {
     }
 
     fn problem(&self) -> triangle::RayTriangle<f64> {
-        triangle::RayTriangle::from_f64(self.vectors(), self.scene.t_min)
-            .expect("f64 holds every f64")
+        triangle::RayTriangle::from_floats(self.vectors(), self.scene.t_min)
     }
 
     fn exploration(&self) -> triangle::Exploration<f64> {
@@ -546,11 +542,10 @@ impl TriangleView {
             }
             match self.grab {
                 Some(Grab::Vertex(i)) => {
-                    if let Some(projector) = &self.projector {
-                        let vertex = [&mut self.scene.a, &mut self.scene.b, &mut self.scene.c]
-                            .into_iter()
-                            .nth(i)
-                            .expect("three vertices");
+                    let vertex = [&mut self.scene.a, &mut self.scene.b, &mut self.scene.c]
+                        .into_iter()
+                        .nth(i);
+                    if let (Some(projector), Some(vertex)) = (&self.projector, vertex) {
                         let moved = DVec3::from(*vertex)
                             + projector.drag_in_view_plane(DVec3::from(*vertex), delta);
                         *vertex = moved.to_array();
@@ -560,11 +555,11 @@ impl TriangleView {
             }
         }
         if response.drag_stopped() {
-            if let Some(Grab::Vertex(i)) = self.grab {
-                let vertex = [&mut self.scene.a, &mut self.scene.b, &mut self.scene.c]
+            if let Some(Grab::Vertex(i)) = self.grab
+                && let Some(vertex) = [&mut self.scene.a, &mut self.scene.b, &mut self.scene.c]
                     .into_iter()
                     .nth(i)
-                    .expect("three vertices");
+            {
                 *vertex = vertex.map(|x| snap(x, 0.05));
             }
             self.grab = None;

@@ -154,6 +154,10 @@ fn count_error<const N: usize>(count: usize) -> String {
 }
 
 /// Reads N numbers, given as `"x,y,z"` or `[x, y, z]`, into precision `R`.
+#[allow(
+    clippy::expect_used,
+    reason = "the items were counted to be N, and each component read or returned its error, just above"
+)]
 fn vector<R: ReadNumber, const N: usize>(raw: &RawValue) -> Result<[R; N], String> {
     let component =
         |i: usize, text: &str| R::read(text).map_err(|e| format!("component {}: {e}", i + 1));
@@ -245,6 +249,10 @@ pub fn parse_case(line: &str, default: Precision) -> Result<LineCase<'_>, String
 }
 
 impl LineCase<'_> {
+    #[allow(
+        clippy::expect_used,
+        reason = "the field was found among FIELDS just above"
+    )]
     fn field(&self, name: &str) -> Result<&RawValue, String> {
         let index = FIELDS
             .iter()
@@ -315,6 +323,10 @@ struct JsonLine<'a> {
 }
 
 impl FieldSink for JsonLine<'_> {
+    #[allow(
+        clippy::expect_used,
+        reason = "serde_json writes any value made of maps with string keys, numbers and strings"
+    )]
     fn put(&mut self, key: &'static str, value: impl serde::Serialize) {
         self.out.push(if self.empty { b'{' } else { b',' });
         self.empty = false;
@@ -441,6 +453,10 @@ fn line_text<'a>(line: &RawLine, bytes: &'a [u8]) -> Result<&'a str, String> {
 ///
 /// A line that is not UTF-8 or is too long is a bad line like any other: the batch goes on. Only a
 /// failure to read the input or to write `output` stops it; `errors` is best effort (it may be closed).
+#[allow(
+    clippy::expect_used,
+    reason = "serde_json writes any value made of maps with string keys, numbers and strings"
+)]
 pub fn run_batch(
     input: impl BufRead,
     mut output: impl Write,

@@ -184,7 +184,10 @@ impl<const N: usize> Coords<N> {
         for (i, part) in parts.iter().enumerate() {
             literals.push(Literal::parse(part).map_err(|e| format!("component {}: {e}", i + 1))?);
         }
-        Ok(Coords(literals.try_into().expect("length checked above")))
+        let literals: [Literal; N] = literals
+            .try_into()
+            .map_err(|_| format!("expected {N} components"))?;
+        Ok(Coords(literals))
     }
 
     /// Ok if `precision` can hold every component, else the refusal naming the component.

@@ -25,17 +25,17 @@ macro_rules! err {
     }};
 }
 
-/// [`err!`] without the line break (a progress bar that redraws its line).
-macro_rules! err_part {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        let mut stderr = std::io::stderr().lock();
-        let _ = write!(stderr, $($arg)*);
-        let _ = stderr.flush();
-    }};
-}
-
 use std::io::Write;
+
+/// A value as indented JSON.
+#[allow(
+    clippy::expect_used,
+    reason = "raylab's reports, traces and records are maps with string keys, numbers and strings, which \
+              serde_json always writes"
+)]
+pub(crate) fn pretty_json(value: &impl serde::Serialize) -> String {
+    serde_json::to_string_pretty(value).expect("JSON values always serialize")
+}
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
@@ -418,16 +418,16 @@ fn run_render(args: RenderArgs) -> i32 {
             }
         }
     }
-    let mut times = Vec::new();
-    let mut result = None;
-    for _ in 0..args.repeat {
+    let timed = || {
         let clock = crate::platform::Stopwatch::start();
-        result = Some(render(&prepared));
-        times.push(clock.seconds());
-    }
+        let rendered = render(&prepared);
+        (clock.seconds(), rendered)
+    };
+    let (first, (image, stats)) = timed();
+    let mut times = vec![first];
+    times.extend((1..args.repeat).map(|_| timed().0));
     times.sort_by(f64::total_cmp);
     let seconds = times[times.len() / 2];
-    let (image, stats) = result.expect("at least one render");
     if let Err(message) = write_png(&image, &args.output) {
         err!(
             "raylab: could not write {}: {message}",
@@ -501,7 +501,6 @@ fn run_bench(args: BenchArgs) -> i32 {
     if args.hard_cases {
         return print_hard_cases();
     }
-    use std::io::IsTerminal;
     if let Some(dir) = &args.out
         && let Err(message) = check_out_folder(dir)
     {
@@ -514,25 +513,23 @@ fn run_bench(args: BenchArgs) -> i32 {
         study::Config::full()
     };
     config.seed = args.seed;
-    let terminal = std::io::stderr().is_terminal();
     let clock = crate::platform::Stopwatch::start();
+    // A bar on a terminal; nothing where stderr is a file or a pipe (indicatif hides itself there).
+    let bar = indicatif::ProgressBar::new(0).with_style(
+        indicatif::ProgressStyle::with_template("[{bar:40}] {pos}/{len} {elapsed}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+            .progress_chars("#  "),
+    );
     let records = study::run(&config, |done, total| {
-        if terminal {
-            let width = 40;
-            let filled = width * done / total.max(1);
-            err_part!(
-                "\r[{}{}] {done}/{total} {:.0} s",
-                "#".repeat(filled),
-                " ".repeat(width - filled),
-                clock.seconds()
-            );
-        }
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
         true
-    })
-    .expect("the command line never cancels");
-    if terminal {
-        err!("");
-    }
+    });
+    bar.finish_and_clear();
+    let Some(records) = records else {
+        err!("raylab: the study was cancelled");
+        return 1;
+    };
     out!("{}", study::table(&records).trim_end());
     out!(
         "{} tests in {:.1} s",
@@ -541,8 +538,14 @@ fn run_bench(args: BenchArgs) -> i32 {
     );
     if let Some(dir) = args.out {
         use crate::files::write_atomically;
-        let json = serde_json::to_string_pretty(&records).expect("records serialize");
-        let csv = study::csv(&records);
+        let json = pretty_json(&records);
+        let csv = match study::csv(&records) {
+            Ok(csv) => csv,
+            Err(error) => {
+                err!("raylab: {error}");
+                return 1;
+            }
+        };
         let written = std::fs::create_dir_all(&dir)
             .and_then(|()| {
                 write_atomically(&dir.join("results.json"), |o| o.write_all(json.as_bytes()))
@@ -581,10 +584,7 @@ fn run_symbolic(problem: &Problem, format: Format) -> i32 {
     let trace = crate::symbolic::trace(Some(&numbers));
     let output = match format {
         Format::Text => trace::to_text(&trace),
-        Format::Json => format!(
-            "{}\n",
-            serde_json::to_string_pretty(&trace).expect("a trace always serializes")
-        ),
+        Format::Json => format!("{}\n", pretty_json(&trace)),
         Format::Latex => trace::to_latex(&trace),
     };
     let _ = std::io::stdout().lock().write_all(output.as_bytes());
@@ -663,11 +663,7 @@ fn run_solve(args: SolveArgs) -> i32 {
     };
     let output = match args.format.unwrap_or(Format::Text) {
         Format::Text => trace::to_text(&report.trace),
-        Format::Json => format!(
-            "{}\n",
-            serde_json::to_string_pretty(&report.to_json(!args.no_trace))
-                .expect("JSON values always serialize")
-        ),
+        Format::Json => format!("{}\n", pretty_json(&report.to_json(!args.no_trace))),
         Format::Latex => trace::to_latex(&report.trace),
     };
     let mut stdout = std::io::stdout().lock();

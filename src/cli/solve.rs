@@ -78,6 +78,10 @@ pub struct Report {
 
 impl Report {
     /// The full JSON object, with the trace unless `with_trace` is false.
+    #[allow(
+        clippy::expect_used,
+        reason = "serde_json writes any value made of maps with string keys, numbers and strings"
+    )]
     pub fn to_json(&self, with_trace: bool) -> Value {
         let mut fields = self.fields.clone();
         if with_trace {
@@ -233,6 +237,10 @@ pub trait FieldSink {
 }
 
 impl FieldSink for Map<String, Value> {
+    #[allow(
+        clippy::expect_used,
+        reason = "serde_json writes any value made of maps with string keys, numbers and strings"
+    )]
     fn put(&mut self, key: &'static str, value: impl Serialize) {
         let value = serde_json::to_value(value).expect("report fields always serialize");
         self.insert(key.into(), value);

@@ -60,8 +60,7 @@ fn write(args: &WorksheetArgs) -> Result<(), String> {
     let problems = exercise::generate(args.seed, usize::from(args.count), args.level)?;
     std::fs::create_dir_all(dir)
         .map_err(|e| format!("-o {}: cannot make the folder: {e}", dir.display()))?;
-    let json = serde_json::to_string_pretty(&exercise::problems_json(args.seed, &problems))
-        .expect("JSON values always serialize");
+    let json = super::pretty_json(&exercise::problems_json(args.seed, &problems));
     save(
         dir,
         "worksheet.tex",

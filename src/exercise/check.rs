@@ -77,6 +77,10 @@ impl Practice {
 /// Checks `answer` against the problem's exact answer. `wrong_before` is how many wrong answers came
 /// before: the hint is the first step of the trace whose value differs from what this answer implies,
 /// or, after earlier wrong answers, the next ones.
+#[allow(
+    clippy::expect_used,
+    reason = "every trace a solver records ends with its verdict"
+)]
 pub fn check(problem: &Problem, answer: &str, wrong_before: usize) -> Verdict {
     let claim = match read_claim(problem.kind(), answer) {
         Ok(claim) => claim,
@@ -206,6 +210,7 @@ fn read_edge(kind: Kind, text: &str) -> Result<String, String> {
 }
 
 /// `1/4, 1/2, 3` or `β = 1/4, γ = 1/2, t = 3` (names as symbols or words: `beta`).
+#[allow(clippy::expect_used, reason = "the tolerance is a finite constant")]
 fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, String> {
     let unknowns = kind.unknowns();
     let mut values: Vec<Option<Claimed>> = vec![None; unknowns.len()];
@@ -238,10 +243,10 @@ fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, String> {
             return Err(format!("{} is given twice", unknowns[slot].1));
         }
     }
-    Ok(values
+    values
         .into_iter()
-        .map(|v| v.expect("every slot filled"))
-        .collect())
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| "a value is missing".to_string())
 }
 
 fn claim_is_right(problem: &Problem, claim: &Claim) -> bool {

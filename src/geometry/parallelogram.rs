@@ -36,6 +36,19 @@ pub struct RayParallelogram<R> {
     pub dir: V3<R>,
 }
 
+impl RayParallelogram<f64> {
+    /// The problem in f64, which holds every input as it is.
+    pub fn from_floats([corner, e1, e2, origin, dir]: [DVec3; 5]) -> RayParallelogram<f64> {
+        RayParallelogram {
+            corner: corner.to_array(),
+            e1: e1.to_array(),
+            e2: e2.to_array(),
+            origin: origin.to_array(),
+            dir: dir.to_array(),
+        }
+    }
+}
+
 impl<R: Real> RayParallelogram<R> {
     /// Converts float inputs to precision `R`, naming the first that does not convert.
     pub fn from_f64(vectors: [DVec3; 5]) -> Result<RayParallelogram<R>, InvalidInput> {
@@ -225,6 +238,10 @@ fn solve_inputs_with<R: Real>(
     }
 }
 
+#[allow(
+    clippy::expect_used,
+    reason = "a division by |M| runs only after |M| was checked to be nonzero"
+)]
 fn solve_recorded<R: Real>(
     p: &RayParallelogram<R>,
     rec: &mut Recorder,

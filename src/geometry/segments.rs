@@ -34,7 +34,21 @@ impl<R: Real> SegmentPair<R> {
     pub fn from_f64(points: [DVec2; 4]) -> Result<SegmentPair<R>, InvalidInput> {
         SegmentPair::read(Reading::FloatValue, points)
     }
+}
 
+impl SegmentPair<f64> {
+    /// The pair in f64, which holds every input as it is.
+    pub fn from_floats([a1, a2, b1, b2]: [DVec2; 4]) -> SegmentPair<f64> {
+        SegmentPair {
+            a1: a1.to_array(),
+            a2: a2.to_array(),
+            b1: b1.to_array(),
+            b2: b2.to_array(),
+        }
+    }
+}
+
+impl<R: Real> SegmentPair<R> {
     /// Converts float inputs as [`Reading`] says.
     pub fn read(
         reading: Reading,
@@ -222,6 +236,10 @@ fn solve_inputs_with<R: Real>(
     }
 }
 
+#[allow(
+    clippy::expect_used,
+    reason = "a division by |M| runs only after |M| was checked to be nonzero"
+)]
 fn solve_recorded<R: Real>(p: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSolution<R> {
     let fields = [("A1", &p.a1), ("A2", &p.a2), ("B1", &p.b1), ("B2", &p.b2)];
     if let Err(bad) = check_finite(&fields) {
@@ -368,6 +386,10 @@ fn overflow<R: Real>() -> SegmentsSolution<R> {
 }
 
 /// Parallel lines: one line (collinear) or two. For one line, B1 and B2 are placed on A's parameter t.
+#[allow(
+    clippy::expect_used,
+    reason = "the squared length was checked to be nonzero just above"
+)]
 fn parallel_case<R: Real>(
     rec: &mut Recorder,
     p: &SegmentPair<R>,

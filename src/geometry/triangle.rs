@@ -37,6 +37,20 @@ pub struct RayTriangle<R> {
     pub t_min: R,
 }
 
+impl RayTriangle<f64> {
+    /// The problem in f64, which holds every input as it is.
+    pub fn from_floats([a, b, c, origin, dir]: [DVec3; 5], t_min: f64) -> RayTriangle<f64> {
+        RayTriangle {
+            a: a.to_array(),
+            b: b.to_array(),
+            c: c.to_array(),
+            origin: origin.to_array(),
+            dir: dir.to_array(),
+            t_min,
+        }
+    }
+}
+
 impl<R: Real> RayTriangle<R> {
     /// Converts float inputs to precision `R`, naming the first input that does not convert.
     pub fn from_f64(vectors: [DVec3; 5], t_min: f64) -> Result<RayTriangle<R>, InvalidInput> {
@@ -252,6 +266,10 @@ fn solve_inputs_with<R: Real>(
 
 type Solved<R> = (TriangleOutcome, Option<Barycentric<R>>);
 
+#[allow(
+    clippy::expect_used,
+    reason = "a division by |M| runs only after |M| was checked to be nonzero"
+)]
 fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> {
     let miss = |m| (TriangleOutcome::Miss(m), None);
     let fields = [

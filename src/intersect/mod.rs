@@ -121,9 +121,21 @@ impl<F> Answer<F> {
     }
 }
 
-/// The methods compared.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// The methods compared, in this order (the reference last).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    Serialize,
+    Deserialize,
+    strum::EnumIter,
+    strum::IntoStaticStr,
+)]
 #[serde(rename_all = "kebab-case")]
+#[strum(serialize_all = "kebab-case")]
 pub enum Method {
     /// The lecture's Cramer's rule: four 3x3 determinants.
     Cramer,
@@ -142,17 +154,6 @@ pub enum Method {
 }
 
 impl Method {
-    /// Every method, the reference last.
-    pub const ALL: [Method; 7] = [
-        Method::Cramer,
-        Method::MollerTrumbore,
-        Method::Plane,
-        Method::NormalEquations,
-        Method::Inverse,
-        Method::Watertight,
-        Method::Exact,
-    ];
-
     /// The float methods.
     pub const FLOAT: [Method; 6] = [
         Method::Cramer,
@@ -163,17 +164,9 @@ impl Method {
         Method::Watertight,
     ];
 
-    /// The name on the command line and in JSON.
+    /// The name on the command line and in JSON (`moller-trumbore`).
     pub fn name(self) -> &'static str {
-        match self {
-            Method::Cramer => "cramer",
-            Method::MollerTrumbore => "moller-trumbore",
-            Method::Plane => "plane",
-            Method::NormalEquations => "normal-equations",
-            Method::Inverse => "inverse",
-            Method::Watertight => "watertight",
-            Method::Exact => "exact",
-        }
+        self.into()
     }
 
     /// Runs the method in precision F.
@@ -263,13 +256,7 @@ impl Method {
 impl std::str::FromStr for Method {
     type Err = String;
     fn from_str(text: &str) -> Result<Method, String> {
-        Method::ALL
-            .into_iter()
-            .find(|m| m.name() == text)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
-                format!("unknown method '{text}' (expected {})", names.join(", "))
-            })
+        crate::names::parse("method", text)
     }
 }
 

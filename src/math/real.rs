@@ -10,30 +10,38 @@ use serde::{Deserialize, Serialize};
 
 use crate::math::exact::Exact;
 
-/// The arithmetic precision a solver runs in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+/// The arithmetic precision a solver runs in, cheapest first.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    Serialize,
+    Deserialize,
+    Default,
+    strum::EnumIter,
+    strum::IntoStaticStr,
+)]
 #[serde(rename_all = "kebab-case")]
+#[strum(serialize_all = "kebab-case")]
 pub enum Precision {
     /// IEEE single precision.
+    #[strum(serialize = "f32")]
     F32,
     /// IEEE double precision.
     #[default]
+    #[strum(serialize = "f64")]
     F64,
     /// Exact rational arithmetic.
     Exact,
 }
 
 impl Precision {
-    /// Every precision, cheapest first.
-    pub const ALL: [Precision; 3] = [Precision::F32, Precision::F64, Precision::Exact];
-
     /// The name used on the command line and in JSON: `f32`, `f64`, `exact`.
     pub fn name(self) -> &'static str {
-        match self {
-            Precision::F32 => "f32",
-            Precision::F64 => "f64",
-            Precision::Exact => "exact",
-        }
+        self.into()
     }
 }
 
@@ -58,10 +66,7 @@ pub fn in_precision<W: InPrecision>(precision: Precision, work: W) -> W::Output 
 impl std::str::FromStr for Precision {
     type Err = String;
     fn from_str(text: &str) -> Result<Precision, String> {
-        Precision::ALL
-            .into_iter()
-            .find(|p| p.name() == text)
-            .ok_or_else(|| format!("unknown precision '{text}' (expected f32, f64 or exact)"))
+        crate::names::parse("precision", text)
     }
 }
 

@@ -255,6 +255,7 @@ pub fn render_rows(
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2, checked just above.
+        #[allow(unsafe_code)]
         return unsafe { render_rows_avx2(prepared, first, pixels, covered) };
     }
     render_rows_inlined(prepared, first, pixels, covered)

@@ -9,8 +9,20 @@ use crate::geometry::parallelogram::{RayParallelogram, solve};
 use crate::intersect::{Case, Method};
 use crate::math::linalg::V3;
 
-/// A mistake students make, rendered beside the correct image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// A mistake students make, rendered beside the correct image (in menu order).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    Serialize,
+    Deserialize,
+    strum::EnumIter,
+    strum::IntoStaticStr,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum Bug {
     /// Seed 003's outside test with `and` where `or` is meant.
     AndForOr,
@@ -23,22 +35,9 @@ pub enum Bug {
 }
 
 impl Bug {
-    /// Every bug.
-    pub const ALL: [Bug; 4] = [
-        Bug::AndForOr,
-        Bug::NegativeT,
-        Bug::VInsteadOfSum,
-        Bug::NormalizedDirection,
-    ];
-
-    /// The name on the command line.
+    /// The name on the command line (`negative-t`).
     pub fn key(self) -> &'static str {
-        match self {
-            Bug::AndForOr => "and-for-or",
-            Bug::NegativeT => "negative-t",
-            Bug::VInsteadOfSum => "v-instead-of-sum",
-            Bug::NormalizedDirection => "normalized-direction",
-        }
+        self.into()
     }
 
     /// A short name.
@@ -77,13 +76,7 @@ impl Bug {
 impl std::str::FromStr for Bug {
     type Err = String;
     fn from_str(key: &str) -> Result<Bug, String> {
-        Bug::ALL
-            .into_iter()
-            .find(|b| b.key() == key)
-            .ok_or_else(|| {
-                let keys: Vec<&str> = Bug::ALL.iter().map(|b| b.key()).collect();
-                format!("unknown bug '{key}' (expected one of {})", keys.join(", "))
-            })
+        crate::names::parse("bug", key)
     }
 }
 

@@ -108,6 +108,18 @@ impl Problem {
     }
 }
 
+/// The first built-in problem that `pick` takes: a view's starting scene.
+#[allow(
+    clippy::expect_used,
+    reason = "a preset of every kind ships; the scene tests load each one"
+)]
+pub fn first_built_in<T>(pick: impl Fn(Problem) -> Option<T>) -> T {
+    built_in()
+        .into_iter()
+        .find_map(|scene| pick(scene.problem))
+        .expect("a preset of each kind ships")
+}
+
 /// A scene file: a title, a one-line note, and the problem.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -165,6 +177,10 @@ impl Scene {
     }
 
     /// Pretty RON, as saved.
+    #[allow(
+        clippy::expect_used,
+        reason = "a scene holds only numbers, strings and enums, which RON always writes"
+    )]
     pub fn to_ron(&self) -> String {
         let config = ron::ser::PrettyConfig::new().depth_limit(3);
         ron::ser::to_string_pretty(self, config).expect("scenes always serialize")
@@ -326,6 +342,10 @@ pub const BUILT_IN: &[(&str, &str)] = &[
 ];
 
 /// Parses every built-in scene, in menu order.
+#[allow(
+    clippy::expect_used,
+    reason = "the shipped scenes are embedded at build time; tests load every one"
+)]
 pub fn built_in() -> Vec<Scene> {
     BUILT_IN
         .iter()
@@ -335,6 +355,10 @@ pub fn built_in() -> Vec<Scene> {
 
 /// A built-in scene by its file name without `.ron` (`triangle-outside`), as a web page's
 /// `?preset=` names it.
+#[allow(
+    clippy::expect_used,
+    reason = "the shipped scenes are embedded at build time; tests load every one"
+)]
 pub fn preset(stem: &str) -> Option<Scene> {
     BUILT_IN
         .iter()

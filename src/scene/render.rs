@@ -34,9 +34,21 @@ pub enum Camera {
     },
 }
 
-/// The effects a scene can call for; scene files name them as strings (`"facing-ratio"`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// The effects a scene can call for, in menu order; scene files name them as strings (`"facing-ratio"`).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    Serialize,
+    Deserialize,
+    strum::EnumIter,
+    strum::IntoStaticStr,
+)]
 #[serde(rename_all = "kebab-case", try_from = "String", into = "String")]
+#[strum(serialize_all = "kebab-case")]
 pub enum Effect {
     /// White where something is hit (a hit mask).
     Coverage,
@@ -53,26 +65,9 @@ pub enum Effect {
 }
 
 impl Effect {
-    /// Every effect.
-    pub const ALL: [Effect; 6] = [
-        Effect::Coverage,
-        Effect::Depth,
-        Effect::FacingRatio,
-        Effect::BarycentricColor,
-        Effect::SmoothNormals,
-        Effect::Texture,
-    ];
-
-    /// The name in scene files.
+    /// The name in scene files (`facing-ratio`).
     pub fn name(self) -> &'static str {
-        match self {
-            Effect::Coverage => "coverage",
-            Effect::Depth => "depth",
-            Effect::FacingRatio => "facing-ratio",
-            Effect::BarycentricColor => "barycentric-color",
-            Effect::SmoothNormals => "smooth-normals",
-            Effect::Texture => "texture",
-        }
+        self.into()
     }
 
     /// What it computes, for a tooltip.
@@ -98,16 +93,7 @@ impl Effect {
 impl TryFrom<String> for Effect {
     type Error = String;
     fn try_from(name: String) -> Result<Effect, String> {
-        Effect::ALL
-            .into_iter()
-            .find(|e| e.name() == name)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Effect::ALL.iter().map(|e| e.name()).collect();
-                format!(
-                    "unknown effect '{name}' (expected one of {})",
-                    names.join(", ")
-                )
-            })
+        crate::names::parse("effect", &name)
     }
 }
 

@@ -173,14 +173,15 @@ impl ShownValue<'_> {
 
 /// The values of one status line in one format: all fractions when every one is a short fraction
 /// (`α = 1/4  β = 1/2  t = 1`), else all decimals (never `α = 0.5  β = 1/2`).
-pub fn shown_values(values: &[ShownValue<'_>]) -> Vec<String> {
-    let fractions: Option<Vec<String>> = values.iter().map(ShownValue::fraction).collect();
-    fractions.unwrap_or_else(|| {
+pub fn shown_values<const N: usize>(values: &[ShownValue<'_>; N]) -> [String; N] {
+    let fractions = values.each_ref().map(ShownValue::fraction);
+    if fractions.iter().all(Option::is_some) {
+        fractions.map(Option::unwrap_or_default)
+    } else {
         values
-            .iter()
+            .each_ref()
             .map(|v| crate::trace::format_float(v.value, crate::geometry::Precision::F64))
-            .collect()
-    })
+    }
 }
 
 /// Rounds to a multiple of `step`, then to the float whose shortest decimal is that multiple
