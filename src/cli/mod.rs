@@ -4,6 +4,7 @@
 
 pub mod batch;
 pub mod input;
+mod scan;
 pub mod solve;
 pub mod worksheet;
 
