@@ -372,8 +372,43 @@ fn write_png(image: &crate::render::Image, output: &std::path::Path) -> Result<(
     .map_err(|e| e.to_string())
 }
 
+/// Prepares a render scene; on a terminal, a line on standard error shows the load of each mesh
+/// that takes a while (a large OBJ takes seconds), redrawn as it goes and ending with its size and
+/// time.
+fn prepare_showing_progress(
+    scene: &crate::render::RenderScene,
+    assets: crate::render::assets::OnDisk,
+) -> Result<crate::render::Prepared, String> {
+    use std::io::IsTerminal;
+    let terminal = std::io::stderr().is_terminal();
+    let mut clock = crate::platform::Stopwatch::start();
+    let mut current = String::new();
+    let mut shown: Option<f64> = None;
+    crate::render::scene_load::prepare_with_progress(scene, assets, &mut |name, progress| {
+        if current != name {
+            (current, clock, shown) = (name.to_string(), crate::platform::Stopwatch::start(), None);
+        }
+        // From a quarter of a second on, redrawn every 1% at most: a small mesh prints nothing.
+        let due =
+            shown.is_none_or(|last| progress.fraction - last >= 0.01 || progress.fraction == 1.0);
+        if terminal && clock.seconds() > 0.25 && due {
+            shown = Some(progress.fraction);
+            err_part!(
+                "\rloading {name}: {:3.0}% ({} triangles, {:.1} s)",
+                progress.fraction * 100.0,
+                progress.triangles,
+                clock.seconds()
+            );
+        }
+        if progress.fraction == 1.0 && shown.is_some() {
+            err!("");
+        }
+        true
+    })
+}
+
 fn run_render(args: RenderArgs) -> i32 {
-    use crate::render::{Effect, Prepared, assets::OnDisk, render};
+    use crate::render::{Effect, render};
     use crate::scene::{Problem, Scene};
     let name = args.scene.display().to_string();
     if let Err(message) = check_png_name(&args.output) {
@@ -394,7 +429,8 @@ fn run_render(args: RenderArgs) -> i32 {
             return 1;
         }
     };
-    let mut prepared = match Prepared::new(&scene, &OnDisk::beside(&args.scene)) {
+    let assets = crate::render::assets::OnDisk::beside(&args.scene);
+    let mut prepared = match prepare_showing_progress(&scene, assets) {
         Ok(prepared) => prepared,
         Err(message) => {
             err!("raylab: {name}: {message}");
