@@ -18,9 +18,10 @@ use super::widgets::scene3d::{Canvas, OrbitCamera};
 use crate::accuracy::Method;
 use crate::geometry::linalg::{add, norm_f64, scale};
 use crate::platform::Job;
-use crate::render::assets::OnDisk;
+use crate::render::assets::{AssetSource, OnDisk};
 use crate::render::objects::Geometry;
 use crate::render::probe::{Probe, probe};
+use crate::render::scene_load::{SceneLoad, UNITS_PER_MESH, mesh_names};
 use crate::render::{Bug, Effect, Prepared, RenderJob, RenderScene, Rendered};
 use crate::scene::{ParallelogramScene, TriangleScene};
 
@@ -60,6 +61,8 @@ pub struct RenderView {
 #[derive(Default)]
 struct Runtime {
     prepared: Option<(String, Result<Arc<Prepared>, String>)>,
+    /// A scene with large meshes being prepared in the background.
+    loading: Option<Loading>,
     correct: Slot,
     buggy: Slot,
     probe: Option<Probe>,
@@ -85,6 +88,32 @@ impl std::fmt::Debug for Runtime {
             )
             .finish_non_exhaustive()
     }
+}
+
+/// A scene being prepared in the background, its meshes loading with their progress.
+struct Loading {
+    /// The scene it is for.
+    key: String,
+    /// Its mesh files, in the order they load.
+    meshes: Vec<String>,
+    job: Job<Result<Prepared, String>>,
+}
+
+/// Meshes larger than this in all load in the background, with a progress bar and Cancel; smaller
+/// ones load at once (in well under a second).
+const BACKGROUND_MESH_BYTES: u64 = 4 << 20;
+
+/// True if the scene's meshes are found and large enough to load in the background (a missing or
+/// refused one is reported at once, by the plain preparation).
+fn loads_in_background(scene: &RenderScene, assets: &OnDisk) -> bool {
+    let mut total = 0;
+    for name in mesh_names(scene) {
+        match assets.size(&name, crate::files::MESH) {
+            Ok(size) => total += size,
+            Err(_) => return false,
+        }
+    }
+    total > BACKGROUND_MESH_BYTES
 }
 
 /// One image: the render in flight and the one shown.
@@ -152,20 +181,38 @@ fn assets(folder: Option<&str>) -> OnDisk {
 impl RenderView {
     /// Loads a scene whose file is in `folder` (`None` for a preset), or says why it cannot be
     /// rendered (the current scene and folder are then kept).
+    ///
+    /// A scene with large meshes is only checked here: its meshes load in the background
+    /// ([`RenderView::update`]), with a progress bar and a Cancel button.
     pub fn load(&mut self, scene: RenderScene, folder: Option<String>) -> Result<(), String> {
-        let prepared = Prepared::new(&scene, &assets(folder.as_deref()))?;
+        let files = assets(folder.as_deref());
+        let prepared = if loads_in_background(&scene, &files) {
+            scene.check()?;
+            None
+        } else {
+            Some(Prepared::new(&scene, &files)?)
+        };
         self.folder = folder;
         self.effects = scene.effects.clone();
         self.runtime = Runtime::default();
-        self.runtime.prepared = Some((format!("{scene:?}"), Ok(Arc::new(prepared))));
+        if let Some(prepared) = prepared {
+            self.runtime.prepared = Some((format!("{scene:?}"), Ok(Arc::new(prepared))));
+        }
         self.scene = scene;
         self.probed = None;
         Ok(())
     }
 
-    /// True while a render runs.
+    /// True while a render runs (or the scene's meshes load).
     pub fn is_rendering(&self) -> bool {
-        self.runtime.correct.running.is_some() || self.runtime.buggy.running.is_some()
+        self.runtime.correct.running.is_some()
+            || self.runtime.buggy.running.is_some()
+            || self.runtime.loading.is_some()
+    }
+
+    /// True while the scene's meshes load.
+    pub fn is_loading(&self) -> bool {
+        self.runtime.loading.is_some()
     }
 
     /// The last finished correct render.
@@ -192,6 +239,9 @@ impl RenderView {
             .as_ref()
             .is_none_or(|(k, _)| *k != key)
         {
+            if self.runtime.loading.as_ref().is_some_and(|l| l.key == key) {
+                return Err("the scene's meshes are still loading".into());
+            }
             let prepared =
                 Prepared::new(&self.scene, &assets(self.folder.as_deref())).map(Arc::new);
             self.runtime.prepared = Some((key, prepared));
@@ -206,6 +256,9 @@ impl RenderView {
 
     /// Starts renders whose inputs changed and takes finished ones; asks for frames while running.
     pub fn update(&mut self, ctx: &egui::Context) {
+        if self.poll_loading(ctx) {
+            return;
+        }
         let key = |bug: Option<Bug>| {
             format!(
                 "{:?}{:?}{:?}{:?}",
@@ -288,6 +341,100 @@ impl RenderView {
         }
     }
 
+    /// Starts the background preparation of a scene with large meshes, or takes its result; true
+    /// while it runs (nothing renders until it is done).
+    fn poll_loading(&mut self, ctx: &egui::Context) -> bool {
+        let key = format!("{:?}", self.scene);
+        if self
+            .runtime
+            .prepared
+            .as_ref()
+            .is_some_and(|(k, _)| *k == key)
+        {
+            self.runtime.loading = None;
+            return false;
+        }
+        if self.runtime.loading.as_ref().is_none_or(|l| l.key != key) {
+            self.runtime.loading = None;
+            let files = assets(self.folder.as_deref());
+            if !loads_in_background(&self.scene, &files) {
+                return false;
+            }
+            let waker = ctx.clone();
+            let work = SceneLoad::new(self.scene.clone(), files);
+            match Job::start("raylab-load", work, move || waker.request_repaint()) {
+                Ok(job) => {
+                    let meshes = mesh_names(&self.scene);
+                    self.runtime.loading = Some(Loading {
+                        key: key.clone(),
+                        meshes,
+                        job,
+                    });
+                }
+                Err(error) => {
+                    self.runtime.prepared = Some((key, Err(error)));
+                    return false;
+                }
+            }
+        }
+        let loading = self.runtime.loading.as_mut().expect("started above");
+        let finished = match loading.job.failure() {
+            Some(failure) => Some(Err(format!(
+                "loading the scene stopped on an internal error: {failure}"
+            ))),
+            None => loading.job.poll(),
+        };
+        if let Some(result) = finished {
+            self.runtime.loading = None;
+            self.runtime.prepared = Some((key, result.map(Arc::new)));
+            return false;
+        }
+        // On the web the work runs in poll, a slice a frame: ask for the next frame.
+        if !crate::platform::THREADS {
+            ctx.request_repaint();
+        }
+        true
+    }
+
+    /// The load's progress bar and its Cancel button; a cancelled load leaves the scene unrendered,
+    /// with a note saying so.
+    fn loading_ui(&mut self, ui: &mut Ui) {
+        let Some(loading) = &self.runtime.loading else {
+            return;
+        };
+        let (done, total) = loading.job.progress();
+        let count = loading.meshes.len();
+        let index = (done / UNITS_PER_MESH).min(count.saturating_sub(1));
+        let text = if done / UNITS_PER_MESH >= count {
+            "preparing the scene…".to_string()
+        } else {
+            format!(
+                "loading mesh {} of {count} ({})… {}%",
+                index + 1,
+                loading.meshes[index],
+                done % UNITS_PER_MESH * 100 / UNITS_PER_MESH
+            )
+        };
+        let mut cancel = false;
+        ui.horizontal(|ui| {
+            cancel = ui
+                .button("Cancel")
+                .on_hover_text("Stop loading the scene's meshes")
+                .clicked();
+            ui.add(egui::ProgressBar::new(done as f32 / total as f32).text(text));
+        });
+        if cancel {
+            let key = loading.key.clone();
+            self.runtime.loading = None;
+            self.runtime.prepared = Some((
+                key,
+                Err(
+                    "the load of its meshes was cancelled (open the scene again to load it)".into(),
+                ),
+            ));
+        }
+    }
+
     /// The choices a probe depends on.
     fn probe_key(&self) -> String {
         format!(
@@ -327,6 +474,7 @@ impl RenderView {
             Mode::Image => {
                 // The image comes first: on a zoomed projector the text below it scrolls, the
                 // image keeps its place.
+                self.loading_ui(ui);
                 self.status_ui(ui);
                 let below = 4.5 * ui.text_style_height(&egui::TextStyle::Body);
                 self.images_ui(ui, &mut action, below);
