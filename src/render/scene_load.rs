@@ -254,4 +254,37 @@ mod tests {
         };
         assert_eq!(error, Prepared::new(&missing, &Grid(2)).unwrap_err());
     }
+
+    /// A million triangles (a 707x707 grid, 32 MB of OBJ): loaded with rising progress, timed.
+    /// `cargo test --release --lib one_million -- --ignored --nocapture` prints the time (about 1 s
+    /// on one core of the development machine); the bound is a hang guard.
+    #[test]
+    #[ignore = "a release-build measurement"]
+    fn one_million_triangles_load_with_progress() {
+        /// The file's bytes, made before the clock starts.
+        struct Made(Vec<u8>);
+        impl AssetSource for Made {
+            fn read(&self, _: &str, _: FileKind) -> Result<Vec<u8>, String> {
+                Ok(self.0.clone())
+            }
+        }
+        let file = Made(grid_obj(707).into_bytes());
+        let clock = Stopwatch::start();
+        let mut reports = 0;
+        let mut last = 0.0;
+        let triangles = load_mesh_with_progress(&file, "meshes/grid.obj", &mut |p| {
+            assert!(p.fraction >= last);
+            (last, reports) = (p.fraction, reports + 1);
+            true
+        })
+        .unwrap();
+        let seconds = clock.seconds();
+        assert_eq!(triangles.len(), 2 * 707 * 707);
+        assert_eq!(last, 1.0);
+        println!(
+            "{} triangles in {seconds:.2} s, {reports} progress reports",
+            triangles.len()
+        );
+        assert!(seconds < 60.0, "{seconds} s");
+    }
 }
