@@ -72,7 +72,7 @@ impl<'a> RawCase<'a> {
     /// Reads a line: the hand-written scanner for the common shape, serde_json for anything else.
     fn read(line: &'a str) -> Result<RawCase<'a>, String> {
         let mut case = RawCase::default();
-        if scan::object(line, |key, value| case.add(Cow::Borrowed(key), value)).is_some() {
+        if scanner_on() && scan::object(line, |key, v| case.add(Cow::Borrowed(key), v)).is_some() {
             return Ok(case);
         }
         serde_json::from_str(line).map_err(|e| format!("not valid JSON: {e}"))
@@ -102,6 +102,20 @@ impl<'de> Visitor<'de> for RawCaseVisitor {
         }
         Ok(case)
     }
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Set by a test that compares the scanner's answers with serde_json's alone.
+    static SERDE_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// True where the scanner reads first (everywhere but in that test).
+fn scanner_on() -> bool {
+    #[cfg(test)]
+    return !SERDE_ONLY.with(std::cell::Cell::get);
+    #[cfg(not(test))]
+    true
 }
 
 /// A JSON string's text (borrowed unless it has escapes), or `None` if the value is not a string.
@@ -190,7 +204,7 @@ fn vector<R: ReadNumber, const N: usize>(raw: &str) -> Result<[R; N], String> {
             values[i] = Some(component(i, part)?);
         }
     } else if raw.starts_with('[') {
-        let (first, count) = match scan::array::<N>(raw) {
+        let (first, count) = match scanner_on().then(|| scan::array::<N>(raw)).flatten() {
             Some(items) => items,
             None => {
                 let items: Items<N> =
@@ -643,5 +657,63 @@ mod tests {
         let (bad, lines) =
             statuses(br#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1"}"#);
         assert_eq!((bad, lines.len()), (0, 1));
+    }
+
+    /// Every answer and every error message is the same with the scanner as with serde_json alone,
+    /// on real lines and on thousands of mutations of them (bytes dropped, swapped or added).
+    #[test]
+    fn the_scanner_answers_as_serde_json_alone() {
+        use rand::{Rng, SeedableRng};
+        let seeds = [
+            r#"{"kind":"triangle","a":[3,0,0],"b":[0,3,0],"c":[0,0,3],"origin":[0.25,-1.5e-1,0],"dir":[1,1,1]}"#,
+            r#"{"kind":"triangle","a":"3,0,0","b":"0,3,0","c":"0,0,3","origin":"0,0,0","dir":"1,1,1","tmin":"1/2"}"#,
+            r#" { "kind" : "segments" , "a1" : [ 1 , "2" ] , "a2":[6,1],"b1":"2,6","b2":[5,1] } "#,
+            r#"{"kind":"parallelogram","corner":[0,0,0],"e1":[2,0,0],"e2":[0,1,0],"origin":[0.5,0.5,1],"dir":[0,0,-1],"precision":"exact"}"#,
+            r#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1","kind":"triangle","x":[]}"#,
+            r#"{"kind":"segm\u0065nts","a1":["1","2"],"a2":[6,1E0],"b1":[2,6],"b2":[5,-0]}"#,
+        ];
+        let alphabet: Vec<char> = "{}[],:\" -.0123456789eE+nul\t\\/xé".chars().collect();
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(15);
+        let mut input = String::new();
+        for seed in seeds {
+            input.push_str(seed);
+            input.push('\n');
+            for _ in 0..3000 {
+                let mut chars: Vec<char> = seed.chars().collect();
+                for _ in 0..rng.random_range(1..=3) {
+                    let at = rng.random_range(0..chars.len());
+                    let new = alphabet[rng.random_range(0..alphabet.len())];
+                    match rng.random_range(0..3) {
+                        0 => drop(chars.remove(at)),
+                        1 => chars[at] = new,
+                        _ => chars.insert(at, new),
+                    }
+                }
+                input.extend(chars);
+                input.push('\n');
+            }
+        }
+        let answers = |serde_only: bool| {
+            SERDE_ONLY.with(|s| s.set(serde_only));
+            let mut out = Vec::new();
+            for precision in [Precision::F64, Precision::Exact] {
+                run_batch(
+                    input.as_bytes(),
+                    &mut out,
+                    std::io::sink(),
+                    precision,
+                    false,
+                )
+                .unwrap();
+            }
+            SERDE_ONLY.with(|s| s.set(false));
+            String::from_utf8(out).unwrap()
+        };
+        let (fast, slow) = (answers(false), answers(true));
+        for (i, (a, b)) in fast.lines().zip(slow.lines()).enumerate() {
+            assert_eq!(a, b, "line {}", i + 1);
+        }
+        assert_eq!(fast.lines().count(), slow.lines().count());
+        assert!(fast.contains("\"status\":\"error\"") && fast.contains("\"status\":\"hit\""));
     }
 }
