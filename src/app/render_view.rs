@@ -18,9 +18,10 @@ use super::widgets::scene3d::{Canvas, OrbitCamera};
 use crate::intersect::Method;
 use crate::math::linalg::{add, norm_f64, scale};
 use crate::platform::Job;
-use crate::render::assets::OnDisk;
+use crate::render::assets::{AssetSource, OnDisk};
 use crate::render::objects::Geometry;
 use crate::render::probe::{Probe, probe};
+use crate::render::scene_load::{SceneLoad, UNITS_PER_MESH, mesh_names};
 use crate::render::{Bug, Prepared, RenderJob, Rendered};
 use crate::scene::render::{Effect, RenderScene};
 use crate::scene::{ParallelogramScene, TriangleScene};
@@ -60,12 +61,14 @@ pub struct RenderView {
 /// What is not saved: the prepared scene, the jobs, the images, the probe.
 #[derive(Default)]
 struct Runtime {
-    prepared: Option<(String, Result<Arc<Prepared>, String>)>,
+    prepared: Option<(RenderScene, Result<Arc<Prepared>, String>)>,
+    /// A scene with large meshes being prepared in the background.
+    loading: Option<Loading>,
     correct: Slot,
     buggy: Slot,
     probe: Option<Probe>,
-    /// What the probe was made under (scene, effects, method, pixel): it is redone when that changes.
-    probe_key: String,
+    /// What the probe was made under: it is redone when that changes.
+    probe_key: Option<Choices>,
     /// The probed ray with what it met, as the problem its steps are shown for.
     probed_problem: Option<Action>,
 }
@@ -88,19 +91,57 @@ impl std::fmt::Debug for Runtime {
     }
 }
 
+/// A scene being prepared in the background, its meshes loading with their progress.
+struct Loading {
+    /// The scene it is for.
+    key: RenderScene,
+    /// Its mesh files, in the order they load.
+    meshes: Vec<String>,
+    job: Job<Result<Prepared, String>>,
+}
+
+/// Meshes larger than this in all load in the background, with a progress bar and Cancel; smaller
+/// ones load at once (in well under a second).
+const BACKGROUND_MESH_BYTES: u64 = 4 << 20;
+
+/// True if the scene's meshes are found and large enough to load in the background (a missing or
+/// refused one is reported at once, by the plain preparation).
+fn loads_in_background(scene: &RenderScene, assets: &OnDisk) -> bool {
+    let mut total = 0;
+    for name in mesh_names(scene) {
+        match assets.size(&name, crate::files::MESH) {
+            Ok(size) => total += size,
+            Err(_) => return false,
+        }
+    }
+    total > BACKGROUND_MESH_BYTES
+}
+
 /// One image: the render in flight and the one shown.
 #[derive(Default)]
 struct Slot {
-    running: Option<(String, Job<Rendered>)>,
+    running: Option<(Choices, Job<Rendered>)>,
     shown: Option<Shown>,
     error: Option<String>,
     /// The choices whose render failed inside (a panic): not started again until they change.
-    failed: Option<String>,
+    failed: Option<Choices>,
+}
+
+/// What a render (or a probe) depends on: it is made again when any of these change.
+#[derive(Clone, Debug, PartialEq)]
+struct Choices {
+    scene: RenderScene,
+    effects: Vec<Effect>,
+    method: Option<Method>,
+    /// The bug of the second image; for a probe, none.
+    bug: Option<Bug>,
+    /// The probed pixel (probes only).
+    pixel: Option<(usize, usize)>,
 }
 
 /// A finished render on screen.
 struct Shown {
-    key: String,
+    key: Choices,
     rendered: Rendered,
     texture: TextureHandle,
 }
@@ -150,20 +191,38 @@ fn assets(folder: Option<&str>) -> OnDisk {
 impl RenderView {
     /// Loads a scene whose file is in `folder` (`None` for a preset), or says why it cannot be
     /// rendered (the current scene and folder are then kept).
+    ///
+    /// A scene with large meshes is only checked here: its meshes load in the background
+    /// ([`RenderView::update`]), with a progress bar and a Cancel button.
     pub fn load(&mut self, scene: RenderScene, folder: Option<String>) -> Result<(), String> {
-        let prepared = Prepared::new(&scene, &assets(folder.as_deref()))?;
+        let files = assets(folder.as_deref());
+        let prepared = if loads_in_background(&scene, &files) {
+            scene.check()?;
+            None
+        } else {
+            Some(Prepared::new(&scene, &files)?)
+        };
         self.folder = folder;
         self.effects = scene.effects.clone();
         self.runtime = Runtime::default();
-        self.runtime.prepared = Some((format!("{scene:?}"), Ok(Arc::new(prepared))));
+        if let Some(prepared) = prepared {
+            self.runtime.prepared = Some((scene.clone(), Ok(Arc::new(prepared))));
+        }
         self.scene = scene;
         self.probed = None;
         Ok(())
     }
 
-    /// True while a render runs.
+    /// True while a render runs (or the scene's meshes load).
     pub fn is_rendering(&self) -> bool {
-        self.runtime.correct.running.is_some() || self.runtime.buggy.running.is_some()
+        self.runtime.correct.running.is_some()
+            || self.runtime.buggy.running.is_some()
+            || self.runtime.loading.is_some()
+    }
+
+    /// True while the scene's meshes load.
+    pub fn is_loading(&self) -> bool {
+        self.runtime.loading.is_some()
     }
 
     /// The last finished correct render.
@@ -184,13 +243,16 @@ impl RenderView {
     /// The scene prepared with the current choices (and a bug), or why not.
     #[allow(clippy::expect_used, reason = "the slot was filled just above")]
     fn prepared(&mut self, bug: Option<Bug>) -> Result<Arc<Prepared>, String> {
-        let key = format!("{:?}", self.scene);
+        let key = self.scene.clone();
         if self
             .runtime
             .prepared
             .as_ref()
             .is_none_or(|(k, _)| *k != key)
         {
+            if self.runtime.loading.as_ref().is_some_and(|l| l.key == key) {
+                return Err("the scene's meshes are still loading".into());
+            }
             let prepared =
                 Prepared::new(&self.scene, &assets(self.folder.as_deref())).map(Arc::new);
             self.runtime.prepared = Some((key, prepared));
@@ -209,11 +271,15 @@ impl RenderView {
         reason = "the slot's job was running: it just finished"
     )]
     pub fn update(&mut self, ctx: &egui::Context) {
-        let key = |bug: Option<Bug>| {
-            format!(
-                "{:?}{:?}{:?}{:?}",
-                self.scene, self.effects, self.method, bug
-            )
+        if self.poll_loading(ctx) {
+            return;
+        }
+        let key = |bug: Option<Bug>| Choices {
+            scene: self.scene.clone(),
+            effects: self.effects.clone(),
+            method: self.method,
+            bug,
+            pixel: None,
         };
         let correct_key = key(None);
         let buggy_key = self.bug.map(|b| key(Some(b)));
@@ -286,22 +352,121 @@ impl RenderView {
             ctx.request_repaint();
         }
         // A probe follows the choices it was made under.
-        if self.probed.is_some() && self.runtime.probe_key != self.probe_key() {
+        if self.probed.is_some() && self.runtime.probe_key.as_ref() != Some(&self.probe_key()) {
             self.reprobe();
         }
     }
 
+    /// Starts the background preparation of a scene with large meshes, or takes its result; true
+    /// while it runs (nothing renders until it is done).
+    fn poll_loading(&mut self, ctx: &egui::Context) -> bool {
+        let key = self.scene.clone();
+        if self
+            .runtime
+            .prepared
+            .as_ref()
+            .is_some_and(|(k, _)| *k == key)
+        {
+            self.runtime.loading = None;
+            return false;
+        }
+        if self.runtime.loading.as_ref().is_none_or(|l| l.key != key) {
+            self.runtime.loading = None;
+            let files = assets(self.folder.as_deref());
+            if !loads_in_background(&self.scene, &files) {
+                return false;
+            }
+            let waker = ctx.clone();
+            let work = SceneLoad::new(self.scene.clone(), files);
+            match Job::start("raylab-load", work, move || waker.request_repaint()) {
+                Ok(job) => {
+                    let meshes = mesh_names(&self.scene);
+                    self.runtime.loading = Some(Loading {
+                        key: key.clone(),
+                        meshes,
+                        job,
+                    });
+                }
+                Err(error) => {
+                    self.runtime.prepared = Some((key, Err(error)));
+                    return false;
+                }
+            }
+        }
+        let Some(loading) = self.runtime.loading.as_mut() else {
+            return false;
+        };
+        let finished = match loading.job.failure() {
+            Some(failure) => Some(Err(format!(
+                "loading the scene stopped on an internal error: {failure}"
+            ))),
+            None => loading.job.poll(),
+        };
+        if let Some(result) = finished {
+            self.runtime.loading = None;
+            self.runtime.prepared = Some((key, result.map(Arc::new)));
+            return false;
+        }
+        // On the web the work runs in poll, a slice a frame: ask for the next frame.
+        if !crate::platform::THREADS {
+            ctx.request_repaint();
+        }
+        true
+    }
+
+    /// The load's progress bar and its Cancel button; a cancelled load leaves the scene unrendered,
+    /// with a note saying so.
+    fn loading_ui(&mut self, ui: &mut Ui) {
+        let Some(loading) = &self.runtime.loading else {
+            return;
+        };
+        let (done, total) = loading.job.progress();
+        let count = loading.meshes.len();
+        let index = (done / UNITS_PER_MESH).min(count.saturating_sub(1));
+        let text = if done / UNITS_PER_MESH >= count {
+            "preparing the scene…".to_string()
+        } else {
+            format!(
+                "loading mesh {} of {count} ({})… {}%",
+                index + 1,
+                loading.meshes[index],
+                done % UNITS_PER_MESH * 100 / UNITS_PER_MESH
+            )
+        };
+        let mut cancel = false;
+        ui.horizontal(|ui| {
+            cancel = ui
+                .button("Cancel")
+                .on_hover_text("Stop loading the scene's meshes")
+                .clicked();
+            ui.add(egui::ProgressBar::new(done as f32 / total as f32).text(text));
+        });
+        if cancel {
+            let key = loading.key.clone();
+            self.runtime.loading = None;
+            self.runtime.prepared = Some((
+                key,
+                Err(
+                    "the load of its meshes was cancelled (open the scene again to load it)".into(),
+                ),
+            ));
+        }
+    }
+
     /// The choices a probe depends on.
-    fn probe_key(&self) -> String {
-        format!(
-            "{:?}{:?}{:?}{:?}",
-            self.scene, self.effects, self.method, self.probed
-        )
+    fn probe_key(&self) -> Choices {
+        Choices {
+            scene: self.scene.clone(),
+            effects: self.effects.clone(),
+            method: self.method,
+            bug: None,
+            pixel: self.probed,
+        }
     }
 
     /// Casts the probed pixel's ray again under the current choices.
     fn reprobe(&mut self) {
-        self.runtime.probe_key = self.probe_key();
+        self.runtime.probe_key = Some(self.probe_key());
         let (probe, problem) = match (self.probed, self.prepared(None)) {
             (Some((row, column)), Ok(prepared))
                 if row < prepared.height && column < prepared.width =>
@@ -330,6 +495,7 @@ impl RenderView {
             Mode::Image => {
                 // The image comes first: on a zoomed projector the text below it scrolls, the
                 // image keeps its place.
+                self.loading_ui(ui);
                 self.status_ui(ui);
                 let below = 4.5 * ui.text_style_height(&egui::TextStyle::Body);
                 self.images_ui(ui, &mut action, below);

@@ -17,6 +17,7 @@ use serde_json::json;
 use serde_json::value::RawValue;
 
 use super::input::{ReadNumber, quoted};
+use super::scan;
 use super::solve::{FieldSink, Posed, solve_posed, solve_posed_traced};
 use crate::geometry::parallelogram::RayParallelogram;
 use crate::geometry::segments::SegmentPair;
@@ -39,15 +40,43 @@ fn allowed(kind: &str) -> Option<&'static [&'static str]> {
     }
 }
 
-/// One line's JSON object, its values kept as the raw text of the line (nothing parsed yet).
+/// One line's JSON object, its values kept as the raw JSON text of the line (nothing parsed yet).
 #[derive(Default)]
 struct RawCase<'a> {
-    kind: Option<&'a RawValue>,
-    precision: Option<&'a RawValue>,
+    kind: Option<&'a str>,
+    precision: Option<&'a str>,
     /// By index in [`FIELDS`], with the key's position in the object.
-    values: [Option<(usize, &'a RawValue)>; FIELDS.len()],
+    values: [Option<(usize, &'a str)>; FIELDS.len()],
     /// The first key that is no field at all, with its position.
-    stranger: Option<(usize, String)>,
+    stranger: Option<(usize, Cow<'a, str>)>,
+    /// How many members so far.
+    count: usize,
+}
+
+impl<'a> RawCase<'a> {
+    /// Adds the next member (a later duplicate replaces an earlier one, as in serde_json's maps).
+    fn add(&mut self, key: Cow<'a, str>, value: &'a str) {
+        let position = self.count;
+        self.count += 1;
+        match key.as_ref() {
+            "kind" => self.kind = Some(value),
+            "precision" => self.precision = Some(value),
+            name => match FIELDS.iter().position(|f| *f == name) {
+                Some(i) => self.values[i] = Some((position, value)),
+                None if self.stranger.is_none() => self.stranger = Some((position, key)),
+                None => {}
+            },
+        }
+    }
+
+    /// Reads a line: the hand-written scanner for the common shape, serde_json for anything else.
+    fn read(line: &'a str) -> Result<RawCase<'a>, String> {
+        let mut case = RawCase::default();
+        if scanner_on() && scan::object(line, |key, v| case.add(Cow::Borrowed(key), v)).is_some() {
+            return Ok(case);
+        }
+        serde_json::from_str(line).map_err(|e| format!("not valid JSON: {e}"))
+    }
 }
 
 impl<'de> de::Deserialize<'de> for RawCase<'de> {
@@ -67,37 +96,38 @@ impl<'de> Visitor<'de> for RawCaseVisitor {
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<RawCase<'de>, A::Error> {
         let mut case = RawCase::default();
-        let mut position = 0;
         while let Some(key) = map.next_key::<Cow<'de, str>>()? {
             let value: &'de RawValue = map.next_value()?;
-            match key.as_ref() {
-                "kind" => case.kind = Some(value),
-                "precision" => case.precision = Some(value),
-                name => match FIELDS.iter().position(|f| *f == name) {
-                    Some(i) => case.values[i] = Some((position, value)),
-                    None if case.stranger.is_none() => {
-                        case.stranger = Some((position, name.to_string()))
-                    }
-                    None => {}
-                },
-            }
-            position += 1;
+            case.add(key, value.get());
         }
         Ok(case)
     }
 }
 
+#[cfg(test)]
+thread_local! {
+    /// Set by a test that compares the scanner's answers with serde_json's alone.
+    static SERDE_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// True where the scanner reads first (everywhere but in that test).
+fn scanner_on() -> bool {
+    #[cfg(test)]
+    return !SERDE_ONLY.with(std::cell::Cell::get);
+    #[cfg(not(test))]
+    true
+}
+
 /// A JSON string's text (borrowed unless it has escapes), or `None` if the value is not a string.
-fn string_of(raw: &RawValue) -> Option<Cow<'_, str>> {
-    if !raw.get().starts_with('"') {
+/// `raw` is valid JSON (read by the scanner or serde_json).
+fn string_of(raw: &str) -> Option<Cow<'_, str>> {
+    if !raw.starts_with('"') {
         return None;
     }
-    match serde_json::from_str::<&str>(raw.get()) {
-        Ok(text) => Some(Cow::Borrowed(text)),
-        Err(_) => serde_json::from_str::<String>(raw.get())
-            .ok()
-            .map(Cow::Owned),
+    if !raw.contains('\\') {
+        return Some(Cow::Borrowed(&raw[1..raw.len() - 1]));
     }
+    serde_json::from_str::<String>(raw).ok().map(Cow::Owned)
 }
 
 /// The items of a JSON array: the first `N` raw values, and how many there were.
@@ -137,8 +167,8 @@ impl<'de, const N: usize> de::Deserialize<'de> for Items<'de, N> {
 }
 
 /// One number of a case as number text: a JSON number as written, or a string's text.
-fn number_text(raw: &RawValue) -> Result<Cow<'_, str>, String> {
-    let text = raw.get();
+fn number_text(raw: &str) -> Result<Cow<'_, str>, String> {
+    let text = raw;
     match text.as_bytes().first() {
         Some(b'-' | b'0'..=b'9') => Ok(Cow::Borrowed(text)),
         Some(b'"') => string_of(raw).ok_or_else(|| "not a valid string".to_string()),
@@ -158,25 +188,38 @@ fn count_error<const N: usize>(count: usize) -> String {
     clippy::expect_used,
     reason = "the items were counted to be N, and each component read or returned its error, just above"
 )]
-fn vector<R: ReadNumber, const N: usize>(raw: &RawValue) -> Result<[R; N], String> {
+fn vector<R: ReadNumber, const N: usize>(raw: &str) -> Result<[R; N], String> {
     let component =
         |i: usize, text: &str| R::read(text).map_err(|e| format!("component {}: {e}", i + 1));
     let mut values: [Option<R>; N] = std::array::from_fn(|_| None);
     if let Some(text) = string_of(raw) {
-        let count = text.split(',').count();
+        let mut parts: [&str; N] = [""; N];
+        let mut count = 0;
+        for part in text.split(',') {
+            if let Some(slot) = parts.get_mut(count) {
+                *slot = part;
+            }
+            count += 1;
+        }
         if count != N {
             return Err(count_error::<N>(count));
         }
-        for (i, part) in text.split(',').enumerate() {
+        for (i, part) in parts.iter().enumerate() {
             values[i] = Some(component(i, part)?);
         }
-    } else if raw.get().starts_with('[') {
-        let items: Items<N> =
-            serde_json::from_str(raw.get()).map_err(|e| format!("not valid JSON: {e}"))?;
-        if items.count != N {
-            return Err(count_error::<N>(items.count));
+    } else if raw.starts_with('[') {
+        let (first, count) = match scanner_on().then(|| scan::array::<N>(raw)).flatten() {
+            Some(items) => items,
+            None => {
+                let items: Items<N> =
+                    serde_json::from_str(raw).map_err(|e| format!("not valid JSON: {e}"))?;
+                (items.first.map(|item| item.map(RawValue::get)), items.count)
+            }
+        };
+        if count != N {
+            return Err(count_error::<N>(count));
         }
-        for (i, item) in items.first.iter().enumerate() {
+        for (i, item) in first.iter().enumerate() {
             let text = number_text(item.expect("N items counted"))
                 .map_err(|e| format!("component {}: {e}", i + 1))?;
             values[i] = Some(component(i, &text)?);
@@ -205,7 +248,7 @@ pub fn parse_case(line: &str, default: Precision) -> Result<LineCase<'_>, String
             Err(e) => format!("not valid JSON: {e}"),
         });
     }
-    let raw: RawCase = serde_json::from_str(line).map_err(|e| format!("not valid JSON: {e}"))?;
+    let raw = RawCase::read(line)?;
     let kind = match raw.kind.map(string_of) {
         Some(Some(kind)) => kind,
         Some(None) => return Err("field 'kind' must be a string".into()),
@@ -227,8 +270,8 @@ pub fn parse_case(line: &str, default: Precision) -> Result<LineCase<'_>, String
     let misplaced = FIELDS
         .iter()
         .zip(&raw.values)
-        .filter_map(|(name, v)| v.map(|(at, _)| (at, name.to_string())))
-        .filter(|(_, name)| !fields.contains(&name.as_str()));
+        .filter_map(|(name, v)| v.map(|(at, _)| (at, Cow::Borrowed(*name))))
+        .filter(|(_, name)| !fields.contains(&name.as_ref()));
     if let Some((_, unknown)) = misplaced.chain(raw.stranger.clone()).min() {
         return Err(format!(
             "unknown field {} for kind {kind} (expected {})",
@@ -253,7 +296,7 @@ impl LineCase<'_> {
         clippy::expect_used,
         reason = "the field was found among FIELDS just above"
     )]
-    fn field(&self, name: &str) -> Result<&RawValue, String> {
+    fn field(&self, name: &str) -> Result<&str, String> {
         let index = FIELDS
             .iter()
             .position(|f| *f == name)
@@ -633,5 +676,63 @@ mod tests {
         let (bad, lines) =
             statuses(br#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1"}"#);
         assert_eq!((bad, lines.len()), (0, 1));
+    }
+
+    /// Every answer and every error message is the same with the scanner as with serde_json alone,
+    /// on real lines and on thousands of mutations of them (bytes dropped, swapped or added).
+    #[test]
+    fn the_scanner_answers_as_serde_json_alone() {
+        use rand::{Rng, SeedableRng};
+        let seeds = [
+            r#"{"kind":"triangle","a":[3,0,0],"b":[0,3,0],"c":[0,0,3],"origin":[0.25,-1.5e-1,0],"dir":[1,1,1]}"#,
+            r#"{"kind":"triangle","a":"3,0,0","b":"0,3,0","c":"0,0,3","origin":"0,0,0","dir":"1,1,1","tmin":"1/2"}"#,
+            r#" { "kind" : "segments" , "a1" : [ 1 , "2" ] , "a2":[6,1],"b1":"2,6","b2":[5,1] } "#,
+            r#"{"kind":"parallelogram","corner":[0,0,0],"e1":[2,0,0],"e2":[0,1,0],"origin":[0.5,0.5,1],"dir":[0,0,-1],"precision":"exact"}"#,
+            r#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1","kind":"triangle","x":[]}"#,
+            r#"{"kind":"segm\u0065nts","a1":["1","2"],"a2":[6,1E0],"b1":[2,6],"b2":[5,-0]}"#,
+        ];
+        let alphabet: Vec<char> = "{}[],:\" -.0123456789eE+nul\t\\/xé".chars().collect();
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(15);
+        let mut input = String::new();
+        for seed in seeds {
+            input.push_str(seed);
+            input.push('\n');
+            for _ in 0..3000 {
+                let mut chars: Vec<char> = seed.chars().collect();
+                for _ in 0..rng.random_range(1..=3) {
+                    let at = rng.random_range(0..chars.len());
+                    let new = alphabet[rng.random_range(0..alphabet.len())];
+                    match rng.random_range(0..3) {
+                        0 => drop(chars.remove(at)),
+                        1 => chars[at] = new,
+                        _ => chars.insert(at, new),
+                    }
+                }
+                input.extend(chars);
+                input.push('\n');
+            }
+        }
+        let answers = |serde_only: bool| {
+            SERDE_ONLY.with(|s| s.set(serde_only));
+            let mut out = Vec::new();
+            for precision in [Precision::F64, Precision::Exact] {
+                run_batch(
+                    input.as_bytes(),
+                    &mut out,
+                    std::io::sink(),
+                    precision,
+                    false,
+                )
+                .unwrap();
+            }
+            SERDE_ONLY.with(|s| s.set(false));
+            String::from_utf8(out).unwrap()
+        };
+        let (fast, slow) = (answers(false), answers(true));
+        for (i, (a, b)) in fast.lines().zip(slow.lines()).enumerate() {
+            assert_eq!(a, b, "line {}", i + 1);
+        }
+        assert_eq!(fast.lines().count(), slow.lines().count());
+        assert!(fast.contains("\"status\":\"error\"") && fast.contains("\"status\":\"hit\""));
     }
 }

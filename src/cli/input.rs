@@ -68,22 +68,63 @@ pub trait ReadNumber: Real {
 /// `-12.5`, `3`, `+.5`: at most 24 bytes of digits with an optional leading sign and one point, and
 /// at least one digit (no exponent, so no float can overflow or underflow it).
 fn is_plain_decimal(text: &str) -> bool {
+    plain_decimal(text).is_some()
+}
+
+/// A plain decimal (see [`is_plain_decimal`]) as its digits read as an integer `m` and the count `k`
+/// of digits after the point (the value is ±m / 10^k), when it has at most 15 digits; `None` for
+/// any other text, and `Some((negative, None, 0))` for a plain decimal with more digits.
+fn plain_decimal(text: &str) -> Option<(bool, Option<u64>, u32)> {
     let bytes = text.as_bytes();
-    let digits = bytes
-        .strip_prefix(b"-")
-        .or_else(|| bytes.strip_prefix(b"+"))
-        .unwrap_or(bytes);
-    bytes.len() <= 24
-        && digits.iter().any(u8::is_ascii_digit)
-        && digits.iter().all(|b| b.is_ascii_digit() || *b == b'.')
-        && digits.iter().filter(|b| **b == b'.').count() <= 1
+    if bytes.len() > 24 {
+        return None;
+    }
+    let (negative, digits) = match bytes.first()? {
+        b'-' => (true, &bytes[1..]),
+        b'+' => (false, &bytes[1..]),
+        _ => (false, bytes),
+    };
+    let (mut mantissa, mut count, mut decimals, mut point) = (0u64, 0, 0, false);
+    for &b in digits {
+        match b {
+            b'0'..=b'9' => {
+                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+                count += 1;
+                decimals += u32::from(point);
+            }
+            b'.' if !point => point = true,
+            _ => return None,
+        }
+    }
+    match count {
+        0 => None,
+        1..=15 => Some((negative, Some(mantissa), decimals)),
+        _ => Some((negative, None, 0)),
+    }
+}
+
+/// The nearest f64 to a short plain decimal, computed directly: ±m / 10^k with m < 10^15 < 2^53 and
+/// k ≤ 15 is one division of two floats that hold their values exactly, so it is rounded once, as
+/// the full parser rounds (the classic fast path of decimal-to-float conversion).
+fn short_decimal_f64(text: &str) -> Option<f64> {
+    const POWERS: [f64; 16] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+    ];
+    let (negative, Some(mantissa), decimals) = plain_decimal(text)? else {
+        return None;
+    };
+    let value = mantissa as f64 / POWERS[decimals as usize];
+    Some(if negative { -value } else { value })
 }
 
 macro_rules! read_float {
-    ($t:ty) => {
+    ($t:ty, $short:expr) => {
         impl ReadNumber for $t {
             fn read(text: &str) -> Result<$t, String> {
                 let trimmed = text.trim();
+                if let Some(value) = $short(trimmed) {
+                    return Ok(value);
+                }
                 // The common case first (batch lines hold millions): a short plain decimal, digits
                 // with at most a sign and a point, is exactly what the float parser and the exact
                 // reader agree on, so the full checks below are not needed.
@@ -112,8 +153,8 @@ macro_rules! read_float {
     };
 }
 
-read_float!(f32);
-read_float!(f64);
+read_float!(f32, |_| None);
+read_float!(f64, short_decimal_f64);
 
 impl ReadNumber for Exact {
     fn read(text: &str) -> Result<Exact, String> {
@@ -320,6 +361,45 @@ mod tests {
             let exact: Exact = text.parse().unwrap();
             assert_eq!(f64::read(text).unwrap(), exact.to_f64(), "{text}");
             assert_eq!(f32::read(text).unwrap(), f32::from_exact(&exact), "{text}");
+        }
+    }
+
+    #[test]
+    fn the_short_decimal_path_rounds_as_the_full_parser() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(15);
+        let mut texts: Vec<String> = [
+            "0",
+            "-0",
+            "+0.0",
+            "5.",
+            ".5",
+            "-.5",
+            "999999999999999",
+            "0.000000000000001",
+            "123456789.012345",
+            "-9007199254740.991",
+            "0.1",
+            "0.3",
+            "1234567890123456",
+        ]
+        .map(String::from)
+        .to_vec();
+        for _ in 0..20_000 {
+            let digits = rng.random_range(1..=16);
+            let mut text: String = (0..digits)
+                .map(|_| char::from(b'0' + rng.random_range(0..10u8)))
+                .collect();
+            text.insert(rng.random_range(0..=digits), '.');
+            if rng.random_bool(0.5) {
+                text.insert(0, '-');
+            }
+            texts.push(text);
+        }
+        for text in &texts {
+            let full: f64 = text.parse().unwrap();
+            let read = f64::read(text).unwrap();
+            assert_eq!(read.to_bits(), full.to_bits(), "{text}");
         }
     }
 }

@@ -4,6 +4,7 @@
 
 pub mod batch;
 pub mod input;
+mod scan;
 pub mod solve;
 pub mod worksheet;
 
@@ -371,8 +372,53 @@ fn write_png(image: &crate::render::Image, output: &std::path::Path) -> Result<(
     .map_err(|e| e.to_string())
 }
 
+/// Prepares a render scene; on a terminal, a line on standard error shows the load of each mesh
+/// that takes a while (a large OBJ takes seconds), redrawn as it goes and ending with its size and
+/// time (indicatif draws nothing where standard error is not a terminal).
+fn prepare_showing_progress(
+    scene: &crate::scene::RenderScene,
+    assets: crate::render::assets::OnDisk,
+) -> Result<crate::render::Prepared, String> {
+    use indicatif::{ProgressBar, ProgressStyle};
+    let style = ProgressStyle::with_template(
+        "loading {msg}: {percent:>3}% ({prefix} triangles, {elapsed})",
+    )
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    let mut clock = crate::platform::Stopwatch::start();
+    let mut current = String::new();
+    let mut bar: Option<ProgressBar> = None;
+    let prepared =
+        crate::render::scene_load::prepare_with_progress(scene, assets, &mut |name, progress| {
+            if current != name {
+                if let Some(done) = bar.take() {
+                    done.finish();
+                }
+                (current, clock) = (name.to_string(), crate::platform::Stopwatch::start());
+            }
+            // A mesh that loads within a quarter of a second shows nothing.
+            if bar.is_none() && clock.seconds() > 0.25 && progress.fraction < 1.0 {
+                let elapsed = std::time::Duration::from_secs_f64(clock.seconds());
+                bar = Some(
+                    ProgressBar::new(1000)
+                        .with_style(style.clone())
+                        .with_message(name.to_string())
+                        .with_elapsed(elapsed),
+                );
+            }
+            if let Some(bar) = &bar {
+                bar.set_position((progress.fraction * 1000.0) as u64);
+                bar.set_prefix(progress.triangles.to_string());
+            }
+            true
+        });
+    if let Some(done) = bar {
+        done.finish();
+    }
+    prepared
+}
+
 fn run_render(args: RenderArgs) -> i32 {
-    use crate::render::{Prepared, assets::OnDisk, render};
+    use crate::render::render;
     use crate::scene::render::Effect;
     use crate::scene::{Problem, Scene};
     let name = args.scene.display().to_string();
@@ -394,7 +440,8 @@ fn run_render(args: RenderArgs) -> i32 {
             return 1;
         }
     };
-    let mut prepared = match Prepared::new(&scene, &OnDisk::beside(&args.scene)) {
+    let assets = crate::render::assets::OnDisk::beside(&args.scene);
+    let mut prepared = match prepare_showing_progress(&scene, assets) {
         Ok(prepared) => prepared,
         Err(message) => {
             err!("raylab: {name}: {message}");

@@ -294,7 +294,7 @@ fn segments_report<R: Real>(solution: &SegmentsSolution<R>, fields: &mut impl Fi
             if *s_outside {
                 outside.push("s");
             }
-            fields.put("outside", json!(outside));
+            fields.put("outside", &outside);
         }
         SegmentsOutcome::DegenerateSegment { a, b } => {
             fields.put("zero_length", json!({"a": a, "b": b}));
@@ -353,11 +353,11 @@ fn insert_triangle_miss(fields: &mut impl FieldSink, miss: &TriangleMiss) {
         TriangleMiss::Outside { edges } => {
             let failed: Vec<&str> = edges.iter().map(|e| e.inequality()).collect();
             let beyond: Vec<&str> = edges.iter().map(|e| e.name()).collect();
-            fields.put("failed", json!(failed));
-            fields.put("beyond_edges", json!(beyond));
+            fields.put("failed", &failed);
+            fields.put("beyond_edges", &beyond);
         }
         TriangleMiss::Parallel { in_plane } => {
-            fields.put("in_plane", json!(in_plane));
+            fields.put("in_plane", in_plane);
         }
         TriangleMiss::ZeroDirection => {
             fields.put("field", json!("D"));
@@ -376,7 +376,7 @@ fn parallelogram_report<R: Real>(solved: &ParallelogramSolution<R>, fields: &mut
     match &solved.outcome {
         parallelogram::ParallelogramOutcome::Outside { sides } => {
             let failed: Vec<&str> = sides.iter().map(|s| s.inequality()).collect();
-            fields.put("failed", json!(failed));
+            fields.put("failed", &failed);
         }
         parallelogram::ParallelogramOutcome::Degenerate => {
             fields.put("reason", json!("degenerate-parallelogram"));

@@ -26,6 +26,17 @@ const EMBEDDED: [(&str, &[u8]); 2] = [
 pub trait AssetSource {
     /// The bytes of `name` (relative to `assets/`), a file of `kind` and at most its size, or why not.
     fn read(&self, name: &str, kind: FileKind) -> Result<Vec<u8>, String>;
+
+    /// The size in bytes of `name`, a file of `kind`, or why it cannot be read (as [`Self::read`]
+    /// would say), without reading it where that can be avoided.
+    fn size(&self, name: &str, kind: FileKind) -> Result<u64, String> {
+        self.read(name, kind).map(|bytes| bytes.len() as u64)
+    }
+
+    /// The mesh `name` when it was loaded ahead (with progress, see [`Preloaded`]): handed over once.
+    fn loaded_mesh(&self, _name: &str) -> Option<Vec<PreparedTriangle>> {
+        None
+    }
 }
 
 /// Only the files embedded in the binary.
@@ -74,70 +85,396 @@ impl AssetSource for OnDisk {
                 Err(ReadError::Refused(why)) => return Err(format!("{}: {why}", path.display())),
             }
         }
+        Err(self.not_found(name))
+    }
+
+    fn size(&self, name: &str, kind: FileKind) -> Result<u64, String> {
+        if let Some(bytes) = embedded(name) {
+            return Ok(bytes.len() as u64);
+        }
+        for folder in &self.0 {
+            let path = folder.join(name);
+            match std::fs::metadata(&path) {
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+                Ok(metadata) if metadata.is_file() && metadata.len() <= kind.max_bytes => {
+                    return Ok(metadata.len());
+                }
+                // Refused: read_regular says why without reading a byte.
+                _ => return self.read(name, kind).map(|bytes| bytes.len() as u64),
+            }
+        }
+        Err(self.not_found(name))
+    }
+}
+
+impl OnDisk {
+    /// The refusal of a file found nowhere.
+    fn not_found(&self, name: &str) -> String {
         let tried: Vec<String> = self
             .0
             .iter()
             .map(|f| f.join(name).display().to_string())
             .collect();
-        Err(format!(
+        format!(
             "cannot find '{name}' (not shipped, and not at {})",
             tried.join(" or ")
-        ))
+        )
     }
 }
 
 /// Reads an OBJ file's triangles (polygons are triangulated), with its normals and UVs when every
 /// vertex has them.
 pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTriangle>, String> {
-    let bytes = assets.read(name, MESH)?;
-    check_faces(&bytes).map_err(|e| format!("{name}: {e}"))?;
-    check_face_indices(&bytes).map_err(|e| format!("{name}: not a readable OBJ mesh: {e}"))?;
+    load_mesh_with_progress(assets, name, &mut |_| true)
+}
+
+/// [`load_mesh`], telling `progress` how far it has come after each slice of the work (a few
+/// milliseconds, except the OBJ parse, which is one slice) and once more at 100%; `progress`
+/// returning false cancels the load.
+pub fn load_mesh_with_progress(
+    assets: &dyn AssetSource,
+    name: &str,
+    progress: &mut dyn FnMut(MeshProgress) -> bool,
+) -> Result<Vec<PreparedTriangle>, String> {
+    if let Some(mesh) = assets.loaded_mesh(name) {
+        return Ok(mesh);
+    }
+    let mut load = MeshLoad::start(assets, name)?;
+    loop {
+        if let Some(triangles) = load.step_reporting(progress)? {
+            progress(load.progress());
+            return Ok(triangles);
+        }
+        if !progress(load.progress()) {
+            return Err(format!("{name}: {CANCELLED}"));
+        }
+    }
+}
+
+/// The end of the message of a cancelled load.
+pub const CANCELLED: &str = "the load was cancelled";
+
+/// How far a mesh load has come.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshProgress {
+    /// From 0 to 1.
+    pub fraction: f64,
+    /// The triangles counted so far (all of them once the first pass over the file is done).
+    pub triangles: u64,
+}
+
+/// The stages of a mesh load, in order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Stage {
+    /// Counting the triangles and checking that faces follow their vertices.
+    Faces,
+    /// Checking every face index.
+    Indices,
+    /// tobj reads the file (one slice: it cannot be paused).
+    Parse,
+    /// Building the prepared triangles.
+    Build,
+    /// Handed over.
+    Done,
+}
+
+impl Stage {
+    /// The share of the whole load done before this stage, and this stage's share (the shares of
+    /// the time each took for a 1 M-triangle OBJ in a release build).
+    fn span(self) -> (f64, f64) {
+        match self {
+            Stage::Faces => (0.0, 0.15),
+            Stage::Indices => (0.15, 0.15),
+            Stage::Parse => (0.3, 0.6),
+            Stage::Build => (0.9, 0.1),
+            Stage::Done => (1.0, 0.0),
+        }
+    }
+}
+
+/// An OBJ mesh loaded a slice at a time ([`MeshLoad::step`]), so that a large one shows its
+/// progress, can be cancelled, and on the web (no threads) shares the page's frames.
+pub struct MeshLoad {
+    name: String,
+    bytes: Vec<u8>,
+    stage: Stage,
+    /// Where the next unchecked line starts, and its number (from 1), in the checking stages.
+    at: usize,
+    line: usize,
+    faces: FaceCheck,
+    indices: IndexCheck,
+    models: Vec<tobj::Model>,
+    /// The next model and face (its first index) to build.
+    model: usize,
+    face: usize,
+    triangles: Vec<PreparedTriangle>,
+}
+
+/// Bytes checked in one slice.
+const CHECK_SLICE_BYTES: usize = 1 << 20;
+
+/// Triangles built in one slice.
+const BUILD_SLICE_TRIANGLES: usize = 50_000;
+
+impl MeshLoad {
+    /// Reads the file; nothing is parsed yet.
+    pub fn start(assets: &dyn AssetSource, name: &str) -> Result<MeshLoad, String> {
+        Ok(MeshLoad {
+            name: name.to_string(),
+            bytes: assets.read(name, MESH)?,
+            stage: Stage::Faces,
+            at: 0,
+            line: 0,
+            faces: FaceCheck::default(),
+            indices: IndexCheck::default(),
+            models: Vec::new(),
+            model: 0,
+            face: 0,
+            triangles: Vec::new(),
+        })
+    }
+
+    /// How far it has come.
+    pub fn progress(&self) -> MeshProgress {
+        let (before, share) = self.stage.span();
+        let within = match self.stage {
+            Stage::Faces | Stage::Indices => self.at as f64 / self.bytes.len().max(1) as f64,
+            Stage::Parse | Stage::Done => 0.0,
+            Stage::Build => self.triangles.len() as f64 / self.faces.triangles.max(1) as f64,
+        };
+        MeshProgress {
+            fraction: (before + share * within.min(1.0)).min(1.0),
+            triangles: self.faces.triangles,
+        }
+    }
+
+    /// Does one slice of the work: the triangles once the load is finished, `None` before.
+    pub fn step(&mut self) -> Result<Option<Vec<PreparedTriangle>>, String> {
+        self.step_reporting(&mut |_| true)
+    }
+
+    /// [`MeshLoad::step`], telling `report` the progress of the OBJ parse while it runs (the one
+    /// slice that cannot be cut short); `report` returning false cancels the parse.
+    pub fn step_reporting(
+        &mut self,
+        report: &mut dyn FnMut(MeshProgress) -> bool,
+    ) -> Result<Option<Vec<PreparedTriangle>>, String> {
+        let name = &self.name;
+        match self.stage {
+            Stage::Faces | Stage::Indices => {
+                let mut end = (self.at + CHECK_SLICE_BYTES).min(self.bytes.len());
+                end += self.bytes[end..]
+                    .iter()
+                    .position(|b| *b == b'\n')
+                    .map_or(self.bytes.len() - end, |i| i + 1);
+                let chunk = &self.bytes[self.at..end];
+                let chunk = chunk.strip_suffix(b"\n").unwrap_or(chunk);
+                for line in chunk.split(|b| *b == b'\n').filter(|_| !chunk.is_empty()) {
+                    self.line += 1;
+                    if self.stage == Stage::Faces {
+                        self.faces
+                            .line(self.line, line)
+                            .map_err(|e| format!("{name}: {e}"))?;
+                    } else {
+                        self.indices
+                            .line(self.line, line)
+                            .map_err(|e| format!("{name}: not a readable OBJ mesh: {e}"))?;
+                    }
+                }
+                self.at = end;
+                if end == self.bytes.len() {
+                    self.stage = if self.stage == Stage::Faces {
+                        Stage::Indices
+                    } else {
+                        Stage::Parse
+                    };
+                    (self.at, self.line) = (0, 0);
+                }
+            }
+            Stage::Parse => {
+                // tobj reads the bytes in the first 40% of its time, then joins the indices.
+                let (before, share) = Stage::Parse.span();
+                let share = 0.4 * share;
+                let (total, triangles) = (self.bytes.len().max(1) as f64, self.faces.triangles);
+                let mut on_read = |read: usize| {
+                    report(MeshProgress {
+                        fraction: before + share * read as f64 / total,
+                        triangles,
+                    })
+                };
+                self.models = parse_obj(&self.bytes, &mut on_read).map_err(|e| match e {
+                    ParseError::Cancelled => format!("{name}: {CANCELLED}"),
+                    ParseError::Unreadable(e) => format!("{name}: not a readable OBJ mesh: {e}"),
+                })?;
+                self.bytes = Vec::new();
+                for model in &self.models {
+                    crate::scene::render::check_numbers(
+                        "vertex coordinates",
+                        &model.mesh.positions,
+                    )
+                    .map_err(|e| format!("{name}: {e}"))?;
+                }
+                self.triangles.reserve(self.faces.triangles as usize);
+                self.stage = Stage::Build;
+            }
+            Stage::Build => {
+                let mut budget = BUILD_SLICE_TRIANGLES;
+                while let Some(model) = self.models.get(self.model) {
+                    let mesh = &model.mesh;
+                    let end = (self.face + 3 * budget).min(mesh.indices.len());
+                    build_triangles(mesh, self.face..end, &mut self.triangles);
+                    budget -= (end - self.face) / 3;
+                    self.face = end;
+                    if end == mesh.indices.len() {
+                        (self.model, self.face) = (self.model + 1, 0);
+                    }
+                    if budget == 0 {
+                        return Ok(None);
+                    }
+                }
+                if self.triangles.is_empty() {
+                    return Err(format!("{name}: the OBJ file has no faces"));
+                }
+                self.faces.triangles = self.triangles.len() as u64;
+                self.stage = Stage::Done;
+                return Ok(Some(std::mem::take(&mut self.triangles)));
+            }
+            Stage::Done => return Err(format!("{name}: the mesh was handed over already")),
+        }
+        Ok(None)
+    }
+}
+
+/// The models of an OBJ file, polygons triangulated, one index per vertex.
+/// `on_read` is told how many bytes tobj has read, every [`CHECK_SLICE_BYTES`]; false cancels.
+fn parse_obj(
+    bytes: &[u8],
+    on_read: &mut dyn FnMut(usize) -> bool,
+) -> Result<Vec<tobj::Model>, ParseError> {
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
         ..Default::default()
     };
-    let (models, _) = tobj::load_obj_buf(&mut BufReader::new(&bytes[..]), &options, |_| {
+    let mut reader = BufReader::new(Counted {
+        bytes,
+        read: 0,
+        reported: 0,
+        on_read,
+        cancelled: false,
+    });
+    let parsed = tobj::load_obj_buf(&mut reader, &options, |_| {
         Err(tobj::LoadError::OpenFileFailed)
-    })
-    .map_err(|e| format!("{name}: not a readable OBJ mesh: {e}"))?;
-    let mut triangles = Vec::new();
-    for model in &models {
-        let mesh = &model.mesh;
-        crate::scene::render::check_numbers("vertex coordinates", &mesh.positions)
-            .map_err(|e| format!("{name}: {e}"))?;
-        let point = |i: u32| -> V3<f64> {
-            let i = i as usize * 3;
-            [
-                mesh.positions[i],
-                mesh.positions[i + 1],
-                mesh.positions[i + 2],
-            ]
-        };
-        let has_normals = mesh.normals.len() == mesh.positions.len();
-        let has_uvs = mesh.texcoords.len() * 3 == mesh.positions.len() * 2;
-        for face in mesh.indices.chunks_exact(3) {
-            let face: [u32; 3] = [face[0], face[1], face[2]];
-            let vertices = [point(face[0]), point(face[1]), point(face[2])];
-            let normals = has_normals.then(|| {
-                face.map(|i| {
-                    let i = i as usize * 3;
-                    [mesh.normals[i], mesh.normals[i + 1], mesh.normals[i + 2]]
-                })
-            });
-            let uvs = has_uvs.then(|| {
-                face.map(|i| {
-                    let i = i as usize * 2;
-                    [mesh.texcoords[i], mesh.texcoords[i + 1]]
-                })
-            });
-            triangles.push(mesh_triangle(vertices, normals, uvs));
+    });
+    match parsed {
+        Ok((models, _)) => Ok(models),
+        Err(_) if reader.get_ref().cancelled => Err(ParseError::Cancelled),
+        Err(e) => Err(ParseError::Unreadable(e)),
+    }
+}
+
+/// Why an OBJ parse stopped.
+enum ParseError {
+    Cancelled,
+    Unreadable(tobj::LoadError),
+}
+
+/// Bytes read through, counted for a progress report.
+struct Counted<'a, 'b> {
+    bytes: &'a [u8],
+    read: usize,
+    reported: usize,
+    on_read: &'b mut dyn FnMut(usize) -> bool,
+    cancelled: bool,
+}
+
+impl std::io::Read for Counted<'_, '_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.read - self.reported >= CHECK_SLICE_BYTES {
+            self.reported = self.read;
+            if !(self.on_read)(self.read) {
+                self.cancelled = true;
+                return Err(std::io::Error::other(CANCELLED));
+            }
+        }
+        let n = (&self.bytes[self.read..]).read(buf)?;
+        self.read += n;
+        Ok(n)
+    }
+}
+
+/// Appends the triangles of the faces whose indices are in `indices` (a range of whole faces).
+fn build_triangles(
+    mesh: &tobj::Mesh,
+    indices: std::ops::Range<usize>,
+    triangles: &mut Vec<PreparedTriangle>,
+) {
+    let point = |i: u32| -> V3<f64> {
+        let i = i as usize * 3;
+        [
+            mesh.positions[i],
+            mesh.positions[i + 1],
+            mesh.positions[i + 2],
+        ]
+    };
+    let has_normals = mesh.normals.len() == mesh.positions.len();
+    let has_uvs = mesh.texcoords.len() * 3 == mesh.positions.len() * 2;
+    for face in mesh.indices[indices].chunks_exact(3) {
+        let face: [u32; 3] = [face[0], face[1], face[2]];
+        let vertices = [point(face[0]), point(face[1]), point(face[2])];
+        let normals = has_normals.then(|| {
+            face.map(|i| {
+                let i = i as usize * 3;
+                [mesh.normals[i], mesh.normals[i + 1], mesh.normals[i + 2]]
+            })
+        });
+        let uvs = has_uvs.then(|| {
+            face.map(|i| {
+                let i = i as usize * 2;
+                [mesh.texcoords[i], mesh.texcoords[i + 1]]
+            })
+        });
+        triangles.push(mesh_triangle(vertices, normals, uvs));
+    }
+}
+
+/// A source whose meshes were loaded ahead (with progress), handed over when the scene is prepared;
+/// everything else comes from `source`.
+pub struct Preloaded<S> {
+    /// Where the files are.
+    pub source: S,
+    meshes: std::sync::Mutex<std::collections::HashMap<String, Vec<PreparedTriangle>>>,
+}
+
+impl<S: AssetSource> Preloaded<S> {
+    /// Nothing loaded yet.
+    pub fn new(source: S) -> Preloaded<S> {
+        Preloaded {
+            source,
+            meshes: Default::default(),
         }
     }
-    if triangles.is_empty() {
-        return Err(format!("{name}: the OBJ file has no faces"));
+
+    /// Keeps a loaded mesh until the scene asks for it.
+    pub fn insert(&mut self, name: &str, mesh: Vec<PreparedTriangle>) {
+        if let Ok(meshes) = self.meshes.get_mut() {
+            meshes.insert(name.to_string(), mesh);
+        }
     }
-    Ok(triangles)
+}
+
+impl<S: AssetSource> AssetSource for Preloaded<S> {
+    fn read(&self, name: &str, kind: FileKind) -> Result<Vec<u8>, String> {
+        self.source.read(name, kind)
+    }
+
+    fn size(&self, name: &str, kind: FileKind) -> Result<u64, String> {
+        self.source.size(name, kind)
+    }
+
+    fn loaded_mesh(&self, name: &str) -> Option<Vec<PreparedTriangle>> {
+        self.meshes.lock().ok()?.remove(name)
+    }
 }
 
 /// The most triangles a mesh may have (polygons count as the triangles they are cut into): a
@@ -145,25 +482,29 @@ pub fn load_mesh(assets: &dyn AssetSource, name: &str) -> Result<Vec<PreparedTri
 /// about 600 MB.
 pub const MAX_MESH_TRIANGLES: u64 = 2_000_000;
 
-/// Checks an OBJ file before it is parsed: a face may only use the vertices above it (tobj resolves
-/// the indices at the end of the file, so a face before its vertices would otherwise draw whatever
-/// comes later), and the faces make at most [`MAX_MESH_TRIANGLES`] triangles.
-fn check_faces(obj: &[u8]) -> Result<(), String> {
-    let mut vertices = 0u64;
-    let mut triangles = 0u64;
-    for (number, line) in obj.split(|b| *b == b'\n').enumerate() {
+/// Checks an OBJ file's lines before it is parsed: a face may only use the vertices above it (tobj
+/// resolves the indices at the end of the file, so a face before its vertices would otherwise draw
+/// whatever comes later), and the faces make at most [`MAX_MESH_TRIANGLES`] triangles.
+#[derive(Default)]
+struct FaceCheck {
+    vertices: u64,
+    triangles: u64,
+}
+
+impl FaceCheck {
+    /// Checks line `number` (from 1).
+    fn line(&mut self, number: usize, line: &[u8]) -> Result<(), String> {
         let line = String::from_utf8_lossy(line);
         let mut tokens = line.split_whitespace();
         match tokens.next() {
-            Some("v") => vertices += 1,
+            Some("v") => self.vertices += 1,
             Some("f") => {
                 let corners = tokens.clone().count() as u64;
-                triangles += corners.saturating_sub(2);
-                if triangles > MAX_MESH_TRIANGLES {
+                self.triangles += corners.saturating_sub(2);
+                if self.triangles > MAX_MESH_TRIANGLES {
                     return Err(format!(
-                        "line {}: the mesh has more than {} million triangles, the most a mesh may \
-                         have",
-                        number + 1,
+                        "line {number}: the mesh has more than {} million triangles, the most a mesh \
+                         may have",
                         MAX_MESH_TRIANGLES / 1_000_000
                     ));
                 }
@@ -172,24 +513,23 @@ fn check_faces(obj: &[u8]) -> Result<(), String> {
                     let Ok(index) = index.parse::<i64>() else {
                         continue; // tobj reports what it cannot read.
                     };
-                    if index.unsigned_abs() > vertices {
-                        let before = match vertices {
+                    if index.unsigned_abs() > self.vertices {
+                        let before = match self.vertices {
                             0 => "no vertex comes".to_string(),
                             1 => "only 1 vertex comes".to_string(),
                             n => format!("only {n} vertices come"),
                         };
                         return Err(format!(
-                            "line {}: the face uses vertex {index}, but {before} before it (an OBJ \
-                             file's faces must follow their vertices)",
-                            number + 1
+                            "line {number}: the face uses vertex {index}, but {before} before it (an \
+                             OBJ file's faces must follow their vertices)"
                         ));
                     }
                 }
             }
             _ => {}
         }
+        Ok(())
     }
-    Ok(())
 }
 
 /// The most pixels a texture may have (4096 × 4096): its texels then take 48 MiB.
@@ -256,26 +596,32 @@ impl Texture {
 /// Refuses face indices that tobj would turn into wrapped-around array indices (0, a relative index
 /// reaching before the first vertex, or one past any mesh): it panics on them in debug builds and
 /// reads the wrong vertex in release builds.
-fn check_face_indices(bytes: &[u8]) -> Result<(), String> {
-    const LARGEST_INDEX: i64 = 1 << 32;
-    let mut counts = [0i64; 3];
-    for (number, line) in String::from_utf8_lossy(bytes).lines().enumerate() {
+#[derive(Default)]
+struct IndexCheck {
+    /// Vertices, texture coordinates and normals so far.
+    counts: [i64; 3],
+}
+
+impl IndexCheck {
+    /// Checks line `number` (from 1).
+    fn line(&mut self, number: usize, line: &[u8]) -> Result<(), String> {
+        const LARGEST_INDEX: i64 = 1 << 32;
+        let line = String::from_utf8_lossy(line);
         let mut words = line.split_whitespace();
         match words.next() {
-            Some("v") => counts[0] += 1,
-            Some("vt") => counts[1] += 1,
-            Some("vn") => counts[2] += 1,
+            Some("v") => self.counts[0] += 1,
+            Some("vt") => self.counts[1] += 1,
+            Some("vn") => self.counts[2] += 1,
             Some("f" | "l" | "p") => {
                 for vertex in words {
                     for (slot, part) in vertex.split('/').enumerate().take(3) {
                         let Ok(index) = part.parse::<i64>() else {
                             continue; // empty (v//vn) or malformed: tobj reports those itself
                         };
-                        let known = counts[slot];
+                        let known = self.counts[slot];
                         if index == 0 || index < -known || index > LARGEST_INDEX {
                             return Err(format!(
-                                "line {}: index {index} is out of range ({known} {} before it)",
-                                number + 1,
+                                "line {number}: index {index} is out of range ({known} {} before it)",
                                 ["vertices", "texture coordinates", "normals"][slot]
                             ));
                         }
@@ -284,8 +630,8 @@ fn check_face_indices(bytes: &[u8]) -> Result<(), String> {
             }
             _ => {}
         }
+        Ok(())
     }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -11,6 +11,7 @@ pub mod bvh;
 pub mod cast;
 pub mod objects;
 pub mod probe;
+pub mod scene_load;
 pub mod shade;
 
 use std::sync::Arc;

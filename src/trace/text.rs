@@ -22,22 +22,63 @@ pub fn format_float(value: f64, precision: Precision) -> String {
         return format!("{value:.0}");
     }
     let significant = if precision == Precision::F32 { 8 } else { 10 };
-    let scientific = format!("{value:.*e}", significant - 1);
-    let (mantissa, exponent) = scientific.split_once('e').unwrap_or((&scientific, "0"));
+    // Formatted on the stack (a batch formats millions): one allocation, for the result.
+    let mut scientific = StackText::default();
+    let _ = write!(scientific, "{value:.*e}", significant - 1);
+    let (mantissa, exponent) = scientific
+        .as_str()
+        .split_once('e')
+        .unwrap_or((scientific.as_str(), "0"));
     let exponent: i32 = exponent.parse().unwrap_or(0);
     if (-5..10).contains(&exponent) {
         let decimals = (significant as i32 - 1 - exponent).max(0) as usize;
-        trim_zeros(&format!("{value:.decimals$}"))
+        let mut fixed = StackText::default();
+        let _ = write!(fixed, "{value:.decimals$}");
+        trim_zeros(fixed.as_str()).to_string()
     } else {
         format!("{}e{exponent}", trim_zeros(mantissa))
     }
 }
 
-fn trim_zeros(text: &str) -> String {
+/// A short text built on the stack (a float's digits: at most 10 before the point here, 14 after).
+struct StackText {
+    bytes: [u8; 48],
+    len: usize,
+}
+
+impl Default for StackText {
+    fn default() -> Self {
+        StackText {
+            bytes: [0; 48],
+            len: 0,
+        }
+    }
+}
+
+impl StackText {
+    fn as_str(&self) -> &str {
+        // Only whole strs are written, so the bytes are UTF-8; an empty text if that ever broke.
+        std::str::from_utf8(&self.bytes[..self.len]).unwrap_or_default()
+    }
+}
+
+impl Write for StackText {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        let end = self.len + s.len();
+        self.bytes
+            .get_mut(self.len..end)
+            .ok_or(std::fmt::Error)?
+            .copy_from_slice(s.as_bytes());
+        self.len = end;
+        Ok(())
+    }
+}
+
+fn trim_zeros(text: &str) -> &str {
     if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.').to_string()
+        text.trim_end_matches('0').trim_end_matches('.')
     } else {
-        text.to_string()
+        text
     }
 }
 
