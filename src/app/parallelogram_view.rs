@@ -2,7 +2,7 @@
 //! t, and the step panel solving M (α, β, t)ᵀ = o − c with M = [e1 | e2 | −d] through M⁻¹.
 
 use super::widgets::palette::Readable as _;
-use super::widgets::{ShownValue, shown_values};
+use super::widgets::{Part, ShownValue, controls_below, shown_values};
 use egui::{FontId, RichText, Sense, Stroke, Ui};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -12,11 +12,10 @@ use super::widgets::labels::{LabelLayer, PlacedLabel, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, status_line, vector_editor};
-use crate::geometry::parallelogram::{self, ParallelogramOutcome, ParallelogramSolution};
-use crate::geometry::{Inputs, Precision, Reading, traced};
-use crate::math::exact::Exact;
+use crate::geometry::parallelogram::{self, ParallelogramOutcome};
+use crate::geometry::{ParallelogramLecture, Precision, Reading, Shown};
 use crate::scene::ParallelogramScene;
-use crate::trace::{Trace, format_float};
+use crate::trace::format_float;
 
 /// Everything the Parallelogram view remembers.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -72,15 +71,8 @@ impl Default for ParallelogramView {
     }
 }
 
-/// The solves one frame needs.
-pub struct Solved {
-    /// The f64 solve.
-    pub float: ParallelogramSolution<f64>,
-    /// The exact solve of the inputs as written.
-    pub exact: ParallelogramSolution<Exact>,
-    /// The trace in the step panel's precision.
-    pub trace: Trace,
-}
+/// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
+pub type Solved = Shown<ParallelogramLecture>;
 
 impl ParallelogramView {
     /// Loads a scene.
@@ -119,34 +111,18 @@ impl ParallelogramView {
         self.canvas_ui(ui, solved);
     }
 
-    fn vectors(&self) -> [DVec3; 5] {
-        let s = &self.scene;
-        [s.corner, s.e1, s.e2, s.origin, s.dir].map(DVec3::from)
-    }
-
     /// Solves the current inputs.
     pub fn solve(&self, precision: Precision) -> Solved {
-        let v = self.vectors();
-        Solved {
-            float: parallelogram::solve_inputs(Reading::AsWritten, v),
-            exact: parallelogram::solve_inputs(Reading::AsWritten, v),
-            trace: traced(Inputs::Parallelogram(v), Reading::AsWritten, precision),
-        }
+        let v = self.scene.vectors();
+        Solved::new(v, Reading::AsWritten, precision)
     }
 
     /// The view: controls below, the 3D canvas above.
     pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        // The canvas keeps at least 55% of the height: the controls scroll below it when short.
-        let controls_height = (ui.available_height() * 0.45).max(48.0);
-        egui::Panel::bottom("parallelogram-controls")
-            .resizable(false)
-            .max_size(controls_height)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical()
-                    .auto_shrink([false, true])
-                    .show(ui, |ui| self.controls_ui(ui, solved))
-            });
-        egui::CentralPanel::default().show(ui, |ui| self.canvas_ui(ui, solved));
+        controls_below(ui, "parallelogram-controls", |ui, part| match part {
+            Part::Controls => self.controls_ui(ui, solved),
+            Part::Drawing => self.canvas_ui(ui, solved),
+        });
     }
 
     fn controls_ui(&mut self, ui: &mut Ui, solved: &Solved) {
@@ -175,24 +151,14 @@ impl ParallelogramView {
         parameter_sliders(
             ui,
             vec![
-                ParameterSlider {
-                    value: &mut self.alpha,
-                    range: -0.5..=1.5,
-                    name: "α",
-                    tip: "How far along e1 from c",
-                },
-                ParameterSlider {
-                    value: &mut self.beta,
-                    range: -0.5..=1.5,
-                    name: "β",
-                    tip: "How far along e2 from c",
-                },
-                ParameterSlider {
-                    value: &mut self.t,
-                    range: -3.0..=3.0,
-                    name: "t",
-                    tip: "How far along the ray, in steps of d",
-                },
+                ParameterSlider::new(&mut self.alpha, -0.5..=1.5, "α", "How far along e1 from c"),
+                ParameterSlider::new(&mut self.beta, -0.5..=1.5, "β", "How far along e2 from c"),
+                ParameterSlider::new(
+                    &mut self.t,
+                    -3.0..=3.0,
+                    "t",
+                    "How far along the ray, in steps of d",
+                ),
             ],
         );
         let explored = self.exploration();
@@ -264,7 +230,7 @@ impl ParallelogramView {
     }
 
     fn problem(&self) -> parallelogram::RayParallelogram<f64> {
-        parallelogram::RayParallelogram::from_floats(self.vectors())
+        parallelogram::RayParallelogram::from_floats(self.scene.vectors())
     }
 
     fn exploration(&self) -> parallelogram::Exploration<f64> {
@@ -284,7 +250,7 @@ impl ParallelogramView {
                 self.auto_frame = false;
             }
         }
-        let [c, _, _, o, d] = self.vectors();
+        let [c, _, _, o, d] = self.scene.vectors();
         // The corners p(0,0), p(1,0), p(1,1), p(0,1) from the core's parametric form.
         let problem = self.problem();
         let corner =
@@ -396,7 +362,7 @@ impl ParallelogramView {
         [c, c_e1, c_e1_e2, c_e2]: [DVec3; 4],
         labels: &mut LabelLayer,
     ) {
-        let [_, _, _, o, d] = self.vectors();
+        let [_, _, _, o, d] = self.scene.vectors();
         let glow = |color: egui::Color32| Stroke::new(11.0, faded(color, 90));
         for element in &self.highlight {
             match element {

@@ -5,7 +5,8 @@
 //! freely), so a drag can land on t = 17/22; "Go to intersection" slides both handles there.
 
 use super::widgets::palette::Readable as _;
-use super::widgets::{ShownValue, shown_values};
+use super::widgets::slide::{self, Slide};
+use super::widgets::{Part, ShownValue, controls_below, shown_values};
 use egui::{FontId, Pos2, Rect, RichText, Sense, Shape, Stroke, Ui, pos2, vec2};
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
@@ -14,11 +15,10 @@ use super::highlight::{Column, Element, Parameter, Side};
 use super::widgets::labels::{LabelLayer, PlacedLabel, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
-use crate::geometry::segments::{self, SegmentsOutcome, SegmentsSolution};
-use crate::geometry::{Inputs, Precision, Reading, traced};
-use crate::math::exact::Exact;
+use crate::geometry::segments::{self, SegmentsOutcome};
+use crate::geometry::{Precision, Reading, SegmentsLecture, Shown};
 use crate::scene::SegmentsScene;
-use crate::trace::{Trace, format_float};
+use crate::trace::format_float;
 
 /// Something a drag can move.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,13 +61,6 @@ impl Frame2d {
     }
 }
 
-#[derive(Clone, Debug, PartialEq)]
-struct Animation {
-    from: [f64; 2],
-    to: [f64; 2],
-    started: f64,
-}
-
 /// Everything the Segments view remembers.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(default)]
@@ -94,7 +87,7 @@ pub struct SegmentsView {
     #[serde(skip)]
     pub frame: Option<Frame2d>,
     #[serde(skip)]
-    animation: Option<Animation>,
+    animation: Option<Slide<2>>,
     /// What the step on screen is about: drawn emphasised.
     #[serde(skip)]
     pub highlight: Vec<Element>,
@@ -129,15 +122,8 @@ impl Default for SegmentsView {
     }
 }
 
-/// The solves one frame needs.
-pub struct Solved {
-    /// The f64 solve.
-    pub float: SegmentsSolution<f64>,
-    /// The exact solve of the inputs as written.
-    pub exact: SegmentsSolution<Exact>,
-    /// The trace in the step panel's precision.
-    pub trace: Trace,
-}
+/// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
+pub type Solved = Shown<SegmentsLecture>;
 
 impl SegmentsView {
     /// Loads a scene: new segments, handles at the start, view fitted.
@@ -151,7 +137,7 @@ impl SegmentsView {
 
     /// Fits the plot around both segments (and the origin).
     pub fn fit(&mut self) {
-        let points = self.points();
+        let points = self.scene.points();
         let (mut min, mut max) = (DVec2::ZERO, DVec2::ZERO);
         for p in points.iter().filter(|p| p.is_finite()) {
             min = min.min(*p);
@@ -161,35 +147,19 @@ impl SegmentsView {
         self.half_extent = ((max - min).max_element() / 2.0 + 1.0).max(1.0);
     }
 
-    fn points(&self) -> [DVec2; 4] {
-        let s = &self.scene;
-        [s.a1, s.a2, s.b1, s.b2].map(DVec2::from)
-    }
-
     /// Solves the current inputs.
     pub fn solve(&self, precision: Precision) -> Solved {
-        let points = self.points();
-        Solved {
-            float: segments::solve_inputs(Reading::AsWritten, points),
-            exact: segments::solve_inputs(Reading::AsWritten, points),
-            trace: traced(Inputs::Segments(points), Reading::AsWritten, precision),
-        }
+        let points = self.scene.points();
+        Solved::new(points, Reading::AsWritten, precision)
     }
 
     /// The view: controls below, the plot above.
     pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
         self.animate(ui);
-        // The plot keeps at least 55% of the height: the controls scroll below it when short.
-        let controls_height = (ui.available_height() * 0.45).max(48.0);
-        egui::Panel::bottom("segments-controls")
-            .resizable(false)
-            .max_size(controls_height)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical()
-                    .auto_shrink([false, true])
-                    .show(ui, |ui| self.controls_ui(ui, solved))
-            });
-        egui::CentralPanel::default().show(ui, |ui| self.plot_ui(ui, solved));
+        controls_below(ui, "segments-controls", |ui, part| match part {
+            Part::Controls => self.controls_ui(ui, solved),
+            Part::Drawing => self.plot_ui(ui, solved),
+        });
     }
 
     /// The plot alone, filling the space (presentation mode).
@@ -206,27 +176,13 @@ impl SegmentsView {
             (Parameter::S, _, Some(s)) => to[1] = s,
             _ => return,
         }
-        self.animation = Some(Animation {
-            from: [self.t, self.s],
-            to,
-            started: now,
-        });
+        self.animation = Slide::new([self.t, self.s], to, now);
     }
 
     fn animate(&mut self, ui: &Ui) {
-        let Some(animation) = &self.animation else {
-            return;
-        };
-        let k = ((ui.input(|i| i.time) - animation.started) / 0.8).clamp(0.0, 1.0);
-        let eased = k * k * (3.0 - 2.0 * k);
-        if k >= 1.0 {
-            [self.t, self.s] = animation.to;
-            self.animation = None;
-        } else {
-            self.t = animation.from[0] + (animation.to[0] - animation.from[0]) * eased;
-            self.s = animation.from[1] + (animation.to[1] - animation.from[1]) * eased;
-            ui.ctx().request_repaint();
-        }
+        let mut values = [self.t, self.s];
+        slide::advance(ui, &mut self.animation, &mut values);
+        [self.t, self.s] = values;
     }
 
     fn controls_ui(&mut self, ui: &mut Ui, solved: &Solved) {
@@ -242,11 +198,7 @@ impl SegmentsView {
             if go.clicked()
                 && let Some((t, s)) = target
             {
-                self.animation = Some(Animation {
-                    from: [self.t, self.s],
-                    to: [t, s],
-                    started: ui.input(|i| i.time),
-                });
+                self.animation = Slide::new([self.t, self.s], [t, s], ui.input(|i| i.time));
             }
             ui.checkbox(&mut self.show_lines, "Whole lines")
                 .on_hover_text("Draw the lines beyond [0, 1], faded: lines know no bounds");
@@ -273,18 +225,18 @@ impl SegmentsView {
         parameter_sliders(
             ui,
             vec![
-                ParameterSlider {
-                    value: &mut self.t,
-                    range: -1.0..=2.0,
-                    name: "t",
-                    tip: "A(t) = A1 + t(A2−A1): 0 at A1, 1 at A2",
-                },
-                ParameterSlider {
-                    value: &mut self.s,
-                    range: -1.0..=2.0,
-                    name: "s",
-                    tip: "B(s) = B1 + s(B2−B1): 0 at B1, 1 at B2",
-                },
+                ParameterSlider::new(
+                    &mut self.t,
+                    -1.0..=2.0,
+                    "t",
+                    "A(t) = A1 + t(A2−A1): 0 at A1, 1 at A2",
+                ),
+                ParameterSlider::new(
+                    &mut self.s,
+                    -1.0..=2.0,
+                    "s",
+                    "B(s) = B1 + s(B2−B1): 0 at B1, 1 at B2",
+                ),
             ],
         );
         self.status_ui(ui, solved);
@@ -328,7 +280,7 @@ impl SegmentsView {
     }
 
     fn exploration(&self) -> segments::Exploration<f64> {
-        let pair = segments::SegmentPair::from_floats(self.points());
+        let pair = segments::SegmentPair::from_floats(self.scene.points());
         segments::explore(&pair, &self.t, &self.s)
     }
 
@@ -394,7 +346,7 @@ impl SegmentsView {
         let frame = self.frame.as_ref()?;
         let explored = self.exploration();
         let world = match handle {
-            Handle::Endpoint(i) => self.points()[i],
+            Handle::Endpoint(i) => self.scene.points()[i],
             Handle::T => DVec2::from(explored.a_at_t),
             Handle::S => DVec2::from(explored.b_at_s),
             Handle::Pan => return None,
@@ -470,7 +422,7 @@ impl SegmentsView {
             let crossing = self
                 .crossing_on_screen(solved)
                 .filter(|c| !free && c.distance(pointer) < SNAP_POINTS);
-            let [a1, a2, b1, b2] = self.points().map(|p| p.to_array());
+            let [a1, a2, b1, b2] = self.scene.points().map(|p| p.to_array());
             match self.grab {
                 Some(Handle::T) => {
                     self.t = match (crossing, solved.float.t) {
@@ -536,7 +488,7 @@ impl SegmentsView {
         }
         draw_grid(ui, painter, frame, &mut labels);
         self.draw_highlights(painter, frame, solved);
-        let [a1, a2, b1, b2] = self.points();
+        let [a1, a2, b1, b2] = self.scene.points();
         let to_screen = |p: DVec2| frame.screen_from_world(p);
         let far = 1e3 * self.half_extent.max(1.0);
         for (p1, p2, color, name) in [
@@ -617,7 +569,7 @@ impl SegmentsView {
 
     /// Emphasises what the step on screen is about: a wide glow under each highlighted element.
     fn draw_highlights(&self, painter: &egui::Painter, frame: &Frame2d, solved: &Solved) {
-        let [a1, a2, b1, b2] = self.points().map(|p| frame.screen_from_world(p));
+        let [a1, a2, b1, b2] = self.scene.points().map(|p| frame.screen_from_world(p));
         let glow = |color: egui::Color32| Stroke::new(12.0, faded(color, 90));
         let explored = self.exploration();
         for element in &self.highlight {

@@ -5,7 +5,8 @@
 //! and C can be dragged in the plane facing the camera; the background orbits, the wheel zooms.
 
 use super::widgets::palette::Readable as _;
-use super::widgets::{ShownValue, shown_values};
+use super::widgets::slide::{self, Slide};
+use super::widgets::{Part, ShownValue, controls_below, shown_values};
 use egui::{FontId, Pos2, RichText, Sense, Stroke, Ui};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -15,11 +16,10 @@ use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
-use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome, TriangleSolution};
-use crate::geometry::{Inputs, Precision, Reading, traced};
-use crate::math::exact::Exact;
+use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome};
+use crate::geometry::{Precision, Reading, Shown, TriangleLecture};
 use crate::scene::TriangleScene;
-use crate::trace::{Trace, format_float};
+use crate::trace::format_float;
 
 /// A drag in the canvas: a vertex, or the camera.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,17 +27,6 @@ enum Grab {
     Vertex(usize),
     Orbit,
 }
-
-/// Sliders moving to a target over a short time.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Animation {
-    from: [f64; 3],
-    to: [f64; 3],
-    started: f64,
-}
-
-/// How long "Solve" takes to slide to the solution, seconds.
-const ANIMATION_SECONDS: f64 = 0.8;
 
 /// Everything the Triangle view remembers.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -63,7 +52,7 @@ pub struct TriangleView {
     pub projector: Option<Projector>,
     /// The running "Solve" animation, if any.
     #[serde(skip)]
-    pub animation: Option<Animation>,
+    pub animation: Option<Slide<3>>,
     /// Keep the camera framing the scene to fill the canvas (on load, resize and zoom) until the
     /// user orbits or zooms it themselves.
     #[serde(skip)]
@@ -110,14 +99,7 @@ impl Default for TriangleView {
 }
 
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
-pub struct Solved {
-    /// The f64 solve of the inputs.
-    pub float: TriangleSolution<f64>,
-    /// The exact solve of the inputs as written.
-    pub exact: TriangleSolution<Exact>,
-    /// The trace in the step panel's precision.
-    pub trace: Trace,
-}
+pub type Solved = Shown<TriangleLecture>;
 
 impl TriangleView {
     /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.
@@ -147,12 +129,8 @@ impl TriangleView {
             Parameter::Alpha => [to[0], to[1]] = [s.beta, s.gamma],
             Parameter::S => return,
         }
-        if to != [self.beta, self.gamma, self.t] {
-            self.animation = Some(Animation {
-                from: [self.beta, self.gamma, self.t],
-                to,
-                started: now,
-            });
+        if let Some(slide) = Slide::new([self.beta, self.gamma, self.t], to, now) {
+            self.animation = Some(slide);
         }
     }
 
@@ -165,36 +143,22 @@ impl TriangleView {
         points
     }
 
-    fn vectors(&self) -> [DVec3; 5] {
-        let s = &self.scene;
-        [s.a, s.b, s.c, s.origin, s.dir].map(DVec3::from)
-    }
-
     /// Solves the current inputs.
     pub fn solve(&self, precision: Precision) -> Solved {
-        let (vectors, t_min) = (self.vectors(), self.scene.t_min);
-        let inputs = Inputs::Triangle(vectors, t_min);
-        Solved {
-            float: triangle::solve_inputs(self.reading, vectors, t_min),
-            exact: triangle::solve_inputs(self.reading, vectors, t_min),
-            trace: traced(inputs, self.reading, precision),
-        }
+        Solved::new(
+            (self.scene.vectors(), self.scene.t_min),
+            self.reading,
+            precision,
+        )
     }
 
     /// The view: controls below, the 3D canvas above.
     pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
         self.animate(ui);
-        // The canvas keeps at least 55% of the height: the controls scroll below it when short.
-        let controls_height = (ui.available_height() * 0.45).max(48.0);
-        egui::Panel::bottom("triangle-controls")
-            .resizable(false)
-            .max_size(controls_height)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical()
-                    .auto_shrink([false, true])
-                    .show(ui, |ui| self.controls_ui(ui, solved))
-            });
-        egui::CentralPanel::default().show(ui, |ui| self.canvas_ui(ui, solved));
+        controls_below(ui, "triangle-controls", |ui, part| match part {
+            Part::Controls => self.controls_ui(ui, solved),
+            Part::Drawing => self.canvas_ui(ui, solved),
+        });
     }
 
     /// The canvas alone, filling the space (presentation mode).
@@ -204,20 +168,9 @@ impl TriangleView {
     }
 
     fn animate(&mut self, ui: &Ui) {
-        let Some(animation) = &self.animation else {
-            return;
-        };
-        let now = ui.input(|i| i.time);
-        let k = ((now - animation.started) / ANIMATION_SECONDS).clamp(0.0, 1.0);
-        let eased = k * k * (3.0 - 2.0 * k);
-        let at = |i: usize| animation.from[i] + (animation.to[i] - animation.from[i]) * eased;
-        if k >= 1.0 {
-            [self.beta, self.gamma, self.t] = animation.to;
-            self.animation = None;
-        } else {
-            [self.beta, self.gamma, self.t] = [at(0), at(1), at(2)];
-            ui.ctx().request_repaint();
-        }
+        let mut values = [self.beta, self.gamma, self.t];
+        slide::advance(ui, &mut self.animation, &mut values);
+        [self.beta, self.gamma, self.t] = values;
     }
 
     fn controls_ui(&mut self, ui: &mut Ui, solved: &Solved) {
@@ -239,11 +192,8 @@ impl TriangleView {
             if solve.clicked()
                 && let Some(to) = target
             {
-                self.animation = Some(Animation {
-                    from: [self.beta, self.gamma, self.t],
-                    to,
-                    started: ui.input(|i| i.time),
-                });
+                self.animation =
+                    Slide::new([self.beta, self.gamma, self.t], to, ui.input(|i| i.time));
             }
             if ui
                 .button("Reset view")
@@ -260,24 +210,14 @@ impl TriangleView {
         parameter_sliders(
             ui,
             vec![
-                ParameterSlider {
-                    value: &mut self.beta,
-                    range: -0.5..=1.5,
-                    name: "β",
-                    tip: "How far along B−A from A",
-                },
-                ParameterSlider {
-                    value: &mut self.gamma,
-                    range: -0.5..=1.5,
-                    name: "γ",
-                    tip: "How far along C−A from A",
-                },
-                ParameterSlider {
-                    value: &mut self.t,
-                    range: -t_span..=t_span,
-                    name: "t",
-                    tip: "How far along the ray, in steps of D",
-                },
+                ParameterSlider::new(&mut self.beta, -0.5..=1.5, "β", "How far along B−A from A"),
+                ParameterSlider::new(&mut self.gamma, -0.5..=1.5, "γ", "How far along C−A from A"),
+                ParameterSlider::new(
+                    &mut self.t,
+                    -t_span..=t_span,
+                    "t",
+                    "How far along the ray, in steps of D",
+                ),
             ],
         );
         self.status_ui(ui, solved);
@@ -394,7 +334,7 @@ impl TriangleView {
     }
 
     fn problem(&self) -> triangle::RayTriangle<f64> {
-        triangle::RayTriangle::from_floats(self.vectors(), self.scene.t_min)
+        triangle::RayTriangle::from_floats(self.scene.vectors(), self.scene.t_min)
     }
 
     fn exploration(&self) -> triangle::Exploration<f64> {
@@ -488,7 +428,7 @@ impl TriangleView {
     fn points_to_frame(&self, solved: &Solved) -> Vec<DVec3> {
         let mut points = self.points_of(&self.scene);
         points.pop(); // not the world origin: it may be far from the scene
-        let [_, _, _, l, d] = self.vectors();
+        let [_, _, _, l, d] = self.scene.vectors();
         points.push(l + d);
         if let Some(s) = solved.float.solution.as_ref() {
             points.push(DVec3::from(s.point));
@@ -507,7 +447,7 @@ impl TriangleView {
 
     /// The column vector of M drawn under the pointer: the edges A−B, A−C and the direction D.
     fn column_near(&self, canvas: &Canvas, pointer: Pos2) -> Option<Column> {
-        let [a, b, c, l, d] = self.vectors();
+        let [a, b, c, l, d] = self.scene.vectors();
         [
             (b, a, Column::AMinusB),
             (c, a, Column::AMinusC),
@@ -590,7 +530,7 @@ impl TriangleView {
         ) {
             labels.avoid(verdict);
         }
-        let [a, b, c, l, d] = self.vectors();
+        let [a, b, c, l, d] = self.scene.vectors();
         canvas.axes_labelled(&[a, b, c, l], &mut labels);
 
         let degenerate = matches!(
@@ -680,7 +620,7 @@ impl TriangleView {
     /// Emphasises what the step on screen is about: a wide glow under each highlighted vector,
     /// edge or point, with the vector's name.
     fn draw_highlights(&self, canvas: &Canvas, solved: &Solved, labels: &mut LabelLayer) {
-        let [a, b, c, l, d] = self.vectors();
+        let [a, b, c, l, d] = self.scene.vectors();
         let glow = |color: egui::Color32| Stroke::new(11.0, faded(color, 90));
         let mut emphasised = self.highlight.clone();
         if let Some(column) = self.hovered_column {

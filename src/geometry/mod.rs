@@ -84,6 +84,80 @@ pub fn traced(inputs: Inputs, reading: Reading, precision: Precision) -> Trace {
     in_precision(precision, Traced(inputs, reading))
 }
 
+/// One of the lecture's problems, as a type: its float inputs and its answer in any precision.
+pub trait Lecture {
+    /// The inputs as floats (points and vectors as the app and scene files hold them).
+    type Floats: Copy;
+    /// The answer in precision `R`.
+    type Answer<R: Real>;
+    /// Reads the inputs as `reading` says and solves in precision `R`.
+    fn answer<R: Real>(floats: Self::Floats, reading: Reading) -> Self::Answer<R>;
+    /// The inputs as [`traced`] takes them.
+    fn inputs(floats: Self::Floats) -> Inputs;
+}
+
+/// Two segments (seed 000).
+pub enum SegmentsLecture {}
+/// A ray and a triangle (seeds 000, 002, 003).
+pub enum TriangleLecture {}
+/// A ray and a parallelogram (seed 001).
+pub enum ParallelogramLecture {}
+
+impl Lecture for SegmentsLecture {
+    type Floats = [DVec2; 4];
+    type Answer<R: Real> = segments::SegmentsSolution<R>;
+    fn answer<R: Real>(points: [DVec2; 4], reading: Reading) -> Self::Answer<R> {
+        segments::solve_inputs(reading, points)
+    }
+    fn inputs(points: [DVec2; 4]) -> Inputs {
+        Inputs::Segments(points)
+    }
+}
+
+impl Lecture for TriangleLecture {
+    type Floats = ([DVec3; 5], f64);
+    type Answer<R: Real> = triangle::TriangleSolution<R>;
+    fn answer<R: Real>((vectors, t_min): ([DVec3; 5], f64), reading: Reading) -> Self::Answer<R> {
+        triangle::solve_inputs(reading, vectors, t_min)
+    }
+    fn inputs((vectors, t_min): ([DVec3; 5], f64)) -> Inputs {
+        Inputs::Triangle(vectors, t_min)
+    }
+}
+
+impl Lecture for ParallelogramLecture {
+    type Floats = [DVec3; 5];
+    type Answer<R: Real> = parallelogram::ParallelogramSolution<R>;
+    fn answer<R: Real>(vectors: [DVec3; 5], reading: Reading) -> Self::Answer<R> {
+        parallelogram::solve_inputs(reading, vectors)
+    }
+    fn inputs(vectors: [DVec3; 5]) -> Inputs {
+        Inputs::Parallelogram(vectors)
+    }
+}
+
+/// A problem solved for a view: in f64 (to draw), exactly (to show fractions), and traced in the
+/// precision the step panel shows.
+pub struct Shown<L: Lecture> {
+    /// The f64 solve.
+    pub float: L::Answer<f64>,
+    /// The exact solve.
+    pub exact: L::Answer<crate::math::exact::Exact>,
+    /// Every step, in the chosen precision.
+    pub trace: Trace,
+}
+
+impl<L: Lecture> Shown<L> {
+    /// Solves `floats`, read as `reading`, for a view whose step panel shows `precision`.
+    pub fn new(floats: L::Floats, reading: Reading, precision: Precision) -> Shown<L> {
+        Shown {
+            float: L::answer(floats, reading),
+            exact: L::answer(floats, reading),
+            trace: traced(L::inputs(floats), reading, precision),
+        }
+    }
+}
+
 /// Records the verdict on an input that cannot be used (the whole trace of such a solve).
 fn record_refusal(rec: &mut Recorder, status: Status, message: impl FnOnce() -> String) {
     rec.push(|| {

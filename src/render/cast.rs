@@ -2,6 +2,7 @@
 //! intersection method; the nearest hit wins. The common bugs the app shows are switched on here.
 
 use serde::{Deserialize, Serialize};
+use strum::{EnumIter, IntoStaticStr};
 
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
 use super::{Prepared, Stats};
@@ -11,16 +12,7 @@ use crate::math::linalg::V3;
 
 /// A mistake students make, rendered beside the correct image (in menu order).
 #[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    Serialize,
-    Deserialize,
-    strum::EnumIter,
-    strum::IntoStaticStr,
+    Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, EnumIter, IntoStaticStr,
 )]
 #[strum(serialize_all = "kebab-case")]
 pub enum Bug {

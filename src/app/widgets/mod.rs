@@ -3,6 +3,7 @@
 pub mod labels;
 pub mod palette;
 pub mod scene3d;
+pub mod slide;
 
 use egui::{RichText, Ui};
 
@@ -114,6 +115,47 @@ pub struct ParameterSlider<'a> {
     pub name: &'a str,
     /// The tooltip.
     pub tip: &'a str,
+}
+
+/// A lecture view's two parts.
+pub enum Part {
+    /// The controls, in a strip below.
+    Controls,
+    /// The drawing, above, filling the rest.
+    Drawing,
+}
+
+/// Lays out a lecture view: `draw(ui, Part::Controls)` in a strip at the bottom that scrolls when
+/// short (at most 45% of the height, so the drawing keeps at least 55%), then `draw(ui, Part::Drawing)`
+/// above it. `id` names the strip.
+pub fn controls_below(ui: &mut egui::Ui, id: &str, mut draw: impl FnMut(&mut egui::Ui, Part)) {
+    let controls_height = (ui.available_height() * 0.45).max(48.0);
+    egui::Panel::bottom(id.to_string())
+        .resizable(false)
+        .max_size(controls_height)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical()
+                .auto_shrink([false, true])
+                .show(ui, |ui| draw(ui, Part::Controls))
+        });
+    egui::CentralPanel::default().show(ui, |ui| draw(ui, Part::Drawing));
+}
+
+impl<'a> ParameterSlider<'a> {
+    /// A slider for `value` over `range`, labelled `name`, explained by `tip`.
+    pub fn new(
+        value: &'a mut f64,
+        range: std::ops::RangeInclusive<f64>,
+        name: &'a str,
+        tip: &'a str,
+    ) -> ParameterSlider<'a> {
+        ParameterSlider {
+            value,
+            range,
+            name,
+            tip,
+        }
+    }
 }
 
 /// The parameter sliders in one row when the view is wide enough, else one per row (a slider is a
