@@ -4,6 +4,8 @@
 //! angle, shows the table, and a gallery of hard cases that load into the Triangle view with what
 //! each method decides.
 
+use super::ViewKind;
+use super::view::{ActiveSolve, Request, View, not_mine};
 use super::widgets::palette::Readable as _;
 use egui::{Color32, RichText, Ui};
 use egui_plot::{Line, MarkerShape, Plot, PlotPoints, Points};
@@ -12,9 +14,10 @@ use super::widgets::palette;
 use crate::accuracy::families::Family;
 use crate::accuracy::hard_cases::{HardCase, gallery, verdicts};
 use crate::accuracy::study::{self, Config, Record, StudyRun};
+use crate::geometry::Precision;
 use crate::intersect::Method;
 use crate::platform::Job;
-use crate::scene::TriangleScene;
+use crate::scene::{Problem, TriangleScene};
 
 /// The Accuracy view's state (results are not persisted: a run takes seconds).
 #[derive(Default)]
@@ -36,6 +39,33 @@ pub struct AccuracyView {
 pub enum Action {
     /// Load this case into the Triangle view.
     LoadTriangle(TriangleScene, String, String),
+}
+
+impl View for AccuracyView {
+    fn kind(&self) -> ViewKind {
+        ViewKind::Accuracy
+    }
+
+    fn open(&mut self, _problem: &Problem, _folder: Option<String>) -> Result<(), String> {
+        Err(not_mine(self.kind()))
+    }
+
+    fn problem(&self) -> Option<Problem> {
+        None
+    }
+
+    fn solve_frame(&self, _precision: Precision) -> ActiveSolve {
+        ActiveSolve::Nothing
+    }
+
+    fn frame_ui(
+        &mut self,
+        ui: &mut Ui,
+        _solved: &ActiveSolve,
+        _canvas_only: bool,
+    ) -> Option<Request> {
+        self.ui(ui).map(Request::Accuracy)
+    }
 }
 
 /// A colour per method, for the legend.

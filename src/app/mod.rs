@@ -17,6 +17,7 @@ pub mod step_panel;
 mod style;
 mod top_bar;
 pub mod triangle_view;
+pub mod view;
 pub mod widgets;
 
 use scene_files::Dialog;
@@ -33,6 +34,7 @@ use parallelogram_view::ParallelogramView;
 use render_view::RenderView;
 use segments_view::SegmentsView;
 use triangle_view::TriangleView;
+use view::{ActiveSolve, Request};
 
 /// The views, one tab each.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -274,26 +276,6 @@ pub struct RaylabApp {
 /// The storage key of the state.
 const STATE_KEY: &str = "raylab-state";
 
-/// One frame's solve of the open view.
-enum ActiveSolve {
-    Segments(segments_view::Solved),
-    Triangle(triangle_view::Solved),
-    Parallelogram(parallelogram_view::Solved),
-    /// The Accuracy view solves nothing itself.
-    Nothing,
-}
-
-impl ActiveSolve {
-    fn trace(&self) -> Option<&Trace> {
-        match self {
-            ActiveSolve::Segments(s) => Some(&s.trace),
-            ActiveSolve::Triangle(s) => Some(&s.trace),
-            ActiveSolve::Parallelogram(s) => Some(&s.trace),
-            ActiveSolve::Nothing => None,
-        }
-    }
-}
-
 impl RaylabApp {
     /// The app with default state (tests, first start).
     pub fn new() -> RaylabApp {
@@ -380,12 +362,7 @@ impl RaylabApp {
     /// Loads a scene read from a file in `folder`, where a render scene's own meshes and textures are.
     pub fn load_scene_from(&mut self, scene: &Scene, folder: Option<String>) -> Result<(), String> {
         let kind = view_of(&scene.problem);
-        match &scene.problem {
-            Problem::Segments(s) => self.state.segments.load(s.clone()),
-            Problem::Triangle(t) => self.state.triangle.load(t.clone()),
-            Problem::Parallelogram(p) => self.state.parallelogram.load(p.clone()),
-            Problem::Render(r) => self.state.render.load(r.clone(), folder)?,
-        }
+        self.view_mut(kind).open(&scene.problem, folder)?;
         self.state.titles[kind as usize] = (scene.title.clone(), scene.note.clone());
         self.state.loaded[kind as usize] = Some(scene.problem.clone());
         self.state.view = kind;
@@ -424,15 +401,7 @@ impl RaylabApp {
 
     /// The open view's inputs as a scene, for saving.
     pub fn current_scene(&self) -> Option<Scene> {
-        let problem = match self.state.view {
-            ViewKind::Segments => Problem::Segments(self.state.segments.scene.clone()),
-            ViewKind::Triangle => Problem::Triangle(self.state.triangle.scene.clone()),
-            ViewKind::Parallelogram => {
-                Problem::Parallelogram(self.state.parallelogram.scene.clone())
-            }
-            ViewKind::Render => Problem::Render(self.state.render.scene.clone()),
-            ViewKind::Accuracy => return None,
-        };
+        let problem = self.view(self.state.view).problem()?;
         let (title, note) = self.state.titles[self.state.view as usize].clone();
         Some(Scene {
             title,
@@ -442,31 +411,7 @@ impl RaylabApp {
     }
 
     fn solve(&self) -> ActiveSolve {
-        let precision = self.state.precision;
-        match self.state.view {
-            ViewKind::Segments => ActiveSolve::Segments(self.state.segments.solve(precision)),
-            ViewKind::Triangle => ActiveSolve::Triangle(self.state.triangle.solve(precision)),
-            ViewKind::Parallelogram => {
-                ActiveSolve::Parallelogram(self.state.parallelogram.solve(precision))
-            }
-            // The step panel shows the probed pixel's ray against what it met, whatever the other
-            // views hold now.
-            ViewKind::Render => match self.state.render.probed_problem() {
-                Some(render_view::Action::Triangle(scene)) => {
-                    let mut view = self.state.triangle.clone();
-                    view.scene = scene.clone();
-                    view.reading = crate::geometry::Reading::FloatValue;
-                    ActiveSolve::Triangle(view.solve(precision))
-                }
-                Some(render_view::Action::Parallelogram(scene)) => {
-                    let mut view = self.state.parallelogram.clone();
-                    view.scene = scene.clone();
-                    ActiveSolve::Parallelogram(view.solve(precision))
-                }
-                _ => ActiveSolve::Nothing,
-            },
-            ViewKind::Accuracy => ActiveSolve::Nothing,
-        }
+        self.view(self.state.view).solve_frame(self.state.precision)
     }
 
     /// Everything a solve depends on, to tell whether a frame changed it.
@@ -635,57 +580,30 @@ impl RaylabApp {
 
     /// The open view; `canvas_only` in presentation mode (no controls, the drawing fills the space).
     fn view_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve, canvas_only: bool) {
-        match solved {
-            _ if self.state.view == ViewKind::Render => {
-                if let Some(action) = self.state.render.ui(ui) {
-                    self.render_action(action);
-                }
+        match self
+            .view_mut(self.state.view)
+            .frame_ui(ui, solved, canvas_only)
+        {
+            Some(Request::Render(action)) => self.render_action(action),
+            Some(Request::Accuracy(accuracy_view::Action::LoadTriangle(scene, title, note))) => {
+                let loaded = self.load_scene(&Scene {
+                    title,
+                    note,
+                    problem: Problem::Triangle(scene),
+                });
+                debug_assert!(loaded.is_ok(), "a triangle always loads");
+                // Judge it as the gallery does: exact arithmetic on the float values themselves.
+                self.state.triangle.reading = crate::geometry::Reading::FloatValue;
             }
-            ActiveSolve::Segments(s) if self.state.view == ViewKind::Segments => {
-                if canvas_only {
-                    self.state.segments.present_ui(ui, s)
-                } else {
-                    self.state.segments.ui(ui, s)
-                }
-            }
-            ActiveSolve::Triangle(s) if self.state.view == ViewKind::Triangle => {
-                if canvas_only {
-                    self.state.triangle.present_ui(ui, s)
-                } else {
-                    self.state.triangle.ui(ui, s)
-                }
-            }
-            ActiveSolve::Parallelogram(s) if self.state.view == ViewKind::Parallelogram => {
-                if canvas_only {
-                    self.state.parallelogram.present_ui(ui, s)
-                } else {
-                    self.state.parallelogram.ui(ui, s)
-                }
-            }
-            ActiveSolve::Nothing if self.state.view == ViewKind::Accuracy => {
-                if let Some(accuracy_view::Action::LoadTriangle(scene, title, note)) =
-                    self.accuracy.ui(ui)
-                {
-                    let loaded = self.load_scene(&Scene {
-                        title,
-                        note,
-                        problem: Problem::Triangle(scene),
-                    });
-                    debug_assert!(loaded.is_ok(), "a triangle always loads");
-                    // Judge it as the gallery does: exact arithmetic on the float values themselves.
-                    self.state.triangle.reading = crate::geometry::Reading::FloatValue;
-                }
-            }
-            // The tab changed this frame: draw the new view next frame.
-            _ => ui.ctx().request_repaint(),
+            None => {}
         }
     }
 
     /// Tells the open view what to emphasise.
     fn set_highlight(&mut self, elements: Vec<highlight::Element>) {
-        self.state.segments.highlight = elements.clone();
-        self.state.parallelogram.highlight = elements.clone();
-        self.state.triangle.highlight = elements;
+        for kind in ViewKind::ALL {
+            self.view_mut(kind).emphasise(&elements);
+        }
     }
 }
 

@@ -135,14 +135,8 @@ impl RaylabApp {
             let highlight::Element::Parameter(parameter) = element else {
                 continue;
             };
-            match solved {
-                ActiveSolve::Triangle(s) => self.state.triangle.show_parameter(*parameter, s, now),
-                ActiveSolve::Segments(s) => self.state.segments.show_parameter(*parameter, s, now),
-                ActiveSolve::Parallelogram(s) => {
-                    self.state.parallelogram.show_parameter(*parameter, s)
-                }
-                ActiveSolve::Nothing => {}
-            }
+            self.view_mut(self.state.view)
+                .slide_to(*parameter, solved, now);
         }
     }
 }

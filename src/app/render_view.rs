@@ -5,7 +5,9 @@
 //! Renders run as a [`Job`] (a thread natively, slices of frames on the web) and only when something
 //! they depend on changed.
 
+use super::view::{ActiveSolve, Request, View, not_mine};
 use super::widgets::palette::Readable as _;
+use super::{ViewKind, parallelogram_view, triangle_view};
 use std::sync::Arc;
 
 use egui::{Color32, ColorImage, RichText, Sense, Stroke, TextureHandle, TextureOptions, Ui, Vec2};
@@ -15,6 +17,7 @@ use serde::{Deserialize, Serialize};
 use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette;
 use super::widgets::scene3d::{Canvas, OrbitCamera};
+use crate::geometry::{Precision, Reading};
 use crate::intersect::Method;
 use crate::math::linalg::{add, norm_f64, scale};
 use crate::platform::Job;
@@ -24,7 +27,7 @@ use crate::render::probe::{Probe, probe};
 use crate::render::scene_load::{SceneLoad, UNITS_PER_MESH, mesh_names};
 use crate::render::{Bug, Prepared, RenderJob, Rendered};
 use crate::scene::render::{Effect, RenderScene};
-use crate::scene::{ParallelogramScene, TriangleScene};
+use crate::scene::{ParallelogramScene, Problem, TriangleScene};
 
 /// What the image area shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -144,6 +147,48 @@ struct Shown {
     key: Choices,
     rendered: Rendered,
     texture: TextureHandle,
+}
+
+impl View for RenderView {
+    fn kind(&self) -> ViewKind {
+        ViewKind::Render
+    }
+
+    fn open(&mut self, problem: &Problem, folder: Option<String>) -> Result<(), String> {
+        let Problem::Render(scene) = problem else {
+            return Err(not_mine(self.kind()));
+        };
+        self.load(scene.clone(), folder)
+    }
+
+    fn problem(&self) -> Option<Problem> {
+        Some(Problem::Render(self.scene.clone()))
+    }
+
+    /// The probed pixel's ray against what it met (or came nearest to): the step panel shows its
+    /// steps, judged as the renderer saw it (exact arithmetic on the floats themselves for a triangle).
+    fn solve_frame(&self, precision: Precision) -> ActiveSolve {
+        match self.probed_problem() {
+            Some(Action::Triangle(scene)) => ActiveSolve::Triangle(triangle_view::Solved::new(
+                (scene.vectors(), scene.t_min),
+                Reading::FloatValue,
+                precision,
+            )),
+            Some(Action::Parallelogram(scene)) => ActiveSolve::Parallelogram(
+                parallelogram_view::Solved::new(scene.vectors(), Reading::AsWritten, precision),
+            ),
+            _ => ActiveSolve::Nothing,
+        }
+    }
+
+    fn frame_ui(
+        &mut self,
+        ui: &mut Ui,
+        _solved: &ActiveSolve,
+        _canvas_only: bool,
+    ) -> Option<Request> {
+        self.ui(ui).map(Request::Render)
+    }
 }
 
 /// What the view asks the app to do.

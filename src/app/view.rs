@@ -1,0 +1,101 @@
+//! What every tab does, as one trait. The frame loop, scene files, presentation and highlighting treat
+//! the views alike through [`View`]; [`RaylabApp::view`] and [`RaylabApp::view_mut`] are the registry
+//! from a tab to its view. A new view is a file that implements [`View`], its [`ViewKind`], and its
+//! line in the registry.
+
+use egui::Ui;
+
+use super::highlight::{Element, Parameter};
+use super::{RaylabApp, ViewKind, accuracy_view, parallelogram_view, render_view};
+use super::{segments_view, triangle_view};
+use crate::geometry::Precision;
+use crate::scene::Problem;
+use crate::trace::Trace;
+
+/// One frame's solve of the open view: what it draws and the step panel shows.
+pub enum ActiveSolve {
+    /// Two segments.
+    Segments(segments_view::Solved),
+    /// A ray and a triangle (also a probed pixel's ray in the Render view).
+    Triangle(triangle_view::Solved),
+    /// A ray and a parallelogram (also a probed pixel's ray in the Render view).
+    Parallelogram(parallelogram_view::Solved),
+    /// Nothing to solve (the Accuracy view; the Render view before a pixel is probed).
+    Nothing,
+}
+
+impl ActiveSolve {
+    /// The steps for the step panel, if there is a solve.
+    pub fn trace(&self) -> Option<&Trace> {
+        match self {
+            ActiveSolve::Segments(s) => Some(&s.trace),
+            ActiveSolve::Triangle(s) => Some(&s.trace),
+            ActiveSolve::Parallelogram(s) => Some(&s.trace),
+            ActiveSolve::Nothing => None,
+        }
+    }
+}
+
+/// What a view asks the app to do after drawing.
+pub enum Request {
+    /// The Render view's probe: open a ray in another view, or switch views.
+    Render(render_view::Action),
+    /// The Accuracy view's gallery: load this hard case into the Triangle view.
+    Accuracy(accuracy_view::Action),
+}
+
+/// A tab of the app.
+pub trait View {
+    /// Its tab.
+    fn kind(&self) -> ViewKind;
+
+    /// Opens a problem of its kind (a render scene's meshes and textures are found in `folder`).
+    fn open(&mut self, problem: &Problem, folder: Option<String>) -> Result<(), String>;
+
+    /// Its problem as it stands now (to save it, to tell whether it was edited); `None` for a view
+    /// with no problem of its own.
+    fn problem(&self) -> Option<Problem>;
+
+    /// Solves what it shows, with the step panel in `precision`.
+    fn solve_frame(&self, precision: Precision) -> ActiveSolve;
+
+    /// Draws itself; `canvas_only` in presentation mode. A frame whose solve is not its own (the
+    /// tab changed this frame) draws nothing and asks for the next frame.
+    fn frame_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve, canvas_only: bool)
+    -> Option<Request>;
+
+    /// Emphasises what the step on screen is about.
+    fn emphasise(&mut self, _elements: &[Element]) {}
+
+    /// Slides a parameter to its value at the solution (a presentation step computed it).
+    fn slide_to(&mut self, _parameter: Parameter, _solved: &ActiveSolve, _now: f64) {}
+}
+
+/// The refusal of a problem that belongs to another view.
+pub fn not_mine(kind: ViewKind) -> String {
+    format!("the {} view opens no such problem", kind.label())
+}
+
+impl RaylabApp {
+    /// The view of a tab.
+    pub fn view(&self, kind: ViewKind) -> &dyn View {
+        match kind {
+            ViewKind::Segments => &self.state.segments,
+            ViewKind::Triangle => &self.state.triangle,
+            ViewKind::Parallelogram => &self.state.parallelogram,
+            ViewKind::Render => &self.state.render,
+            ViewKind::Accuracy => &self.accuracy,
+        }
+    }
+
+    /// The view of a tab, to change.
+    pub fn view_mut(&mut self, kind: ViewKind) -> &mut dyn View {
+        match kind {
+            ViewKind::Segments => &mut self.state.segments,
+            ViewKind::Triangle => &mut self.state.triangle,
+            ViewKind::Parallelogram => &mut self.state.parallelogram,
+            ViewKind::Render => &mut self.state.render,
+            ViewKind::Accuracy => &mut self.accuracy,
+        }
+    }
+}
