@@ -3,6 +3,8 @@
 //! The app only turns state into widgets and input into state changes; every number it shows comes
 //! from the core's solvers and their Trace.
 
+#[macro_use]
+pub mod view;
 pub mod accuracy_view;
 pub mod highlight;
 pub mod launch;
@@ -17,7 +19,6 @@ pub mod step_panel;
 mod style;
 mod top_bar;
 pub mod triangle_view;
-pub mod view;
 pub mod widgets;
 
 use scene_files::Dialog;

@@ -1,8 +1,6 @@
 //! The Parallelogram view (seed 001): c + α e1 + β e2 against the ray o + t d, with sliders for α, β and
 //! t, and the step panel solving M (α, β, t)ᵀ = o − c with M = [e1 | e2 | −d] through M⁻¹.
 
-use super::ViewKind;
-use super::view::{ActiveSolve, Request, View, not_mine};
 use super::widgets::palette::Readable as _;
 use super::widgets::{Part, ShownValue, controls_below, shown_values};
 use egui::{FontId, RichText, Sense, Stroke, Ui};
@@ -16,7 +14,7 @@ use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, status_line, vector_editor};
 use crate::geometry::parallelogram::{self, ParallelogramOutcome};
 use crate::geometry::{ParallelogramLecture, Precision, Reading, Shown};
-use crate::scene::{ParallelogramScene, Problem};
+use crate::scene::ParallelogramScene;
 use crate::trace::format_float;
 
 /// Everything the Parallelogram view remembers.
@@ -76,51 +74,7 @@ impl Default for ParallelogramView {
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<ParallelogramLecture>;
 
-impl View for ParallelogramView {
-    fn kind(&self) -> ViewKind {
-        ViewKind::Parallelogram
-    }
-
-    fn open(&mut self, problem: &Problem, _folder: Option<String>) -> Result<(), String> {
-        let Problem::Parallelogram(scene) = problem else {
-            return Err(not_mine(self.kind()));
-        };
-        self.load(scene.clone());
-        Ok(())
-    }
-
-    fn problem(&self) -> Option<Problem> {
-        Some(Problem::Parallelogram(self.scene.clone()))
-    }
-
-    fn solve_frame(&self, precision: Precision) -> ActiveSolve {
-        ActiveSolve::Parallelogram(self.solve(precision))
-    }
-
-    fn frame_ui(
-        &mut self,
-        ui: &mut Ui,
-        solved: &ActiveSolve,
-        canvas_only: bool,
-    ) -> Option<Request> {
-        match solved {
-            ActiveSolve::Parallelogram(s) if canvas_only => self.present_ui(ui, s),
-            ActiveSolve::Parallelogram(s) => self.ui(ui, s),
-            _ => ui.ctx().request_repaint(),
-        }
-        None
-    }
-
-    fn emphasise(&mut self, elements: &[Element]) {
-        self.highlight = elements.to_vec();
-    }
-
-    fn slide_to(&mut self, parameter: Parameter, solved: &ActiveSolve, _now: f64) {
-        if let ActiveSolve::Parallelogram(s) = solved {
-            self.show_parameter(parameter, s);
-        }
-    }
-}
+lecture_view!(ParallelogramView, Parallelogram);
 
 impl ParallelogramView {
     /// Loads a scene.
@@ -143,7 +97,7 @@ impl ParallelogramView {
     }
 
     /// Slides a parameter to its value at the solution (presentation mode).
-    pub fn show_parameter(&mut self, parameter: Parameter, solved: &Solved) {
+    pub fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, _now: f64) {
         if let Some([alpha, beta, t]) = solved.float.alpha_beta_t {
             match parameter {
                 Parameter::Alpha => self.alpha = alpha,

@@ -4,8 +4,6 @@
 //! A handle dropped within a few pixels of the crossing snaps onto it exactly (hold Shift to move
 //! freely), so a drag can land on t = 17/22; "Go to intersection" slides both handles there.
 
-use super::ViewKind;
-use super::view::{ActiveSolve, Request, View, not_mine};
 use super::widgets::palette::Readable as _;
 use super::widgets::slide::{self, Slide};
 use super::widgets::{Part, ShownValue, controls_below, shown_values};
@@ -19,7 +17,7 @@ use super::widgets::palette::{self, faded};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::segments::{self, SegmentsOutcome};
 use crate::geometry::{Precision, Reading, SegmentsLecture, Shown};
-use crate::scene::{Problem, SegmentsScene};
+use crate::scene::SegmentsScene;
 use crate::trace::format_float;
 
 /// Something a drag can move.
@@ -127,51 +125,7 @@ impl Default for SegmentsView {
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<SegmentsLecture>;
 
-impl View for SegmentsView {
-    fn kind(&self) -> ViewKind {
-        ViewKind::Segments
-    }
-
-    fn open(&mut self, problem: &Problem, _folder: Option<String>) -> Result<(), String> {
-        let Problem::Segments(scene) = problem else {
-            return Err(not_mine(self.kind()));
-        };
-        self.load(scene.clone());
-        Ok(())
-    }
-
-    fn problem(&self) -> Option<Problem> {
-        Some(Problem::Segments(self.scene.clone()))
-    }
-
-    fn solve_frame(&self, precision: Precision) -> ActiveSolve {
-        ActiveSolve::Segments(self.solve(precision))
-    }
-
-    fn frame_ui(
-        &mut self,
-        ui: &mut Ui,
-        solved: &ActiveSolve,
-        canvas_only: bool,
-    ) -> Option<Request> {
-        match solved {
-            ActiveSolve::Segments(s) if canvas_only => self.present_ui(ui, s),
-            ActiveSolve::Segments(s) => self.ui(ui, s),
-            _ => ui.ctx().request_repaint(),
-        }
-        None
-    }
-
-    fn emphasise(&mut self, elements: &[Element]) {
-        self.highlight = elements.to_vec();
-    }
-
-    fn slide_to(&mut self, parameter: Parameter, solved: &ActiveSolve, now: f64) {
-        if let ActiveSolve::Segments(s) = solved {
-            self.show_parameter(parameter, s, now);
-        }
-    }
-}
+lecture_view!(SegmentsView, Segments);
 
 impl SegmentsView {
     /// Loads a scene: new segments, handles at the start, view fitted.

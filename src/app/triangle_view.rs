@@ -4,8 +4,6 @@
 //! outside) and L + tD along the ray; "Solve" slides all three to the solution, where they meet. A, B
 //! and C can be dragged in the plane facing the camera; the background orbits, the wheel zooms.
 
-use super::ViewKind;
-use super::view::{ActiveSolve, Request, View, not_mine};
 use super::widgets::palette::Readable as _;
 use super::widgets::slide::{self, Slide};
 use super::widgets::{Part, ShownValue, controls_below, shown_values};
@@ -20,7 +18,7 @@ use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome};
 use crate::geometry::{Precision, Reading, Shown, TriangleLecture};
-use crate::scene::{Problem, TriangleScene};
+use crate::scene::TriangleScene;
 use crate::trace::format_float;
 
 /// A drag in the canvas: a vertex, or the camera.
@@ -103,51 +101,7 @@ impl Default for TriangleView {
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<TriangleLecture>;
 
-impl View for TriangleView {
-    fn kind(&self) -> ViewKind {
-        ViewKind::Triangle
-    }
-
-    fn open(&mut self, problem: &Problem, _folder: Option<String>) -> Result<(), String> {
-        let Problem::Triangle(scene) = problem else {
-            return Err(not_mine(self.kind()));
-        };
-        self.load(scene.clone());
-        Ok(())
-    }
-
-    fn problem(&self) -> Option<Problem> {
-        Some(Problem::Triangle(self.scene.clone()))
-    }
-
-    fn solve_frame(&self, precision: Precision) -> ActiveSolve {
-        ActiveSolve::Triangle(self.solve(precision))
-    }
-
-    fn frame_ui(
-        &mut self,
-        ui: &mut Ui,
-        solved: &ActiveSolve,
-        canvas_only: bool,
-    ) -> Option<Request> {
-        match solved {
-            ActiveSolve::Triangle(s) if canvas_only => self.present_ui(ui, s),
-            ActiveSolve::Triangle(s) => self.ui(ui, s),
-            _ => ui.ctx().request_repaint(),
-        }
-        None
-    }
-
-    fn emphasise(&mut self, elements: &[Element]) {
-        self.highlight = elements.to_vec();
-    }
-
-    fn slide_to(&mut self, parameter: Parameter, solved: &ActiveSolve, now: f64) {
-        if let ActiveSolve::Triangle(s) = solved {
-            self.show_parameter(parameter, s, now);
-        }
-    }
-}
+lecture_view!(TriangleView, Triangle);
 
 impl TriangleView {
     /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.

@@ -71,6 +71,74 @@ pub trait View {
     fn slide_to(&mut self, _parameter: Parameter, _solved: &ActiveSolve, _now: f64) {}
 }
 
+/// The [`View`] of a lecture view (Segments, Triangle, Parallelogram): its problem is
+/// `Problem::$variant`, its frame's solve `ActiveSolve::$variant`, and it has `load(scene)`,
+/// `solve(precision)`, `ui` and `present_ui(ui, solved)`, `show_parameter(parameter, solved, now)`
+/// and a `highlight` list.
+macro_rules! lecture_view {
+    ($view:ty, $variant:ident) => {
+        impl $crate::app::view::View for $view {
+            fn kind(&self) -> $crate::app::ViewKind {
+                $crate::app::ViewKind::$variant
+            }
+
+            fn open(
+                &mut self,
+                problem: &$crate::scene::Problem,
+                _folder: Option<String>,
+            ) -> Result<(), String> {
+                let $crate::scene::Problem::$variant(scene) = problem else {
+                    return Err($crate::app::view::not_mine(self.kind()));
+                };
+                self.load(scene.clone());
+                Ok(())
+            }
+
+            fn problem(&self) -> Option<$crate::scene::Problem> {
+                Some($crate::scene::Problem::$variant(self.scene.clone()))
+            }
+
+            fn solve_frame(
+                &self,
+                precision: $crate::geometry::Precision,
+            ) -> $crate::app::view::ActiveSolve {
+                $crate::app::view::ActiveSolve::$variant(self.solve(precision))
+            }
+
+            fn frame_ui(
+                &mut self,
+                ui: &mut egui::Ui,
+                solved: &$crate::app::view::ActiveSolve,
+                canvas_only: bool,
+            ) -> Option<$crate::app::view::Request> {
+                match solved {
+                    $crate::app::view::ActiveSolve::$variant(s) if canvas_only => {
+                        self.present_ui(ui, s)
+                    }
+                    $crate::app::view::ActiveSolve::$variant(s) => self.ui(ui, s),
+                    _ => ui.ctx().request_repaint(),
+                }
+                None
+            }
+
+            fn emphasise(&mut self, elements: &[$crate::app::highlight::Element]) {
+                self.highlight = elements.to_vec();
+            }
+
+            fn slide_to(
+                &mut self,
+                parameter: $crate::app::highlight::Parameter,
+                solved: &$crate::app::view::ActiveSolve,
+                now: f64,
+            ) {
+                if let $crate::app::view::ActiveSolve::$variant(s) = solved {
+                    self.show_parameter(parameter, s, now);
+                }
+            }
+        }
+    };
+}
+
 /// The refusal of a problem that belongs to another view.
 pub fn not_mine(kind: ViewKind) -> String {
     format!("the {} view opens no such problem", kind.label())
