@@ -1,7 +1,41 @@
 //! How the app starts: in a desktop window ([`open_window`], from the command line) or on a web page's
 //! canvas ([`start`], the wasm build's `main`). Everything below the app is free of both.
 
-use super::{Launch, RaylabApp};
+use super::RaylabApp;
+
+/// What to open on start, over the remembered state: a web page's `?preset=<file stem>&view=<name>`
+/// (`?preset=triangle-outside`, `?view=accuracy`) or `?lesson=<file stem>`, so a course page can link
+/// straight to an example or a lecture; on the desktop, `raylab --lesson NAME`.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Launch {
+    /// A built-in scene by its file name without `.ron`.
+    pub preset: Option<String>,
+    /// A view by [`ViewKind::name`] (applied after the preset).
+    pub view: Option<String>,
+    /// A built-in lesson by its file name without `.ron`, played from its first slide.
+    pub lesson: Option<String>,
+}
+
+impl Launch {
+    /// Reads a URL's query string (with or without its `?`); unknown keys are ignored.
+    pub fn from_query(query: &str) -> Launch {
+        let mut launch = Launch::default();
+        for pair in query.trim_start_matches('?').split('&') {
+            let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
+            let value = value.trim();
+            if value.is_empty() {
+                continue;
+            }
+            match key {
+                "preset" => launch.preset = Some(value.into()),
+                "view" => launch.view = Some(value.to_ascii_lowercase()),
+                "lesson" => launch.lesson = Some(value.into()),
+                _ => {}
+            }
+        }
+        launch
+    }
+}
 
 /// Opens the app in a desktop window (1280x800, the projector size), opening what `launch` asks for.
 #[cfg(not(target_arch = "wasm32"))]
