@@ -6,6 +6,8 @@
 //! only if β ≥ 0, γ ≥ 0, β + γ ≤ 1 and t > t_min (open at t_min: a ray starting on the triangle with
 //! t_min = 0 does not hit it).
 
+mod narration;
+
 use glam::DVec3;
 
 use super::{InvalidInput, Reading, check_finite, negligible, read, read_vec};
@@ -19,6 +21,7 @@ use crate::trace::{
     Check, ClosedForm, Column, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder,
     Scalar, Status, Step, Trace, Vector, Verdict,
 };
+use narration::{area_explanation, parallel_explanation, verdict_message, verdict_sentence};
 
 /// A ray and a triangle, in the lecture's names.
 #[derive(Clone, Debug, PartialEq)]
@@ -556,23 +559,16 @@ fn classify<R: Real>(
     gamma: &R,
     t: &R,
 ) -> TriangleOutcome {
-    let zero = R::zero();
     let sum = beta.clone() + gamma.clone();
     let inside_checks = [
-        (Edge::Ca, beta >= &zero, beta.clone(), "\\beta \\ge 0"),
-        (Edge::Ab, gamma >= &zero, gamma.clone(), "\\gamma \\ge 0"),
-        (
-            Edge::Bc,
-            sum <= R::one(),
-            sum.clone(),
-            "\\beta + \\gamma \\le 1",
-        ),
+        (Edge::Ca, beta.clone(), "\\beta \\ge 0"),
+        (Edge::Ab, gamma.clone(), "\\gamma \\ge 0"),
+        (Edge::Bc, sum, "\\beta + \\gamma \\le 1"),
     ];
-    let mut failed = Vec::new();
-    for (edge, passed, value, latex) in inside_checks {
-        if !passed {
-            failed.push(edge);
-        }
+    // The decision is edges_failed's (the view's exploration uses it too); the checks record it.
+    let failed = edges_failed(beta, gamma);
+    for (edge, value, latex) in inside_checks {
+        let passed = !failed.contains(&edge);
         rec.push(|| {
             Step::new(
                 format!("check_{}", edge.name().to_lowercase()),
@@ -602,7 +598,7 @@ fn classify<R: Real>(
                     latex: format!("t > {}", crate::trace::latex_number(&Number::of(&p.t_min))),
                     value: Number::of(t),
                     passed: in_front,
-                    meaning: if t < &zero {
+                    meaning: if t < &R::zero() {
                         "the plane is behind the ray's origin".into()
                     } else {
                         "the plane is not beyond t_min".into()
@@ -675,63 +671,6 @@ fn record_point<R: Real>(rec: &mut Recorder, p: &RayTriangle<R>, s: &Barycentric
         });
         Step::new("distance", "Distance from L: t·|D|", explanation, payload)
     });
-}
-
-fn area_explanation<R: Real>() -> &'static str {
-    if R::TOLERANCE == 0.0 {
-        "Exact arithmetic: the triangle is degenerate only if (A−B)×(A−C) is exactly zero."
-    } else {
-        "In floating point the area counts as zero when |(A−B)×(A−C)| ≤ 16ε·|A−B|·|A−C| (the sine of the angle at A is below 16ε)."
-    }
-}
-
-fn parallel_explanation<R: Real>() -> &'static str {
-    if R::TOLERANCE == 0.0 {
-        "Exact arithmetic: the ray is parallel to the plane only if |M| is exactly zero."
-    } else {
-        "|M| = ((A−B)×(A−C))·D; it counts as zero when |M| ≤ 16ε·|(A−B)×(A−C)|·|D|, i.e. the ray is within 16ε radians of the plane."
-    }
-}
-
-fn verdict_sentence(outcome: &TriangleOutcome) -> String {
-    match outcome {
-        TriangleOutcome::Hit => "All four checks pass.".into(),
-        _ => "What the checks decide.".into(),
-    }
-}
-
-fn verdict_message<R: Real>(outcome: &TriangleOutcome, s: Option<&Barycentric<R>>) -> String {
-    let t_text = || s.map(|s| Number::of(&s.t).shown()).unwrap_or_default();
-    match outcome {
-        TriangleOutcome::Hit => format!("the ray hits the triangle at t = {}", t_text()),
-        TriangleOutcome::Miss(miss) => match miss {
-            TriangleMiss::Outside { edges } => {
-                let names: Vec<String> = edges
-                    .iter()
-                    .map(|e| format!("{} (fails {})", e.name(), e.inequality()))
-                    .collect();
-                format!(
-                    "the ray meets the plane outside the triangle, beyond edge {}",
-                    names.join(" and ")
-                )
-            }
-            TriangleMiss::Behind => format!(
-                "the point is inside the triangle but t = {} is not greater than t_min: behind the ray's origin",
-                t_text()
-            ),
-            TriangleMiss::Parallel { in_plane: true } => {
-                "the ray is parallel to the triangle's plane and lies in it (|M| = 0, or negligible in floats)".into()
-            }
-            TriangleMiss::Parallel { in_plane: false } => {
-                "the ray is parallel to the triangle's plane and never meets it (|M| = 0, or negligible in floats)".into()
-            }
-            TriangleMiss::DegenerateTriangle => {
-                "A, B and C are collinear: the triangle has no area".into()
-            }
-            TriangleMiss::ZeroDirection => "the direction D is the zero vector: no ray".into(),
-            TriangleMiss::InvalidInput(bad) => format!("invalid input: {bad}"),
-        },
-    }
 }
 
 /// Where the sliders put things: P(β, γ) on the plane, L + tD on the ray, and the gap between them.
