@@ -1,0 +1,314 @@
+//! The Render view's background work: the prepared scene, the large-mesh load, and the two images
+//! (correct and with a bug), each a render job started when its choices change.
+
+use super::*;
+
+/// What is not saved: the prepared scene, the jobs, the images, the probe.
+#[derive(Default)]
+pub(super) struct Runtime {
+    pub(super) prepared: Option<(RenderScene, Result<Arc<Prepared>, String>)>,
+    /// A scene with large meshes being prepared in the background.
+    pub(super) loading: Option<Loading>,
+    pub(super) correct: Slot,
+    pub(super) buggy: Slot,
+    pub(super) probe: Option<Probe>,
+    /// What the probe was made under: it is redone when that changes.
+    pub(super) probe_key: Option<Choices>,
+    /// The probed ray with what it met, as the problem its steps are shown for.
+    pub(super) probed_problem: Option<Action>,
+}
+
+/// A copy starts without images: they render again when it is shown.
+impl Clone for Runtime {
+    fn clone(&self) -> Runtime {
+        Runtime::default()
+    }
+}
+
+impl std::fmt::Debug for Runtime {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Runtime")
+            .field(
+                "rendering",
+                &(self.correct.running.is_some() || self.buggy.running.is_some()),
+            )
+            .finish_non_exhaustive()
+    }
+}
+
+/// A scene being prepared in the background, its meshes loading with their progress.
+pub(super) struct Loading {
+    /// The scene it is for.
+    pub(super) key: RenderScene,
+    /// Its mesh files, in the order they load.
+    pub(super) meshes: Vec<String>,
+    pub(super) job: Job<Result<Prepared, String>>,
+}
+
+/// Meshes larger than this in all load in the background, with a progress bar and Cancel; smaller
+/// ones load at once (in well under a second).
+pub(super) const BACKGROUND_MESH_BYTES: u64 = 4 << 20;
+
+/// True if the scene's meshes are found and large enough to load in the background (a missing or
+/// refused one is reported at once, by the plain preparation).
+pub(super) fn loads_in_background(scene: &RenderScene, assets: &OnDisk) -> bool {
+    let mut total = 0;
+    for name in mesh_names(scene) {
+        match assets.size(&name, crate::files::MESH) {
+            Ok(size) => total += size,
+            Err(_) => return false,
+        }
+    }
+    total > BACKGROUND_MESH_BYTES
+}
+
+/// One image: the render in flight and the one shown.
+#[derive(Default)]
+pub(super) struct Slot {
+    pub(super) running: Option<(Choices, Job<Rendered>)>,
+    pub(super) shown: Option<Shown>,
+    pub(super) error: Option<String>,
+    /// The choices whose render failed inside (a panic): not started again until they change.
+    pub(super) failed: Option<Choices>,
+}
+
+impl Slot {
+    /// The choices of the image running or shown.
+    fn current(&self) -> Option<&Choices> {
+        self.running
+            .as_ref()
+            .map(|(key, _)| key)
+            .or(self.shown.as_ref().map(|shown| &shown.key))
+    }
+
+    /// Takes the running render's image when it has finished (as the texture `name`), or its
+    /// failure.
+    fn take_finished(&mut self, ctx: &egui::Context, name: &str) {
+        let Some((key, mut job)) = self.running.take() else {
+            return;
+        };
+        if let Some(failure) = job.failure() {
+            self.error = Some(format!(
+                "the render stopped on an internal error: {failure}"
+            ));
+            self.failed = Some(key);
+            return;
+        }
+        let Some(rendered) = job.poll() else {
+            self.running = Some((key, job));
+            return;
+        };
+        let image = &rendered.image;
+        let pixels = ColorImage::from_rgb([image.width, image.height], &image.to_rgb8());
+        let texture = ctx.load_texture(name, pixels, TextureOptions::NEAREST);
+        self.shown = Some(Shown {
+            key,
+            rendered,
+            texture,
+        });
+    }
+}
+
+/// What a render (or a probe) depends on: it is made again when any of these change.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Choices {
+    pub(super) scene: RenderScene,
+    pub(super) effects: Vec<Effect>,
+    pub(super) method: Option<Method>,
+    /// The bug of the second image; for a probe, none.
+    pub(super) bug: Option<Bug>,
+    /// The probed pixel (probes only).
+    pub(super) pixel: Option<(usize, usize)>,
+}
+
+/// A finished render on screen.
+pub(super) struct Shown {
+    pub(super) key: Choices,
+    pub(super) rendered: Rendered,
+    pub(super) texture: TextureHandle,
+}
+
+impl RenderView {
+    /// The scene prepared with the current choices (and a bug), or why not.
+    pub(super) fn prepared(&mut self, bug: Option<Bug>) -> Result<Arc<Prepared>, String> {
+        let prepared = match &self.runtime.prepared {
+            Some((key, prepared)) if *key == self.scene => prepared.clone(),
+            _ => {
+                if self
+                    .runtime
+                    .loading
+                    .as_ref()
+                    .is_some_and(|l| l.key == self.scene)
+                {
+                    return Err("the scene's meshes are still loading".into());
+                }
+                let prepared =
+                    Prepared::new(&self.scene, &assets(self.folder.as_deref())).map(Arc::new);
+                self.runtime.prepared = Some((self.scene.clone(), prepared.clone()));
+                prepared
+            }
+        }?;
+        let mut prepared = Prepared::clone(&prepared);
+        prepared.effects = self.effects.clone();
+        prepared.method = self.method.or(prepared.method);
+        prepared.bug = bug;
+        Ok(Arc::new(prepared))
+    }
+
+    /// Starts renders whose inputs changed and takes finished ones; asks for frames while running.
+    pub fn update(&mut self, ctx: &egui::Context) {
+        if self.poll_loading(ctx) {
+            return;
+        }
+        self.start_if_changed(ctx, None);
+        match self.bug {
+            Some(bug) => self.start_if_changed(ctx, Some(bug)),
+            None => self.runtime.buggy = Slot::default(),
+        }
+        self.runtime.correct.take_finished(ctx, "render");
+        self.runtime.buggy.take_finished(ctx, "render-bug");
+        if self.is_rendering() {
+            ctx.request_repaint();
+        }
+        // A probe follows the choices it was made under.
+        if self.probed.is_some() && self.runtime.probe_key.as_ref() != Some(&self.probe_key()) {
+            self.reprobe();
+        }
+    }
+
+    /// The image with `bug` (none: the correct one).
+    pub(super) fn slot_mut(&mut self, bug: Option<Bug>) -> &mut Slot {
+        match bug {
+            Some(_) => &mut self.runtime.buggy,
+            None => &mut self.runtime.correct,
+        }
+    }
+
+    /// Starts the render of the image with `bug` when its choices changed (and did not fail before).
+    pub(super) fn start_if_changed(&mut self, ctx: &egui::Context, bug: Option<Bug>) {
+        let wanted = Choices {
+            scene: self.scene.clone(),
+            effects: self.effects.clone(),
+            method: self.method,
+            bug,
+            pixel: None,
+        };
+        let slot = self.slot_mut(bug);
+        if slot.current() == Some(&wanted) || slot.failed.as_ref() == Some(&wanted) {
+            return;
+        }
+        let started = self.prepared(bug).and_then(|prepared| {
+            let waker = ctx.clone();
+            Job::start("raylab-render", RenderJob::new(prepared), move || {
+                waker.request_repaint()
+            })
+        });
+        let slot = self.slot_mut(bug);
+        match started {
+            Ok(job) => {
+                slot.running = Some((wanted, job));
+                slot.error = None;
+            }
+            Err(error) => {
+                slot.running = None;
+                slot.error = Some(error);
+            }
+        }
+    }
+
+    /// Starts the background preparation of a scene with large meshes, or takes its result; true
+    /// while it runs (nothing renders until it is done).
+    pub(super) fn poll_loading(&mut self, ctx: &egui::Context) -> bool {
+        let key = self.scene.clone();
+        if self
+            .runtime
+            .prepared
+            .as_ref()
+            .is_some_and(|(k, _)| *k == key)
+        {
+            self.runtime.loading = None;
+            return false;
+        }
+        if self.runtime.loading.as_ref().is_none_or(|l| l.key != key) {
+            self.runtime.loading = None;
+            let files = assets(self.folder.as_deref());
+            if !loads_in_background(&self.scene, &files) {
+                return false;
+            }
+            let waker = ctx.clone();
+            let work = SceneLoad::new(self.scene.clone(), files);
+            match Job::start("raylab-load", work, move || waker.request_repaint()) {
+                Ok(job) => {
+                    let meshes = mesh_names(&self.scene);
+                    self.runtime.loading = Some(Loading {
+                        key: key.clone(),
+                        meshes,
+                        job,
+                    });
+                }
+                Err(error) => {
+                    self.runtime.prepared = Some((key, Err(error)));
+                    return false;
+                }
+            }
+        }
+        let Some(loading) = self.runtime.loading.as_mut() else {
+            return false;
+        };
+        let finished = match loading.job.failure() {
+            Some(failure) => Some(Err(format!(
+                "loading the scene stopped on an internal error: {failure}"
+            ))),
+            None => loading.job.poll(),
+        };
+        if let Some(result) = finished {
+            self.runtime.loading = None;
+            self.runtime.prepared = Some((key, result.map(Arc::new)));
+            return false;
+        }
+        // On the web the work runs in poll, a slice a frame: ask for the next frame.
+        if !crate::platform::THREADS {
+            ctx.request_repaint();
+        }
+        true
+    }
+
+    /// The load's progress bar and its Cancel button; a cancelled load leaves the scene unrendered,
+    /// with a note saying so.
+    pub(super) fn loading_ui(&mut self, ui: &mut Ui) {
+        let Some(loading) = &self.runtime.loading else {
+            return;
+        };
+        let (done, total) = loading.job.progress();
+        let count = loading.meshes.len();
+        let index = (done / UNITS_PER_MESH).min(count.saturating_sub(1));
+        let text = if done / UNITS_PER_MESH >= count {
+            "preparing the scene…".to_string()
+        } else {
+            format!(
+                "loading mesh {} of {count} ({})… {}%",
+                index + 1,
+                loading.meshes[index],
+                done % UNITS_PER_MESH * 100 / UNITS_PER_MESH
+            )
+        };
+        let mut cancel = false;
+        ui.horizontal(|ui| {
+            cancel = ui
+                .button("Cancel")
+                .on_hover_text("Stop loading the scene's meshes")
+                .clicked();
+            ui.add(egui::ProgressBar::new(done as f32 / total as f32).text(text));
+        });
+        if cancel {
+            let key = loading.key.clone();
+            self.runtime.loading = None;
+            self.runtime.prepared = Some((
+                key,
+                Err(
+                    "the load of its meshes was cancelled (open the scene again to load it)".into(),
+                ),
+            ));
+        }
+    }
+}

@@ -1,0 +1,170 @@
+//! The Render view's probe: a clicked pixel's ray, what it met, and the button that opens it in the
+//! Triangle or Parallelogram view with its steps.
+
+use super::*;
+
+impl RenderView {
+    /// The choices a probe depends on.
+    pub(super) fn probe_key(&self) -> Choices {
+        Choices {
+            scene: self.scene.clone(),
+            effects: self.effects.clone(),
+            method: self.method,
+            bug: None,
+            pixel: self.probed,
+        }
+    }
+
+    /// Casts the probed pixel's ray again under the current choices.
+    pub(super) fn reprobe(&mut self) {
+        self.runtime.probe_key = Some(self.probe_key());
+        let (probe, problem) = match (self.probed, self.prepared(None)) {
+            (Some((row, column)), Ok(prepared))
+                if row < prepared.height && column < prepared.width =>
+            {
+                let result = probe(&prepared, row, column);
+                let problem = probed_problem(&prepared, &result);
+                (Some(result), problem)
+            }
+            _ => (None, None),
+        };
+        self.runtime.probe = probe;
+        self.runtime.probed_problem = problem;
+    }
+
+    /// Probes a pixel; the hit (or nearest missed) primitive goes to its view.
+    pub fn probe_pixel(&mut self, pixel: (usize, usize)) -> Option<Action> {
+        self.probed = Some(pixel);
+        self.reprobe();
+        self.runtime.probed_problem.clone()
+    }
+
+    /// What the probe found, and a button to the view that shows its steps.
+    pub(super) fn probe_ui(&self, ui: &mut Ui) -> Option<Action> {
+        let Some(probe) = &self.runtime.probe else {
+            ui.label(
+                RichText::new(
+                    "Click a pixel: its ray goes into the Triangle view and the step panel.",
+                )
+                .weak(),
+            );
+            return None;
+        };
+        let vector = |v: &[f64; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
+        let (row, column) = probe.pixel;
+        let mut action = None;
+        let in_image = self
+            .rendered()
+            .and_then(|r| r.image.covered.get(row * r.image.width + column).copied());
+        if in_image.is_some_and(|covered| covered != probe.hit.is_some()) {
+            ui.label(
+                RichText::new(
+                    "On this edge pixel the image and the probe disagree: the image took the fast \
+                     path (Möller–Trumbore in f32, a row at a time), the probe casts in f64.",
+                )
+                .color(palette::OUTSIDE.readable(ui)),
+            );
+        }
+        ui.horizontal_wrapped(|ui| {
+            ui.label(RichText::new(format!("Pixel ({row}, {column})")).strong());
+            ui.label(format!(
+                "O = {}  D = {}",
+                vector(&probe.origin),
+                vector(&probe.dir)
+            ));
+        });
+        ui.horizontal_wrapped(|ui| {
+            match probe.hit {
+                Some(hit) => {
+                    let kind = self.object_kind(hit.object);
+                    let names = if kind == "parallelogram" {
+                        ("α", "β")
+                    } else {
+                        ("β", "γ")
+                    };
+                    ui.label(
+                        RichText::new(format!(
+                            "hit object {} ({kind}), triangle {}: t = {:.6}, {} = {:.6}, {} = {:.6}",
+                            hit.object + 1,
+                            hit.primitive,
+                            hit.t,
+                            names.0,
+                            hit.beta,
+                            names.1,
+                            hit.gamma
+                        ))
+                        .color(palette::INSIDE.readable(ui)),
+                    );
+                    if let Some(facing) = probe.facing {
+                        ui.label(format!("facing ratio n̂·(−ê) = {facing:.4}"));
+                    }
+                    let [r, g, b] = probe.color.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+                    ui.label(format!("colour ({r}, {g}, {b})"));
+                    let (rect, _) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::hover());
+                    ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
+                }
+                None => {
+                    let text = match probe.nearest_miss {
+                        Some((object, triangle)) => format!(
+                            "missed everything; the nearest is object {} triangle {triangle}: \
+                             the step panel says why",
+                            object + 1
+                        ),
+                        None => "missed everything: no triangle to show".into(),
+                    };
+                    ui.label(RichText::new(text).color(palette::OUTSIDE.readable(ui)));
+                }
+            }
+            let target = match probe.triangle {
+                Some(_) => Some(super::ViewKind::Triangle),
+                None if probe.hit.is_some() => Some(super::ViewKind::Parallelogram),
+                None => None,
+            };
+            if let Some(kind) = target
+                && ui
+                    .button(format!("Open in {} →", kind.label()))
+                    .on_hover_text("The same ray and primitive, with sliders and every step")
+                    .clicked()
+            {
+                action = Some(Action::Open(kind));
+            }
+        });
+        action
+    }
+
+    pub(super) fn object_kind(&self, index: usize) -> &'static str {
+        match self.scene.objects.get(index).map(|o| &o.shape) {
+            Some(crate::scene::render::Shape::Triangle { .. }) => "triangle",
+            Some(crate::scene::render::Shape::Parallelogram { .. }) => "parallelogram",
+            Some(crate::scene::render::Shape::Mesh { .. }) => "mesh",
+            None => "?",
+        }
+    }
+}
+
+/// The problem a probe loads into a view: the ray with the triangle it hit or came nearest to, or the
+/// parallelogram it hit (in world space: a corner is a point, edges are directions).
+pub(super) fn probed_problem(prepared: &Prepared, result: &Probe) -> Option<Action> {
+    if let Some([a, b, c]) = result.triangle {
+        return Some(Action::Triangle(TriangleScene {
+            a,
+            b,
+            c,
+            origin: result.origin,
+            dir: result.dir,
+            t_min: 0.0,
+        }));
+    }
+    let object = &prepared.objects[result.hit?.object];
+    let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
+        return None;
+    };
+    let m = object.object_to_world;
+    Some(Action::Parallelogram(ParallelogramScene {
+        corner: m.transform_point3(DVec3::from(*corner)).to_array(),
+        e1: m.transform_vector3(DVec3::from(*e1)).to_array(),
+        e2: m.transform_vector3(DVec3::from(*e2)).to_array(),
+        origin: result.origin,
+        dir: result.dir,
+    }))
+}
