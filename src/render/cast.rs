@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::bvh::Bvh;
+use super::crack_free::ShearedRay;
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
 use super::{Prepared, Stats};
 use crate::accuracy::{Case, Method};
@@ -123,7 +125,7 @@ pub fn to_object_space(
     (origin, dir)
 }
 
-/// Tests one triangle: the method's decision, or a bug's.
+/// Tests one triangle: the method's decision (`watertight`: the crack-free test), or a bug's.
 pub fn test_triangle(
     triangle: &PreparedTriangle,
     method: Method,
@@ -136,8 +138,13 @@ pub fn test_triangle(
         origin,
         dir,
     };
-    let answer = method.run(&case);
-    let correct = answer.values.filter(|_| answer.hit);
+    // The renderer's `watertight` is the crack-free test; every other name runs the core's method.
+    let correct = if method == Method::Watertight {
+        ShearedRay::new(&origin, &dir).and_then(|ray| ray.intersect(&triangle.vertices, 0.0))
+    } else {
+        let answer = method.run(&case);
+        answer.values.filter(|_| answer.hit)
+    };
     match bug {
         // Each bug accepts more than the correct test does: what the method hits stays hit (so the
         // image differs only by the bug), and the bug's own check, on Cramer's t, β, γ, adds the rest.
@@ -176,6 +183,55 @@ fn test_parallelogram(
     hit.then_some([t, alpha, beta])
 }
 
+/// True when an object's triangles take the crack-free test: the method is `watertight` (the default
+/// for meshes) and no bug is switched on. `watertight-exact` keeps the exact-deciding test.
+pub fn crack_free_applies(prepared: &Prepared, object: &PreparedObject) -> bool {
+    prepared.bug.is_none() && prepared.method_for(object) == Method::Watertight
+}
+
+/// The nearest hit of the crack-free test among `triangles` (through the BVH when there is one) with
+/// 0 < t ≤ `t_max`, ties to the lower index; its `object` is left 0 for the caller to set.
+fn nearest_crack_free(
+    triangles: &[PreparedTriangle],
+    bvh: Option<&Bvh>,
+    origin: V3<f64>,
+    dir: V3<f64>,
+    t_max: f64,
+    stats: &mut Stats,
+) -> Option<Hit> {
+    let (primitive, [t, beta, gamma]) = match bvh {
+        Some(bvh) => bvh.nearest_crack_free(
+            &origin,
+            &dir,
+            0.0,
+            t_max,
+            &mut stats.box_tests,
+            &mut stats.triangle_tests,
+        )?,
+        None => {
+            let ray = ShearedRay::new(&origin, &dir)?;
+            stats.triangle_tests += triangles.len() as u64;
+            let mut best: Option<(usize, [f64; 3])> = None;
+            for (i, triangle) in triangles.iter().enumerate() {
+                if let Some(hit) = ray.intersect(&triangle.vertices, 0.0)
+                    && hit[0] <= best.map_or(t_max, |(_, b)| b[0])
+                    && best.is_none_or(|(_, b)| hit[0] < b[0])
+                {
+                    best = Some((i, hit));
+                }
+            }
+            best?
+        }
+    };
+    Some(Hit {
+        object: 0,
+        primitive,
+        t,
+        beta,
+        gamma,
+    })
+}
+
 /// The nearest hit among all objects; ties go to the earlier object and triangle.
 pub fn nearest_hit(
     prepared: &Prepared,
@@ -193,6 +249,18 @@ pub fn nearest_hit(
             })
         };
         match &object.geometry {
+            Geometry::Triangles { triangles, bvh } if crack_free_applies(prepared, object) => {
+                let t_max = best.map_or(f64::INFINITY, |b| b.t);
+                if let Some(hit) = nearest_crack_free(triangles, bvh.as_ref(), o, d, t_max, stats) {
+                    let hit = Hit {
+                        object: index,
+                        ..hit
+                    };
+                    if better(&hit, &best) {
+                        best = Some(hit);
+                    }
+                }
+            }
             Geometry::Triangles { triangles, bvh } => {
                 let method = prepared.method_for(object);
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);

@@ -9,6 +9,7 @@ pub mod assets;
 mod batched;
 pub mod bvh;
 pub mod cast;
+pub mod crack_free;
 pub mod objects;
 pub mod probe;
 pub mod shade;
@@ -400,6 +401,8 @@ pub struct Prepared {
     /// The camera.
     pub camera: Camera,
     /// The method for every object; `None`: watertight for meshes, Möller–Trumbore otherwise.
+    /// `watertight` renders with the crack-free test ([`crack_free`]); `watertight-exact` with the
+    /// exact-deciding one.
     pub method: Option<Method>,
     /// The effects to compute.
     pub effects: Vec<Effect>,
