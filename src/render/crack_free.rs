@@ -34,7 +34,7 @@ pub struct ShearedRay {
 
 impl ShearedRay {
     /// The ray o + t d; `None` when d is zero or the ray is not finite (it hits nothing).
-    #[inline]
+    #[inline(always)]
     pub fn new(origin: &V3<f64>, dir: &V3<f64>) -> Option<ShearedRay> {
         if !origin.iter().chain(dir).all(|c| c.is_finite()) {
             return None;
@@ -151,7 +151,7 @@ fn sign(x: f64) -> i8 {
 
 /// The sign the edge function P × Q takes when the ray is moved by (ε, ε²), ε → 0⁺, given P × Q = 0:
 /// (P − s) × (Q − s) = P × Q − Δy·ε + Δx·ε² with Δ = Q − P. Zero only when P = Q.
-#[inline]
+#[inline(always)]
 fn perturbed_sign(p: &[f64; 3], q: &[f64; 3]) -> i8 {
     // The sign of a float difference is the sign of the exact difference.
     let (dx, dy) = (q[0] - p[0], q[1] - p[1]);

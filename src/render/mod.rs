@@ -10,6 +10,7 @@ mod batched;
 pub mod bvh;
 pub mod cast;
 pub mod crack_free;
+pub mod generate;
 pub mod objects;
 pub mod probe;
 pub mod shade;
@@ -462,6 +463,8 @@ impl Prepared {
             return batched::render_rows(self, first, pixels, covered);
         }
         let shader = Shader::new(&self.effects);
+        // The pinhole's frame once, not once a pixel.
+        let basis = pinhole_basis(&self.camera, width, self.height);
         let mut stats = Stats::default();
         for (i, (pixels, covered)) in pixels
             .chunks_mut(width)
@@ -469,7 +472,13 @@ impl Prepared {
             .enumerate()
         {
             for column in 0..width {
-                let (origin, dir) = self.ray(first + i, column);
+                let (origin, dir) = camera_ray_in(
+                    &self.camera,
+                    basis.as_ref(),
+                    (width, self.height),
+                    first + i,
+                    column,
+                );
                 stats.rays += 1;
                 if let Some(hit) = cast::nearest_hit(self, origin, dir, &mut stats) {
                     stats.hits += 1;
@@ -621,6 +630,19 @@ pub fn camera_ray(
     row: usize,
     column: usize,
 ) -> (V3<f64>, V3<f64>) {
+    let basis = pinhole_basis(camera, width, height);
+    camera_ray_in(camera, basis.as_ref(), (width, height), row, column)
+}
+
+/// [`camera_ray`] with the pinhole's frame already made (`None` for the image plane).
+#[inline]
+pub fn camera_ray_in(
+    camera: &Camera,
+    basis: Option<&Basis>,
+    (width, height): (usize, usize),
+    row: usize,
+    column: usize,
+) -> (V3<f64>, V3<f64>) {
     // Pixel centres at both ends, as numpy's mgrid with a complex step count places them.
     let along = |from: f64, to: f64, i: usize, n: usize| {
         if n <= 1 {
@@ -639,7 +661,7 @@ pub fn camera_ray(
             (point, unit(point))
         }
         Camera::Pinhole { .. } => {
-            let Some(b) = pinhole_basis(camera, width, height) else {
+            let Some(b) = basis else {
                 return ([0.0; 3], [0.0; 3]);
             };
             let u = (column as f64 + 0.5) / width as f64 * 2.0 - 1.0;
