@@ -304,7 +304,14 @@ impl Bvh {
                 self.nearest_crack_free_avx2(origin, dir, t_min, t_max, box_tests, triangle_tests)
             };
         }
-        self.nearest_crack_free_inlined::<false>(origin, dir, t_min, t_max, box_tests, triangle_tests)
+        self.nearest_crack_free_inlined::<false>(
+            origin,
+            dir,
+            t_min,
+            t_max,
+            box_tests,
+            triangle_tests,
+        )
     }
 
     /// [`Bvh::nearest_crack_free`] compiled with AVX2 and FMA (only called when the processor has them).
@@ -319,7 +326,14 @@ impl Bvh {
         box_tests: &mut u64,
         triangle_tests: &mut u64,
     ) -> Option<(usize, [f64; 3])> {
-        self.nearest_crack_free_inlined::<true>(origin, dir, t_min, t_max, box_tests, triangle_tests)
+        self.nearest_crack_free_inlined::<true>(
+            origin,
+            dir,
+            t_min,
+            t_max,
+            box_tests,
+            triangle_tests,
+        )
     }
 
     /// The traversal and tests themselves, inlined into each of the two builds above.
@@ -718,7 +732,8 @@ mod tests {
     #[test]
     fn the_avx2_box_test_agrees_with_the_portable_one() {
         use rand::{Rng, SeedableRng};
-        if !(std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma"))
+        if !(std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("fma"))
         {
             return;
         }
