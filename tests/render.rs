@@ -9,7 +9,7 @@ use raylab::accuracy::reference::reference;
 use raylab::accuracy::{Case, Method};
 use raylab::geometry::linalg::{V3, dot, sub};
 use raylab::render::bvh::Bvh;
-use raylab::render::cast::{nearest_hit, test_triangle, to_object_space};
+use raylab::render::cast::{nearest_hit, nearest_hits, test_triangle, to_object_space};
 use raylab::render::crack_free::ShearedRay;
 use raylab::render::generate::{grid_box, mesh_scene};
 use raylab::render::objects::{
@@ -1061,5 +1061,46 @@ fn the_crack_free_default_covers_what_watertight_exact_covers() {
         let (exact_image, _) = render(&exact);
         assert_eq!(fast_image.covered, exact_image.covered, "{file}");
         assert!(fast_image.covered_pixels() > 10_000, "{file}");
+    }
+}
+
+/// Rays traced as a packet get exactly the hits (object, triangle, t, β, γ) they get one at a time,
+/// on the shipped mesh scenes and on generated meshes.
+#[test]
+fn packets_of_rays_hit_what_single_rays_hit() {
+    let (camera, side, box_mesh) = grid_box(12);
+    let sphere = raylab::render::generate::irregular_sphere(3, 4);
+    let sphere_camera = raylab::render::Camera::Pinhole {
+        position: [0.3, -3.6, 0.5],
+        target: [0.0; 3],
+        fov_y: 40.0,
+    };
+    let scenes = [
+        shrunk(
+            Prepared::new(&scene("render-mesh.ron"), &Embedded).unwrap(),
+            4,
+        ),
+        shrunk(
+            Prepared::new(&scene("render-transformed.ron"), &Embedded).unwrap(),
+            4,
+        ),
+        mesh_scene(&box_mesh, camera, side, side),
+        mesh_scene(&sphere, sphere_camera, 96, 80),
+    ];
+    for prepared in &scenes {
+        let mut hits = 0;
+        for row in 0..prepared.height {
+            for start in (0..prepared.width.saturating_sub(7)).step_by(8) {
+                let rays: [(V3<f64>, V3<f64>); 8] =
+                    std::array::from_fn(|k| prepared.ray(row, start + k));
+                let packet = nearest_hits(prepared, &rays, &mut Stats::default());
+                for (k, (origin, dir)) in rays.iter().enumerate() {
+                    let single = nearest_hit(prepared, *origin, *dir, &mut Stats::default());
+                    assert_eq!(packet[k], single, "pixel ({row}, {})", start + k);
+                    hits += usize::from(single.is_some());
+                }
+            }
+        }
+        assert!(hits > 500, "{hits}");
     }
 }

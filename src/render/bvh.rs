@@ -130,9 +130,21 @@ struct Pending {
     near: f64,
 }
 
+/// A child to visit later for a packet of rays: those of them that meet its box, and the nearest
+/// distance at which one of them enters it.
+#[derive(Clone, Copy)]
+struct PacketPending {
+    child: u32,
+    count: u32,
+    rays: u32,
+    near: f64,
+}
+
 thread_local! {
     /// The traversal stack, reused by each thread's rays.
     static STACK: RefCell<Vec<Pending>> = const { RefCell::new(Vec::new()) };
+    /// The packet traversal's stack.
+    static PACKET_STACK: RefCell<Vec<PacketPending>> = const { RefCell::new(Vec::new()) };
 }
 
 /// The hierarchy: 4-wide nodes (the root first), and the triangles in leaf order ("slots").
@@ -371,6 +383,169 @@ impl Bvh {
         best
     }
 
+    /// [`Bvh::nearest_crack_free`] for `P` rays at once (neighbouring pixels), each with its own
+    /// t_max: the same answers, one traversal. A node's boxes are tested for every ray still in
+    /// play; a child is visited when any of them meets its box, with those rays only. Box and
+    /// triangle tests are counted per ray, as if each ray had made them alone.
+    pub fn nearest_crack_free_packet<const P: usize>(
+        &self,
+        rays: &[(V3<f64>, V3<f64>); P],
+        t_max: [f64; P],
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> [Option<(usize, [f64; 3])>; P] {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the processor has AVX2 and FMA, checked just above.
+            return unsafe { self.packet_avx2(rays, t_max, box_tests, triangle_tests) };
+        }
+        self.packet_inlined::<P, false>(rays, t_max, box_tests, triangle_tests)
+    }
+
+    /// The packet traversal compiled with AVX2 and FMA (only called when the processor has them).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn packet_avx2<const P: usize>(
+        &self,
+        rays: &[(V3<f64>, V3<f64>); P],
+        t_max: [f64; P],
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> [Option<(usize, [f64; 3])>; P] {
+        self.packet_inlined::<P, true>(rays, t_max, box_tests, triangle_tests)
+    }
+
+    /// The packet traversal itself, inlined into each of the two builds above.
+    #[inline(always)]
+    fn packet_inlined<const P: usize, const AVX2: bool>(
+        &self,
+        rays: &[(V3<f64>, V3<f64>); P],
+        mut t_max: [f64; P],
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> [Option<(usize, [f64; 3])>; P] {
+        let mut best: [Option<(usize, [f64; 3])>; P] = [None; P];
+        let sheared: [Option<ShearedRay>; P] =
+            std::array::from_fn(|r| ShearedRay::new(&rays[r].0, &rays[r].1));
+        let box_rays: [BoxRay; P] = std::array::from_fn(|r| {
+            let inverse_dir = rays[r].1.map(|d| 1.0 / d);
+            BoxRay {
+                origin: rays[r].0,
+                inverse_dir,
+                parallel: inverse_dir.map(|i| !i.is_finite()),
+            }
+        });
+        // Rays with a direction and finite numbers take part (ShearedRay checks both).
+        let mut all = 0u32;
+        for (r, ray) in sheared.iter().enumerate() {
+            if ray.is_some() {
+                all |= 1 << r;
+            }
+        }
+        if self.nodes.is_empty() || all == 0 {
+            return best;
+        }
+        let children = |node: &Node| node.child.iter().filter(|c| **c != EMPTY).count() as u64;
+        PACKET_STACK.with_borrow_mut(|stack| {
+            stack.clear();
+            stack.push(PacketPending {
+                child: 0,
+                count: 0,
+                rays: all,
+                near: 0.0,
+            });
+            while let Some(entry) = stack.pop() {
+                // Rays whose nearest hit so far is before the box have nothing left to find in it.
+                let mut rays_in = entry.rays;
+                let mut live = 0u32;
+                while rays_in != 0 {
+                    let r = rays_in.trailing_zeros() as usize;
+                    rays_in &= rays_in - 1;
+                    if entry.near <= t_max[r] {
+                        live |= 1 << r;
+                    }
+                }
+                if live == 0 {
+                    continue;
+                }
+                if entry.count > 0 {
+                    let slots = entry.child as usize..(entry.child + entry.count) as usize;
+                    let mut each = live;
+                    while each != 0 {
+                        let r = each.trailing_zeros() as usize;
+                        each &= each - 1;
+                        let Some(ray) = &sheared[r] else { continue };
+                        *triangle_tests += u64::from(entry.count);
+                        for slot in slots.clone() {
+                            let Some(hit) = ray.intersect(&self.vertices[slot], 0.0) else {
+                                continue;
+                            };
+                            let index = self.order[slot] as usize;
+                            let closer = match best[r] {
+                                None => hit[0] <= t_max[r],
+                                Some((b, bh)) => hit[0] < bh[0] || (hit[0] == bh[0] && index < b),
+                            };
+                            if closer {
+                                best[r] = Some((index, hit));
+                                t_max[r] = hit[0];
+                            }
+                        }
+                    }
+                    continue;
+                }
+                let node = &self.nodes[entry.child as usize];
+                let mut lane_rays = [0u32; 4];
+                let mut lane_near = [f64::INFINITY; 4];
+                let mut each = live;
+                while each != 0 {
+                    let r = each.trailing_zeros() as usize;
+                    each &= each - 1;
+                    let (hit, nears) = {
+                        #[cfg(target_arch = "x86_64")]
+                        if AVX2 {
+                            // SAFETY: AVX2 is only set by callers compiled with AVX2 and FMA.
+                            unsafe { node.test_avx2(&box_rays[r], 0.0, t_max[r]) }
+                        } else {
+                            node.test(&box_rays[r], 0.0, t_max[r])
+                        }
+                        #[cfg(not(target_arch = "x86_64"))]
+                        node.test(&box_rays[r], 0.0, t_max[r])
+                    };
+                    *box_tests += children(node);
+                    // Lanes the ray misses enter at +∞ (see `test`), so `min` needs no branch.
+                    for lane in 0..4 {
+                        lane_rays[lane] |= ((hit >> lane) & 1) << r;
+                        lane_near[lane] = lane_near[lane].min(nears[lane]);
+                    }
+                }
+                // Push the children some ray meets, farthest first.
+                let mut lanes = [0usize; 4];
+                let mut n = 0;
+                for (lane, _) in lane_rays.iter().enumerate().filter(|(_, r)| **r != 0) {
+                    lanes[n] = lane;
+                    n += 1;
+                }
+                for i in 1..n {
+                    let mut j = i;
+                    while j > 0 && lane_near[lanes[j - 1]] < lane_near[lanes[j]] {
+                        lanes.swap(j - 1, j);
+                        j -= 1;
+                    }
+                }
+                for &lane in &lanes[..n] {
+                    stack.push(PacketPending {
+                        child: node.child[lane],
+                        count: node.count[lane],
+                        rays: lane_rays[lane],
+                        near: lane_near[lane],
+                    });
+                }
+            }
+        });
+        best
+    }
+
     /// The traversal: `leaf(slots, t_max)` tests a leaf's slots and returns the new t_max. `AVX2`:
     /// test boxes with AVX2 intrinsics (only from a function compiled with AVX2).
     #[inline(always)]
@@ -450,7 +625,8 @@ impl Bvh {
 }
 
 impl Node {
-    /// Which of the four boxes the ray meets within [t_min, t_max], and where it enters each.
+    /// Which of the four boxes the ray meets within [t_min, t_max] (a bit a lane), and where it enters
+    /// each (+∞ for the boxes it misses).
     #[inline(always)]
     fn test(&self, ray: &BoxRay, t_min: f64, t_max: f64) -> (u32, [f64; 4]) {
         // Widen the distances by 2γ₃ so a rounded slab cannot cut off a touching ray; by multiplying,
@@ -488,6 +664,8 @@ impl Node {
         for lane in 0..4 {
             if near[lane] <= far[lane] && near[lane] < f64::INFINITY {
                 hit |= 1 << lane;
+            } else {
+                near[lane] = f64::INFINITY;
             }
         }
         (hit, near)
@@ -544,6 +722,7 @@ impl Node {
             _mm256_cmp_pd::<_CMP_LT_OQ>(near, _mm256_set1_pd(f64::INFINITY)),
         );
         let hit = _mm256_andnot_pd(outside, reached);
+        let near = _mm256_blendv_pd(_mm256_set1_pd(f64::INFINITY), near, hit);
         let mut nears = [0.0; 4];
         // SAFETY: four f64s into a four-f64 array.
         unsafe { _mm256_storeu_pd(nears.as_mut_ptr(), near) };

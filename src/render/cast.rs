@@ -240,14 +240,80 @@ pub fn nearest_hit(
     stats: &mut Stats,
 ) -> Option<Hit> {
     let mut best: Option<Hit> = None;
+    for index in 0..prepared.objects.len() {
+        hit_object(prepared, index, origin, dir, &mut best, stats);
+    }
+    best
+}
+
+/// True when `hit` is nearer than `best` (ties to the earlier object and triangle).
+fn better(hit: &Hit, best: &Option<Hit>) -> bool {
+    best.is_none_or(|b| {
+        hit.t < b.t || (hit.t == b.t && (hit.object, hit.primitive) < (b.object, b.primitive))
+    })
+}
+
+/// The nearest hits of `P` rays at once (neighbouring pixels): the same hits as [`nearest_hit`] for
+/// each. Meshes taking the crack-free test are traversed by the packet together; other objects one
+/// ray at a time.
+pub fn nearest_hits<const P: usize>(
+    prepared: &Prepared,
+    rays: &[(V3<f64>, V3<f64>); P],
+    stats: &mut Stats,
+) -> [Option<Hit>; P] {
+    let mut best: [Option<Hit>; P] = [None; P];
     for (index, object) in prepared.objects.iter().enumerate() {
-        let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
-        let better = |hit: &Hit, best: &Option<Hit>| {
-            best.is_none_or(|b| {
-                hit.t < b.t
-                    || (hit.t == b.t && (hit.object, hit.primitive) < (b.object, b.primitive))
-            })
+        let bvh = match &object.geometry {
+            Geometry::Triangles { bvh: Some(bvh), .. } if crack_free_applies(prepared, object) => {
+                bvh
+            }
+            _ => {
+                for (best, (origin, dir)) in best.iter_mut().zip(rays) {
+                    hit_object(prepared, index, *origin, *dir, best, stats);
+                }
+                continue;
+            }
         };
+        let local: [(V3<f64>, V3<f64>); P] = std::array::from_fn(|i| {
+            to_object_space(object, rays[i].0, rays[i].1, prepared.bug, stats)
+        });
+        let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
+        let hits = bvh.nearest_crack_free_packet(
+            &local,
+            t_max,
+            &mut stats.box_tests,
+            &mut stats.triangle_tests,
+        );
+        for (best, hit) in best.iter_mut().zip(hits) {
+            if let Some((primitive, [t, beta, gamma])) = hit {
+                let hit = Hit {
+                    object: index,
+                    primitive,
+                    t,
+                    beta,
+                    gamma,
+                };
+                if better(&hit, best) {
+                    *best = Some(hit);
+                }
+            }
+        }
+    }
+    best
+}
+
+/// Tests object `index` against the ray (world space), keeping the nearer hit in `best`.
+fn hit_object(
+    prepared: &Prepared,
+    index: usize,
+    origin: V3<f64>,
+    dir: V3<f64>,
+    best: &mut Option<Hit>,
+    stats: &mut Stats,
+) {
+    let object = &prepared.objects[index];
+    {
+        let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
         match &object.geometry {
             Geometry::Triangles { triangles, bvh } if crack_free_applies(prepared, object) => {
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
@@ -256,8 +322,8 @@ pub fn nearest_hit(
                         object: index,
                         ..hit
                     };
-                    if better(&hit, &best) {
-                        best = Some(hit);
+                    if better(&hit, best) {
+                        *best = Some(hit);
                     }
                 }
             }
@@ -275,8 +341,8 @@ pub fn nearest_hit(
                         beta,
                         gamma,
                     };
-                    if better(&hit, &best) {
-                        best = Some(hit);
+                    if better(&hit, best) {
+                        *best = Some(hit);
                     }
                     Some(t)
                 };
@@ -311,12 +377,11 @@ pub fn nearest_hit(
                         beta: alpha,
                         gamma: beta,
                     };
-                    if better(&hit, &best) {
-                        best = Some(hit);
+                    if better(&hit, best) {
+                        *best = Some(hit);
                     }
                 }
             }
         }
     }
-    best
 }

@@ -289,6 +289,9 @@ fn check_scale(scale: &[f64; 3]) -> Result<(), String> {
     }
 }
 
+/// Rays traced together through a mesh's BVH: neighbouring pixels of a row.
+const PACKET: usize = 16;
+
 /// The largest image side a scene may ask for.
 pub const MAX_SIDE: usize = 4096;
 
@@ -465,33 +468,64 @@ impl Prepared {
         let shader = Shader::new(&self.effects);
         // The pinhole's frame once, not once a pixel.
         let basis = pinhole_basis(&self.camera, width, self.height);
+        let packets = self
+            .objects
+            .iter()
+            .any(|o| cast::crack_free_applies(self, o));
         let mut stats = Stats::default();
         for (i, (pixels, covered)) in pixels
             .chunks_mut(width)
             .zip(covered.chunks_mut(width))
             .enumerate()
         {
-            for column in 0..width {
-                let (origin, dir) = camera_ray_in(
+            let row = first + i;
+            let ray = |column| {
+                camera_ray_in(
                     &self.camera,
                     basis.as_ref(),
                     (width, self.height),
-                    first + i,
+                    row,
                     column,
-                );
-                stats.rays += 1;
-                if let Some(hit) = cast::nearest_hit(self, origin, dir, &mut stats) {
-                    stats.hits += 1;
-                    covered[column] = true;
-                    let object = &self.objects[hit.object];
-                    let inverse_length = 1.0 / dot(&dir, &dir).sqrt();
-                    pixels[column] = shader
-                        .shade(object, &hit, &dir, inverse_length, &mut stats)
-                        .color;
+                )
+            };
+            // Neighbouring pixels in packets (the same hits as one at a time), the rest alone.
+            let packed = if packets { width / PACKET * PACKET } else { 0 };
+            for start in (0..packed).step_by(PACKET) {
+                let rays: [(V3<f64>, V3<f64>); PACKET] = std::array::from_fn(|k| ray(start + k));
+                let hits = cast::nearest_hits(self, &rays, &mut stats);
+                for (k, hit) in hits.into_iter().enumerate() {
+                    let (column, dir) = (start + k, rays[k].1);
+                    let colour = self.shade(&shader, hit, &dir, &mut stats);
+                    (pixels[column], covered[column]) = colour;
                 }
+            }
+            for column in packed..width {
+                let (origin, dir) = ray(column);
+                let hit = cast::nearest_hit(self, origin, dir, &mut stats);
+                (pixels[column], covered[column]) = self.shade(&shader, hit, &dir, &mut stats);
             }
         }
         stats
+    }
+
+    /// A pixel's colour and coverage from its nearest hit (counting the ray and the hit).
+    #[inline]
+    fn shade(
+        &self,
+        shader: &Shader,
+        hit: Option<Hit>,
+        dir: &V3<f64>,
+        stats: &mut Stats,
+    ) -> ([f32; 3], bool) {
+        stats.rays += 1;
+        let Some(hit) = hit else {
+            return ([0.0; 3], false);
+        };
+        stats.hits += 1;
+        let object = &self.objects[hit.object];
+        let inverse_length = 1.0 / dot(dir, dir).sqrt();
+        let colour = shader.shade(object, &hit, dir, inverse_length, stats).color;
+        (colour, true)
     }
 
     /// Renders rows `rows` in parallel (a band of `ROWS_PER_TASK`-row tasks).
