@@ -83,6 +83,10 @@ impl ShearedRay {
         // U for edge C→B, V for A→C, W for B→A: each from its edge's two vertices alone.
         let u = edge_sign_and_value(&c, &b);
         let v = edge_sign_and_value(&a, &c);
+        // Most tests are misses: opposite signs already on two edges end the test.
+        if u.0 * v.0 < 0 {
+            return None;
+        }
         let w = edge_sign_and_value(&b, &a);
         let signs = [u.0, v.0, w.0];
         let positive = signs.contains(&1);
