@@ -8,7 +8,7 @@ use super::crack_free::ShearedRay;
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
 use super::{Prepared, Stats};
 use crate::accuracy::{Case, Method};
-use crate::geometry::linalg::V3;
+use crate::geometry::linalg::{V3, sub};
 use crate::geometry::parallelogram::{RayParallelogram, solve};
 
 /// A mistake students make, rendered beside the correct image.
@@ -169,6 +169,9 @@ fn test_parallelogram(
     origin: V3<f64>,
     dir: V3<f64>,
 ) -> Option<[f64; 3]> {
+    if surely_outside([corner, e1, e2], &origin, &dir) {
+        return None;
+    }
     let problem = RayParallelogram {
         corner: *corner,
         e1: *e1,
@@ -181,6 +184,29 @@ fn test_parallelogram(
     let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
     let hit = solution.outcome.is_hit() || (bug == Some(Bug::NegativeT) && inside && t != 0.0);
     hit.then_some([t, alpha, beta])
+}
+
+/// True when the ray's line meets the parallelogram's plane so far outside it (α or β beyond [0, 1]
+/// by a margin a million times the rounding error) that seed 001's solver must find it outside too:
+/// the solver is skipped (its answer would be a miss whatever the bug). Möller–Trumbore's (α, β)
+/// for the system o + t d = c + α e1 + β e2, only where the system is far from singular.
+#[inline]
+fn surely_outside([corner, e1, e2]: [&V3<f64>; 3], origin: &V3<f64>, dir: &V3<f64>) -> bool {
+    use crate::geometry::linalg::{cross, dot};
+    let l1 = |v: &V3<f64>| v[0].abs() + v[1].abs() + v[2].abs();
+    let p = cross(dir, e2);
+    let det = dot(e1, &p);
+    let s = sub(origin, corner);
+    let q = cross(&s, e1);
+    let (alpha, beta) = (dot(&s, &p) / det, dot(dir, &q) / det);
+    // |det| against |d|·|e1|·|e2| (1-norms bound the 2-norms' product from above).
+    let conditioned = det.abs() > 1e-6 * l1(dir) * l1(e1) * l1(e2);
+    let margin = |a: &V3<f64>, b: &V3<f64>| 1e-6 * (1.0 + l1(a) * l1(b) / det.abs());
+    let outside = |x: f64, m: f64| x < -m || x > 1.0 + m;
+    conditioned
+        && alpha.is_finite()
+        && beta.is_finite()
+        && (outside(alpha, margin(&s, &p)) || outside(beta, margin(dir, &q)))
 }
 
 /// True when an object's triangles take the crack-free test: the method is `watertight` (the default
@@ -383,5 +409,63 @@ fn hit_object(
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// The prefilter never skips a ray the solver finds inside (α, β in [0, 1]): random
+    /// parallelograms, rays aimed at points just inside and just outside their edges, and grazing.
+    #[test]
+    fn the_parallelogram_prefilter_skips_only_misses() {
+        let mut random = rand_pcg::Pcg64::seed_from_u64(1);
+        let mut skipped = 0;
+        for i in 0..50_000 {
+            let v = |random: &mut rand_pcg::Pcg64, r: f64| -> V3<f64> {
+                std::array::from_fn(|_| random.random_range(-r..r))
+            };
+            let (corner, e1, e2) = (
+                v(&mut random, 3.0),
+                v(&mut random, 2.0),
+                v(&mut random, 2.0),
+            );
+            let origin = v(&mut random, 8.0);
+            // A target at (α, β) near the edges: within 1e-12 of 0 or 1 on every other case.
+            let near_edge = |random: &mut rand_pcg::Pcg64| match random.random_range(0..4) {
+                0 => random.random_range(-1e-12..1e-12),
+                1 => 1.0 + random.random_range(-1e-12..1e-12),
+                _ => random.random_range(-0.5..1.5),
+            };
+            let (a, b) = (near_edge(&mut random), near_edge(&mut random));
+            let target: V3<f64> = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k]);
+            let mut dir = sub(&target, &origin);
+            if i % 10 == 0 {
+                // Nearly in the plane.
+                let n = crate::geometry::linalg::cross(&e1, &e2);
+                dir = std::array::from_fn(|k| e1[k] + 1e-9 * n[k]);
+            }
+            let problem = RayParallelogram {
+                corner,
+                e1,
+                e2,
+                origin,
+                dir,
+            };
+            if !surely_outside([&corner, &e1, &e2], &origin, &dir) {
+                continue;
+            }
+            skipped += 1;
+            if let Some([alpha, beta, _]) = solve(&problem, false).alpha_beta_t {
+                let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
+                assert!(
+                    !inside,
+                    "{problem:?}: skipped, but ({alpha}, {beta}) is inside"
+                );
+            }
+        }
+        assert!(skipped > 10_000, "{skipped}");
     }
 }
