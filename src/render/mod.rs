@@ -1,7 +1,8 @@
 //! A CPU ray caster that simulates only the effects a scene calls for (seed 003, seed 004).
 //!
-//! One ray per pixel goes into each object's space, through a BVH for meshes, through the core's
-//! intersection method; the nearest hit wins. What happens after the hit depends on the scene's
+//! One ray per pixel goes into each object's space, through a BVH for meshes (neighbouring pixels as
+//! a packet), through the core's intersection method or, for `watertight`, the crack-free test of
+//! [`crack_free`]; the nearest hit wins. What happens after the hit depends on the scene's
 //! effects: without an effect that needs barycentrics, none are interpolated; without shading, nothing
 //! is shaded. [`Stats`] counts the work so tests can check that an effect not called for costs nothing.
 
