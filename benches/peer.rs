@@ -1,6 +1,6 @@
-//! raylab's renderer against the peer script `../shared/peers/seed003_render.py`, side by side in one
-//! run: `cargo bench --bench peer`.
+//! raylab's renderer against its peers, side by side in one run: `cargo bench --bench peer`.
 //!
+//! **Seed 003** (`../shared/peers/seed003_render.py`):
 //! The script renders seed 003's 512x256 facing-ratio scene with numpy and prints the median of its
 //! in-process render times and its covered pixels; this bench runs it (`facing`, 3 renders, and the
 //! vectorised `facing-einsum`, 21 renders), then times raylab's in-process render of the same scene the
@@ -15,6 +15,9 @@ use std::process::Command;
 use raylab::platform::Stopwatch;
 use raylab::render::{Prepared, assets::Embedded, render};
 use raylab::scene::{Problem, Scene};
+
+#[path = "peer/embree.rs"]
+mod embree;
 
 /// One peer run: (median ms, covered pixels).
 fn peer(script: &str, variant: &str, repeats: u32) -> Result<(f64, usize), String> {
@@ -68,6 +71,11 @@ fn raylab(repeats: u32) -> (f64, usize) {
 }
 
 fn main() {
+    seed_003();
+    embree::compare();
+}
+
+fn seed_003() {
     let script = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../shared/peers/seed003_render.py"

@@ -34,6 +34,9 @@ mod tests {
         assert!(
             error.starts_with("unknown method 'moller' (expected one of cramer, moller-trumbore")
         );
-        assert!(error.ends_with("watertight, exact)"), "{error}");
+        assert!(
+            error.ends_with("watertight, watertight-exact, exact)"),
+            "{error}"
+        );
     }
 }

@@ -12,7 +12,9 @@ use raylab::intersect::reference::reference;
 use raylab::intersect::{Case, Method};
 use raylab::math::linalg::{V3, dot, sub};
 use raylab::render::bvh::Bvh;
-use raylab::render::cast::{nearest_hit, test_triangle, to_object_space};
+use raylab::render::cast::{nearest_hit, nearest_hits, test_triangle, to_object_space};
+use raylab::render::crack_free::ShearedRay;
+use raylab::render::generate::{grid_box, mesh_scene};
 use raylab::render::objects::{Geometry, PreparedObject, PreparedTriangle, prepare};
 use raylab::render::{Bug, Image, Prepared, Stats, assets::Embedded, render};
 use raylab::scene::render::{Effect, Object, RenderScene, Shape, Transform};
@@ -881,5 +883,226 @@ fn a_bug_image_differs_from_the_correct_one_only_by_the_bug() {
             }
         }
         assert_eq!(render(&with_bvh).0, render(&brute).0, "{bug:?}");
+    }
+}
+
+// The crack-free test the renderer uses for meshes: no ray between triangles that share an edge or a
+// vertex is lost, none is doubled, judged against the exact reference.
+
+/// The triangles the crack-free test hits (t > 0), brute force, each checked against the exact
+/// reference: the reference must call it hit too (edges and vertices count in the lecture's rule).
+fn crack_free_hits(mesh: &[[V3<f64>; 3]], origin: V3<f64>, dir: V3<f64>) -> Vec<usize> {
+    let ray = ShearedRay::new(&origin, &dir).expect("a ray with a direction");
+    let hits: Vec<usize> = (0..mesh.len())
+        .filter(|&i| ray.intersect(&mesh[i], 0.0).is_some())
+        .collect();
+    for &i in &hits {
+        let exact = reference(&Case {
+            tri: mesh[i],
+            origin,
+            dir,
+        });
+        assert!(
+            exact.hit,
+            "triangle {i} hit, but not by the exact reference"
+        );
+    }
+    hits
+}
+
+/// A box seen from inside, every ray exactly through a vertex or along an edge (the exact reference
+/// hits two or more triangles for each): the crack-free test hits exactly one, and the render covers
+/// every pixel with the same work as the brute-force count says.
+#[test]
+fn rays_along_every_edge_and_through_every_vertex_of_a_closed_box_hit_exactly_once() {
+    let (camera, side, mesh) = grid_box(6);
+    let prepared = mesh_scene(&mesh, camera, side, side);
+    let (mut through_vertices, mut along_edges) = (0, 0);
+    for row in 0..side {
+        for column in 0..side {
+            let (origin, dir) = prepared.ray(row, column);
+            let exact = (0..mesh.len())
+                .filter(|&i| {
+                    reference(&Case {
+                        tri: mesh[i],
+                        origin,
+                        dir,
+                    })
+                    .hit
+                })
+                .count();
+            assert!(
+                exact >= 2,
+                "pixel ({row}, {column}): the exact reference hits {exact}"
+            );
+            if exact > 2 {
+                through_vertices += 1;
+            } else {
+                along_edges += 1;
+            }
+            let hits = crack_free_hits(&mesh, origin, dir);
+            assert_eq!(hits.len(), 1, "pixel ({row}, {column}): {hits:?}");
+        }
+    }
+    assert!(
+        through_vertices > 80 && along_edges > 80,
+        "{through_vertices} {along_edges}"
+    );
+    let (image, stats) = render(&prepared);
+    assert_eq!(image.covered_pixels(), side * side, "crack pixels");
+    assert_eq!(stats.hits, (side * side) as u64);
+    assert!(stats.box_tests > 0 && stats.triangle_tests > 0, "{stats:?}");
+    // A bigger one, rendered only: no crack pixel.
+    let (camera, side, mesh) = grid_box(40);
+    let (image, _) = render(&mesh_scene(&mesh, camera, side, side));
+    assert_eq!(image.covered_pixels(), side * side, "crack pixels");
+}
+
+/// The closed octasphere's centre row and column (rays exactly along its edges, the centre one through
+/// a vertex): each ray enters and leaves, so it hits an even number of triangles — two when it passes
+/// inside the nearest face plane, none when it passes outside the unit sphere. A lost or doubled ray
+/// would make the count odd.
+#[test]
+fn seam_rays_through_the_closed_octasphere_hit_an_even_number_of_triangles() {
+    let prepared = Prepared::new(&scene("render-mesh.ron"), &Embedded).unwrap();
+    let mesh: Vec<[V3<f64>; 3]> = triangles(&prepared.objects[0])
+        .iter()
+        .map(|t| t.vertices)
+        .collect();
+    let inradius = octasphere_radii(triangles(&prepared.objects[0]));
+    let (w, h) = (prepared.width, prepared.height);
+    let mut entering = 0;
+    for (r, c) in (0..w).map(|c| (h / 2, c)).chain((0..h).map(|r| (r, w / 2))) {
+        let (origin, dir) = prepared.ray(r, c);
+        let hits = crack_free_hits(&mesh, origin, dir).len();
+        let distance = distance_to_line(&[0.0; 3], &origin, &dir);
+        assert_eq!(hits % 2, 0, "pixel ({r}, {c}) hits {hits}");
+        if distance < inradius - 1e-9 {
+            assert_eq!(hits, 2, "pixel ({r}, {c})");
+            entering += 1;
+        }
+        if distance > 1.0 + 1e-9 {
+            assert_eq!(hits, 0, "pixel ({r}, {c})");
+        }
+    }
+    assert!(entering > 400, "{entering}");
+}
+
+/// Fans of triangles around a shared vertex, rays exactly through the vertex and along each spoke
+/// from many directions: exactly one triangle of the fan is hit, one the exact reference hits too.
+/// (Coordinates are multiples of 2⁻¹⁰, so the directions and the spokes' midpoints are exact.)
+#[test]
+fn fan_and_seam_rays_hit_exactly_one_triangle_the_reference_hits() {
+    use rand::{Rng, SeedableRng};
+    let mut random = rand_pcg::Pcg64::seed_from_u64(12);
+    let dyadic = |x: f64| (x * 1024.0).round() / 1024.0;
+    let mut tested = 0;
+    for spokes in 3..10 {
+        let centre: V3<f64> = std::array::from_fn(|_| dyadic(random.random_range(-1.0..1.0)));
+        // A bumpy fan: rim points around the centre, lifted at random.
+        let rim: Vec<V3<f64>> = (0..spokes)
+            .map(|k| {
+                let angle = std::f64::consts::TAU * (k as f64 + random.random_range(0.0..0.5))
+                    / spokes as f64;
+                [
+                    centre[0] + angle.cos(),
+                    centre[1] + angle.sin(),
+                    centre[2] + random.random_range(-0.3..0.3),
+                ]
+                .map(dyadic)
+            })
+            .collect();
+        let fan: Vec<[V3<f64>; 3]> = (0..spokes)
+            .map(|k| [centre, rim[k], rim[(k + 1) % spokes]])
+            .collect();
+        for _ in 0..40 {
+            let origin = [
+                random.random_range(-0.5..0.5),
+                random.random_range(-0.5..0.5),
+                centre[2] + random.random_range(2.0..5.0),
+            ]
+            .map(dyadic);
+            // Through the centre, and through the midpoint of each spoke (an edge two triangles share).
+            let targets = std::iter::once(centre).chain(rim.iter().map(|r| {
+                let midpoint: V3<f64> = std::array::from_fn(|k| (centre[k] + r[k]) / 2.0);
+                midpoint
+            }));
+            for target in targets {
+                let dir = sub(&target, &origin);
+                let hits = crack_free_hits(&fan, origin, dir);
+                assert_eq!(
+                    hits.len(),
+                    1,
+                    "{spokes} spokes, target {target:?}: {hits:?}"
+                );
+                tested += 1;
+            }
+        }
+    }
+    assert_eq!(tested, 40 * (4..=10).sum::<usize>());
+}
+
+/// The crack-free default covers exactly the pixels the exact-deciding watertight test covers, on
+/// every shipped scene with a mesh.
+#[test]
+fn the_crack_free_default_covers_what_watertight_exact_covers() {
+    for file in [
+        "render-mesh.ron",
+        "render-transformed.ron",
+        "render-common-bugs.ron",
+    ] {
+        let mut fast = Prepared::new(&scene(file), &Embedded).unwrap();
+        fast.effects = vec![Effect::Coverage];
+        let mut exact = fast.clone();
+        exact.method = Some(Method::WatertightExact);
+        if file == "render-common-bugs.ron" {
+            // Its triangle and floor are not meshes: watertight for all, exact for all.
+            fast.method = Some(Method::Watertight);
+        }
+        let (fast_image, _) = render(&fast);
+        let (exact_image, _) = render(&exact);
+        assert_eq!(fast_image.covered, exact_image.covered, "{file}");
+        assert!(fast_image.covered_pixels() > 10_000, "{file}");
+    }
+}
+
+/// Rays traced as a packet get exactly the hits (object, triangle, t, β, γ) they get one at a time,
+/// on the shipped mesh scenes and on generated meshes.
+#[test]
+fn packets_of_rays_hit_what_single_rays_hit() {
+    let (camera, side, box_mesh) = grid_box(12);
+    let sphere = raylab::render::generate::irregular_sphere(3, 4);
+    let sphere_camera = raylab::scene::render::Camera::Pinhole {
+        position: [0.3, -3.6, 0.5],
+        target: [0.0; 3],
+        fov_y: 40.0,
+    };
+    let scenes = [
+        shrunk(
+            Prepared::new(&scene("render-mesh.ron"), &Embedded).unwrap(),
+            4,
+        ),
+        shrunk(
+            Prepared::new(&scene("render-transformed.ron"), &Embedded).unwrap(),
+            4,
+        ),
+        mesh_scene(&box_mesh, camera, side, side),
+        mesh_scene(&sphere, sphere_camera, 96, 80),
+    ];
+    for prepared in &scenes {
+        let mut hits = 0;
+        for row in 0..prepared.height {
+            for start in (0..prepared.width.saturating_sub(7)).step_by(8) {
+                let rays: [(V3<f64>, V3<f64>); 8] =
+                    std::array::from_fn(|k| prepared.ray(row, start + k));
+                let packet = nearest_hits(prepared, &rays, &mut Stats::default());
+                for (k, (origin, dir)) in rays.iter().enumerate() {
+                    let single = nearest_hit(prepared, *origin, *dir, &mut Stats::default());
+                    assert_eq!(packet[k], single, "pixel ({row}, {})", start + k);
+                    hits += usize::from(single.is_some());
+                }
+            }
+        }
+        assert!(hits > 500, "{hits}");
     }
 }

@@ -263,8 +263,26 @@ impl RenderView {
                             "The scene's method: watertight for meshes, Möller–Trumbore otherwise",
                         );
                     for method in Method::FLOAT {
-                        ui.selectable_value(&mut self.method, Some(method), method.name());
+                        let choice =
+                            ui.selectable_value(&mut self.method, Some(method), method.name());
+                        if method == Method::Watertight {
+                            choice.on_hover_text(
+                                "For meshes, the crack-free test: exact signs where rounding could \
+                                 flip them and a tie rule for rays exactly on an edge, so no ray is \
+                                 lost or counted twice between two triangles",
+                            );
+                        }
                     }
+                    ui.selectable_value(
+                        &mut self.method,
+                        Some(Method::WatertightExact),
+                        Method::WatertightExact.name(),
+                    )
+                    .on_hover_text(
+                        "The exact-deciding watertight test the accuracy study and the probe use: \
+                         every decision exactly right, with big-integer arithmetic near edges \
+                         (slower)",
+                    );
                 })
                 .response
                 .labelled_by(label.id)

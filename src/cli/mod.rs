@@ -85,7 +85,8 @@ pub struct RenderArgs {
     #[arg(short, long, value_name = "PNG")]
     pub output: std::path::PathBuf,
     /// The intersection method (default: the scene's, else watertight for meshes and moller-trumbore
-    /// otherwise).
+    /// otherwise). watertight renders with the crack-free test (exact signs, a tie rule, no big
+    /// integers); watertight-exact with the exact-deciding one the accuracy study runs.
     #[arg(long, value_name = "NAME")]
     pub method: Option<crate::intersect::Method>,
     /// Render with a common bug: and-for-or, negative-t, v-instead-of-sum, normalized-direction.

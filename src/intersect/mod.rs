@@ -139,6 +139,9 @@ pub enum Method {
     Inverse,
     /// Woop, Benthin and Wald's watertight test, with exact fallbacks near zero.
     Watertight,
+    /// The same exact-deciding watertight test, by the name the renderer gives it: there
+    /// `watertight` is the fast crack-free test for meshes (`render::crack_free`).
+    WatertightExact,
     /// The exact rational reference.
     Exact,
 }
@@ -167,7 +170,7 @@ impl Method {
             Method::Plane => plane::intersect(case),
             Method::NormalEquations => normal_equations::intersect(case),
             Method::Inverse => inverse::intersect(case),
-            Method::Watertight => watertight::intersect(case),
+            Method::Watertight | Method::WatertightExact => watertight::intersect(case),
             Method::Exact => {
                 let exact = exact_answer(case);
                 Answer {
@@ -219,7 +222,8 @@ impl Method {
             | Method::Plane
             | Method::NormalEquations
             | Method::Inverse
-            | Method::Watertight => {
+            | Method::Watertight
+            | Method::WatertightExact => {
                 let mut rec = Recorder::new(true, self.name(), F::PRECISION);
                 for (id, v) in ["A", "B", "C", "L", "D"].into_iter().zip([
                     &case.tri[0],

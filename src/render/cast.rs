@@ -4,11 +4,14 @@
 use serde::{Deserialize, Serialize};
 use strum::{EnumIter, IntoStaticStr};
 
+use super::bvh::Bvh;
+use super::crack_free::ShearedRay;
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
 use super::{Prepared, Stats};
 use crate::geometry::parallelogram::{RayParallelogram, solve};
 use crate::intersect::{Case, Method};
 use crate::math::linalg::V3;
+use crate::math::linalg::sub;
 
 /// A mistake students make, rendered beside the correct image (in menu order).
 #[derive(
@@ -108,7 +111,7 @@ pub fn to_object_space(
     (origin, dir)
 }
 
-/// Tests one triangle: the method's decision, or a bug's.
+/// Tests one triangle: the method's decision (`watertight`: the crack-free test), or a bug's.
 pub fn test_triangle(
     triangle: &PreparedTriangle,
     method: Method,
@@ -121,8 +124,13 @@ pub fn test_triangle(
         origin,
         dir,
     };
-    let answer = method.run(&case);
-    let correct = answer.values.filter(|_| answer.hit);
+    // The renderer's `watertight` is the crack-free test; every other name runs the core's method.
+    let correct = if method == Method::Watertight {
+        ShearedRay::new(&origin, &dir).and_then(|ray| ray.intersect(&triangle.vertices, 0.0))
+    } else {
+        let answer = method.run(&case);
+        answer.values.filter(|_| answer.hit)
+    };
     match bug {
         // Each bug accepts more than the correct test does: what the method hits stays hit (so the
         // image differs only by the bug), and the bug's own check, on Cramer's t, β, γ, adds the rest.
@@ -147,6 +155,9 @@ fn test_parallelogram(
     origin: V3<f64>,
     dir: V3<f64>,
 ) -> Option<[f64; 3]> {
+    if surely_outside([corner, e1, e2], &origin, &dir) {
+        return None;
+    }
     let problem = RayParallelogram {
         corner: *corner,
         e1: *e1,
@@ -161,6 +172,78 @@ fn test_parallelogram(
     hit.then_some([t, alpha, beta])
 }
 
+/// True when the ray's line meets the parallelogram's plane so far outside it (α or β beyond [0, 1]
+/// by a margin a million times the rounding error) that seed 001's solver must find it outside too:
+/// the solver is skipped (its answer would be a miss whatever the bug). Möller–Trumbore's (α, β)
+/// for the system o + t d = c + α e1 + β e2, only where the system is far from singular.
+#[inline]
+fn surely_outside([corner, e1, e2]: [&V3<f64>; 3], origin: &V3<f64>, dir: &V3<f64>) -> bool {
+    use crate::math::linalg::{cross, dot};
+    let l1 = |v: &V3<f64>| v[0].abs() + v[1].abs() + v[2].abs();
+    let p = cross(dir, e2);
+    let det = dot(e1, &p);
+    let s = sub(origin, corner);
+    let q = cross(&s, e1);
+    let (alpha, beta) = (dot(&s, &p) / det, dot(dir, &q) / det);
+    // |det| against |d|·|e1|·|e2| (1-norms bound the 2-norms' product from above).
+    let conditioned = det.abs() > 1e-6 * l1(dir) * l1(e1) * l1(e2);
+    let margin = |a: &V3<f64>, b: &V3<f64>| 1e-6 * (1.0 + l1(a) * l1(b) / det.abs());
+    let outside = |x: f64, m: f64| x < -m || x > 1.0 + m;
+    conditioned
+        && alpha.is_finite()
+        && beta.is_finite()
+        && (outside(alpha, margin(&s, &p)) || outside(beta, margin(dir, &q)))
+}
+
+/// True when an object's triangles take the crack-free test: the method is `watertight` (the default
+/// for meshes) and no bug is switched on. `watertight-exact` keeps the exact-deciding test.
+pub fn crack_free_applies(prepared: &Prepared, object: &PreparedObject) -> bool {
+    prepared.bug.is_none() && prepared.method_for(object) == Method::Watertight
+}
+
+/// The nearest hit of the crack-free test among `triangles` (through the BVH when there is one) with
+/// 0 < t ≤ `t_max`, ties to the lower index; its `object` is left 0 for the caller to set.
+fn nearest_crack_free(
+    triangles: &[PreparedTriangle],
+    bvh: Option<&Bvh>,
+    origin: V3<f64>,
+    dir: V3<f64>,
+    t_max: f64,
+    stats: &mut Stats,
+) -> Option<Hit> {
+    let (primitive, [t, beta, gamma]) = match bvh {
+        Some(bvh) => bvh.nearest_crack_free(
+            &origin,
+            &dir,
+            0.0,
+            t_max,
+            &mut stats.box_tests,
+            &mut stats.triangle_tests,
+        )?,
+        None => {
+            let ray = ShearedRay::new(&origin, &dir)?;
+            stats.triangle_tests += triangles.len() as u64;
+            let mut best: Option<(usize, [f64; 3])> = None;
+            for (i, triangle) in triangles.iter().enumerate() {
+                if let Some(hit) = ray.intersect(&triangle.vertices, 0.0)
+                    && hit[0] <= best.map_or(t_max, |(_, b)| b[0])
+                    && best.is_none_or(|(_, b)| hit[0] < b[0])
+                {
+                    best = Some((i, hit));
+                }
+            }
+            best?
+        }
+    };
+    Some(Hit {
+        object: 0,
+        primitive,
+        t,
+        beta,
+        gamma,
+    })
+}
+
 /// The nearest hit among all objects; ties go to the earlier object and triangle.
 pub fn nearest_hit(
     prepared: &Prepared,
@@ -169,15 +252,93 @@ pub fn nearest_hit(
     stats: &mut Stats,
 ) -> Option<Hit> {
     let mut best: Option<Hit> = None;
+    for index in 0..prepared.objects.len() {
+        hit_object(prepared, index, origin, dir, &mut best, stats);
+    }
+    best
+}
+
+/// True when `hit` is nearer than `best` (ties to the earlier object and triangle).
+fn better(hit: &Hit, best: &Option<Hit>) -> bool {
+    best.is_none_or(|b| {
+        hit.t < b.t || (hit.t == b.t && (hit.object, hit.primitive) < (b.object, b.primitive))
+    })
+}
+
+/// The nearest hits of `P` rays at once (neighbouring pixels): the same hits as [`nearest_hit`] for
+/// each. Meshes taking the crack-free test are traversed by the packet together; other objects one
+/// ray at a time.
+pub fn nearest_hits<const P: usize>(
+    prepared: &Prepared,
+    rays: &[(V3<f64>, V3<f64>); P],
+    stats: &mut Stats,
+) -> [Option<Hit>; P] {
+    let mut best: [Option<Hit>; P] = [None; P];
     for (index, object) in prepared.objects.iter().enumerate() {
-        let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
-        let better = |hit: &Hit, best: &Option<Hit>| {
-            best.is_none_or(|b| {
-                hit.t < b.t
-                    || (hit.t == b.t && (hit.object, hit.primitive) < (b.object, b.primitive))
-            })
+        let bvh = match &object.geometry {
+            Geometry::Triangles { bvh: Some(bvh), .. } if crack_free_applies(prepared, object) => {
+                bvh
+            }
+            _ => {
+                for (best, (origin, dir)) in best.iter_mut().zip(rays) {
+                    hit_object(prepared, index, *origin, *dir, best, stats);
+                }
+                continue;
+            }
         };
+        let local: [(V3<f64>, V3<f64>); P] = std::array::from_fn(|i| {
+            to_object_space(object, rays[i].0, rays[i].1, prepared.bug, stats)
+        });
+        let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
+        let hits = bvh.nearest_crack_free_packet(
+            &local,
+            t_max,
+            &mut stats.box_tests,
+            &mut stats.triangle_tests,
+        );
+        for (best, hit) in best.iter_mut().zip(hits) {
+            if let Some((primitive, [t, beta, gamma])) = hit {
+                let hit = Hit {
+                    object: index,
+                    primitive,
+                    t,
+                    beta,
+                    gamma,
+                };
+                if better(&hit, best) {
+                    *best = Some(hit);
+                }
+            }
+        }
+    }
+    best
+}
+
+/// Tests object `index` against the ray (world space), keeping the nearer hit in `best`.
+fn hit_object(
+    prepared: &Prepared,
+    index: usize,
+    origin: V3<f64>,
+    dir: V3<f64>,
+    best: &mut Option<Hit>,
+    stats: &mut Stats,
+) {
+    let object = &prepared.objects[index];
+    {
+        let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
         match &object.geometry {
+            Geometry::Triangles { triangles, bvh } if crack_free_applies(prepared, object) => {
+                let t_max = best.map_or(f64::INFINITY, |b| b.t);
+                if let Some(hit) = nearest_crack_free(triangles, bvh.as_ref(), o, d, t_max, stats) {
+                    let hit = Hit {
+                        object: index,
+                        ..hit
+                    };
+                    if better(&hit, best) {
+                        *best = Some(hit);
+                    }
+                }
+            }
             Geometry::Triangles { triangles, bvh } => {
                 let method = prepared.method_for(object);
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
@@ -192,8 +353,8 @@ pub fn nearest_hit(
                         beta,
                         gamma,
                     };
-                    if better(&hit, &best) {
-                        best = Some(hit);
+                    if better(&hit, best) {
+                        *best = Some(hit);
                     }
                     Some(t)
                 };
@@ -228,12 +389,69 @@ pub fn nearest_hit(
                         beta: alpha,
                         gamma: beta,
                     };
-                    if better(&hit, &best) {
-                        best = Some(hit);
+                    if better(&hit, best) {
+                        *best = Some(hit);
                     }
                 }
             }
         }
     }
-    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// The prefilter never skips a ray the solver finds inside (α, β in [0, 1]): random
+    /// parallelograms, rays aimed at points just inside and just outside their edges, and grazing.
+    #[test]
+    fn the_parallelogram_prefilter_skips_only_misses() {
+        let mut random = rand_pcg::Pcg64::seed_from_u64(1);
+        let mut skipped = 0;
+        for i in 0..50_000 {
+            let v = |random: &mut rand_pcg::Pcg64, r: f64| -> V3<f64> {
+                std::array::from_fn(|_| random.random_range(-r..r))
+            };
+            let (corner, e1, e2) = (
+                v(&mut random, 3.0),
+                v(&mut random, 2.0),
+                v(&mut random, 2.0),
+            );
+            let origin = v(&mut random, 8.0);
+            // A target at (α, β) near the edges: within 1e-12 of 0 or 1 on every other case.
+            let near_edge = |random: &mut rand_pcg::Pcg64| match random.random_range(0..4) {
+                0 => random.random_range(-1e-12..1e-12),
+                1 => 1.0 + random.random_range(-1e-12..1e-12),
+                _ => random.random_range(-0.5..1.5),
+            };
+            let (a, b) = (near_edge(&mut random), near_edge(&mut random));
+            let target: V3<f64> = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k]);
+            let mut dir = sub(&target, &origin);
+            if i % 10 == 0 {
+                // Nearly in the plane.
+                let n = crate::math::linalg::cross(&e1, &e2);
+                dir = std::array::from_fn(|k| e1[k] + 1e-9 * n[k]);
+            }
+            let problem = RayParallelogram {
+                corner,
+                e1,
+                e2,
+                origin,
+                dir,
+            };
+            if !surely_outside([&corner, &e1, &e2], &origin, &dir) {
+                continue;
+            }
+            skipped += 1;
+            if let Some([alpha, beta, _]) = solve(&problem).alpha_beta_t {
+                let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
+                assert!(
+                    !inside,
+                    "{problem:?}: skipped, but ({alpha}, {beta}) is inside"
+                );
+            }
+        }
+        assert!(skipped > 10_000, "{skipped}");
+    }
 }

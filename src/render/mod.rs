@@ -1,7 +1,8 @@
 //! A CPU ray caster that simulates only the effects a scene calls for (seed 003, seed 004).
 //!
-//! One ray per pixel goes into each object's space, through a BVH for meshes, through the core's
-//! intersection method; the nearest hit wins. What happens after the hit depends on the scene's
+//! One ray per pixel goes into each object's space, through a BVH for meshes (neighbouring pixels as
+//! a packet), through the core's intersection method or, for `watertight`, the crack-free test of
+//! [`crack_free`]; the nearest hit wins. What happens after the hit depends on the scene's
 //! effects: without an effect that needs barycentrics, none are interpolated; without shading, nothing
 //! is shaded. [`Stats`] counts the work so tests can check that an effect not called for costs nothing.
 
@@ -9,6 +10,8 @@ pub mod assets;
 mod batched;
 pub mod bvh;
 pub mod cast;
+pub mod crack_free;
+pub mod generate;
 pub mod objects;
 pub mod probe;
 pub mod scene_load;
@@ -27,6 +30,9 @@ use assets::AssetSource;
 pub use cast::{Bug, Hit};
 use objects::{Geometry, PreparedObject, unit};
 use shade::Shader;
+
+/// Rays traced together through a mesh's BVH: neighbouring pixels of a row.
+const PACKET: usize = 16;
 
 /// Work done by a render.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -138,6 +144,8 @@ pub struct Prepared {
     /// The camera.
     pub camera: Camera,
     /// The method for every object; `None`: watertight for meshes, Möller–Trumbore otherwise.
+    /// `watertight` renders with the crack-free test ([`crack_free`]); `watertight-exact` with the
+    /// exact-deciding one.
     pub method: Option<Method>,
     /// The effects to compute.
     pub effects: Vec<Effect>,
@@ -197,27 +205,66 @@ impl Prepared {
             return batched::render_rows(self, first, pixels, covered);
         }
         let shader = Shader::new(&self.effects);
+        // The pinhole's frame once, not once a pixel.
+        let basis = pinhole_basis(&self.camera, width, self.height);
+        let packets = self
+            .objects
+            .iter()
+            .any(|o| cast::crack_free_applies(self, o));
         let mut stats = Stats::default();
         for (i, (pixels, covered)) in pixels
             .chunks_mut(width)
             .zip(covered.chunks_mut(width))
             .enumerate()
         {
-            for column in 0..width {
-                let (origin, dir) = self.ray(first + i, column);
-                stats.rays += 1;
-                if let Some(hit) = cast::nearest_hit(self, origin, dir, &mut stats) {
-                    stats.hits += 1;
-                    covered[column] = true;
-                    let object = &self.objects[hit.object];
-                    let inverse_length = 1.0 / dot(&dir, &dir).sqrt();
-                    pixels[column] = shader
-                        .shade(object, &hit, &dir, inverse_length, &mut stats)
-                        .color;
+            let row = first + i;
+            let ray = |column| {
+                camera_ray_in(
+                    &self.camera,
+                    basis.as_ref(),
+                    (width, self.height),
+                    row,
+                    column,
+                )
+            };
+            // Neighbouring pixels in packets (the same hits as one at a time), the rest alone.
+            let packed = if packets { width / PACKET * PACKET } else { 0 };
+            for start in (0..packed).step_by(PACKET) {
+                let rays: [(V3<f64>, V3<f64>); PACKET] = std::array::from_fn(|k| ray(start + k));
+                let hits = cast::nearest_hits(self, &rays, &mut stats);
+                for (k, hit) in hits.into_iter().enumerate() {
+                    let (column, dir) = (start + k, rays[k].1);
+                    let colour = self.shade(&shader, hit, &dir, &mut stats);
+                    (pixels[column], covered[column]) = colour;
                 }
+            }
+            for column in packed..width {
+                let (origin, dir) = ray(column);
+                let hit = cast::nearest_hit(self, origin, dir, &mut stats);
+                (pixels[column], covered[column]) = self.shade(&shader, hit, &dir, &mut stats);
             }
         }
         stats
+    }
+
+    /// A pixel's colour and coverage from its nearest hit (counting the ray and the hit).
+    #[inline]
+    fn shade(
+        &self,
+        shader: &Shader,
+        hit: Option<Hit>,
+        dir: &V3<f64>,
+        stats: &mut Stats,
+    ) -> ([f32; 3], bool) {
+        stats.rays += 1;
+        let Some(hit) = hit else {
+            return ([0.0; 3], false);
+        };
+        stats.hits += 1;
+        let object = &self.objects[hit.object];
+        let inverse_length = 1.0 / dot(dir, dir).sqrt();
+        let colour = shader.shade(object, &hit, dir, inverse_length, stats).color;
+        (colour, true)
     }
 
     /// Renders rows `rows` in parallel (a band of `ROWS_PER_TASK`-row tasks).
@@ -356,6 +403,19 @@ pub fn camera_ray(
     row: usize,
     column: usize,
 ) -> (V3<f64>, V3<f64>) {
+    let basis = pinhole_basis(camera, width, height);
+    camera_ray_in(camera, basis.as_ref(), (width, height), row, column)
+}
+
+/// [`camera_ray`] with the pinhole's frame already made (`None` for the image plane).
+#[inline]
+pub fn camera_ray_in(
+    camera: &Camera,
+    basis: Option<&Basis>,
+    (width, height): (usize, usize),
+    row: usize,
+    column: usize,
+) -> (V3<f64>, V3<f64>) {
     // Pixel centres at both ends, as numpy's mgrid with a complex step count places them.
     let along = |from: f64, to: f64, i: usize, n: usize| {
         if n <= 1 {
@@ -374,7 +434,7 @@ pub fn camera_ray(
             (point, unit(point))
         }
         Camera::Pinhole { .. } => {
-            let Some(b) = pinhole_basis(camera, width, height) else {
+            let Some(b) = basis else {
                 return ([0.0; 3], [0.0; 3]);
             };
             let u = (column as f64 + 0.5) / width as f64 * 2.0 - 1.0;

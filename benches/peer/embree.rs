@@ -1,0 +1,240 @@
+//! **Meshes** against Intel Embree 4 (robust mode) through `../shared/peers/embree_render.py` (needs
+//! python3 with `embreex` and `numpy`): coverage only, the same pinhole rays, 2 threads each (raylab in
+//! a rayon pool of 2, the script with `--threads 2`), the median of 21 renders each, in one run.
+//!
+//! Scenes: each shipped scene with a mesh (its objects written to a temporary OBJ in world space, with
+//! their transforms applied; a parallelogram as its two triangles), an 81 920-triangle irregular sphere,
+//! and a 40 000-triangle box seen from inside whose every ray runs along an edge or through a vertex.
+//! Then the scaling: irregular spheres from 1 280 to 1 310 720 triangles. Set `RAYLAB_PEER_REPEATS`
+//! to change the 21 renders, `RAYLAB_PEER_MAX_LEVEL` (3 to 8) to cut the scaling series short.
+
+use std::process::Command;
+
+use raylab::math::linalg::V3;
+use raylab::platform::Stopwatch;
+use raylab::render::generate::{grid_box, irregular_sphere, mesh_scene, to_obj};
+use raylab::render::objects::Geometry;
+use raylab::render::{Prepared, assets::Embedded, render, world_triangle};
+use raylab::scene::render::{Camera, Effect};
+use raylab::scene::{Problem, Scene};
+
+/// A scene by name, prepared, with its world-space triangles for the script.
+type Named = (String, Prepared, Vec<[V3<f64>; 3]>);
+
+/// Threads for both sides.
+const THREADS: usize = 2;
+
+fn repeats() -> usize {
+    std::env::var("RAYLAB_PEER_REPEATS")
+        .ok()
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(21)
+}
+
+/// The script's path, if it is there.
+fn script() -> Option<&'static str> {
+    let script = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/peers/embree_render.py"
+    );
+    std::path::Path::new(script).exists().then_some(script)
+}
+
+/// Every object's triangles in world space (a parallelogram as two).
+fn world_triangles(prepared: &Prepared) -> Vec<[V3<f64>; 3]> {
+    let mut out = Vec::new();
+    for object in &prepared.objects {
+        match &object.geometry {
+            Geometry::Triangles { triangles, .. } => {
+                out.extend((0..triangles.len()).filter_map(|i| world_triangle(object, i)));
+            }
+            Geometry::Parallelogram { corner, e1, e2, .. } => {
+                let at = |a: f64, b: f64| -> V3<f64> {
+                    let local: V3<f64> = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k]);
+                    object
+                        .object_to_world
+                        .transform_point3(local.into())
+                        .to_array()
+                };
+                let (p, q, r, s) = (at(0.0, 0.0), at(1.0, 0.0), at(1.0, 1.0), at(0.0, 1.0));
+                out.extend([[p, q, r], [p, r, s]]);
+            }
+        }
+    }
+    out
+}
+
+/// Embree's (median ms, covered pixels) for `triangles` seen by the scene's pinhole camera.
+fn embree(
+    script: &str,
+    triangles: &[[V3<f64>; 3]],
+    prepared: &Prepared,
+    name: &str,
+) -> Result<(f64, usize), String> {
+    let Camera::Pinhole {
+        position,
+        target,
+        fov_y,
+    } = &prepared.camera
+    else {
+        return Err("the script takes pinhole cameras only".into());
+    };
+    let path = std::env::temp_dir().join(format!("raylab-peer-{name}-{}.obj", std::process::id()));
+    std::fs::write(&path, to_obj(triangles)).map_err(|e| format!("cannot write the OBJ: {e}"))?;
+    let join = |v: &[f64; 3]| format!("{:?},{:?},{:?}", v[0], v[1], v[2]);
+    let output = Command::new("python3")
+        .arg(script)
+        .arg("--obj")
+        .arg(&path)
+        .args(["--eye", &join(position), "--target", &join(target)])
+        .args(["--fov", &format!("{fov_y:?}")])
+        .args(["--size", &format!("{}x{}", prepared.width, prepared.height)])
+        .args(["--threads", &THREADS.to_string()])
+        .args(["--reps", &repeats().to_string()])
+        .output();
+    let _ = std::fs::remove_file(&path);
+    let output = output.map_err(|e| format!("cannot run python3: {e}"))?;
+    let text = String::from_utf8_lossy(&output.stdout);
+    if !output.status.success() {
+        return Err(format!(
+            "the script failed: {}",
+            String::from_utf8_lossy(&output.stderr).trim()
+        ));
+    }
+    // "median 6.412 ms over 21 renders (2 threads), covered pixels 53449, 16.07 Mrays/s"
+    let number_after = |key: &str| -> Option<f64> {
+        let rest = &text[text.find(key)? + key.len()..];
+        rest.split_whitespace()
+            .next()?
+            .trim_end_matches(',')
+            .parse()
+            .ok()
+    };
+    match (number_after("median"), number_after("covered pixels")) {
+        (Some(ms), Some(pixels)) => Ok((ms, pixels as usize)),
+        _ => Err(format!("unexpected output: {text}")),
+    }
+}
+
+/// raylab's (median ms, covered pixels) in a pool of [`THREADS`] threads.
+fn raylab(pool: &rayon::ThreadPool, prepared: &Prepared) -> (f64, usize) {
+    pool.install(|| {
+        let covered = render(prepared).0.covered_pixels(); // also warms the pool
+        let mut times: Vec<f64> = (0..repeats())
+            .map(|_| {
+                let clock = Stopwatch::start();
+                std::hint::black_box(render(prepared));
+                clock.seconds() * 1e3
+            })
+            .collect();
+        times.sort_by(f64::total_cmp);
+        (times[times.len() / 2], covered)
+    })
+}
+
+/// One row of the table: both sides on one scene.
+fn row(
+    pool: &rayon::ThreadPool,
+    script: &str,
+    name: &str,
+    prepared: &Prepared,
+    triangles: &[[V3<f64>; 3]],
+) -> Result<(), String> {
+    let (peer_ms, peer_pixels) = embree(script, triangles, prepared, name)?;
+    let (ours_ms, our_pixels) = raylab(pool, prepared);
+    println!(
+        "{name:>24} {:>9} {:>9}   Embree {peer_ms:8.3} ms   raylab {ours_ms:8.3} ms   raylab/Embree speed \
+         {:5.2}x   covered: Embree {peer_pixels}, raylab {our_pixels}{}",
+        triangles.len(),
+        format!("{}x{}", prepared.width, prepared.height),
+        peer_ms / ours_ms,
+        if peer_pixels == our_pixels {
+            " (equal)"
+        } else {
+            " (DIFFERENT)"
+        }
+    );
+    Ok(())
+}
+
+/// A shipped scene, coverage only.
+fn shipped(file: &str) -> Prepared {
+    let path = format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+    let Problem::Render(scene) = Scene::load(std::path::Path::new(&path))
+        .expect("the shipped scene loads")
+        .problem
+    else {
+        panic!("{file} is a render scene");
+    };
+    let mut prepared = Prepared::new(&scene, &Embedded).expect("the shipped scene prepares");
+    prepared.effects = vec![Effect::Coverage];
+    prepared
+}
+
+/// The irregular sphere of `level` seen from outside on a 400x400 image.
+fn sphere(level: u32) -> (Prepared, Vec<[V3<f64>; 3]>) {
+    let triangles = irregular_sphere(level, 12);
+    let camera = Camera::Pinhole {
+        position: [0.3, -3.6, 0.5],
+        target: [0.0, 0.0, 0.0],
+        fov_y: 40.0,
+    };
+    (mesh_scene(&triangles, camera, 400, 400), triangles)
+}
+
+/// Runs the comparison, or says why it skipped.
+pub fn compare() {
+    let Some(script) = script() else {
+        println!("Embree peer skipped: ../shared/peers/embree_render.py is not there");
+        return;
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(THREADS)
+        .build()
+        .expect("a pool of 2 threads");
+    println!(
+        "\nmeshes against Embree 4 (robust), coverage only, {THREADS} threads each, median of {} renders",
+        repeats()
+    );
+    println!("{:>24} {:>9} {:>9}", "scene", "triangles", "image");
+    let mut scenes: Vec<Named> = Vec::new();
+    for file in [
+        "render-mesh.ron",
+        "render-transformed.ron",
+        "render-common-bugs.ron",
+    ] {
+        let prepared = shipped(file);
+        let triangles = world_triangles(&prepared);
+        scenes.push((file.trim_end_matches(".ron").into(), prepared, triangles));
+    }
+    let (prepared, triangles) = sphere(6);
+    scenes.push(("irregular sphere".into(), prepared, triangles));
+    let (camera, side, triangles) = grid_box(100);
+    let prepared = mesh_scene(&triangles, camera, side, side);
+    scenes.push(("box from inside".into(), prepared, triangles));
+    for (name, prepared, triangles) in &scenes {
+        if let Err(why) = row(&pool, script, name, prepared, triangles) {
+            println!("Embree peer skipped: {why} (it needs python3 with embreex and numpy)");
+            return;
+        }
+    }
+    let max_level = std::env::var("RAYLAB_PEER_MAX_LEVEL")
+        .ok()
+        .and_then(|l| l.parse().ok())
+        .unwrap_or(8u32)
+        .clamp(3, 8);
+    println!("\nscaling: irregular spheres, 400x400, coverage only, {THREADS} threads each");
+    for level in 3..=max_level {
+        let (prepared, triangles) = sphere(level);
+        if let Err(why) = row(
+            &pool,
+            script,
+            &format!("sphere level {level}"),
+            &prepared,
+            &triangles,
+        ) {
+            println!("Embree peer skipped: {why}");
+            return;
+        }
+    }
+}
