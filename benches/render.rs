@@ -94,7 +94,7 @@ fn bvh(c: &mut Criterion) {
         (with_bvh.width, with_bvh.height) = (width, height);
         with_bvh.effects = vec![Effect::Coverage];
         let mut brute = with_bvh.clone();
-        for object in &mut brute.objects {
+        for object in brute.objects_mut() {
             if let Geometry::Triangles { bvh, .. } = &mut object.geometry {
                 *bvh = None;
             }

@@ -77,7 +77,7 @@ fn world_triangles(object: &PreparedObject) -> Vec<PreparedTriangle> {
         .map(|t| {
             PreparedTriangle::new(t.vertices.map(|v| {
                 object
-                    .object_to_world
+                    .world_from_object
                     .transform_point3(DVec3::from(v))
                     .to_array()
             }))
@@ -318,7 +318,7 @@ fn t_tolerance(
     let frobenius = |m: glam::DMat3| {
         (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared()).sqrt()
     };
-    let m = object.object_to_world.matrix3;
+    let m = object.world_from_object.matrix3;
     let kappa = frobenius(m) * frobenius(m.inverse());
     let farthest_vertex = world_triangle
         .vertices
@@ -449,7 +449,10 @@ fn transformed_rays_give_the_same_t_as_world_space_intersection() {
     ] {
         let prepared = Prepared::new(&scene(file), &Embedded).unwrap();
         let object = &prepared.objects[index];
-        assert!(object.world_to_object.is_some(), "{file}: not transformed");
+        assert!(
+            object.object_from_world.is_some(),
+            "{file}: not transformed"
+        );
         let check = same_t_in_both_spaces(
             object,
             prepared.method_for(object),
@@ -524,18 +527,18 @@ fn normalising_the_object_space_direction_changes_the_depth_image() {
     );
     correct.effects = vec![Effect::Depth];
     let mesh = 0;
-    assert!(correct.objects[mesh].is_mesh && correct.objects[mesh].world_to_object.is_some());
+    assert!(correct.objects[mesh].is_mesh && correct.objects[mesh].object_from_world.is_some());
 
     // The same scene with the mesh's vertices moved by M and the rays left in world space.
     let mut world = correct.clone();
     let moved = world_triangles(&world.objects[mesh]);
-    let object = &mut world.objects[mesh];
+    let object = &mut world.objects_mut()[mesh];
     object.geometry = Geometry::Triangles {
         bvh: Some(Bvh::build(&moved)),
         triangles: moved,
     };
-    object.world_to_object = None;
-    object.object_to_world = glam::DAffine3::IDENTITY;
+    object.object_from_world = None;
+    object.world_from_object = glam::DAffine3::IDENTITY;
 
     let mut buggy = correct.clone();
     buggy.bug = Some(Bug::NormalizedDirection);
@@ -815,7 +818,7 @@ fn the_bvh_render_equals_a_brute_force_render() {
     );
     for with_bvh in [small_mesh, small_transformed] {
         let mut brute = with_bvh.clone();
-        for object in &mut brute.objects {
+        for object in brute.objects_mut() {
             if let Geometry::Triangles { bvh, .. } = &mut object.geometry {
                 assert!(bvh.take().is_some(), "a mesh without a BVH");
             }
@@ -877,7 +880,7 @@ fn a_bug_image_differs_from_the_correct_one_only_by_the_bug() {
         let mut with_bvh = bugs.clone();
         with_bvh.bug = Some(bug);
         let mut brute = with_bvh.clone();
-        for object in &mut brute.objects {
+        for object in brute.objects_mut() {
             if let Geometry::Triangles { bvh, .. } = &mut object.geometry {
                 *bvh = None;
             }

@@ -43,7 +43,7 @@ fn script() -> Option<&'static str> {
 /// Every object's triangles in world space (a parallelogram as two).
 fn world_triangles(prepared: &Prepared) -> Vec<[V3<f64>; 3]> {
     let mut out = Vec::new();
-    for object in &prepared.objects {
+    for object in prepared.objects.iter() {
         match &object.geometry {
             Geometry::Triangles { triangles, .. } => {
                 out.extend((0..triangles.len()).filter_map(|i| world_triangle(object, i)));
@@ -52,7 +52,7 @@ fn world_triangles(prepared: &Prepared) -> Vec<[V3<f64>; 3]> {
                 let at = |a: f64, b: f64| -> V3<f64> {
                     let local: V3<f64> = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k]);
                     object
-                        .object_to_world
+                        .world_from_object
                         .transform_point3(local.into())
                         .to_array()
                 };

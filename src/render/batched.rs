@@ -18,7 +18,7 @@ use crate::math::linalg::dot;
 pub fn applies(prepared: &Prepared) -> bool {
     prepared.bug.is_none()
         && prepared.objects.iter().all(|object| {
-            object.world_to_object.is_none()
+            object.object_from_world.is_none()
                 && matches!(&object.geometry, Geometry::Triangles { bvh: None, .. })
                 && prepared.method_for(object) == Method::MollerTrumbore
         })

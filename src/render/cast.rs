@@ -99,7 +99,7 @@ pub fn to_object_space(
     bug: Option<Bug>,
     stats: &mut Stats,
 ) -> (V3<f64>, V3<f64>) {
-    let Some(inverse) = object.world_to_object else {
+    let Some(inverse) = object.object_from_world else {
         return (origin, dir);
     };
     stats.transforms += 1;

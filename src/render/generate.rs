@@ -190,15 +190,15 @@ pub fn mesh_scene(
         method: None,
         effects: vec![Effect::Coverage],
         bug: None,
-        objects: vec![PreparedObject {
+        objects: std::sync::Arc::new([PreparedObject {
             geometry: Geometry::Triangles { triangles, bvh },
-            world_to_object: None,
-            object_to_world: DAffine3::IDENTITY,
+            object_from_world: None,
+            world_from_object: DAffine3::IDENTITY,
             normal_to_world: DMat3::IDENTITY,
             color: [0.8; 3],
             texture: None,
             is_mesh: true,
-        }],
+        }]),
     }
 }
 

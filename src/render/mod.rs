@@ -151,8 +151,9 @@ pub struct Prepared {
     pub effects: Vec<Effect>,
     /// A common bug to render with, if any.
     pub bug: Option<Bug>,
-    /// The objects.
-    pub objects: Vec<PreparedObject>,
+    /// The objects, shared: a render with other effects, another method or a bug is a new
+    /// `Prepared` over the same objects (a million-triangle mesh is not copied).
+    pub objects: Arc<[PreparedObject]>,
 }
 
 impl Prepared {
@@ -164,7 +165,7 @@ impl Prepared {
             .iter()
             .enumerate()
             .map(|(i, o)| objects::prepare(o, assets).map_err(|e| format!("object {}: {e}", i + 1)))
-            .collect::<Result<Vec<_>, String>>()?;
+            .collect::<Result<Arc<[_]>, String>>()?;
         Ok(Prepared {
             width: scene.width,
             height: scene.height,
@@ -174,6 +175,17 @@ impl Prepared {
             bug: None,
             objects,
         })
+    }
+
+    /// The objects, to change (copied first if another `Prepared` shares them).
+    pub fn objects_mut(&mut self) -> &mut [PreparedObject] {
+        if Arc::get_mut(&mut self.objects).is_none() {
+            self.objects = self.objects.iter().cloned().collect();
+        }
+        match Arc::get_mut(&mut self.objects) {
+            Some(objects) => objects,
+            None => &mut [],
+        }
     }
 
     /// The method an object is tested with.
@@ -450,11 +462,12 @@ pub fn camera_ray_in(
 /// The world-space vertices of an object's triangle (for the pixel probe and the transform view).
 pub fn world_triangle(object: &PreparedObject, primitive: usize) -> Option<[V3<f64>; 3]> {
     match &object.geometry {
-        Geometry::Triangles { triangles, .. } => Some(
-            triangles[primitive]
-                .vertices
-                .map(|v| object.object_to_world.transform_point3(v.into()).to_array()),
-        ),
+        Geometry::Triangles { triangles, .. } => Some(triangles[primitive].vertices.map(|v| {
+            object
+                .world_from_object
+                .transform_point3(v.into())
+                .to_array()
+        })),
         Geometry::Parallelogram { .. } => None,
     }
 }

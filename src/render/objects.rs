@@ -67,9 +67,9 @@ pub struct PreparedObject {
     /// Its geometry in object space.
     pub geometry: Geometry,
     /// World to object (M⁻¹), when the object has a transform.
-    pub world_to_object: Option<DAffine3>,
+    pub object_from_world: Option<DAffine3>,
     /// Object to world (M).
-    pub object_to_world: DAffine3,
+    pub world_from_object: DAffine3,
     /// (M⁻¹)ᵀ, which takes normals from object space to world space.
     pub normal_to_world: DMat3,
     /// The flat colour.
@@ -100,7 +100,7 @@ pub fn prepare(object: &Object, assets: &dyn AssetSource) -> Result<PreparedObje
             object.transform.scale
         ));
     }
-    let world_to_object = (!object.transform.is_identity()).then_some(inverse);
+    let object_from_world = (!object.transform.is_identity()).then_some(inverse);
     let (geometry, is_mesh) = match &object.shape {
         Shape::Triangle {
             vertices,
@@ -139,8 +139,8 @@ pub fn prepare(object: &Object, assets: &dyn AssetSource) -> Result<PreparedObje
     };
     Ok(PreparedObject {
         geometry,
-        world_to_object,
-        object_to_world: matrix,
+        object_from_world,
+        world_from_object: matrix,
         normal_to_world: matrix.matrix3.inverse().transpose(),
         color: object.color,
         texture,

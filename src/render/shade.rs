@@ -117,7 +117,7 @@ impl Shader {
             }
             Geometry::Parallelogram { face_normal, .. } => *face_normal,
         };
-        match object.world_to_object {
+        match object.object_from_world {
             Some(_) => unit(
                 object
                     .normal_to_world

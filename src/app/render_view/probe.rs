@@ -159,7 +159,7 @@ pub(super) fn probed_problem(prepared: &Prepared, result: &Probe) -> Option<Acti
     let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
         return None;
     };
-    let m = object.object_to_world;
+    let m = object.world_from_object;
     Some(Action::Parallelogram(ParallelogramScene {
         corner: m.transform_point3(DVec3::from(*corner)).to_array(),
         e1: m.transform_vector3(DVec3::from(*e1)).to_array(),

@@ -32,7 +32,7 @@ impl RenderView {
         };
         let world_vertices = object_vertices.map(|v| {
             object
-                .object_to_world
+                .world_from_object
                 .transform_point3(DVec3::from(v))
                 .to_array()
         });
@@ -40,7 +40,7 @@ impl RenderView {
         let (object_origin, object_dir) =
             crate::render::cast::to_object_space(object, probe.origin, probe.dir, None, &mut stats);
         let t = probe.hit.map(|h| h.t);
-        let transformed = object.world_to_object.is_some();
+        let transformed = object.object_from_world.is_some();
         ui.label(if transformed {
             "The ray goes into object space as O' = M⁻¹O (a point) and D' = M⁻¹D (a direction, not normalised), so O' + tD' = M⁻¹(O + tD): the same t in both spaces."
         } else {
