@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{click_image, load_preset, wait_for_render};
+use common::{click_image, load_preset, shows_text_containing, wait_for_render};
 use egui::accesskit::Role;
 use egui::{Pos2, Vec2};
 use egui_kittest::Harness;
@@ -15,13 +15,7 @@ use raylab::app::segments_view::Handle;
 use raylab::app::{RaylabApp, ViewKind};
 
 fn harness() -> Harness<'static, RaylabApp> {
-    Harness::builder()
-        .with_size(Vec2::new(1280.0, 800.0))
-        .with_max_steps(200)
-        .build_eframe(|cc| {
-            raylab::app::set_style(&cc.egui_ctx);
-            RaylabApp::new()
-        })
+    common::app_harness()
 }
 
 /// Drags from one screen point to another in small steps, as a hand would.
@@ -317,16 +311,7 @@ fn scenes_save_and_open_and_bad_files_keep_the_scene() {
 #[test]
 fn the_accuracy_view_runs_in_the_background_and_loads_hard_cases() {
     let mut harness = harness();
-    harness.state_mut().accuracy.config_override = Some(raylab::accuracy::study::Config {
-        rays: 40,
-        shared_rays: 40,
-        seed: 1,
-        timing_seconds: 0.0,
-    });
-    harness.get_by_label("Accuracy").click();
-    harness.run();
-    harness.get_by_label("Run").click();
-    harness.step();
+    common::start_study(&mut harness, [40, 40], 1, 0.0);
     // The UI keeps drawing frames while the named worker thread measures.
     let started = std::time::Instant::now();
     while harness.state().accuracy.is_running() {
@@ -371,16 +356,7 @@ fn the_accuracy_view_runs_in_the_background_and_loads_hard_cases() {
 #[test]
 fn a_running_study_can_be_cancelled() {
     let mut harness = harness();
-    harness.state_mut().accuracy.config_override = Some(raylab::accuracy::study::Config {
-        rays: 3000,
-        shared_rays: 3000,
-        seed: 1,
-        timing_seconds: 0.05,
-    });
-    harness.get_by_label("Accuracy").click();
-    harness.run();
-    harness.get_by_label("Run").click();
-    harness.step();
+    common::start_study(&mut harness, [3000, 3000], 1, 0.05);
     harness.get_by_label("Cancel").click();
     let started = std::time::Instant::now();
     while harness.state().accuracy.is_running() {
@@ -393,16 +369,6 @@ fn a_running_study_can_be_cancelled() {
     }
     harness.run();
     assert!(harness.state().accuracy.status.contains("cancelled"));
-}
-
-fn shows_text_containing(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
-    harness
-        .query_all_by(|node| {
-            node.label().is_some_and(|l| l.contains(text))
-                || node.value().is_some_and(|v| v.contains(text))
-        })
-        .next()
-        .is_some()
 }
 
 #[test]

@@ -4,7 +4,9 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::io::{BufRead, BufReader, Write};
+mod run;
+
+use std::io::{BufRead, BufReader};
 use std::process::{Command, Output, Stdio};
 
 use serde_json::Value;
@@ -14,20 +16,11 @@ const BIN: &str = env!("CARGO_BIN_EXE_raylab");
 const SEED000: &str = r#"{"kind":"segments","a1":"1,2","a2":"6,1","b1":"2,6","b2":"5,1"}"#;
 
 fn batch(args: &[&str], stdin: &[u8]) -> Output {
-    let mut child = Command::new(BIN)
-        .args(["solve", "--batch"])
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    let mut input = child.stdin.take().unwrap();
-    let bytes = stdin.to_vec();
-    let writer = std::thread::spawn(move || input.write_all(&bytes));
-    let output = child.wait_with_output().unwrap();
-    writer.join().unwrap().unwrap();
-    output
+    let all: Vec<&str> = ["solve", "--batch"]
+        .into_iter()
+        .chain(args.iter().copied())
+        .collect();
+    run::raylab_with_stdin(&all, stdin)
 }
 
 fn json_lines(output: &Output) -> Vec<Value> {

@@ -3,9 +3,11 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::io::Write;
-use std::process::{Command, Output, Stdio};
+mod run;
 
+use std::process::{Command, Output};
+
+use run::raylab_with_stdin;
 use serde_json::Value;
 
 fn raylab(args: &[&str]) -> Output {
@@ -13,23 +15,6 @@ fn raylab(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("the binary runs")
-}
-
-fn raylab_with_stdin(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(stdin.as_bytes())
-        .unwrap();
-    child.wait_with_output().unwrap()
 }
 
 fn stdout(output: &Output) -> String {
@@ -280,7 +265,7 @@ fn batch_reads_lines_and_keeps_going_past_bad_ones() {
         r#"{"kind":"parallelogram","corner":"0,0,0","e1":"1,0,0","e2":"0,1,0","origin":"0.5,0.5,1","dir":"0,0,-1"}"#,
     ]
     .join("\n");
-    let output = raylab_with_stdin(&["solve", "--batch", "--no-trace"], &input);
+    let output = raylab_with_stdin(&["solve", "--batch", "--no-trace"], input.as_bytes());
     assert_eq!(
         output.status.code(),
         Some(1),
@@ -307,7 +292,7 @@ fn batch_reads_lines_and_keeps_going_past_bad_ones() {
 
     let good = raylab_with_stdin(
         &["solve", "--batch", "--precision", "exact"],
-        &input[..input.find('\n').unwrap()],
+        &input.as_bytes()[..input.find('\n').unwrap()],
     );
     assert!(good.status.success());
     let line: Value = serde_json::from_str(stdout(&good).trim()).unwrap();
@@ -329,7 +314,7 @@ fn the_lecture_examples_file_solves_as_the_readme_says() {
         "/assets/examples/lecture.jsonl"
     ))
     .unwrap();
-    let output = raylab_with_stdin(&["solve", "--batch", "--no-trace"], &input);
+    let output = raylab_with_stdin(&["solve", "--batch", "--no-trace"], input.as_bytes());
     assert!(output.status.success(), "{}", stderr(&output));
     let statuses: Vec<String> = stdout(&output)
         .lines()

@@ -4,22 +4,23 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+#[allow(
+    dead_code,
+    reason = "this test uses only the app harness of the shared steps"
+)]
+mod common;
+
+use common::shows_text_containing;
+
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
-use egui::Vec2;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use raylab::app::RaylabApp;
 
 fn harness() -> Harness<'static, RaylabApp> {
-    Harness::builder()
-        .with_size(Vec2::new(1280.0, 800.0))
-        .with_max_steps(200)
-        .build_eframe(|cc| {
-            raylab::app::set_style(&cc.egui_ctx);
-            RaylabApp::new()
-        })
+    common::app_harness()
 }
 
 /// A scene file whose one object is a grid of `n` × `n` squares (2n² triangles) in its own OBJ
@@ -50,16 +51,6 @@ fn grid_scene(n: usize) -> std::path::PathBuf {
     )
     .unwrap();
     scene
-}
-
-fn shows_text_containing(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
-    harness
-        .query_all_by(|node| {
-            node.label().is_some_and(|l| l.contains(text))
-                || node.value().is_some_and(|v| v.contains(text))
-        })
-        .next()
-        .is_some()
 }
 
 fn open(harness: &mut Harness<'static, RaylabApp>, path: &std::path::Path) {

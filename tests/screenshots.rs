@@ -153,16 +153,7 @@ fn render_screenshots(folder: &str, write: bool) {
 /// The Accuracy view after a small study (only when rewriting the screenshots: it takes a while).
 fn accuracy_screenshot(folder: &str) {
     let mut harness = harness(Vec2::new(1280.0, 800.0), 1.0, egui::Theme::Light);
-    harness.state_mut().accuracy.config_override = Some(raylab::accuracy::study::Config {
-        rays: 400,
-        shared_rays: 600,
-        seed: 2019,
-        timing_seconds: 0.01,
-    });
-    harness.get_by_label("Accuracy").click();
-    harness.run();
-    harness.get_by_label("Run").click();
-    harness.step();
+    common::start_study(&mut harness, [400, 600], 2019, 0.01);
     while harness.state().accuracy.is_running() {
         std::thread::sleep(std::time::Duration::from_millis(50));
         harness.step();

@@ -6,6 +6,21 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use raylab::app::RaylabApp;
 
+/// The app in a 1280x800 window (the projector size) with its own style.
+#[allow(
+    dead_code,
+    reason = "the screenshot and projector tests build their own sizes and themes"
+)]
+pub fn app_harness() -> Harness<'static, RaylabApp> {
+    Harness::builder()
+        .with_size(Vec2::new(1280.0, 800.0))
+        .with_max_steps(200)
+        .build_eframe(|cc| {
+            raylab::app::set_style(&cc.egui_ctx);
+            RaylabApp::new()
+        })
+}
+
 /// Steps frames until the Render view's renders are done (they run on a worker thread): one frame
 /// for the click, one for the view to start its render, then until it has finished.
 pub fn wait_for_render(harness: &mut Harness<'static, RaylabApp>) {
@@ -58,4 +73,40 @@ pub fn highlighted(harness: &Harness<'static, RaylabApp>) -> String {
         .next()
         .and_then(|node| node.accesskit_node().value())
         .unwrap_or_default()
+}
+
+/// Opens the Accuracy view and starts a study of `rays` rays a family (`shared_rays` for the shared
+/// families), seeded, timing each method for `timing_seconds`.
+#[allow(dead_code, reason = "only the test crates that run a study use it")]
+pub fn start_study(
+    harness: &mut Harness<'static, RaylabApp>,
+    [rays, shared_rays]: [usize; 2],
+    seed: u64,
+    timing_seconds: f64,
+) {
+    harness.state_mut().accuracy.config_override = Some(raylab::accuracy::study::Config {
+        rays,
+        shared_rays,
+        seed,
+        timing_seconds,
+    });
+    harness.get_by_label("Accuracy").click();
+    harness.run();
+    harness.get_by_label("Run").click();
+    harness.step();
+}
+
+/// True if some widget's label or value contains `text`.
+#[allow(
+    dead_code,
+    reason = "not every test crate that includes common reads text"
+)]
+pub fn shows_text_containing(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
+    harness
+        .query_all_by(|node| {
+            node.label().is_some_and(|l| l.contains(text))
+                || node.value().is_some_and(|v| v.contains(text))
+        })
+        .next()
+        .is_some()
 }
