@@ -38,20 +38,22 @@ pub fn solve_inside(
     if !all_finite(&normal) {
         return None;
     }
-    let degenerate = negligible::<f64>(
-        norm_f64(&normal),
-        norm_f64(e1) * norm_f64(e2),
-        is_zero_vector(&normal),
-    );
-    if degenerate {
+    let degenerate = || {
+        negligible::<f64>(
+            norm_f64(&normal),
+            norm_f64(e1) * norm_f64(e2),
+            is_zero_vector(&normal),
+        )
+    };
+    if !surely_above(&normal, e1, e2) && degenerate() {
         return None;
     }
     let det = sum_terms(&cofactor_terms3(&m));
     if !det.is_finite() {
         return None;
     }
-    let parallel = negligible::<f64>(det.abs(), norm_f64(&normal) * norm_f64(dir), det == 0.0);
-    if parallel {
+    let parallel = || negligible::<f64>(det.abs(), norm_f64(&normal) * norm_f64(dir), det == 0.0);
+    if !surely_above(&[det, 0.0, 0.0], &normal, dir) && parallel() {
         return None;
     }
     let adjugate = adjugate3(&m);
@@ -74,6 +76,19 @@ pub fn solve_inside(
         alpha_beta_t: [alpha, beta, t],
         hit: t >= 0.0,
     })
+}
+
+/// True when |x| > TOLERANCE · |a| · |b| surely, without the norms' square roots: |x| ≥ max|xᵢ| and
+/// |a| |b| ≤ 3 max|aᵢ| max|bᵢ|, with a factor 2 for the norms' rounding. Then the solver's
+/// `negligible` check is false; otherwise the caller runs that check itself.
+#[inline(always)]
+fn surely_above(x: &V3<f64>, a: &V3<f64>, b: &V3<f64>) -> bool {
+    let largest = |v: &V3<f64>| v[0].abs().max(v[1].abs()).max(v[2].abs());
+    let product = largest(a) * largest(b);
+    let bound = <f64 as crate::math::real::Real>::TOLERANCE * 6.0 * product;
+    // Far from overflow (the norms' product is up to 3 times `product`) and from underflow.
+    let in_range = (product * 4.0).is_finite() && bound > 1e-280;
+    in_range && largest(x) > bound
 }
 
 #[cfg(test)]
@@ -126,8 +141,23 @@ mod tests {
                 2 => dir = [0.0; 3],
                 3 => dir[1] = f64::NAN,
                 4 => dir = dir.map(|x| -x),
+                // Near the solver's thresholds: e1 almost parallel to e2, d almost in the plane.
+                5 => e1 = std::array::from_fn(|k| 3.0 * e2[k] + 1e-14 * corner[k]),
+                6 => {
+                    let n = cross(&e1, &e2);
+                    dir = std::array::from_fn(|k| e2[k] + 3e-15 * n[k] * (i % 7) as f64);
+                }
                 _ => {}
             }
+            // Far from 1: where the norms' products overflow or underflow.
+            let scale = match i % 9 {
+                0 => 1e-150,
+                1 => 1e100,
+                2 => 1e153,
+                _ => 1.0,
+            };
+            let (corner, e1, e2) = (corner.map(|x| x * scale), e1.map(|x| x * scale), e2);
+            let (origin, dir) = (origin.map(|x| x * scale), dir.map(|x| x * scale));
             let problem = RayParallelogram {
                 corner,
                 e1,
