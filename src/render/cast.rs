@@ -8,8 +8,9 @@ use super::bvh::Bvh;
 use super::crack_free::ShearedRay;
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
 use super::parallelogram_fast::solve_inside;
+use super::triangle_fast::moller_trumbore;
 use super::{Prepared, Stats};
-use crate::intersect::{Case, Method, moller_trumbore};
+use crate::intersect::{Case, Method};
 use crate::math::linalg::V3;
 use crate::math::linalg::sub;
 
@@ -120,7 +121,8 @@ pub fn test_triangle(
     origin: V3<f64>,
     dir: V3<f64>,
 ) -> Option<[f64; 3]> {
-    let case = Case {
+    // Built only for the methods and bugs that take it (copying it for each ray costs).
+    let case = || Case {
         tri: triangle.vertices,
         origin,
         dir,
@@ -130,14 +132,11 @@ pub fn test_triangle(
         Method::Watertight => {
             ShearedRay::new(&origin, &dir).and_then(|ray| ray.intersect(&triangle.vertices, 0.0))
         }
-        // What `method.run` calls, called directly so that it inlines: the default for lone
-        // triangles, tested by every ray of the image.
-        Method::MollerTrumbore => {
-            let answer = moller_trumbore::intersect(&case);
-            answer.values.filter(|_| answer.hit)
-        }
+        // The core's Möller–Trumbore on the triangle in place (the same bits): the default for
+        // lone triangles, tested by every ray of the image.
+        Method::MollerTrumbore => moller_trumbore(&triangle.vertices, &origin, &dir),
         _ => {
-            let answer = method.run(&case);
+            let answer = method.run(&case());
             answer.values.filter(|_| answer.hit)
         }
     };
@@ -145,7 +144,7 @@ pub fn test_triangle(
         // Each bug accepts more than the correct test does: what the method hits stays hit (so the
         // image differs only by the bug), and the bug's own check, on Cramer's t, β, γ, adds the rest.
         Some(bug @ (Bug::AndForOr | Bug::NegativeT | Bug::VInsteadOfSum)) if correct.is_none() => {
-            let [t, beta, gamma] = Method::Cramer.run(&case).values?;
+            let [t, beta, gamma] = Method::Cramer.run(&case()).values?;
             let alpha = 1.0 - beta - gamma;
             let hit = match bug {
                 Bug::AndForOr => t > 0.0 && (alpha >= 0.0 || beta >= 0.0 || gamma >= 0.0),

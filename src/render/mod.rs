@@ -17,6 +17,7 @@ mod parallelogram_fast;
 pub mod probe;
 pub mod scene_load;
 pub mod shade;
+mod triangle_fast;
 
 use std::sync::Arc;
 
