@@ -92,7 +92,9 @@ pub struct Hit {
 }
 
 /// The ray in an object's space: O' = M⁻¹ O as a point, D' = M⁻¹ D as a direction, not normalised,
-/// so o' + t d' is M⁻¹ (o + t d) and t means the same in both spaces.
+/// so o' + t d' is M⁻¹ (o + t d) and t means the same in both spaces. Inlined: returned through
+/// memory, its six numbers stalled the loads that read them back (store forwarding).
+#[inline(always)]
 pub fn to_object_space(
     object: &PreparedObject,
     origin: V3<f64>,
