@@ -114,8 +114,9 @@ pub fn to_object_space(
     (origin, dir)
 }
 
-#[inline]
 /// Tests one triangle: the method's decision (`watertight`: the crack-free test), or a bug's.
+/// Inlined: its ray, passed through memory, stalled the loads that read it back.
+#[inline(always)]
 pub fn test_triangle(
     triangle: &PreparedTriangle,
     method: Method,
@@ -317,6 +318,32 @@ pub fn nearest_hits<const P: usize>(
     best
 }
 
+/// Tests one triangle of object `index` and keeps the hit in `best` if nearer; the hit's t.
+#[inline(always)]
+fn keep_nearer(
+    triangle: &PreparedTriangle,
+    (index, primitive): (usize, usize),
+    method: Method,
+    bug: Option<Bug>,
+    (o, d): (&V3<f64>, &V3<f64>),
+    best: &mut Option<Hit>,
+    stats: &mut Stats,
+) -> Option<f64> {
+    stats.triangle_tests += 1;
+    let [t, beta, gamma] = test_triangle(triangle, method, bug, *o, *d)?;
+    let hit = Hit {
+        object: index,
+        primitive,
+        t,
+        beta,
+        gamma,
+    };
+    if better(&hit, best) {
+        *best = Some(hit);
+    }
+    Some(t)
+}
+
 /// Tests object `index` against the ray (world space), keeping the nearer hit in `best`.
 fn hit_object(
     prepared: &Prepared,
@@ -345,22 +372,20 @@ fn hit_object(
             Geometry::Triangles { triangles, bvh } => {
                 let method = prepared.method_for(object);
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
-                let mut test = |primitive: usize| {
-                    stats.triangle_tests += 1;
-                    let [t, beta, gamma] =
-                        test_triangle(&triangles[primitive], method, prepared.bug, o, d)?;
-                    let hit = Hit {
-                        object: index,
-                        primitive,
-                        t,
-                        beta,
-                        gamma,
-                    };
-                    if better(&hit, best) {
-                        *best = Some(hit);
-                    }
-                    Some(t)
+                let bug = prepared.bug;
+                let keep = |primitive, best: &mut Option<Hit>, stats: &mut Stats| {
+                    let triangle = &triangles[primitive];
+                    keep_nearer(
+                        triangle,
+                        (index, primitive),
+                        method,
+                        bug,
+                        (&o, &d),
+                        best,
+                        stats,
+                    )
                 };
+                let mut test = |primitive: usize| keep(primitive, best, stats);
                 // The BVH culls by the triangles' boxes; `and`-for-`or` and v ≤ 1 accept points
                 // outside them, so those bugs test every triangle.
                 let culls = !matches!(prepared.bug, Some(Bug::AndForOr | Bug::VInsteadOfSum));
@@ -375,9 +400,22 @@ fn hit_object(
                         bvh.traverse(&o, &d, t_min, t_max, &mut box_tests, &mut test);
                         stats.box_tests += box_tests;
                     }
-                    None => (0..triangles.len()).for_each(|i| {
-                        test(i);
-                    }),
+                    // Lone triangles: called in place, not through `test` (whose captured ray
+                    // was read back from memory at a stall on each call).
+                    None => {
+                        for (primitive, triangle) in triangles.iter().enumerate() {
+                            let ray = (&o, &d);
+                            keep_nearer(
+                                triangle,
+                                (index, primitive),
+                                method,
+                                bug,
+                                ray,
+                                best,
+                                stats,
+                            );
+                        }
+                    }
                 }
             }
             Geometry::Parallelogram { corner, e1, e2, .. } => {
