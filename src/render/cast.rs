@@ -7,8 +7,9 @@ use strum::{EnumIter, IntoStaticStr};
 use super::bvh::Bvh;
 use super::crack_free::ShearedRay;
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
+use super::parallelogram_fast::solve_inside;
+use super::triangle_fast::moller_trumbore;
 use super::{Prepared, Stats};
-use crate::geometry::parallelogram::{RayParallelogram, solve};
 use crate::intersect::{Case, Method};
 use crate::math::linalg::V3;
 use crate::math::linalg::sub;
@@ -91,7 +92,9 @@ pub struct Hit {
 }
 
 /// The ray in an object's space: O' = M⁻¹ O as a point, D' = M⁻¹ D as a direction, not normalised,
-/// so o' + t d' is M⁻¹ (o + t d) and t means the same in both spaces.
+/// so o' + t d' is M⁻¹ (o + t d) and t means the same in both spaces. Inlined: returned through
+/// memory, its six numbers stalled the loads that read them back (store forwarding).
+#[inline(always)]
 pub fn to_object_space(
     object: &PreparedObject,
     origin: V3<f64>,
@@ -112,6 +115,8 @@ pub fn to_object_space(
 }
 
 /// Tests one triangle: the method's decision (`watertight`: the crack-free test), or a bug's.
+/// Inlined: its ray, passed through memory, stalled the loads that read it back.
+#[inline(always)]
 pub fn test_triangle(
     triangle: &PreparedTriangle,
     method: Method,
@@ -119,23 +124,30 @@ pub fn test_triangle(
     origin: V3<f64>,
     dir: V3<f64>,
 ) -> Option<[f64; 3]> {
-    let case = Case {
+    // Built only for the methods and bugs that take it (copying it for each ray costs).
+    let case = || Case {
         tri: triangle.vertices,
         origin,
         dir,
     };
     // The renderer's `watertight` is the crack-free test; every other name runs the core's method.
-    let correct = if method == Method::Watertight {
-        ShearedRay::new(&origin, &dir).and_then(|ray| ray.intersect(&triangle.vertices, 0.0))
-    } else {
-        let answer = method.run(&case);
-        answer.values.filter(|_| answer.hit)
+    let correct = match method {
+        Method::Watertight => {
+            ShearedRay::new(&origin, &dir).and_then(|ray| ray.intersect(&triangle.vertices, 0.0))
+        }
+        // The core's Möller–Trumbore on the triangle in place (the same bits): the default for
+        // lone triangles, tested by every ray of the image.
+        Method::MollerTrumbore => moller_trumbore(&triangle.vertices, &origin, &dir),
+        _ => {
+            let answer = method.run(&case());
+            answer.values.filter(|_| answer.hit)
+        }
     };
     match bug {
         // Each bug accepts more than the correct test does: what the method hits stays hit (so the
         // image differs only by the bug), and the bug's own check, on Cramer's t, β, γ, adds the rest.
         Some(bug @ (Bug::AndForOr | Bug::NegativeT | Bug::VInsteadOfSum)) if correct.is_none() => {
-            let [t, beta, gamma] = Method::Cramer.run(&case).values?;
+            let [t, beta, gamma] = Method::Cramer.run(&case()).values?;
             let alpha = 1.0 - beta - gamma;
             let hit = match bug {
                 Bug::AndForOr => t > 0.0 && (alpha >= 0.0 || beta >= 0.0 || gamma >= 0.0),
@@ -148,7 +160,7 @@ pub fn test_triangle(
     }
 }
 
-/// Tests a parallelogram with the core's solver (seed 001): (α, β, t) or a miss.
+/// Tests a parallelogram with the core's solver (seed 001, without its trace): (α, β, t) or a miss.
 fn test_parallelogram(
     [corner, e1, e2]: [&V3<f64>; 3],
     bug: Option<Bug>,
@@ -158,17 +170,9 @@ fn test_parallelogram(
     if surely_outside([corner, e1, e2], &origin, &dir) {
         return None;
     }
-    let problem = RayParallelogram {
-        corner: *corner,
-        e1: *e1,
-        e2: *e2,
-        origin,
-        dir,
-    };
-    let solution = solve(&problem);
-    let [alpha, beta, t] = solution.alpha_beta_t?;
-    let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
-    let hit = solution.outcome.is_hit() || (bug == Some(Bug::NegativeT) && inside && t != 0.0);
+    let inside = solve_inside([corner, e1, e2], &origin, &dir)?;
+    let [alpha, beta, t] = inside.alpha_beta_t;
+    let hit = inside.hit || (bug == Some(Bug::NegativeT) && t != 0.0);
     hit.then_some([t, alpha, beta])
 }
 
@@ -314,6 +318,32 @@ pub fn nearest_hits<const P: usize>(
     best
 }
 
+/// Tests one triangle of object `index` and keeps the hit in `best` if nearer; the hit's t.
+#[inline(always)]
+fn keep_nearer(
+    triangle: &PreparedTriangle,
+    (index, primitive): (usize, usize),
+    method: Method,
+    bug: Option<Bug>,
+    (o, d): (&V3<f64>, &V3<f64>),
+    best: &mut Option<Hit>,
+    stats: &mut Stats,
+) -> Option<f64> {
+    stats.triangle_tests += 1;
+    let [t, beta, gamma] = test_triangle(triangle, method, bug, *o, *d)?;
+    let hit = Hit {
+        object: index,
+        primitive,
+        t,
+        beta,
+        gamma,
+    };
+    if better(&hit, best) {
+        *best = Some(hit);
+    }
+    Some(t)
+}
+
 /// Tests object `index` against the ray (world space), keeping the nearer hit in `best`.
 fn hit_object(
     prepared: &Prepared,
@@ -342,22 +372,20 @@ fn hit_object(
             Geometry::Triangles { triangles, bvh } => {
                 let method = prepared.method_for(object);
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
-                let mut test = |primitive: usize| {
-                    stats.triangle_tests += 1;
-                    let [t, beta, gamma] =
-                        test_triangle(&triangles[primitive], method, prepared.bug, o, d)?;
-                    let hit = Hit {
-                        object: index,
-                        primitive,
-                        t,
-                        beta,
-                        gamma,
-                    };
-                    if better(&hit, best) {
-                        *best = Some(hit);
-                    }
-                    Some(t)
+                let bug = prepared.bug;
+                let keep = |primitive, best: &mut Option<Hit>, stats: &mut Stats| {
+                    let triangle = &triangles[primitive];
+                    keep_nearer(
+                        triangle,
+                        (index, primitive),
+                        method,
+                        bug,
+                        (&o, &d),
+                        best,
+                        stats,
+                    )
                 };
+                let mut test = |primitive: usize| keep(primitive, best, stats);
                 // The BVH culls by the triangles' boxes; `and`-for-`or` and v ≤ 1 accept points
                 // outside them, so those bugs test every triangle.
                 let culls = !matches!(prepared.bug, Some(Bug::AndForOr | Bug::VInsteadOfSum));
@@ -372,9 +400,22 @@ fn hit_object(
                         bvh.traverse(&o, &d, t_min, t_max, &mut box_tests, &mut test);
                         stats.box_tests += box_tests;
                     }
-                    None => (0..triangles.len()).for_each(|i| {
-                        test(i);
-                    }),
+                    // Lone triangles: called in place, not through `test` (whose captured ray
+                    // was read back from memory at a stall on each call).
+                    None => {
+                        for (primitive, triangle) in triangles.iter().enumerate() {
+                            let ray = (&o, &d);
+                            keep_nearer(
+                                triangle,
+                                (index, primitive),
+                                method,
+                                bug,
+                                ray,
+                                best,
+                                stats,
+                            );
+                        }
+                    }
                 }
             }
             Geometry::Parallelogram { corner, e1, e2, .. } => {
@@ -401,6 +442,7 @@ fn hit_object(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::parallelogram::{RayParallelogram, solve};
     use rand::{Rng, SeedableRng};
 
     /// The prefilter never skips a ray the solver finds inside (α, β in [0, 1]): random
