@@ -25,26 +25,7 @@ fn peer(script: &str, variant: &str, repeats: u32) -> Result<(f64, usize), Strin
         .args([script, variant, &repeats.to_string()])
         .output()
         .map_err(|e| format!("cannot run python3: {e}"))?;
-    let text = String::from_utf8_lossy(&output.stdout);
-    if !output.status.success() {
-        return Err(format!(
-            "the script failed: {}",
-            String::from_utf8_lossy(&output.stderr).trim()
-        ));
-    }
-    // "facing: median 1779.3 ms over 3 renders of 512x256, covered pixels 38737"
-    let number_after = |key: &str| -> Option<f64> {
-        let rest = &text[text.find(key)? + key.len()..];
-        rest.split_whitespace()
-            .next()?
-            .trim_end_matches(',')
-            .parse()
-            .ok()
-    };
-    match (number_after("median"), number_after("covered pixels")) {
-        (Some(ms), Some(pixels)) => Ok((ms, pixels as usize)),
-        _ => Err(format!("unexpected output: {text}")),
-    }
+    embree::median_and_coverage(&output)
 }
 
 /// raylab's median in-process render time over `repeats` renders, and its covered pixels.

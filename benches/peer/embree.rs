@@ -94,6 +94,12 @@ fn embree(
         .output();
     let _ = std::fs::remove_file(&path);
     let output = output.map_err(|e| format!("cannot run python3: {e}"))?;
+    median_and_coverage(&output)
+}
+
+/// A peer script's median time (ms) and covered pixels, read from its output
+/// ("… median 6.412 ms over 21 renders …, covered pixels 53449 …"), or why not.
+pub fn median_and_coverage(output: &std::process::Output) -> Result<(f64, usize), String> {
     let text = String::from_utf8_lossy(&output.stdout);
     if !output.status.success() {
         return Err(format!(

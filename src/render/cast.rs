@@ -91,6 +91,19 @@ pub struct Hit {
     pub gamma: f64,
 }
 
+impl Hit {
+    /// The hit of triangle (or parallelogram) `primitive` of object `object` at (t, β, γ).
+    fn of(object: usize, primitive: usize, [t, beta, gamma]: [f64; 3]) -> Hit {
+        Hit {
+            object,
+            primitive,
+            t,
+            beta,
+            gamma,
+        }
+    }
+}
+
 /// The ray in an object's space: O' = M⁻¹ O as a point, D' = M⁻¹ D as a direction, not normalised,
 /// so o' + t d' is M⁻¹ (o + t d) and t means the same in both spaces. Inlined: returned through
 /// memory, its six numbers stalled the loads that read them back (store forwarding).
@@ -302,20 +315,19 @@ pub fn nearest_hits<const P: usize>(
         );
         for (best, hit) in best.iter_mut().zip(hits) {
             if let Some((primitive, [t, beta, gamma])) = hit {
-                let hit = Hit {
-                    object: index,
-                    primitive,
-                    t,
-                    beta,
-                    gamma,
-                };
-                if better(&hit, best) {
-                    *best = Some(hit);
-                }
+                offer(best, Hit::of(index, primitive, [t, beta, gamma]));
             }
         }
     }
     best
+}
+
+/// Keeps `hit` in `best` if it is nearer (ties go to the earlier object and triangle).
+#[inline(always)]
+fn offer(best: &mut Option<Hit>, hit: Hit) {
+    if better(&hit, best) {
+        *best = Some(hit);
+    }
 }
 
 /// Tests one triangle of object `index` and keeps the hit in `best` if nearer; the hit's t.
@@ -331,16 +343,7 @@ fn keep_nearer(
 ) -> Option<f64> {
     stats.triangle_tests += 1;
     let [t, beta, gamma] = test_triangle(triangle, method, bug, *o, *d)?;
-    let hit = Hit {
-        object: index,
-        primitive,
-        t,
-        beta,
-        gamma,
-    };
-    if better(&hit, best) {
-        *best = Some(hit);
-    }
+    offer(best, Hit::of(index, primitive, [t, beta, gamma]));
     Some(t)
 }
 
@@ -360,13 +363,13 @@ fn hit_object(
             Geometry::Triangles { triangles, bvh } if crack_free_applies(prepared, object) => {
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
                 if let Some(hit) = nearest_crack_free(triangles, bvh.as_ref(), o, d, t_max, stats) {
-                    let hit = Hit {
-                        object: index,
-                        ..hit
-                    };
-                    if better(&hit, best) {
-                        *best = Some(hit);
-                    }
+                    offer(
+                        best,
+                        Hit {
+                            object: index,
+                            ..hit
+                        },
+                    );
                 }
             }
             Geometry::Triangles { triangles, bvh } => {
@@ -423,16 +426,16 @@ fn hit_object(
                 if let Some([t, alpha, beta]) =
                     test_parallelogram([corner, e1, e2], prepared.bug, o, d)
                 {
-                    let hit = Hit {
-                        object: index,
-                        primitive: 0,
-                        t,
-                        beta: alpha,
-                        gamma: beta,
-                    };
-                    if better(&hit, best) {
-                        *best = Some(hit);
-                    }
+                    offer(
+                        best,
+                        Hit {
+                            object: index,
+                            primitive: 0,
+                            t,
+                            beta: alpha,
+                            gamma: beta,
+                        },
+                    );
                 }
             }
         }
@@ -443,7 +446,7 @@ fn hit_object(
 mod tests {
     use super::*;
     use crate::geometry::parallelogram::{RayParallelogram, solve};
-    use rand::{Rng, SeedableRng};
+    use rand::SeedableRng;
 
     /// The prefilter never skips a ray the solver finds inside (α, β in [0, 1]): random
     /// parallelograms, rays aimed at points just inside and just outside their edges, and grazing.
@@ -452,24 +455,8 @@ mod tests {
         let mut random = rand_pcg::Pcg64::seed_from_u64(1);
         let mut skipped = 0;
         for i in 0..50_000 {
-            let v = |random: &mut rand_pcg::Pcg64, r: f64| -> V3<f64> {
-                std::array::from_fn(|_| random.random_range(-r..r))
-            };
-            let (corner, e1, e2) = (
-                v(&mut random, 3.0),
-                v(&mut random, 2.0),
-                v(&mut random, 2.0),
-            );
-            let origin = v(&mut random, 8.0);
-            // A target at (α, β) near the edges: within 1e-12 of 0 or 1 on every other case.
-            let near_edge = |random: &mut rand_pcg::Pcg64| match random.random_range(0..4) {
-                0 => random.random_range(-1e-12..1e-12),
-                1 => 1.0 + random.random_range(-1e-12..1e-12),
-                _ => random.random_range(-0.5..1.5),
-            };
-            let (a, b) = (near_edge(&mut random), near_edge(&mut random));
-            let target: V3<f64> = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k]);
-            let mut dir = sub(&target, &origin);
+            let [corner, e1, e2, origin, mut dir] =
+                super::super::parallelogram_fast::random_ray_near_edges(&mut random, 1e-12);
             if i % 10 == 0 {
                 // Nearly in the plane.
                 let n = crate::math::linalg::cross(&e1, &e2);

@@ -91,11 +91,36 @@ fn surely_above(x: &V3<f64>, a: &V3<f64>, b: &V3<f64>) -> bool {
     in_range && largest(x) > bound
 }
 
+/// Tests: a random parallelogram (c, e1, e2), a ray's origin, and a direction aimed at (α, β) that is
+/// within `edge` of 0 or 1 on half of the draws (so the rays graze its edges and corners).
+#[cfg(test)]
+pub(super) fn random_ray_near_edges(random: &mut rand_pcg::Pcg64, edge: f64) -> [V3<f64>; 5] {
+    use rand::Rng;
+    fn vector(random: &mut rand_pcg::Pcg64, r: f64) -> V3<f64> {
+        std::array::from_fn(|_| random.random_range(-r..r))
+    }
+    let (corner, e1, e2) = (
+        vector(random, 3.0),
+        vector(random, 2.0),
+        vector(random, 2.0),
+    );
+    let origin = vector(random, 8.0);
+    let mut near_edge = || match random.random_range(0..4) {
+        0 => random.random_range(-edge..edge),
+        1 => 1.0 + random.random_range(-edge..edge),
+        _ => random.random_range(-0.5..1.5),
+    };
+    let (a, b) = (near_edge(), near_edge());
+    let target: V3<f64> = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k]);
+    let dir = crate::math::linalg::sub(&target, &origin);
+    [corner, e1, e2, origin, dir]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::geometry::parallelogram::{RayParallelogram, solve};
-    use rand::{Rng, SeedableRng};
+    use rand::SeedableRng;
 
     /// The solver's answer reduced to what [`solve_inside`] gives.
     fn reference(problem: &RayParallelogram<f64>) -> Option<Inside> {
@@ -115,23 +140,7 @@ mod tests {
         let mut random = rand_pcg::Pcg64::seed_from_u64(2);
         let (mut inside, mut hits) = (0, 0);
         for i in 0..200_000 {
-            let v = |random: &mut rand_pcg::Pcg64, r: f64| -> V3<f64> {
-                std::array::from_fn(|_| random.random_range(-r..r))
-            };
-            let (corner, mut e1, e2) = (
-                v(&mut random, 3.0),
-                v(&mut random, 2.0),
-                v(&mut random, 2.0),
-            );
-            let origin = v(&mut random, 8.0);
-            let near_edge = |random: &mut rand_pcg::Pcg64| match random.random_range(0..4) {
-                0 => random.random_range(-1e-13..1e-13),
-                1 => 1.0 + random.random_range(-1e-13..1e-13),
-                _ => random.random_range(-0.5..1.5),
-            };
-            let (a, b) = (near_edge(&mut random), near_edge(&mut random));
-            let target: V3<f64> = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k]);
-            let mut dir = sub(&target, &origin);
+            let [corner, mut e1, e2, origin, mut dir] = random_ray_near_edges(&mut random, 1e-13);
             match i % 50 {
                 0 => {
                     let n = cross(&e1, &e2);
