@@ -8,6 +8,8 @@
 //! Seed 001 prints the right-hand side as c − o: a sign slip (with c − o every α, β and t comes out
 //! negated). The tests pin the corrected form with a worked example.
 
+pub mod lean;
+
 use glam::DVec3;
 
 use super::{InvalidInput, Reading, check_finite, negligible, read_vec};

@@ -7,9 +7,9 @@ use strum::{EnumIter, IntoStaticStr};
 use super::bvh::Bvh;
 use super::crack_free::ShearedRay;
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
-use super::parallelogram_fast::solve_inside;
-use super::triangle_fast::moller_trumbore;
 use super::{Prepared, Stats};
+use crate::geometry::parallelogram::lean::solve_inside;
+use crate::intersect::moller_trumbore;
 use crate::intersect::{Case, Method};
 use crate::math::linalg::V3;
 use crate::math::linalg::sub;
@@ -150,7 +150,7 @@ pub fn test_triangle(
         }
         // The core's Möller–Trumbore on the triangle in place (the same bits): the default for
         // lone triangles, tested by every ray of the image.
-        Method::MollerTrumbore => moller_trumbore(&triangle.vertices, &origin, &dir),
+        Method::MollerTrumbore => moller_trumbore::hit(&triangle.vertices, &origin, &dir),
         _ => {
             let answer = method.run(&case());
             answer.values.filter(|_| answer.hit)
@@ -456,7 +456,7 @@ mod tests {
         let mut skipped = 0;
         for i in 0..50_000 {
             let [corner, e1, e2, origin, mut dir] =
-                super::super::parallelogram_fast::random_ray_near_edges(&mut random, 1e-12);
+                crate::geometry::parallelogram::lean::random_ray_near_edges(&mut random, 1e-12);
             if i % 10 == 0 {
                 // Nearly in the plane.
                 let n = crate::math::linalg::cross(&e1, &e2);

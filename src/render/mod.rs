@@ -13,11 +13,9 @@ pub mod cast;
 pub mod crack_free;
 pub mod generate;
 pub mod objects;
-mod parallelogram_fast;
 pub mod probe;
 pub mod scene_load;
 pub mod shade;
-mod triangle_fast;
 
 use std::sync::Arc;
 

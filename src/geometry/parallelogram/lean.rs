@@ -1,5 +1,5 @@
-//! Seed 001's parallelogram solver for the renderer, without the trace: the very same float
-//! operations as [`crate::geometry::parallelogram::solve`] in f64 (the same generic functions, in the
+//! Seed 001's parallelogram solver, lean, for the renderer (one call a ray a pixel): the very same
+//! float operations as [`super::solve`] in f64 (the same generic functions, in the
 //! same order), so the same (α, β, t) to the last bit, but no recorder, no outcome with its words, no
 //! hit point, and it stops as soon as α or β is outside [0, 1] (such a ray cannot be a hit, nor
 //! inside for the `t < 0` bug). The scenes with a floor spend most of their parallelogram time here.
@@ -94,7 +94,7 @@ fn surely_above(x: &V3<f64>, a: &V3<f64>, b: &V3<f64>) -> bool {
 /// Tests: a random parallelogram (c, e1, e2), a ray's origin, and a direction aimed at (α, β) that is
 /// within `edge` of 0 or 1 on half of the draws (so the rays graze its edges and corners).
 #[cfg(test)]
-pub(super) fn random_ray_near_edges(random: &mut rand_pcg::Pcg64, edge: f64) -> [V3<f64>; 5] {
+pub(crate) fn random_ray_near_edges(random: &mut rand_pcg::Pcg64, edge: f64) -> [V3<f64>; 5] {
     use rand::Rng;
     fn vector(random: &mut rand_pcg::Pcg64, r: f64) -> V3<f64> {
         std::array::from_fn(|_| random.random_range(-r..r))
