@@ -23,8 +23,8 @@ use crate::geometry::triangle::{self, RayTriangle, TriangleMiss, TriangleOutcome
 use crate::math::exact::Exact;
 use crate::trace::Trace;
 
-pub use check::{DECIMAL_TOLERANCE, Hint, Practice, Verdict, check};
-pub use generate::{MAX_COUNT, MAX_DENOMINATOR, generate, problem_for};
+pub use check::{AnswerError, DECIMAL_TOLERANCE, Hint, Practice, Verdict, check};
+pub use generate::{GenerateError, MAX_COUNT, MAX_DENOMINATOR, generate, problem_for};
 pub use sheet::{key_latex, problems_json, worksheet_latex};
 
 /// Which solver a problem is for.
@@ -124,19 +124,20 @@ impl Level {
     }
 }
 
-impl FromStr for Level {
-    type Err = String;
+/// A level word that names no level.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown level '{0}' (expected hit, outside, behind, parallel or degenerate)")]
+pub struct UnknownLevel(pub String);
 
-    fn from_str(text: &str) -> Result<Level, String> {
+impl FromStr for Level {
+    type Err = UnknownLevel;
+
+    fn from_str(text: &str) -> Result<Level, UnknownLevel> {
         let word = text.trim().to_ascii_lowercase();
         Level::ALL
             .into_iter()
             .find(|level| level.name() == word)
-            .ok_or_else(|| {
-                format!(
-                    "unknown level '{text}' (expected hit, outside, behind, parallel or degenerate)"
-                )
-            })
+            .ok_or_else(|| UnknownLevel(text.to_string()))
     }
 }
 

@@ -38,22 +38,32 @@ pub const TEXTURE: FileKind = FileKind {
     max_bytes: 64 * MIB,
 };
 
-/// Why a file could not be read.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// Why a file could not be read (the caller names the path).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum ReadError {
     /// Nothing at that path.
+    #[error("no such file")]
     NotFound,
-    /// Something is there but it is refused or unreadable: why (the caller names the path).
-    Refused(String),
-}
-
-impl std::fmt::Display for ReadError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            ReadError::NotFound => write!(f, "no such file"),
-            ReadError::Refused(message) => write!(f, "{message}"),
-        }
-    }
+    /// Something is there that is not a regular file: what it is.
+    #[error("{is}, not {}", .kind.what)]
+    NotRegular {
+        /// "a directory", "a named pipe", …
+        is: &'static str,
+        /// The kind of file expected.
+        kind: FileKind,
+    },
+    /// Larger than the kind's limit; `size` says how large (`5.0 GiB`, or `more than 16.0 MiB`
+    /// where the file grew while it was read).
+    #[error("{size}, larger than {} may be ({})", .kind.what, size_text(.kind.max_bytes))]
+    TooLarge {
+        /// The size, for people.
+        size: String,
+        /// The kind of file, with its limit.
+        kind: FileKind,
+    },
+    /// The system refused to open or read it (its message).
+    #[error("{0}")]
+    Io(String),
 }
 
 /// "a directory", "a character device", …: what a path that is not a regular file is.
@@ -96,32 +106,25 @@ pub fn read_regular(path: &Path, kind: FileKind) -> Result<Vec<u8>, ReadError> {
     let metadata = match std::fs::metadata(path) {
         Ok(metadata) => metadata,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(ReadError::NotFound),
-        Err(e) => return Err(ReadError::Refused(e.to_string())),
+        Err(e) => return Err(ReadError::Io(e.to_string())),
     };
     if !metadata.is_file() {
-        return Err(ReadError::Refused(format!(
-            "{}, not {}",
-            what_it_is(metadata.file_type()),
-            kind.what
-        )));
+        return Err(ReadError::NotRegular {
+            is: what_it_is(metadata.file_type()),
+            kind,
+        });
     }
-    let too_large = |size: String| {
-        ReadError::Refused(format!(
-            "{size}, larger than {} may be ({})",
-            kind.what,
-            size_text(kind.max_bytes)
-        ))
-    };
+    let too_large = |size: String| ReadError::TooLarge { size, kind };
     if metadata.len() > kind.max_bytes {
         return Err(too_large(size_text(metadata.len())));
     }
-    let file = std::fs::File::open(path).map_err(|e| ReadError::Refused(e.to_string()))?;
+    let file = std::fs::File::open(path).map_err(|e| ReadError::Io(e.to_string()))?;
     // A file can grow between the check and the read (or report no size, as /proc's do): never read
     // more than the limit.
     let mut bytes = Vec::with_capacity(metadata.len() as usize);
     file.take(kind.max_bytes + 1)
         .read_to_end(&mut bytes)
-        .map_err(|e| ReadError::Refused(e.to_string()))?;
+        .map_err(|e| ReadError::Io(e.to_string()))?;
     if bytes.len() as u64 > kind.max_bytes {
         return Err(too_large(format!(
             "more than {}",
@@ -189,8 +192,12 @@ mod tests {
         let err = read_regular(&dir, SCENE).unwrap_err();
         assert_eq!(
             err,
-            ReadError::Refused("a directory, not a scene file".into())
+            ReadError::NotRegular {
+                is: "a directory",
+                kind: SCENE
+            }
         );
+        assert_eq!(err.to_string(), "a directory, not a scene file");
         #[cfg(unix)]
         {
             let err = read_regular(Path::new("/dev/zero"), MESH).unwrap_err();

@@ -98,14 +98,28 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     ),
 ];
 
+/// A lesson file that does not read, at a line and column (from 1).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{file}:{line}:{column}: {error}")]
+pub struct LessonError {
+    /// The file's name as given.
+    pub file: String,
+    /// The line.
+    pub line: usize,
+    /// The column.
+    pub column: usize,
+    /// What RON says.
+    pub error: ron::Error,
+}
+
 impl Lesson {
     /// Reads a lesson; errors name the file, line and column.
-    pub fn from_ron(text: &str, file: &str) -> Result<Lesson, String> {
-        ron::from_str(text).map_err(|e| {
-            format!(
-                "{file}:{}:{}: {}",
-                e.span.start.line, e.span.start.col, e.code
-            )
+    pub fn from_ron(text: &str, file: &str) -> Result<Lesson, LessonError> {
+        ron::from_str(text).map_err(|e| LessonError {
+            file: file.to_string(),
+            line: e.span.start.line,
+            column: e.span.start.col,
+            error: e.code,
         })
     }
 
@@ -239,6 +253,6 @@ mod tests {
         assert!(problems[1].contains("no narration"), "{problems:?}");
         assert!(problems[2].contains("has no step “gamma2”"), "{problems:?}");
         let typo = Lesson::from_ron(r#"(title: "x", summry: "y", slides: [])"#, "typo.ron");
-        assert!(typo.unwrap_err().starts_with("typo.ron:1:"));
+        assert!(typo.unwrap_err().to_string().starts_with("typo.ron:1:"));
     }
 }

@@ -4,19 +4,29 @@
 
 use strum::IntoEnumIterator;
 
-/// The value named `word`, or `unknown {what} '{word}' (expected one of …)` listing every word.
-pub fn parse<T>(what: &str, word: &str) -> Result<T, String>
+/// A word that names none of an enum's values; its message lists every word that would.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {what} '{word}' (expected one of {})", .expected.join(", "))]
+pub struct UnknownName {
+    /// What was being named ("method", "bug", …).
+    pub what: &'static str,
+    /// The word as given.
+    pub word: String,
+    /// Every word that names a value, in the enum's order.
+    pub expected: Vec<&'static str>,
+}
+
+/// The value named `word`, or [`UnknownName`] listing every word.
+pub fn parse<T>(what: &'static str, word: &str) -> Result<T, UnknownName>
 where
     T: IntoEnumIterator + Into<&'static str> + Copy,
 {
     T::iter()
         .find(|value| Into::<&'static str>::into(*value) == word)
-        .ok_or_else(|| {
-            let words: Vec<&'static str> = T::iter().map(Into::into).collect();
-            format!(
-                "unknown {what} '{word}' (expected one of {})",
-                words.join(", ")
-            )
+        .ok_or_else(|| UnknownName {
+            what,
+            word: word.to_string(),
+            expected: T::iter().map(Into::into).collect(),
         })
 }
 
@@ -30,7 +40,9 @@ mod tests {
             super::parse::<Method>("method", "moller-trumbore"),
             Ok(Method::MollerTrumbore)
         );
-        let error = super::parse::<Method>("method", "moller").unwrap_err();
+        let error = super::parse::<Method>("method", "moller")
+            .unwrap_err()
+            .to_string();
         assert!(
             error.starts_with("unknown method 'moller' (expected one of cramer, moller-trumbore")
         );

@@ -22,7 +22,7 @@ use raylab::cli::input::{Coords, Literal, ReadNumber};
 use raylab::files::FileKind;
 use raylab::geometry::{Precision, Real};
 use raylab::math::exact::Exact;
-use raylab::render::assets::{AssetSource, Texture, load_mesh};
+use raylab::render::assets::{AssetSource, FetchError, Texture, load_mesh};
 
 /// The longest one input may run (debug build, a loaded machine) before the run counts it as a hang.
 const INPUT_LIMIT: Duration = Duration::from_secs(10);
@@ -219,13 +219,13 @@ fn batch_lines(input: &[u8]) {
 struct SmallAssets;
 
 impl AssetSource for SmallAssets {
-    fn read(&self, name: &str, _kind: FileKind) -> Result<Vec<u8>, String> {
+    fn read(&self, name: &str, _kind: FileKind) -> Result<Vec<u8>, FetchError> {
         if name.ends_with(".png") {
             Ok(png_seeds().remove(0))
         } else if name.ends_with(".obj") {
             Ok(OBJ_CUBE.as_bytes().to_vec())
         } else {
-            Err(format!("no file '{name}'"))
+            Err(FetchError::Other(format!("no file '{name}'")))
         }
     }
 }
@@ -244,7 +244,7 @@ fn scenes(input: &[u8]) {
 struct Bytes<'a>(&'a [u8]);
 
 impl AssetSource for Bytes<'_> {
-    fn read(&self, _name: &str, _kind: FileKind) -> Result<Vec<u8>, String> {
+    fn read(&self, _name: &str, _kind: FileKind) -> Result<Vec<u8>, FetchError> {
         Ok(self.0.to_vec())
     }
 }

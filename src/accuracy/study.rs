@@ -579,7 +579,7 @@ struct CsvRow<'a> {
 }
 
 /// The records as CSV, a header and a line per record (the per-knob errors are in the JSON only).
-pub fn csv(records: &[Record]) -> Result<String, String> {
+pub fn csv(records: &[Record]) -> Result<String, CsvError> {
     let mut writer = csv::Writer::from_writer(Vec::new());
     for r in records {
         writer
@@ -598,10 +598,13 @@ pub fn csv(records: &[Record]) -> Result<String, String> {
                 exact_fallbacks: r.exact_fallbacks,
                 ns_per_test: r.ns_per_test,
             })
-            .map_err(|e| format!("cannot write the CSV: {e}"))?;
+            .map_err(|e| CsvError(e.to_string()))?;
     }
-    let bytes = writer
-        .into_inner()
-        .map_err(|e| format!("cannot write the CSV: {e}"))?;
-    String::from_utf8(bytes).map_err(|e| format!("cannot write the CSV: {e}"))
+    let bytes = writer.into_inner().map_err(|e| CsvError(e.to_string()))?;
+    String::from_utf8(bytes).map_err(|e| CsvError(e.to_string()))
 }
+
+/// The CSV writer failed (a record it cannot write, which raylab's records never are).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("cannot write the CSV: {0}")]
+pub struct CsvError(pub String);

@@ -237,9 +237,10 @@ fn problem_ui(ui: &mut Ui, run: &mut PracticeRun, solved: &ActiveSolve) {
             );
             ui.add(egui::Label::new(&hint.text).wrap());
         }
-        Some(Verdict::Unreadable { message }) => {
+        Some(Verdict::Unreadable { error }) => {
             ui.add(
-                egui::Label::new(RichText::new(message).color(palette::RHS.readable(ui))).wrap(),
+                egui::Label::new(RichText::new(error.to_string()).color(palette::RHS.readable(ui)))
+                    .wrap(),
             );
         }
         None => {}

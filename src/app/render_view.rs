@@ -163,7 +163,7 @@ impl RenderView {
             scene.check()?;
             None
         } else {
-            Some(Prepared::new(&scene, &files)?)
+            Some(Prepared::new(&scene, &files).map_err(|e| e.to_string())?)
         };
         self.folder = folder;
         self.effects = scene.effects.clone();

@@ -16,14 +16,14 @@ use serde::de::{self, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde_json::json;
 use serde_json::value::RawValue;
 
-use super::input::{ReadNumber, quoted};
+use super::input::{InputError, ReadNumber, quoted};
 use super::scan;
 use super::solve::{FieldSink, Posed, solve_posed, solve_posed_traced};
 use crate::geometry::parallelogram::RayParallelogram;
 use crate::geometry::segments::SegmentPair;
 use crate::geometry::triangle::RayTriangle;
 use crate::geometry::{Precision, Real};
-use crate::math::exact::Exact;
+use crate::math::exact::{Exact, ParseExactError};
 
 /// Every field a case may have besides `kind` and `precision`.
 const FIELDS: [&str; 13] = [
@@ -70,12 +70,12 @@ impl<'a> RawCase<'a> {
     }
 
     /// Reads a line: the hand-written scanner for the common shape, serde_json for anything else.
-    fn read(line: &'a str) -> Result<RawCase<'a>, String> {
+    fn read(line: &'a str) -> Result<RawCase<'a>, LineError> {
         let mut case = RawCase::default();
         if scanner_on() && scan::object(line, |key, v| case.add(Cow::Borrowed(key), v)).is_some() {
             return Ok(case);
         }
-        serde_json::from_str(line).map_err(|e| format!("not valid JSON: {e}"))
+        serde_json::from_str(line).map_err(|e| LineError::Json(e.to_string()))
     }
 }
 
@@ -167,20 +167,19 @@ impl<'de, const N: usize> de::Deserialize<'de> for Items<'de, N> {
 }
 
 /// One number of a case as number text: a JSON number as written, or a string's text.
-fn number_text(raw: &str) -> Result<Cow<'_, str>, String> {
+fn number_text(raw: &str) -> Result<Cow<'_, str>, InputError> {
     let text = raw;
     match text.as_bytes().first() {
         Some(b'-' | b'0'..=b'9') => Ok(Cow::Borrowed(text)),
-        Some(b'"') => string_of(raw).ok_or_else(|| "not a valid string".to_string()),
-        _ if text == "null" => Err("null is not a number".into()),
-        _ => Err(format!("{} is not a number", quoted(text))),
+        Some(b'"') => string_of(raw).ok_or(InputError::BadString),
+        _ if text == "null" => Err(InputError::Null),
+        _ => Err(ParseExactError::NotANumber(quoted(text)).into()),
     }
 }
 
 /// The wrong count of numbers in a vector.
-fn count_error<const N: usize>(count: usize) -> String {
-    let form = if N == 2 { "x,y" } else { "x,y,z" };
-    format!("expected {N} numbers separated by commas ({form}), got {count}")
+fn count_error<const N: usize>(got: usize) -> InputError {
+    InputError::Count { expected: N, got }
 }
 
 /// Reads N numbers, given as `"x,y,z"` or `[x, y, z]`, into precision `R`.
@@ -188,9 +187,8 @@ fn count_error<const N: usize>(count: usize) -> String {
     clippy::expect_used,
     reason = "the items were counted to be N, and each component read or returned its error, just above"
 )]
-fn vector<R: ReadNumber, const N: usize>(raw: &str) -> Result<[R; N], String> {
-    let component =
-        |i: usize, text: &str| R::read(text).map_err(|e| format!("component {}: {e}", i + 1));
+fn vector<R: ReadNumber, const N: usize>(raw: &str) -> Result<[R; N], InputError> {
+    let component = |i: usize, text: &str| R::read(text).map_err(|e| e.in_component(i));
     let mut values: [Option<R>; N] = std::array::from_fn(|_| None);
     if let Some(text) = string_of(raw) {
         let mut parts: [&str; N] = [""; N];
@@ -212,7 +210,7 @@ fn vector<R: ReadNumber, const N: usize>(raw: &str) -> Result<[R; N], String> {
             Some(items) => items,
             None => {
                 let items: Items<N> =
-                    serde_json::from_str(raw).map_err(|e| format!("not valid JSON: {e}"))?;
+                    serde_json::from_str(raw).map_err(|e| InputError::Json(e.to_string()))?;
                 (items.first.map(|item| item.map(RawValue::get)), items.count)
             }
         };
@@ -220,14 +218,64 @@ fn vector<R: ReadNumber, const N: usize>(raw: &str) -> Result<[R; N], String> {
             return Err(count_error::<N>(count));
         }
         for (i, item) in first.iter().enumerate() {
-            let text = number_text(item.expect("N items counted"))
-                .map_err(|e| format!("component {}: {e}", i + 1))?;
+            let text =
+                number_text(item.expect("N items counted")).map_err(|e| e.in_component(i))?;
             values[i] = Some(component(i, &text)?);
         }
     } else {
-        return Err("expected a string \"x,y,…\" or an array of numbers".into());
+        return Err(InputError::NotAVector);
     }
     Ok(values.map(|v| v.expect("every component read")))
+}
+
+/// Why a batch line gives no answer; the message is the `error` of its output line.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum LineError {
+    /// More than [`MAX_LINE_BYTES`] bytes.
+    #[error("the line is longer than {MAX_LINE_BYTES} bytes; skipped to its end")]
+    TooLong,
+    /// Not UTF-8, at this byte of the line (from 1).
+    #[error("not valid UTF-8 (byte {0} of the line); skipped")]
+    NotUtf8(usize),
+    /// Not JSON (serde_json's message).
+    #[error("not valid JSON: {0}")]
+    Json(String),
+    /// JSON, but not an object.
+    #[error("expected a JSON object")]
+    NotAnObject,
+    /// No `kind`.
+    #[error("missing field 'kind' (segments, triangle or parallelogram)")]
+    MissingKind,
+    /// A field that must be a string and is not.
+    #[error("field '{0}' must be a string")]
+    NotAString(&'static str),
+    /// A precision word that names no precision.
+    #[error("field 'precision': {0}")]
+    Precision(crate::names::UnknownName),
+    /// A kind word that names no kind (quoted).
+    #[error("unknown kind {0} (expected segments, triangle or parallelogram)")]
+    UnknownKind(String),
+    /// A field the kind does not have.
+    #[error("unknown field {field} for kind {kind} (expected {})", .expected.join(", "))]
+    UnknownField {
+        /// The field, quoted.
+        field: String,
+        /// The line's kind.
+        kind: String,
+        /// The kind's fields.
+        expected: &'static [&'static str],
+    },
+    /// A field the kind needs.
+    #[error("missing field '{0}'")]
+    MissingField(&'static str),
+    /// A field whose value cannot be read.
+    #[error("field '{name}': {error}")]
+    Field {
+        /// The field.
+        name: &'static str,
+        /// Why.
+        error: InputError,
+    },
 }
 
 /// One line's case, its precision settled, its numbers still text.
@@ -241,31 +289,28 @@ pub struct LineCase<'a> {
 
 /// Reads one case from a JSON object; the precision is the case's own or `default`. Numbers are not
 /// read yet ([`LineCase::pose`] reads them in the case's precision).
-pub fn parse_case(line: &str, default: Precision) -> Result<LineCase<'_>, String> {
+pub fn parse_case(line: &str, default: Precision) -> Result<LineCase<'_>, LineError> {
     if !line.trim_start().starts_with('{') {
         return Err(match serde_json::from_str::<IgnoredAny>(line) {
-            Ok(_) => "expected a JSON object".into(),
-            Err(e) => format!("not valid JSON: {e}"),
+            Ok(_) => LineError::NotAnObject,
+            Err(e) => LineError::Json(e.to_string()),
         });
     }
     let raw = RawCase::read(line)?;
     let kind = match raw.kind.map(string_of) {
         Some(Some(kind)) => kind,
-        Some(None) => return Err("field 'kind' must be a string".into()),
-        None => return Err("missing field 'kind' (segments, triangle or parallelogram)".into()),
+        Some(None) => return Err(LineError::NotAString("kind")),
+        None => return Err(LineError::MissingKind),
     };
     let precision = match raw.precision {
         None => default,
         Some(p) => string_of(p)
-            .ok_or("field 'precision' must be a string")?
+            .ok_or(LineError::NotAString("precision"))?
             .parse()
-            .map_err(|e| format!("field 'precision': {e}"))?,
+            .map_err(LineError::Precision)?,
     };
     let Some(fields) = allowed(&kind) else {
-        return Err(format!(
-            "unknown kind {} (expected segments, triangle or parallelogram)",
-            quoted(&kind)
-        ));
+        return Err(LineError::UnknownKind(quoted(&kind)));
     };
     let misplaced = FIELDS
         .iter()
@@ -273,11 +318,11 @@ pub fn parse_case(line: &str, default: Precision) -> Result<LineCase<'_>, String
         .filter_map(|(name, v)| v.map(|(at, _)| (at, Cow::Borrowed(*name))))
         .filter(|(_, name)| !fields.contains(&name.as_ref()));
     if let Some((_, unknown)) = misplaced.chain(raw.stranger.clone()).min() {
-        return Err(format!(
-            "unknown field {} for kind {kind} (expected {})",
-            quoted(&unknown),
-            fields.join(", ")
-        ));
+        return Err(LineError::UnknownField {
+            field: quoted(&unknown),
+            kind: kind.to_string(),
+            expected: fields,
+        });
     }
     let kind = match kind.as_ref() {
         "segments" => "segments",
@@ -296,22 +341,25 @@ impl LineCase<'_> {
         clippy::expect_used,
         reason = "the field was found among FIELDS just above"
     )]
-    fn field(&self, name: &str) -> Result<&str, String> {
+    fn field(&self, name: &'static str) -> Result<&str, LineError> {
         let index = FIELDS
             .iter()
             .position(|f| *f == name)
             .expect("a known field");
         self.raw.values[index]
             .map(|(_, raw)| raw)
-            .ok_or_else(|| format!("missing field '{name}'"))
+            .ok_or(LineError::MissingField(name))
     }
 
-    fn vector<R: ReadNumber, const N: usize>(&self, name: &str) -> Result<[R; N], String> {
-        vector(self.field(name)?).map_err(|e| format!("field '{name}': {e}"))
+    fn vector<R: ReadNumber, const N: usize>(
+        &self,
+        name: &'static str,
+    ) -> Result<[R; N], LineError> {
+        vector(self.field(name)?).map_err(|error| LineError::Field { name, error })
     }
 
     /// The case in precision `R`, every number read from its text.
-    pub fn pose<R: ReadNumber>(&self) -> Result<Posed<R>, String> {
+    pub fn pose<R: ReadNumber>(&self) -> Result<Posed<R>, LineError> {
         Ok(match self.kind {
             "segments" => Posed::Segments(SegmentPair {
                 a1: self.vector("a1")?,
@@ -327,9 +375,14 @@ impl LineCase<'_> {
                 dir: self.vector("dir")?,
                 t_min: match self.field("tmin") {
                     Err(_) => R::zero(),
-                    Ok(raw) => number_text(raw)
-                        .and_then(|text| R::read(&text))
-                        .map_err(|e| format!("field 'tmin': {e}"))?,
+                    Ok(raw) => {
+                        number_text(raw)
+                            .and_then(|text| R::read(&text))
+                            .map_err(|error| LineError::Field {
+                                name: "tmin",
+                                error,
+                            })?
+                    }
                 },
             }),
             _ => Posed::Parallelogram(RayParallelogram {
@@ -349,7 +402,7 @@ impl LineCase<'_> {
         line: usize,
         with_trace: bool,
         out: &mut Vec<u8>,
-    ) -> Result<(), String> {
+    ) -> Result<(), LineError> {
         match self.precision {
             Precision::F32 => write_report(&self.pose::<f32>()?, line, with_trace, out),
             Precision::F64 => write_report(&self.pose::<f64>()?, line, with_trace, out),
@@ -477,17 +530,12 @@ impl<R: BufRead> LineReader<R> {
 }
 
 /// The text of a line, or why it cannot be read as text.
-fn line_text<'a>(line: &RawLine, bytes: &'a [u8]) -> Result<&'a str, String> {
+fn line_text<'a>(line: &RawLine, bytes: &'a [u8]) -> Result<&'a str, LineError> {
     match line {
-        RawLine::TooLong => Err(format!(
-            "the line is longer than {MAX_LINE_BYTES} bytes; skipped to its end"
-        )),
-        RawLine::Bytes => std::str::from_utf8(bytes).map_err(|e| {
-            format!(
-                "not valid UTF-8 (byte {} of the line); skipped",
-                e.valid_up_to() + 1
-            )
-        }),
+        RawLine::TooLong => Err(LineError::TooLong),
+        RawLine::Bytes => {
+            std::str::from_utf8(bytes).map_err(|e| LineError::NotUtf8(e.valid_up_to() + 1))
+        }
     }
 }
 
@@ -531,7 +579,8 @@ pub fn run_batch(
             }
             parse_case(text, default)?.solve_into(number, with_trace, &mut out)
         });
-        if let Err(message) = solved {
+        if let Err(error) = solved {
+            let message = error.to_string();
             out.truncate(start);
             bad += 1;
             let _ = writeln!(errors, "raylab: line {number}: {message}");
@@ -590,7 +639,8 @@ mod tests {
         for (line, expected) in cases {
             let err = parse_case(line, Precision::F64)
                 .and_then(|case| case.solve_into(1, false, &mut Vec::new()))
-                .unwrap_err();
+                .unwrap_err()
+                .to_string();
             assert!(err.contains(expected), "{line}: {err}");
         }
     }

@@ -15,54 +15,118 @@ pub const MAX_NUMBER_CHARS: usize = 10_000;
 
 pub use crate::math::exact::quoted;
 
+/// Why a number or a vector the user wrote cannot be read; each message is one line for people.
+/// Texts are held as [`quoted`] shows them.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum InputError {
+    /// Longer than [`MAX_NUMBER_CHARS`].
+    #[error("a number of {0} characters is longer than the limit of {MAX_NUMBER_CHARS}")]
+    TooLong(usize),
+    /// NaN.
+    #[error("NaN is not allowed: coordinates must be finite numbers")]
+    NaN,
+    /// An infinity, as written.
+    #[error("{0} is not allowed: coordinates must be finite numbers")]
+    Infinite(String),
+    /// Not a number at all (or a zero denominator, or a huge exponent).
+    #[error(transparent)]
+    Number(#[from] crate::math::exact::ParseExactError),
+    /// A number past the range of a float precision.
+    #[error("{text} is too large for {}; exact precision reads it", float_name(*.precision))]
+    TooLarge {
+        /// The number as written.
+        text: String,
+        /// The float precision that cannot hold it.
+        precision: Precision,
+    },
+    /// A vector with the wrong number of components.
+    #[error(
+        "expected {expected} numbers separated by commas ({}), got {got}",
+        if *.expected == 2 { "x,y" } else { "x,y,z" }
+    )]
+    Count {
+        /// 2 or 3.
+        expected: usize,
+        /// How many parts there were.
+        got: usize,
+    },
+    /// A batch value that is a JSON string with a bad escape.
+    #[error("not a valid string")]
+    BadString,
+    /// A batch number given as null.
+    #[error("null is not a number")]
+    Null,
+    /// A batch vector that is neither a string nor an array.
+    #[error("expected a string \"x,y,…\" or an array of numbers")]
+    NotAVector,
+    /// A batch vector's JSON that does not parse (serde_json's message).
+    #[error("not valid JSON: {0}")]
+    Json(String),
+    /// A vector's component (counted from 1) that cannot be read.
+    #[error("component {index}: {error}")]
+    Component {
+        /// From 1.
+        index: usize,
+        /// Why.
+        error: Box<InputError>,
+    },
+}
+
+impl InputError {
+    /// The same refusal, said of component `index` (from 0) of a vector.
+    pub fn in_component(self, index: usize) -> InputError {
+        InputError::Component {
+            index: index + 1,
+            error: Box::new(self),
+        }
+    }
+}
+
+fn float_name(precision: Precision) -> &'static str {
+    match precision {
+        Precision::F32 => "a 32-bit float",
+        _ => "a 64-bit float",
+    }
+}
+
 /// Refuses NaN, the infinities and texts past [`MAX_NUMBER_CHARS`], with a message for people.
-fn refuse_non_numbers(trimmed: &str) -> Result<(), String> {
+fn refuse_non_numbers(trimmed: &str) -> Result<(), InputError> {
     if trimmed.len() > MAX_NUMBER_CHARS {
         let count = trimmed.chars().count();
         if count > MAX_NUMBER_CHARS {
-            return Err(format!(
-                "a number of {count} characters is longer than the limit of {MAX_NUMBER_CHARS}"
-            ));
+            return Err(InputError::TooLong(count));
         }
     }
     let bare = trimmed.trim_start_matches(['+', '-']);
     if bare.eq_ignore_ascii_case("nan") {
-        return Err("NaN is not allowed: coordinates must be finite numbers".into());
+        return Err(InputError::NaN);
     }
     if bare.eq_ignore_ascii_case("inf") || bare.eq_ignore_ascii_case("infinity") || bare == "∞" {
-        return Err(format!(
-            "{} is not allowed: coordinates must be finite numbers",
-            quoted(trimmed)
-        ));
+        return Err(InputError::Infinite(quoted(trimmed)));
     }
     Ok(())
 }
 
 /// Reads an exact number (integer, decimal or fraction) of at most [`MAX_NUMBER_CHARS`] characters.
-pub fn read_exact(text: &str) -> Result<Exact, String> {
+pub fn read_exact(text: &str) -> Result<Exact, InputError> {
     let trimmed = text.trim();
     refuse_non_numbers(trimmed)?;
-    trimmed
-        .parse()
-        .map_err(|e: crate::math::exact::ParseExactError| e.0)
+    Ok(trimmed.parse()?)
 }
 
 /// The refusal of a number that a float precision cannot hold.
-fn too_large(quoted_text: &str, precision: Precision) -> String {
-    format!(
-        "{quoted_text} is too large for {}; exact precision reads it",
-        match precision {
-            Precision::F32 => "a 32-bit float",
-            _ => "a 64-bit float",
-        }
-    )
+fn too_large(quoted_text: &str, precision: Precision) -> InputError {
+    InputError::TooLarge {
+        text: quoted_text.to_string(),
+        precision,
+    }
 }
 
 /// Reads number text straight into a solver's precision: floats without building an exact value
 /// (the batch's hot path), exact numbers exactly. A float precision refuses a number it cannot hold.
 pub trait ReadNumber: Real {
     /// The nearest value of `text` in this precision, or why there is none.
-    fn read(text: &str) -> Result<Self, String>;
+    fn read(text: &str) -> Result<Self, InputError>;
 }
 
 /// `-12.5`, `3`, `+.5`: at most 24 bytes of digits with an optional leading sign and one point, and
@@ -120,7 +184,7 @@ fn short_decimal_f64(text: &str) -> Option<f64> {
 macro_rules! read_float {
     ($t:ty, $short:expr) => {
         impl ReadNumber for $t {
-            fn read(text: &str) -> Result<$t, String> {
+            fn read(text: &str) -> Result<$t, InputError> {
                 let trimmed = text.trim();
                 if let Some(value) = $short(trimmed) {
                     return Ok(value);
@@ -138,10 +202,10 @@ macro_rules! read_float {
                     // A fraction: rounded once, from its exact value.
                     <$t>::from_exact(&read_exact(trimmed)?)
                 } else {
-                    crate::math::exact::check_decimal(trimmed).map_err(|e| e.0)?;
-                    trimmed
-                        .parse::<$t>()
-                        .map_err(|_| format!("{} is not a number", quoted(trimmed)))?
+                    crate::math::exact::check_decimal(trimmed)?;
+                    trimmed.parse::<$t>().map_err(|_| {
+                        crate::math::exact::ParseExactError::NotANumber(quoted(trimmed))
+                    })?
                 };
                 if value.is_finite() {
                     Ok(value)
@@ -157,7 +221,7 @@ read_float!(f32, |_| None);
 read_float!(f64, short_decimal_f64);
 
 impl ReadNumber for Exact {
-    fn read(text: &str) -> Result<Exact, String> {
+    fn read(text: &str) -> Result<Exact, InputError> {
         read_exact(text)
     }
 }
@@ -177,7 +241,7 @@ impl Literal {
     /// Reads one number: `3`, `-2.5`, `1e-3`, `17/22`, of any size up to [`MAX_NUMBER_CHARS`]
     /// characters. NaN and infinities are refused; a float precision refuses a number past its range
     /// later ([`Literal::fits`]).
-    pub fn parse(text: &str) -> Result<Literal, String> {
+    pub fn parse(text: &str) -> Result<Literal, InputError> {
         let exact = read_exact(text)?;
         Ok(Literal {
             value: exact.to_f64(),
@@ -187,7 +251,7 @@ impl Literal {
     }
 
     /// Ok if `precision` can hold the number (exact holds any), else the refusal.
-    pub fn fits(&self, precision: Precision) -> Result<(), String> {
+    pub fn fits(&self, precision: Precision) -> Result<(), InputError> {
         let finite = match precision {
             Precision::Exact => true,
             Precision::F64 => self.value.is_finite(),
@@ -207,36 +271,32 @@ pub struct Coords<const N: usize>(pub [Literal; N]);
 
 impl<const N: usize> Coords<N> {
     /// Reads `x,y` (N = 2) or `x,y,z` (N = 3).
-    pub fn parse(text: &str) -> Result<Coords<N>, String> {
+    pub fn parse(text: &str) -> Result<Coords<N>, InputError> {
         let parts: Vec<&str> = text.split(',').collect();
         Coords::from_parts(&parts)
     }
 
     /// Reads N separate number texts.
-    pub fn from_parts(parts: &[&str]) -> Result<Coords<N>, String> {
+    pub fn from_parts(parts: &[&str]) -> Result<Coords<N>, InputError> {
+        let count = InputError::Count {
+            expected: N,
+            got: parts.len(),
+        };
         if parts.len() != N {
-            let form = if N == 2 { "x,y" } else { "x,y,z" };
-            return Err(format!(
-                "expected {N} numbers separated by commas ({form}), got {}",
-                parts.len()
-            ));
+            return Err(count);
         }
         let mut literals = Vec::with_capacity(N);
         for (i, part) in parts.iter().enumerate() {
-            literals.push(Literal::parse(part).map_err(|e| format!("component {}: {e}", i + 1))?);
+            literals.push(Literal::parse(part).map_err(|e| e.in_component(i))?);
         }
-        let literals: [Literal; N] = literals
-            .try_into()
-            .map_err(|_| format!("expected {N} components"))?;
+        let literals: [Literal; N] = literals.try_into().map_err(|_| count)?;
         Ok(Coords(literals))
     }
 
     /// Ok if `precision` can hold every component, else the refusal naming the component.
-    pub fn fits(&self, precision: Precision) -> Result<(), String> {
+    pub fn fits(&self, precision: Precision) -> Result<(), InputError> {
         for (i, literal) in self.0.iter().enumerate() {
-            literal
-                .fits(precision)
-                .map_err(|e| format!("component {}: {e}", i + 1))?;
+            literal.fits(precision).map_err(|e| e.in_component(i))?;
         }
         Ok(())
     }
@@ -267,17 +327,17 @@ impl Coords<3> {
 }
 
 /// clap value parser for `x,y`.
-pub fn parse_coords2(text: &str) -> Result<Coords<2>, String> {
+pub fn parse_coords2(text: &str) -> Result<Coords<2>, InputError> {
     Coords::parse(text)
 }
 
 /// clap value parser for `x,y,z`.
-pub fn parse_coords3(text: &str) -> Result<Coords<3>, String> {
+pub fn parse_coords3(text: &str) -> Result<Coords<3>, InputError> {
     Coords::parse(text)
 }
 
 /// clap value parser for one number.
-pub fn parse_literal(text: &str) -> Result<Literal, String> {
+pub fn parse_literal(text: &str) -> Result<Literal, InputError> {
     Literal::parse(text)
 }
 
@@ -302,7 +362,7 @@ mod tests {
         let huge = Literal::parse("1e400").unwrap();
         assert!(huge.fits(Precision::Exact).is_ok());
         assert_eq!(
-            huge.fits(Precision::F64).unwrap_err(),
+            huge.fits(Precision::F64).unwrap_err().to_string(),
             "'1e400' is too large for a 64-bit float; exact precision reads it"
         );
         assert!(
@@ -311,11 +371,16 @@ mod tests {
                 .fits(Precision::F32)
                 .is_err()
         );
-        let err = Coords::<2>::parse("1,2,3").unwrap_err();
+        let err = Coords::<2>::parse("1,2,3").unwrap_err().to_string();
         assert_eq!(err, "expected 2 numbers separated by commas (x,y), got 3");
-        let err = Coords::<3>::parse("1,x,3").unwrap_err();
+        let err = Coords::<3>::parse("1,x,3").unwrap_err().to_string();
         assert_eq!(err, "component 2: 'x' is not a number");
-        assert!(Coords::<3>::parse("1,nan,3").unwrap_err().contains("NaN"));
+        assert!(
+            Coords::<3>::parse("1,nan,3")
+                .unwrap_err()
+                .to_string()
+                .contains("NaN")
+        );
     }
 
     #[test]
@@ -323,7 +388,7 @@ mod tests {
         let digits = "7".repeat(5000);
         let big = Literal::parse(&digits).unwrap();
         assert_eq!(big.exact.fraction(), digits);
-        let err = big.fits(Precision::F64).unwrap_err();
+        let err = big.fits(Precision::F64).unwrap_err().to_string();
         assert!(err.len() < 120, "{err}");
         assert!(err.contains("(5000 characters)"), "{err}");
         let million = "1".repeat(1_000_000);
@@ -334,13 +399,14 @@ mod tests {
                 Precision::F64 => f64::read(&million).map(|_| ()),
                 Precision::Exact => Exact::read(&million).map(|_| ()),
             }
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
             assert!(err.contains("longer than the limit of 10000"), "{err}");
         }
         // The refusal is by length (the message says so), before any digit is read; the clock is only
         // a hang guard, generous enough for a loaded debug run (the speed is not this test's to judge).
         assert!(clock.elapsed().as_secs() < 10);
-        assert!(f64::read(&"9".repeat(400)).unwrap_err().len() < 120);
+        assert!(f64::read(&"9".repeat(400)).unwrap_err().to_string().len() < 120);
         assert_eq!(f64::read("1.0000000000000000000001").unwrap(), 1.0);
         assert_eq!(
             Exact::read("1.0000000000000000000001").unwrap(),

@@ -339,26 +339,47 @@ pub fn run(cli: Cli) -> i32 {
     }
 }
 
+/// Why `raylab render` cannot write its image.
+#[derive(Debug, thiserror::Error)]
+enum ImageOutputError {
+    /// `-o` names another image format, or none.
+    #[error(
+        "-o {}: raylab writes PNG images only{} (name the file .png)",
+        .path.display(),
+        .format.map(|f| format!(", not {f:?}")).unwrap_or_default()
+    )]
+    NotPng {
+        path: std::path::PathBuf,
+        /// The format its extension names, if any.
+        format: Option<image::ImageFormat>,
+    },
+    /// A 0-pixel image (never from a checked scene).
+    #[error("the image has no pixels")]
+    NoPixels,
+    /// Writing failed (the old file, if any, is left as it was).
+    #[error(transparent)]
+    Write(#[from] std::io::Error),
+}
+
 /// Only PNG can be written: said before anything is rendered or any file touched.
-fn check_png_name(output: &std::path::Path) -> Result<(), String> {
+fn check_png_name(output: &std::path::Path) -> Result<(), ImageOutputError> {
     match image::ImageFormat::from_path(output) {
         Ok(image::ImageFormat::Png) => Ok(()),
-        Ok(other) => Err(format!(
-            "-o {}: raylab writes PNG images only, not {other:?} (name the file .png)",
-            output.display()
-        )),
-        Err(_) => Err(format!(
-            "-o {}: raylab writes PNG images only (name the file .png)",
-            output.display()
-        )),
+        format => Err(ImageOutputError::NotPng {
+            path: output.to_path_buf(),
+            format: format.ok(),
+        }),
     }
 }
 
 /// Encodes the image as a PNG into a temporary file beside `output`, renamed over it when complete.
-fn write_png(image: &crate::render::Image, output: &std::path::Path) -> Result<(), String> {
+fn write_png(
+    image: &crate::render::Image,
+    output: &std::path::Path,
+) -> Result<(), ImageOutputError> {
     use image::ImageEncoder;
     if image.width == 0 || image.height == 0 {
-        return Err("the image has no pixels".into());
+        return Err(ImageOutputError::NoPixels);
     }
     crate::files::write_atomically(output, |out| {
         image::codecs::png::PngEncoder::new(out)
@@ -369,8 +390,8 @@ fn write_png(image: &crate::render::Image, output: &std::path::Path) -> Result<(
                 image::ExtendedColorType::Rgb8,
             )
             .map_err(std::io::Error::other)
-    })
-    .map_err(|e| e.to_string())
+    })?;
+    Ok(())
 }
 
 /// Prepares a render scene; on a terminal, a line on standard error shows the load of each mesh
@@ -379,7 +400,7 @@ fn write_png(image: &crate::render::Image, output: &std::path::Path) -> Result<(
 fn prepare_showing_progress(
     scene: &crate::scene::RenderScene,
     assets: crate::render::assets::OnDisk,
-) -> Result<crate::render::Prepared, String> {
+) -> Result<crate::render::Prepared, crate::render::PrepareError> {
     use indicatif::{ProgressBar, ProgressStyle};
     let style = ProgressStyle::with_template(
         "loading {msg}: {percent:>3}% ({prefix} triangles, {elapsed})",
@@ -532,16 +553,9 @@ fn print_hard_cases() -> i32 {
     0
 }
 
-/// `bench --out` names a folder (made if missing); anything else there is said before the run.
-fn check_out_folder(dir: &std::path::Path) -> Result<(), String> {
-    match std::fs::metadata(dir) {
-        Ok(metadata) if metadata.is_dir() => Ok(()),
-        Ok(_) => Err(
-            "is a file, not a folder (bench writes results.json and results.csv into a folder)"
-                .into(),
-        ),
-        Err(_) => Ok(()),
-    }
+/// `bench --out` names a folder (made if missing); a file there is said before the run.
+fn out_is_a_file(dir: &std::path::Path) -> bool {
+    std::fs::metadata(dir).is_ok_and(|metadata| !metadata.is_dir())
 }
 
 fn run_bench(args: BenchArgs) -> i32 {
@@ -550,9 +564,13 @@ fn run_bench(args: BenchArgs) -> i32 {
         return print_hard_cases();
     }
     if let Some(dir) = &args.out
-        && let Err(message) = check_out_folder(dir)
+        && out_is_a_file(dir)
     {
-        eprintln!("raylab: --out {}: {message}", dir.display());
+        eprintln!(
+            "raylab: --out {}: is a file, not a folder (bench writes results.json and results.csv \
+             into a folder)",
+            dir.display()
+        );
         return 2;
     }
     let mut config = if args.quick {

@@ -3,7 +3,7 @@
 use serde::Serialize;
 use serde_json::{Map, Value, json};
 
-use super::input::{Coords, Literal};
+use super::input::{Coords, InputError, Literal};
 use crate::geometry::parallelogram::{self, ParallelogramSolution, RayParallelogram};
 use crate::geometry::segments::{SegmentPair, SegmentsOutcome, SegmentsSolution};
 use crate::geometry::triangle::{
@@ -35,11 +35,31 @@ pub enum Case {
     },
 }
 
+/// Why a case given on the command line is not solved.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SolveError {
+    /// A flag's number or vector that the precision cannot hold.
+    #[error("--{flag}: {error}")]
+    Flag {
+        /// The flag, without its dashes.
+        flag: &'static str,
+        /// Why.
+        error: InputError,
+    },
+    /// `--tmin` with a method that always tests t > 0.
+    #[error("--method {} tests t > 0; --tmin applies to cramer and exact only", .0.name())]
+    TMinNotApplicable(crate::intersect::Method),
+    /// `--precision exact` with a float-only method.
+    #[error("--method {} runs in f32 or f64; use --method exact for exact arithmetic", .0.name())]
+    FloatOnly(crate::intersect::Method),
+}
+
 impl Case {
     /// Ok if `precision` can hold every number (exact holds any), else the refusal naming the flag.
-    pub fn fits(&self, precision: Precision) -> Result<(), String> {
-        let named =
-            |flag: &str, result: Result<(), String>| result.map_err(|e| format!("--{flag}: {e}"));
+    pub fn fits(&self, precision: Precision) -> Result<(), SolveError> {
+        let named = |flag: &'static str, result: Result<(), InputError>| {
+            result.map_err(|error| SolveError::Flag { flag, error })
+        };
         match self {
             Case::Segments { points } => ["a1", "a2", "b1", "b2"]
                 .iter()
@@ -426,17 +446,14 @@ pub fn method_report(
     t_min: &Literal,
     method: crate::intersect::Method,
     precision: Precision,
-) -> Result<Report, String> {
+) -> Result<Report, SolveError> {
     use crate::intersect::Method;
     let lecture = || Case::Triangle {
         vectors: vectors.clone(),
         t_min: t_min.clone(),
     };
     if !t_min.exact.is_zero() && !matches!(method, Method::Cramer | Method::Exact) {
-        return Err(format!(
-            "--method {} tests t > 0; --tmin applies to cramer and exact only",
-            method.name()
-        ));
+        return Err(SolveError::TMinNotApplicable(method));
     }
     if method != Method::Exact {
         lecture().fits(precision)?;
@@ -448,10 +465,7 @@ pub fn method_report(
     match (method, precision) {
         (Method::Exact, _) => Ok(named(run(&lecture(), Precision::Exact))),
         (Method::Cramer, p) => Ok(named(run(&lecture(), p))),
-        (_, Precision::Exact) => Err(format!(
-            "--method {} runs in f32 or f64; use --method exact for exact arithmetic",
-            method.name()
-        )),
+        (_, Precision::Exact) => Err(SolveError::FloatOnly(method)),
         (_, Precision::F32) => Ok(float_method_report::<f32>(vectors, method)),
         (_, Precision::F64) => Ok(float_method_report::<f64>(vectors, method)),
     }

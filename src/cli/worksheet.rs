@@ -28,8 +28,35 @@ pub struct WorksheetArgs {
     pub output: PathBuf,
 }
 
-fn parse_level(text: &str) -> Result<Level, String> {
+fn parse_level(text: &str) -> Result<Level, crate::exercise::UnknownLevel> {
     text.parse()
+}
+
+/// Why the worksheet was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum WorksheetError {
+    /// `-o` names a file.
+    #[error("-o {}: exists and is not a directory", .0.display())]
+    NotAFolder(PathBuf),
+    /// The folder could not be made.
+    #[error("-o {}: cannot make the folder: {source}", .path.display())]
+    MakeFolder {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A file could not be written (the old one, if any, is left as it was).
+    #[error("cannot write {}: {source}", .path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// No problems (a bad count, or none readable).
+    #[error(transparent)]
+    Generate(#[from] exercise::GenerateError),
 }
 
 /// Writes the three files; returns the exit code.
@@ -49,17 +76,16 @@ pub fn run(args: WorksheetArgs) -> i32 {
     }
 }
 
-fn write(args: &WorksheetArgs) -> Result<(), String> {
+fn write(args: &WorksheetArgs) -> Result<(), WorksheetError> {
     let dir = &args.output;
     if dir.exists() && !dir.is_dir() {
-        return Err(format!(
-            "-o {}: exists and is not a directory",
-            dir.display()
-        ));
+        return Err(WorksheetError::NotAFolder(dir.clone()));
     }
     let problems = exercise::generate(args.seed, usize::from(args.count), args.level)?;
-    std::fs::create_dir_all(dir)
-        .map_err(|e| format!("-o {}: cannot make the folder: {e}", dir.display()))?;
+    std::fs::create_dir_all(dir).map_err(|source| WorksheetError::MakeFolder {
+        path: dir.clone(),
+        source,
+    })?;
     let json = super::pretty_json(&exercise::problems_json(args.seed, &problems));
     save(
         dir,
@@ -70,9 +96,9 @@ fn write(args: &WorksheetArgs) -> Result<(), String> {
     save(dir, "problems.json", &format!("{json}\n"))
 }
 
-fn save(dir: &Path, name: &str, text: &str) -> Result<(), String> {
+fn save(dir: &Path, name: &str, text: &str) -> Result<(), WorksheetError> {
     let path = dir.join(name);
     // Whole or not at all: a full disk leaves the old file as it was.
     crate::files::write_atomically(&path, |out| out.write_all(text.as_bytes()))
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+        .map_err(|source| WorksheetError::Write { path, source })
 }

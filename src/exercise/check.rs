@@ -41,9 +41,54 @@ pub enum Verdict {
     },
     /// Not an answer; says what was expected.
     Unreadable {
-        /// One line.
-        message: String,
+        /// What could not be read (its message is one line).
+        error: AnswerError,
     },
+}
+
+/// Why an answer could not be read; each message says what was expected instead.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum AnswerError {
+    /// Neither an outcome nor the right number of values.
+    #[error(
+        "expected {} (fractions or decimals) or an outcome: hit, outside {}, behind, parallel, degenerate",
+        .kind.unknowns().iter().map(|u| u.1).collect::<Vec<_>>().join(", "),
+        .kind.edges().join("|")
+    )]
+    Expected {
+        /// The problem's kind, which decides the unknowns and edges.
+        kind: Kind,
+    },
+    /// Words after an outcome that takes none (`hit there`).
+    #[error("'{text}': nothing may follow '{outcome}'")]
+    TrailingWords {
+        /// The part of the answer.
+        text: String,
+        /// The outcome word.
+        outcome: String,
+    },
+    /// `outside` with no edge, or one the problem does not have.
+    #[error(
+        "outside which {}? expected one of {}",
+        if *.kind == Kind::Parallelogram { "side" } else { "edge" },
+        .kind.edges().join(", ")
+    )]
+    UnknownEdge {
+        /// The problem's kind.
+        kind: Kind,
+    },
+    /// `x = 1` where x names no unknown.
+    #[error("'{0}' is not one of the unknowns")]
+    UnknownName(String),
+    /// A number that is not a fraction or decimal.
+    #[error("{0}")]
+    Number(#[from] crate::math::exact::ParseExactError),
+    /// The same unknown named twice.
+    #[error("{0} is given twice")]
+    GivenTwice(&'static str),
+    /// Fewer values than unknowns.
+    #[error("a value is missing")]
+    Missing,
 }
 
 /// One problem being practised: counts wrong answers so that each brings the next hint.
@@ -84,7 +129,7 @@ impl Practice {
 pub fn check(problem: &Problem, answer: &str, wrong_before: usize) -> Verdict {
     let claim = match read_claim(problem.kind(), answer) {
         Ok(claim) => claim,
-        Err(message) => return Verdict::Unreadable { message },
+        Err(error) => return Verdict::Unreadable { error },
     };
     if claim_is_right(problem, &claim) {
         return Verdict::Right {
@@ -132,7 +177,7 @@ struct Claim {
     values: Option<Vec<Claimed>>,
 }
 
-fn read_claim(kind: Kind, text: &str) -> Result<Claim, String> {
+fn read_claim(kind: Kind, text: &str) -> Result<Claim, AnswerError> {
     let mut claim = Claim::default();
     for part in text.split(';').map(str::trim).filter(|p| !p.is_empty()) {
         if let Some(outcome) = read_outcome(kind, part)? {
@@ -142,22 +187,13 @@ fn read_claim(kind: Kind, text: &str) -> Result<Claim, String> {
         }
     }
     if claim.outcome.is_none() && claim.values.is_none() {
-        return Err(expected(kind));
+        return Err(AnswerError::Expected { kind });
     }
     Ok(claim)
 }
 
-fn expected(kind: Kind) -> String {
-    let symbols: Vec<&str> = kind.unknowns().iter().map(|u| u.1).collect();
-    format!(
-        "expected {} (fractions or decimals) or an outcome: hit, outside {}, behind, parallel, degenerate",
-        symbols.join(", "),
-        kind.edges().join("|")
-    )
-}
-
 /// An outcome word, with the edge for `outside`; `None` if the text is not an outcome at all.
-fn read_outcome(kind: Kind, text: &str) -> Result<Option<Outcome>, String> {
+fn read_outcome(kind: Kind, text: &str) -> Result<Option<Outcome>, AnswerError> {
     let lower = text.to_lowercase();
     let mut words = lower.split_whitespace();
     let first = words.next().unwrap_or_default();
@@ -175,12 +211,15 @@ fn read_outcome(kind: Kind, text: &str) -> Result<Option<Outcome>, String> {
         _ => return Ok(None),
     };
     if first != "outside" && !rest.is_empty() {
-        return Err(format!("'{text}': nothing may follow '{first}'"));
+        return Err(AnswerError::TrailingWords {
+            text: text.to_string(),
+            outcome: first.to_string(),
+        });
     }
     Ok(Some(outcome))
 }
 
-fn read_edge(kind: Kind, text: &str) -> Result<String, String> {
+fn read_edge(kind: Kind, text: &str) -> Result<String, AnswerError> {
     let normal = text
         .replace("alpha", "α")
         .replace("beta", "β")
@@ -196,27 +235,17 @@ fn read_edge(kind: Kind, text: &str) -> Result<String, String> {
             edge == normal || (kind == Kind::Triangle && edge == reversed)
         })
         .map(|edge| edge.to_string())
-        .ok_or_else(|| {
-            format!(
-                "outside which {}? expected one of {}",
-                if kind == Kind::Parallelogram {
-                    "side"
-                } else {
-                    "edge"
-                },
-                kind.edges().join(", ")
-            )
-        })
+        .ok_or(AnswerError::UnknownEdge { kind })
 }
 
 /// `1/4, 1/2, 3` or `β = 1/4, γ = 1/2, t = 3` (names as symbols or words: `beta`).
 #[allow(clippy::expect_used, reason = "the tolerance is a finite constant")]
-fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, String> {
+fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, AnswerError> {
     let unknowns = kind.unknowns();
     let mut values: Vec<Option<Claimed>> = vec![None; unknowns.len()];
     let items: Vec<&str> = text.split(',').map(str::trim).collect();
     if items.len() != unknowns.len() {
-        return Err(expected(kind));
+        return Err(AnswerError::Expected { kind });
     }
     for (position, item) in items.iter().enumerate() {
         let (slot, number) = match item.split_once('=') {
@@ -225,14 +254,12 @@ fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, String> {
                 let slot = unknowns
                     .iter()
                     .position(|(id, symbol, _)| name == *id || name == *symbol)
-                    .ok_or_else(|| format!("'{}' is not one of the unknowns", name))?;
+                    .ok_or_else(|| AnswerError::UnknownName(name.clone()))?;
                 (slot, number.trim())
             }
             None => (position, *item),
         };
-        let value: Exact = number
-            .parse()
-            .map_err(|e: crate::math::exact::ParseExactError| e.0)?;
+        let value: Exact = number.parse()?;
         let decimal = number.contains(['.', 'e', 'E']);
         let tolerance = if decimal {
             Exact::from_f64(DECIMAL_TOLERANCE).expect("finite")
@@ -240,13 +267,13 @@ fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, String> {
             Exact::from_int(0)
         };
         if values[slot].replace(Claimed { value, tolerance }).is_some() {
-            return Err(format!("{} is given twice", unknowns[slot].1));
+            return Err(AnswerError::GivenTwice(unknowns[slot].1));
         }
     }
     values
         .into_iter()
         .collect::<Option<Vec<_>>>()
-        .ok_or_else(|| "a value is missing".to_string())
+        .ok_or(AnswerError::Missing)
 }
 
 fn claim_is_right(problem: &Problem, claim: &Claim) -> bool {

@@ -22,12 +22,40 @@ const ATTEMPTS: usize = 10_000;
 
 type V3 = [i64; 3];
 
+/// Why no problems came out.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum GenerateError {
+    /// A count outside 1 ..= MAX_COUNT.
+    #[error("the count must be 1 to {MAX_COUNT}, not {0}")]
+    Count(usize),
+    /// A level the kind has no problems of (segments are never `behind`).
+    #[error("{} problems have no level {level}", .kind.name())]
+    NoSuchLevel {
+        /// The view's kind.
+        kind: Kind,
+        /// The level asked for.
+        level: Level,
+    },
+    /// Every attempt failed the readability filters.
+    #[error("found no readable {} problem at level {level} (this is a bug)", .kind.name())]
+    NoneFound {
+        /// The view's kind.
+        kind: Kind,
+        /// The level asked for.
+        level: Level,
+    },
+}
+
 /// `count` problems (1 ≤ count ≤ [`MAX_COUNT`]) from `seed`, all of `level` or, without one, the
 /// levels in turn; the solver of each is drawn among those with that outcome. The same arguments
 /// always give the same problems.
-pub fn generate(seed: u64, count: usize, level: Option<Level>) -> Result<Vec<Problem>, String> {
+pub fn generate(
+    seed: u64,
+    count: usize,
+    level: Option<Level>,
+) -> Result<Vec<Problem>, GenerateError> {
     if count == 0 || count > MAX_COUNT {
-        return Err(format!("the count must be 1 to {MAX_COUNT}, not {count}"));
+        return Err(GenerateError::Count(count));
     }
     let mut rng = Pcg64::seed_from_u64(seed);
     (0..count)
@@ -41,9 +69,9 @@ pub fn generate(seed: u64, count: usize, level: Option<Level>) -> Result<Vec<Pro
 }
 
 /// One problem for the `kind` view at `level` (the app's exercises): the same seed gives the same one.
-pub fn problem_for(seed: u64, kind: Kind, level: Level) -> Result<Problem, String> {
+pub fn problem_for(seed: u64, kind: Kind, level: Level) -> Result<Problem, GenerateError> {
     if !level.kinds().contains(&kind) {
-        return Err(format!("{} problems have no level {level}", kind.name()));
+        return Err(GenerateError::NoSuchLevel { kind, level });
     }
     one_problem(&mut Pcg64::seed_from_u64(seed), 1, kind, level)
 }
@@ -53,7 +81,7 @@ fn one_problem(
     number: usize,
     kind: Kind,
     level: Level,
-) -> Result<Problem, String> {
+) -> Result<Problem, GenerateError> {
     for _ in 0..ATTEMPTS {
         let candidate = match kind {
             Kind::Segments => segments(rng, level),
@@ -68,10 +96,7 @@ fn one_problem(
             return Ok(problem);
         }
     }
-    Err(format!(
-        "found no readable {} problem at level {level} (this is a bug)",
-        kind.name()
-    ))
+    Err(GenerateError::NoneFound { kind, level })
 }
 
 fn small_inputs(inputs: &Inputs) -> bool {

@@ -98,13 +98,19 @@ fn the_same_seed_gives_the_same_problems() {
             .iter()
             .all(|p| p.level() == Level::Behind)
     );
-    assert!(generate(1, 0, None).unwrap_err().contains("1 to 100"));
+    assert!(
+        generate(1, 0, None)
+            .unwrap_err()
+            .to_string()
+            .contains("1 to 100")
+    );
     assert!(generate(1, MAX_COUNT + 1, None).is_err());
     assert!(problem_for(1, Kind::Segments, Level::Behind).is_err());
     assert!(
         "sideways"
             .parse::<Level>()
             .unwrap_err()
+            .to_string()
             .contains("expected hit, outside")
     );
 }
@@ -252,7 +258,10 @@ fn outcomes_are_read_by_name_for_every_solver() {
         ("hit now", "nothing may follow"),
     ] {
         match check(&problem, bad, 0) {
-            Verdict::Unreadable { message } => assert!(message.contains(says), "{bad}: {message}"),
+            Verdict::Unreadable { error } => {
+                let message = error.to_string();
+                assert!(message.contains(says), "{bad}: {message}")
+            }
             other => panic!("{bad}: {other:?}"),
         }
     }

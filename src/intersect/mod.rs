@@ -248,8 +248,8 @@ impl Method {
 }
 
 impl std::str::FromStr for Method {
-    type Err = String;
-    fn from_str(text: &str) -> Result<Method, String> {
+    type Err = crate::names::UnknownName;
+    fn from_str(text: &str) -> Result<Method, Self::Err> {
         crate::names::parse("method", text)
     }
 }

@@ -21,17 +21,19 @@ const LONGEST_FRACTION: usize = 24;
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
 pub struct Exact(pub BigRational);
 
-/// Why a piece of text is not an exact number.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ParseExactError(pub String);
-
-impl fmt::Display for ParseExactError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
+/// Why a piece of text is not an exact number. Each holds the text as [`quoted`] shows it.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ParseExactError {
+    /// Not `[+-]digits[.digits][e[+-]digits]` or a fraction of two such.
+    #[error("{0} is not a number")]
+    NotANumber(String),
+    /// A fraction whose denominator is zero.
+    #[error("{0} divides by zero")]
+    DividesByZero(String),
+    /// An exponent past ±[`MAX_EXPONENT`].
+    #[error("{0} has an exponent past ±{MAX_EXPONENT}")]
+    ExponentTooLarge(String),
 }
-
-impl std::error::Error for ParseExactError {}
 
 impl Exact {
     /// The exact value of a finite float; `None` for NaN and the infinities, which are not numbers.
@@ -322,7 +324,7 @@ impl FromStr for Exact {
             let den = parse_decimal(den.trim())?;
             return num
                 .checked_div(&den)
-                .ok_or_else(|| ParseExactError(format!("{} divides by zero", quoted(text))));
+                .ok_or_else(|| ParseExactError::DividesByZero(quoted(text)));
         }
         parse_decimal(text)
     }
@@ -356,7 +358,7 @@ struct Decimal<'a> {
 /// Splits and checks `[+-]digits[.digits][e[+-]digits]`, with at least one digit and an exponent of at
 /// most [`MAX_EXPONENT`] either way.
 fn split_decimal(text: &str) -> Result<Decimal<'_>, ParseExactError> {
-    let bad = || ParseExactError(format!("{} is not a number", quoted(text)));
+    let bad = || ParseExactError::NotANumber(quoted(text));
     let all_digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
     let (mantissa, exponent) = match text.find(['e', 'E']) {
         Some(i) => {
@@ -367,10 +369,7 @@ fn split_decimal(text: &str) -> Result<Decimal<'_>, ParseExactError> {
             }
             let exponent = written.parse::<i64>().unwrap_or(i64::MAX);
             if exponent.unsigned_abs() > MAX_EXPONENT as u64 {
-                return Err(ParseExactError(format!(
-                    "{} has an exponent past ±{MAX_EXPONENT}",
-                    quoted(text)
-                )));
+                return Err(ParseExactError::ExponentTooLarge(quoted(text)));
             }
             (&text[..i], exponent)
         }
@@ -413,7 +412,7 @@ fn parse_decimal(text: &str) -> Result<Exact, ParseExactError> {
         both.push_str(frac);
         both.parse()
     }
-    .map_err(|_| ParseExactError(format!("{} is not a number", quoted(text))))?;
+    .map_err(|_| ParseExactError::NotANumber(quoted(text)))?;
     let scale = exponent - frac.len() as i64;
     let power = num_traits::pow(BigInt::from(10), scale.unsigned_abs() as usize);
     let value = if scale >= 0 {
@@ -509,13 +508,15 @@ mod tests {
         assert_eq!(q("1e10000").0.numer().to_string().len(), 10001);
         let err = format!("1e{}", MAX_EXPONENT + 1)
             .parse::<Exact>()
-            .unwrap_err();
-        assert!(err.0.contains("exponent past"), "{err}");
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("exponent past"), "{err}");
         let err = format!("{}x", "5".repeat(5000))
             .parse::<Exact>()
-            .unwrap_err();
-        assert!(err.0.len() < 80, "{err}");
-        assert!(err.0.contains("(5001 characters)"), "{err}");
+            .unwrap_err()
+            .to_string();
+        assert!(err.len() < 80, "{err}");
+        assert!(err.contains("(5001 characters)"), "{err}");
     }
 
     #[test]

@@ -53,8 +53,8 @@ pub fn in_precision<W: InPrecision>(precision: Precision, work: W) -> W::Output 
 }
 
 impl std::str::FromStr for Precision {
-    type Err = String;
-    fn from_str(text: &str) -> Result<Precision, String> {
+    type Err = crate::names::UnknownName;
+    fn from_str(text: &str) -> Result<Precision, Self::Err> {
         crate::names::parse("precision", text)
     }
 }

@@ -70,8 +70,8 @@ impl Bug {
 }
 
 impl std::str::FromStr for Bug {
-    type Err = String;
-    fn from_str(key: &str) -> Result<Bug, String> {
+    type Err = crate::names::UnknownName;
+    fn from_str(key: &str) -> Result<Bug, Self::Err> {
         crate::names::parse("bug", key)
     }
 }

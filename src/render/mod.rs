@@ -29,6 +29,7 @@ use crate::scene::render::{Camera, Effect, RenderScene};
 use assets::AssetSource;
 pub use cast::{Bug, Hit};
 use objects::{Geometry, PreparedObject, unit};
+pub use objects::{ObjectError, PrepareError};
 use shade::Shader;
 
 /// Rays traced together through a mesh's BVH: neighbouring pixels of a row.
@@ -158,14 +159,19 @@ pub struct Prepared {
 
 impl Prepared {
     /// Reads the scene's meshes and textures and inverts its transforms.
-    pub fn new(scene: &RenderScene, assets: &dyn AssetSource) -> Result<Prepared, String> {
-        scene.check()?;
+    pub fn new(scene: &RenderScene, assets: &dyn AssetSource) -> Result<Prepared, PrepareError> {
+        scene.check().map_err(PrepareError::Scene)?;
         let objects = scene
             .objects
             .iter()
             .enumerate()
-            .map(|(i, o)| objects::prepare(o, assets).map_err(|e| format!("object {}: {e}", i + 1)))
-            .collect::<Result<Arc<[_]>, String>>()?;
+            .map(|(i, o)| {
+                objects::prepare(o, assets).map_err(|error| PrepareError::Object {
+                    index: i + 1,
+                    error,
+                })
+            })
+            .collect::<Result<Arc<[_]>, _>>()?;
         Ok(Prepared {
             width: scene.width,
             height: scene.height,

@@ -4,7 +4,7 @@
 
 use glam::{DAffine3, DMat3};
 
-use super::assets::{AssetSource, Texture, load_mesh};
+use super::assets::{AssetError, AssetSource, Texture, load_mesh};
 use super::bvh::Bvh;
 use crate::math::linalg::{V3, cross, sub};
 use crate::scene::render::{Object, Shape};
@@ -83,22 +83,58 @@ pub struct PreparedObject {
 /// Meshes with at least this many triangles get a BVH.
 const BVH_MIN_TRIANGLES: usize = 8;
 
+/// Why a render scene cannot be prepared.
+#[derive(Debug, thiserror::Error)]
+pub enum PrepareError {
+    /// The scene's numbers, size or camera are refused.
+    #[error("{0}")]
+    Scene(String),
+    /// An object (counted from 1) is refused or its files unreadable.
+    #[error("object {index}: {error}")]
+    Object {
+        /// From 1.
+        index: usize,
+        /// Why.
+        error: ObjectError,
+    },
+    /// A mesh load was cancelled before the objects were prepared.
+    #[error(transparent)]
+    Cancelled(AssetError),
+}
+
+impl PrepareError {
+    /// True when a load was cancelled rather than failed.
+    pub fn is_cancelled(&self) -> bool {
+        matches!(self, PrepareError::Cancelled(_))
+    }
+}
+
+/// Why one object cannot be prepared.
+#[derive(Debug, thiserror::Error)]
+pub enum ObjectError {
+    /// A scale with a zero component.
+    #[error(
+        "the transform's scale {0:?} has a zero component: the object would be flat and its \
+         transform has no inverse"
+    )]
+    FlatScale([f64; 3]),
+    /// A transform whose inverse overflows or underflows.
+    #[error("the transform's scale {0:?} is too large or too small to invert in floating point")]
+    Uninvertible([f64; 3]),
+    /// Its mesh or texture.
+    #[error(transparent)]
+    Asset(#[from] AssetError),
+}
+
 /// Prepares an object: reads its mesh and texture, inverts its transform.
-pub fn prepare(object: &Object, assets: &dyn AssetSource) -> Result<PreparedObject, String> {
+pub fn prepare(object: &Object, assets: &dyn AssetSource) -> Result<PreparedObject, ObjectError> {
     let matrix = object.transform.matrix();
     if object.transform.scale.contains(&0.0) {
-        return Err(format!(
-            "the transform's scale {:?} has a zero component: the object would be flat and its \
-             transform has no inverse",
-            object.transform.scale
-        ));
+        return Err(ObjectError::FlatScale(object.transform.scale));
     }
     let inverse = matrix.inverse();
     if !matrix.matrix3.determinant().is_normal() || !inverse.is_finite() {
-        return Err(format!(
-            "the transform's scale {:?} is too large or too small to invert in floating point",
-            object.transform.scale
-        ));
+        return Err(ObjectError::Uninvertible(object.transform.scale));
     }
     let object_from_world = (!object.transform.is_identity()).then_some(inverse);
     let (geometry, is_mesh) = match &object.shape {

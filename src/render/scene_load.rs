@@ -2,8 +2,8 @@
 //! (a 1 M-triangle OBJ takes seconds), then the scene is prepared. It is a [`Sliced`] job, so the app
 //! runs it on a thread (or, on the web, in slices of its frames) and can cancel it.
 
-use super::Prepared;
-use super::assets::{AssetSource, CANCELLED, MeshLoad, Preloaded, load_mesh_with_progress};
+use super::assets::{AssetSource, MeshLoad, Preloaded, load_mesh_with_progress};
+use super::{PrepareError, Prepared};
 use crate::platform::{Progress, Sliced, Stopwatch};
 use crate::scene::render::{RenderScene, Shape};
 
@@ -65,11 +65,11 @@ impl<S: AssetSource> SceneLoad<S> {
     }
 
     /// One slice: the prepared scene (or why not) when finished.
-    fn advance(&mut self) -> Option<Result<Prepared, String>> {
+    fn advance(&mut self) -> Option<Result<Prepared, PrepareError>> {
         if !self.checked {
             self.checked = true;
             if let Err(error) = self.scene.check() {
-                return Some(Err(error));
+                return Some(Err(PrepareError::Scene(error)));
             }
         }
         let clock = Stopwatch::start();
@@ -102,7 +102,7 @@ impl<S: AssetSource> SceneLoad<S> {
 }
 
 impl<S: AssetSource + Send + 'static> Sliced for SceneLoad<S> {
-    type Output = Result<Prepared, String>;
+    type Output = Result<Prepared, PrepareError>;
 
     fn step(&mut self) -> Progress<Self::Output> {
         match self.advance() {
@@ -121,13 +121,13 @@ pub fn prepare_with_progress(
     scene: &RenderScene,
     assets: impl AssetSource,
     progress: &mut dyn FnMut(&str, super::assets::MeshProgress) -> bool,
-) -> Result<Prepared, String> {
-    scene.check()?;
+) -> Result<Prepared, PrepareError> {
+    scene.check().map_err(PrepareError::Scene)?;
     let mut assets = Preloaded::new(assets);
     for name in mesh_names(scene) {
         match load_mesh_with_progress(&assets, &name, &mut |p| progress(&name, p)) {
             Ok(triangles) => assets.insert(&name, triangles),
-            Err(error) if error.ends_with(CANCELLED) => return Err(error),
+            Err(error) if error.is_cancelled() => return Err(PrepareError::Cancelled(error)),
             // Prepared::new reports it, with the object it belongs to.
             Err(_) => break,
         }
@@ -139,15 +139,16 @@ pub fn prepare_with_progress(
 mod tests {
     use super::*;
     use crate::files::FileKind;
+    use crate::render::assets::{CANCELLED, FetchError};
     use crate::scene::render::Object;
 
     /// One generated OBJ file, `meshes/grid.obj`: a grid of `n` × `n` squares (2n² triangles).
     struct Grid(usize);
 
     impl AssetSource for Grid {
-        fn read(&self, name: &str, _: FileKind) -> Result<Vec<u8>, String> {
+        fn read(&self, name: &str, _: FileKind) -> Result<Vec<u8>, FetchError> {
             if name != "meshes/grid.obj" {
-                return Err(format!("cannot find '{name}'"));
+                return Err(FetchError::Other(format!("cannot find '{name}'")));
             }
             Ok(grid_obj(self.0).into_bytes())
         }
@@ -222,7 +223,8 @@ mod tests {
             calls < 2
         })
         .unwrap_err();
-        assert!(error.ends_with(CANCELLED), "{error}");
+        assert!(error.is_cancelled(), "{error}");
+        assert!(error.to_string().ends_with(CANCELLED), "{error}");
     }
 
     #[test]
@@ -252,7 +254,10 @@ mod tests {
                 break result.unwrap_err();
             }
         };
-        assert_eq!(error, Prepared::new(&missing, &Grid(2)).unwrap_err());
+        assert_eq!(
+            error.to_string(),
+            Prepared::new(&missing, &Grid(2)).unwrap_err().to_string()
+        );
     }
 
     /// A million triangles (a 707x707 grid, 32 MB of OBJ): loaded with rising progress, timed.
@@ -264,7 +269,7 @@ mod tests {
         /// The file's bytes, made before the clock starts.
         struct Made(Vec<u8>);
         impl AssetSource for Made {
-            fn read(&self, _: &str, _: FileKind) -> Result<Vec<u8>, String> {
+            fn read(&self, _: &str, _: FileKind) -> Result<Vec<u8>, FetchError> {
                 Ok(self.0.clone())
             }
         }

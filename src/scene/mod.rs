@@ -188,7 +188,7 @@ impl Scene {
 
     /// Reads a scene file from disk (a regular file of at most [`crate::files::SCENE`]'s size).
     pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
-        use crate::files::{ReadError, SCENE, read_regular};
+        use crate::files::{SCENE, read_regular};
         let name = path.display().to_string();
         let failed = |message: String| SceneError {
             file: name.clone(),
@@ -196,10 +196,7 @@ impl Scene {
             column: None,
             message,
         };
-        let bytes = read_regular(path, SCENE).map_err(|e| match e {
-            ReadError::NotFound => failed("no such file".into()),
-            ReadError::Refused(why) => failed(why),
-        })?;
+        let bytes = read_regular(path, SCENE).map_err(|e| failed(e.to_string()))?;
         let text = String::from_utf8(bytes).map_err(|e| {
             failed(format!(
                 "not a text file (invalid UTF-8 at byte {})",

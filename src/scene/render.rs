@@ -81,8 +81,8 @@ impl Effect {
 }
 
 impl TryFrom<String> for Effect {
-    type Error = String;
-    fn try_from(name: String) -> Result<Effect, String> {
+    type Error = crate::names::UnknownName;
+    fn try_from(name: String) -> Result<Effect, Self::Error> {
         crate::names::parse("effect", &name)
     }
 }
@@ -99,8 +99,8 @@ impl From<Effect> for String {
 pub struct SceneMethod(pub Method);
 
 impl TryFrom<String> for SceneMethod {
-    type Error = String;
-    fn try_from(name: String) -> Result<SceneMethod, String> {
+    type Error = crate::names::UnknownName;
+    fn try_from(name: String) -> Result<SceneMethod, Self::Error> {
         name.parse().map(SceneMethod)
     }
 }

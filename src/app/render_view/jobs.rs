@@ -42,7 +42,7 @@ pub(super) struct Loading {
     pub(super) key: RenderScene,
     /// Its mesh files, in the order they load.
     pub(super) meshes: Vec<String>,
-    pub(super) job: Job<Result<Prepared, String>>,
+    pub(super) job: Job<Result<Prepared, crate::render::PrepareError>>,
 }
 
 /// Meshes larger than this in all load in the background, with a progress bar and Cancel; smaller
@@ -142,8 +142,9 @@ impl RenderView {
                 {
                     return Err("the scene's meshes are still loading".into());
                 }
-                let prepared =
-                    Prepared::new(&self.scene, &assets(self.folder.as_deref())).map(Arc::new);
+                let prepared = Prepared::new(&self.scene, &assets(self.folder.as_deref()))
+                    .map(Arc::new)
+                    .map_err(|e| e.to_string());
                 self.runtime.prepared = Some((self.scene.clone(), prepared.clone()));
                 prepared
             }
@@ -259,7 +260,7 @@ impl RenderView {
             Some(failure) => Some(Err(format!(
                 "loading the scene stopped on an internal error: {failure}"
             ))),
-            None => loading.job.poll(),
+            None => loading.job.poll().map(|r| r.map_err(|e| e.to_string())),
         };
         if let Some(result) = finished {
             self.runtime.loading = None;
