@@ -9,6 +9,8 @@ pub mod accuracy_view;
 pub mod highlight;
 pub mod launch;
 pub mod lesson_view;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod native_dialog;
 pub mod parallelogram_view;
 pub mod practice_view;
 mod presentation;
@@ -60,6 +62,9 @@ pub struct RaylabApp {
     pub accuracy: accuracy_view::AccuracyView,
     /// Scene files the browser's file picker has read (web).
     inbox: crate::platform::Inbox,
+    /// The desktop's native Open/Save dialog while it is open.
+    #[cfg(not(target_arch = "wasm32"))]
+    browsing: Option<native_dialog::Browsing>,
     /// Presentation mode: the index of the step on screen.
     pub presentation: Option<usize>,
     /// Where the open view was drawn last frame (tests check it keeps half the window).
@@ -86,6 +91,8 @@ impl RaylabApp {
             notice: None,
             accuracy: accuracy_view::AccuracyView::default(),
             inbox: crate::platform::Inbox::default(),
+            #[cfg(not(target_arch = "wasm32"))]
+            browsing: None,
             presentation: None,
             view_rect: None,
             steps_to_top: false,

@@ -34,14 +34,73 @@ impl RaylabApp {
                     Dialog::Open => "Open",
                     Dialog::Save => "Save",
                 };
-                if ui.button(action).clicked() {
-                    self.notice = Some(self.run_dialog(dialog));
-                    done = true;
-                }
+                ui.horizontal(|ui| {
+                    if ui.button(action).clicked() {
+                        self.notice = Some(self.run_dialog(dialog));
+                        done = true;
+                    }
+                    done |= self.browse_ui(ui, dialog);
+                });
             });
         if !open || done {
             self.dialog = None;
+            // A native dialog still open answers nobody now.
+            #[cfg(not(target_arch = "wasm32"))]
+            {
+                self.browsing = None;
+            }
         }
+    }
+
+    /// The Browse… button that opens the desktop's own dialog, and its answer: a chosen file is
+    /// opened or saved at once (true: raylab's dialog is done). Without a native dialog the typed
+    /// path stays, with a note.
+    #[cfg(not(target_arch = "wasm32"))]
+    fn browse_ui(&mut self, ui: &mut egui::Ui, dialog: Dialog) -> bool {
+        use super::native_dialog::{Answer, Browsing};
+        if let Some(answer) = self.browsing.as_mut().and_then(Browsing::answer) {
+            self.browsing = None;
+            match answer {
+                Answer::Chosen(path) => {
+                    self.state.scene_path = path.display().to_string();
+                    self.notice = Some(self.run_dialog(dialog));
+                    return true;
+                }
+                Answer::Cancelled => {}
+                Answer::Unavailable => {
+                    self.notice = Some(Notice {
+                        text: "No system file dialog opened here (no desktop portal or zenity): \
+                               type the path instead"
+                            .into(),
+                        error: true,
+                        view: None,
+                    });
+                }
+            }
+        }
+        let browsing = self.browsing.is_some();
+        let button = ui
+            .add_enabled(!browsing, egui::Button::new("Browse…"))
+            .on_hover_text("Choose the file in the system's own file dialog")
+            .on_disabled_hover_text("The system's file dialog is open");
+        if button.clicked() {
+            let name = self
+                .current_scene()
+                .map_or_else(|| "scene.ron".into(), |scene| file_name(&scene.title));
+            let ctx = ui.ctx().clone();
+            self.browsing = Browsing::start(
+                dialog == Dialog::Save,
+                &self.state.scene_path,
+                &name,
+                move || ctx.request_repaint(),
+            );
+        }
+        false
+    }
+
+    #[cfg(target_arch = "wasm32")]
+    fn browse_ui(&mut self, _ui: &mut egui::Ui, _dialog: Dialog) -> bool {
+        false
     }
 
     /// File → Open: the path dialog on the desktop, the browser's file picker on the web.
