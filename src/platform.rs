@@ -40,7 +40,29 @@ pub const TYPED_PATHS: bool = cfg!(not(target_arch = "wasm32"));
 
 /// A text file the user chose (its name and text), or why it could not be read. Files arrive later
 /// than they are asked for: the browser reads them asynchronously.
-pub type Picked = Result<(String, String), String>;
+pub type Picked = Result<(String, String), PlatformError>;
+
+/// Why the platform could not do what was asked.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum PlatformError {
+    /// Asked of the desktop, which saves and opens typed paths instead.
+    #[error("{0} are for the web page; the desktop uses a path")]
+    WebOnly(&'static str),
+    /// The page lacks something raylab needs (a document, a body, the canvas).
+    #[error("{0}")]
+    Page(String),
+    /// The browser refused (its error's text).
+    #[error("{0}")]
+    Browser(String),
+    /// A chosen file could not be read.
+    #[error("could not read {name}: {error}")]
+    Read {
+        /// The file's name.
+        name: String,
+        /// The browser's reason.
+        error: String,
+    },
+}
 
 /// Where [`pick_file`] delivers the files the user chose; the app empties it each frame.
 #[derive(Clone, Default)]
@@ -65,25 +87,29 @@ impl Inbox {
 
 /// Offers `text` to the user as a file download named `file_name` (web only: the desktop saves to a
 /// typed path).
-pub fn download(file_name: &str, text: &str) -> Result<(), String> {
+pub fn download(file_name: &str, text: &str) -> Result<(), PlatformError> {
     #[cfg(target_arch = "wasm32")]
     return web::download(file_name, text);
     #[cfg(not(target_arch = "wasm32"))]
     {
         let _ = (file_name, text);
-        Err("downloads are for the web page; the desktop saves to a path".into())
+        Err(PlatformError::WebOnly("downloads"))
     }
 }
 
 /// Opens the browser's file picker for files matching `accept` (such as `.ron`); the file chosen
 /// arrives in `inbox`, then `wake` is called (web only: the desktop opens a typed path).
-pub fn pick_file(accept: &str, inbox: &Inbox, wake: impl Fn() + 'static) -> Result<(), String> {
+pub fn pick_file(
+    accept: &str,
+    inbox: &Inbox,
+    wake: impl Fn() + 'static,
+) -> Result<(), PlatformError> {
     #[cfg(target_arch = "wasm32")]
     return web::pick_file(accept, inbox, wake);
     #[cfg(not(target_arch = "wasm32"))]
     {
         let _ = (accept, inbox, wake);
-        Err("the file picker is for the web page; the desktop opens a path".into())
+        Err(PlatformError::WebOnly("file pickers"))
     }
 }
 

@@ -68,7 +68,8 @@ mod web {
     use wasm_bindgen::JsCast as _;
 
     use super::{Launch, RaylabApp};
-    use crate::platform::web::{describe, document};
+    use crate::platform::PlatformError;
+    use crate::platform::web::{document, refused};
 
     /// The canvas the app draws on.
     const CANVAS_ID: &str = "raylab_canvas";
@@ -122,11 +123,13 @@ mod web {
         });
     }
 
-    async fn run(launch: Launch) -> Result<(), String> {
+    async fn run(launch: Launch) -> Result<(), PlatformError> {
         let canvas = document()?
             .get_element_by_id(CANVAS_ID)
             .and_then(|element| element.dyn_into::<web_sys::HtmlCanvasElement>().ok())
-            .ok_or_else(|| format!("the page has no <canvas id=\"{CANVAS_ID}\">"))?;
+            .ok_or_else(|| {
+                PlatformError::Page(format!("the page has no <canvas id=\"{CANVAS_ID}\">"))
+            })?;
         let runner = eframe::WebRunner::new();
         runner
             .start(
@@ -139,7 +142,7 @@ mod web {
                 }),
             )
             .await
-            .map_err(|error| describe(&error))?;
+            .map_err(|error| refused(&error))?;
         save_on_the_way_out(&runner)?;
         hide_status();
         Ok(())
@@ -147,13 +150,15 @@ mod web {
 
     /// Saves the state when the tab is hidden or the page goes away: eframe saves every 30 s and on
     /// `beforeunload`, which mobile browsers and closing tabs often never send.
-    fn save_on_the_way_out(runner: &eframe::WebRunner) -> Result<(), String> {
-        let window: web_sys::EventTarget = web_sys::window().ok_or("no window")?.into();
+    fn save_on_the_way_out(runner: &eframe::WebRunner) -> Result<(), PlatformError> {
+        let window: web_sys::EventTarget = web_sys::window()
+            .ok_or_else(|| PlatformError::Page("no window".into()))?
+            .into();
         let page: web_sys::EventTarget = document()?.into();
         let listen = |target: &web_sys::EventTarget, event: &'static str| {
             runner
                 .add_event_listener(target, event, |_: web_sys::Event, app| app.save())
-                .map_err(|error| describe(&error))
+                .map_err(|error| refused(&error))
         };
         listen(&window, "pagehide")?;
         listen(&page, "visibilitychange")

@@ -151,7 +151,7 @@ impl RaylabApp {
     pub(super) fn receive_files(&mut self) {
         for file in self.inbox.take() {
             self.notice = Some(
-                match file.and_then(|(name, text)| {
+                match file.map_err(|e| e.to_string()).and_then(|(name, text)| {
                     let scene = Scene::from_ron(&text, &name).map_err(|error| error.to_string())?;
                     self.load_scene(&scene)
                         .map_err(|error| format!("{name}: {error}"))?;

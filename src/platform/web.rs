@@ -4,13 +4,18 @@
 use wasm_bindgen::JsCast as _;
 use wasm_bindgen::prelude::*;
 
-use super::{Inbox, Picked};
+use super::{Inbox, Picked, PlatformError};
 
 /// The page's document.
-pub fn document() -> Result<web_sys::Document, String> {
+pub fn document() -> Result<web_sys::Document, PlatformError> {
     web_sys::window()
         .and_then(|window| window.document())
-        .ok_or_else(|| "no document: raylab must run in a web page".to_string())
+        .ok_or_else(|| PlatformError::Page("no document: raylab must run in a web page".into()))
+}
+
+/// A JavaScript error as the platform's error.
+pub fn refused(value: &JsValue) -> PlatformError {
+    PlatformError::Browser(describe(value))
 }
 
 /// A JavaScript error as text.
@@ -26,36 +31,42 @@ pub fn describe(value: &JsValue) -> String {
 }
 
 /// Offers `text` as a file download: a Blob behind a temporary link, clicked.
-pub fn download(file_name: &str, text: &str) -> Result<(), String> {
+pub fn download(file_name: &str, text: &str) -> Result<(), PlatformError> {
     let parts = js_sys::Array::of1(&JsValue::from_str(text));
     let options = web_sys::BlobPropertyBag::new();
     options.set_type("text/plain;charset=utf-8");
     let blob = web_sys::Blob::new_with_str_sequence_and_options(&parts, &options)
-        .map_err(|e| describe(&e))?;
-    let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(|e| describe(&e))?;
+        .map_err(|e| refused(&e))?;
+    let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(|e| refused(&e))?;
     let link: web_sys::HtmlAnchorElement = document()?
         .create_element("a")
-        .map_err(|e| describe(&e))?
+        .map_err(|e| refused(&e))?
         .dyn_into()
-        .map_err(|_| "not a link".to_string())?;
+        .map_err(|_| PlatformError::Page("not a link".into()))?;
     link.set_href(&url);
     link.set_download(file_name);
     // In the page while it is clicked, as Firefox wants; the Blob's URL is left alone, because
     // revoking it at once can cancel the download there (a scene file is a few hundred bytes).
-    let body = document()?.body().ok_or("the page has no body")?;
-    body.append_child(&link).map_err(|e| describe(&e))?;
+    let body = document()?
+        .body()
+        .ok_or_else(|| PlatformError::Page("the page has no body".into()))?;
+    body.append_child(&link).map_err(|e| refused(&e))?;
     link.click();
     let _ = body.remove_child(&link);
     Ok(())
 }
 
 /// Opens the browser's file picker; the chosen file's text is read asynchronously into `inbox`.
-pub fn pick_file(accept: &str, inbox: &Inbox, wake: impl Fn() + 'static) -> Result<(), String> {
+pub fn pick_file(
+    accept: &str,
+    inbox: &Inbox,
+    wake: impl Fn() + 'static,
+) -> Result<(), PlatformError> {
     let input: web_sys::HtmlInputElement = document()?
         .create_element("input")
-        .map_err(|e| describe(&e))?
+        .map_err(|e| refused(&e))?
         .dyn_into()
-        .map_err(|_| "not an input".to_string())?;
+        .map_err(|_| PlatformError::Page("not an input".into()))?;
     input.set_type("file");
     input.set_accept(accept);
     let (inbox, chosen) = (inbox.clone(), input.clone());
@@ -69,7 +80,10 @@ pub fn pick_file(accept: &str, inbox: &Inbox, wake: impl Fn() + 'static) -> Resu
             let text: Picked = wasm_bindgen_futures::JsFuture::from(file.text())
                 .await
                 .map(|text| (name.clone(), text.as_string().unwrap_or_default()))
-                .map_err(|error| format!("could not read {name}: {}", describe(&error)));
+                .map_err(|error| PlatformError::Read {
+                    name: name.clone(),
+                    error: describe(&error),
+                });
             inbox.put(text);
             wake();
         });
