@@ -216,6 +216,14 @@ pub fn lesson(name: &str) -> Option<Lesson> {
         .map(|(_, lesson)| lesson)
 }
 
+/// A lesson name that names no built-in lesson; the message lists them.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("no lesson named “{name}” (there are: {})", lesson_names().join(", "))]
+pub struct UnknownLesson {
+    /// The name given.
+    pub name: String,
+}
+
 /// The built-in lessons' names for [`lesson`].
 pub fn lesson_names() -> Vec<&'static str> {
     scene::stems(BUILT_IN)

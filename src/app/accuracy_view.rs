@@ -5,7 +5,7 @@
 //! each method decides.
 
 use super::ViewKind;
-use super::view::{ActiveSolve, Request, View, not_mine};
+use super::view::{ActiveSolve, OpenError, Request, View, not_mine};
 use super::widgets::palette::Readable as _;
 use egui::{Color32, RichText, Ui};
 use egui_plot::{Line, MarkerShape, Plot, PlotPoints, Points};
@@ -46,7 +46,7 @@ impl View for AccuracyView {
         ViewKind::Accuracy
     }
 
-    fn open(&mut self, _problem: &Problem, _folder: Option<String>) -> Result<(), String> {
+    fn open(&mut self, _problem: &Problem, _folder: Option<String>) -> Result<(), OpenError> {
         Err(not_mine(self.kind()))
     }
 

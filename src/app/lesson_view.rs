@@ -35,12 +35,9 @@ struct Asked {
 
 impl RaylabApp {
     /// Starts the built-in lesson `name` at its first slide; an unknown name is reported.
-    pub fn start_lesson(&mut self, name: &str) -> Result<(), String> {
-        let lesson = lesson::lesson(name).ok_or_else(|| {
-            format!(
-                "no lesson named “{name}” (there are: {})",
-                lesson::lesson_names().join(", ")
-            )
+    pub fn start_lesson(&mut self, name: &str) -> Result<(), lesson::UnknownLesson> {
+        let lesson = lesson::lesson(name).ok_or_else(|| lesson::UnknownLesson {
+            name: name.to_string(),
         })?;
         self.presentation = None;
         self.practice = None;

@@ -137,7 +137,7 @@ impl RaylabApp {
         if let Some(name) = &launch.lesson
             && let Err(error) = self.start_lesson(name)
         {
-            problems.push(error);
+            problems.push(error.to_string());
         }
         if !problems.is_empty() {
             self.notice = Some(Notice {
@@ -162,12 +162,16 @@ impl RaylabApp {
 
     /// Loads a scene into its view and switches to it; a render scene whose meshes or textures
     /// cannot be read is refused, and the scene on screen is kept.
-    pub fn load_scene(&mut self, scene: &Scene) -> Result<(), String> {
+    pub fn load_scene(&mut self, scene: &Scene) -> Result<(), view::OpenError> {
         self.load_scene_from(scene, None)
     }
 
     /// Loads a scene read from a file in `folder`, where a render scene's own meshes and textures are.
-    pub fn load_scene_from(&mut self, scene: &Scene, folder: Option<String>) -> Result<(), String> {
+    pub fn load_scene_from(
+        &mut self,
+        scene: &Scene,
+        folder: Option<String>,
+    ) -> Result<(), view::OpenError> {
         let kind = view_of(&scene.problem);
         self.view_mut(kind).open(&scene.problem, folder)?;
         self.state.titles[kind as usize] = (scene.title.clone(), scene.note.clone());

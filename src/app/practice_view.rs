@@ -52,7 +52,7 @@ impl RaylabApp {
                 let scene = scene_of(&problem.inputs, seed, level);
                 if let Err(error) = self.load_scene(&scene) {
                     self.notice = Some(Notice {
-                        text: error,
+                        text: error.to_string(),
                         error: true,
                         view: None,
                     });

@@ -11,7 +11,7 @@ mod spaces;
 
 use jobs::{Choices, Runtime, loads_in_background};
 
-use super::view::{ActiveSolve, Request, View, not_mine};
+use super::view::{ActiveSolve, OpenError, Request, View, not_mine};
 use super::widgets::palette::Readable as _;
 use super::{ViewKind, parallelogram_view, triangle_view};
 use std::sync::Arc;
@@ -72,7 +72,7 @@ impl View for RenderView {
         ViewKind::Render
     }
 
-    fn open(&mut self, problem: &Problem, folder: Option<String>) -> Result<(), String> {
+    fn open(&mut self, problem: &Problem, folder: Option<String>) -> Result<(), OpenError> {
         let Problem::Render(scene) = problem else {
             return Err(not_mine(self.kind()));
         };
@@ -157,13 +157,13 @@ impl RenderView {
     ///
     /// A scene with large meshes is only checked here: its meshes load in the background
     /// ([`RenderView::update`]), with a progress bar and a Cancel button.
-    pub fn load(&mut self, scene: RenderScene, folder: Option<String>) -> Result<(), String> {
+    pub fn load(&mut self, scene: RenderScene, folder: Option<String>) -> Result<(), OpenError> {
         let files = assets(folder.as_deref());
         let prepared = if loads_in_background(&scene, &files) {
-            scene.check()?;
+            scene.check().map_err(OpenError::Scene)?;
             None
         } else {
-            Some(Prepared::new(&scene, &files).map_err(|e| e.to_string())?)
+            Some(Prepared::new(&scene, &files)?)
         };
         self.folder = folder;
         self.effects = scene.effects.clone();

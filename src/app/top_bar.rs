@@ -143,7 +143,7 @@ impl RaylabApp {
         if let Some(name) = chosen {
             if let Err(error) = self.start_lesson(name) {
                 self.notice = Some(Notice {
-                    text: error,
+                    text: error.to_string(),
                     error: true,
                     view: None,
                 });

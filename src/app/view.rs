@@ -50,7 +50,7 @@ pub trait View {
     fn kind(&self) -> ViewKind;
 
     /// Opens a problem of its kind (a render scene's meshes and textures are found in `folder`).
-    fn open(&mut self, problem: &Problem, folder: Option<String>) -> Result<(), String>;
+    fn open(&mut self, problem: &Problem, folder: Option<String>) -> Result<(), OpenError>;
 
     /// Its problem as it stands now (to save it, to tell whether it was edited); `None` for a view
     /// with no problem of its own.
@@ -86,7 +86,7 @@ macro_rules! lecture_view {
                 &mut self,
                 problem: &$crate::scene::Problem,
                 _folder: Option<String>,
-            ) -> Result<(), String> {
+            ) -> Result<(), $crate::app::view::OpenError> {
                 let $crate::scene::Problem::$variant(scene) = problem else {
                     return Err($crate::app::view::not_mine(self.kind()));
                 };
@@ -140,8 +140,22 @@ macro_rules! lecture_view {
 }
 
 /// The refusal of a problem that belongs to another view.
-pub fn not_mine(kind: ViewKind) -> String {
-    format!("the {} view opens no such problem", kind.label())
+pub fn not_mine(kind: ViewKind) -> OpenError {
+    OpenError::NotMine(kind)
+}
+
+/// Why a view cannot open a problem (the scene on screen is kept).
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    /// A problem of another view's kind.
+    #[error("the {} view opens no such problem", .0.label())]
+    NotMine(ViewKind),
+    /// A render scene whose numbers, size or camera are refused.
+    #[error("{0}")]
+    Scene(String),
+    /// A render scene whose objects or files cannot be prepared.
+    #[error(transparent)]
+    Prepare(#[from] crate::render::PrepareError),
 }
 
 impl RaylabApp {
