@@ -108,3 +108,23 @@ impl Secondary {
         ]
     }
 }
+
+/// One line for `--stats`: the rays by kind, then the secondary rays' work.
+pub fn by_kind_line(stats: &super::Stats) -> String {
+    let s = &stats.secondary;
+    let work: Vec<String> = s.counters()[5..]
+        .iter()
+        .map(|(name, value)| format!("{name} {value}"))
+        .collect();
+    format!(
+        "rays by kind: primary {} (+ {} antialiasing samples), shadow {}, reflection {}, \
+         refraction {}, occlusion {}; {}",
+        stats.rays,
+        s.sample_rays,
+        s.shadow_rays,
+        s.reflection_rays,
+        s.refraction_rays,
+        s.occlusion_rays,
+        work.join(", ")
+    )
+}
