@@ -113,12 +113,68 @@ fn bvh(c: &mut Criterion) {
     }
 }
 
+/// The effects past ray casting: for each shipped scene that declares one, one render with all its
+/// effects and one with each of those left out in turn, timed once each and printed as a table with
+/// the rays of each kind (`cargo bench --bench render -- cost-table` prints it and skips the rest).
+fn cost_table(_: &mut Criterion) {
+    use raylab::render::rays::RayKind;
+    let past_casting = [
+        Effect::Shadows,
+        Effect::Reflections,
+        Effect::Refraction,
+        Effect::AmbientOcclusion,
+        Effect::Antialiasing,
+    ];
+    println!(
+        "| scene | effects | time (ms) | primary | samples | shadow | reflection | refraction | occlusion |"
+    );
+    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    for file in [
+        "render-cornell-box.ron",
+        "effect-shadows.ron",
+        "effect-reflections.ron",
+        "effect-refraction.ron",
+        "effect-ambient-occlusion.ron",
+        "effect-antialiasing.ron",
+    ] {
+        let scene = scene(file);
+        let prepared = Prepared::new(&scene, &Embedded).unwrap();
+        let mut runs = vec![("all".to_string(), scene.effects.clone())];
+        for off in scene.effects.iter().filter(|e| past_casting.contains(e)) {
+            let rest = scene.effects.iter().copied().filter(|e| e != off).collect();
+            runs.push((format!("without {}", off.name()), rest));
+        }
+        for (label, effects) in runs {
+            let mut prepared = prepared.clone();
+            prepared.effects = effects;
+            let clock = std::time::Instant::now();
+            let (_, stats) = render(&prepared);
+            let ms = clock.elapsed().as_secs_f64() * 1e3;
+            let s = &stats.secondary;
+            let kinds = [
+                RayKind::Sample,
+                RayKind::Shadow,
+                RayKind::Reflection,
+                RayKind::Refraction,
+                RayKind::Occlusion,
+            ]
+            .map(|k| s.rays(k).to_string())
+            .join(" | ");
+            println!(
+                "| {} | {label} | {ms:.1} | {} | {kinds} |",
+                file.trim_end_matches(".ron"),
+                stats.rays
+            );
+        }
+    }
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default()
         .sample_size(10)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));
-    targets = effects, bvh
+    targets = cost_table, effects, bvh
 }
 criterion_main!(benches);

@@ -520,6 +520,7 @@ fn run_render(args: RenderArgs) -> i32 {
             .map(|(name, value)| format!("{name} {value}"))
             .collect();
         out!("{}", counters.join(", "));
+        out!("{}", crate::render::rays::by_kind_line(&stats));
     }
     0
 }

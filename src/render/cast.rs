@@ -28,6 +28,9 @@ pub enum Bug {
     VInsteadOfSum,
     /// Normalising the direction after transforming into object space.
     NormalizedDirection,
+    /// Starting shadow (and other secondary) rays exactly at the hit point, without the offset
+    /// along the normal: shadow acne.
+    ShadowAcne,
 }
 
 impl Bug {
@@ -43,6 +46,7 @@ impl Bug {
             Bug::NegativeT => "accepting t < 0",
             Bug::VInsteadOfSum => "v ≤ 1 for β + γ ≤ 1",
             Bug::NormalizedDirection => "normalising D in object space",
+            Bug::ShadowAcne => "no offset: shadow acne",
         }
     }
 
@@ -64,6 +68,12 @@ impl Bug {
                 "After M⁻¹ the direction must stay as it is: normalised, the object-space t is no \
                  longer the world t, so depths and which object is in front go wrong under a \
                  non-uniform scale."
+            }
+            Bug::ShadowAcne => {
+                "The hit point is rounded to one side of the surface or the other: a shadow ray \
+                 started exactly there hits its own surface at t ≈ 1e-16 about half the time, and \
+                 speckles lit surfaces with shadow. Move the origin off along the normal (or ask \
+                 for t > ε)."
             }
         }
     }
@@ -215,7 +225,9 @@ fn surely_outside([corner, e1, e2]: [&V3<f64>; 3], origin: &V3<f64>, dir: &V3<f6
 /// True when an object's triangles take the crack-free test: the method is `watertight` (the default
 /// for meshes) and no bug is switched on. `watertight-exact` keeps the exact-deciding test.
 pub fn crack_free_applies(prepared: &Prepared, object: &PreparedObject) -> bool {
-    prepared.bug.is_none() && prepared.method_for(object) == Method::Watertight
+    // Shadow acne is a bug of the secondary rays' origins, not of the triangle test.
+    matches!(prepared.bug, None | Some(Bug::ShadowAcne))
+        && prepared.method_for(object) == Method::Watertight
 }
 
 /// The nearest hit of the crack-free test among `triangles` (through the BVH when there is one) with
@@ -440,6 +452,156 @@ fn hit_object(
             }
         }
     }
+}
+
+/// What a secondary ray looks for: the nearest hit (reflected, refracted rays) or any (shadow and
+/// occlusion rays, which stop at the first).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Find {
+    Nearest,
+    Any,
+}
+
+/// The nearest hit among all objects with `t_min < t ≤ t_max` (ties as [`nearest_hit`]): secondary
+/// rays, through the same transforms, methods and BVHs as primary rays.
+pub fn nearest_hit_between(
+    prepared: &Prepared,
+    origin: V3<f64>,
+    dir: V3<f64>,
+    (t_min, t_max): (f64, f64),
+    stats: &mut Stats,
+) -> Option<Hit> {
+    let mut best: Option<Hit> = None;
+    for index in 0..prepared.objects.len() {
+        let range = (t_min, best.map_or(t_max, |b| b.t));
+        let ray = (origin, dir);
+        if let Some(hit) = object_hit_between(prepared, index, ray, range, Find::Nearest, stats) {
+            offer(&mut best, hit);
+        }
+    }
+    best
+}
+
+/// True when anything is hit with `t_min < t ≤ t_max`: an any-hit query that stops at the first hit
+/// (shadow and occlusion rays).
+pub fn any_hit(
+    prepared: &Prepared,
+    origin: V3<f64>,
+    dir: V3<f64>,
+    range: (f64, f64),
+    stats: &mut Stats,
+) -> bool {
+    (0..prepared.objects.len()).any(|index| {
+        object_hit_between(prepared, index, (origin, dir), range, Find::Any, stats).is_some()
+    })
+}
+
+/// Object `index`'s nearest hit in (t_min, t_max], or with [`Find::Any`] the first one found.
+fn object_hit_between(
+    prepared: &Prepared,
+    index: usize,
+    (origin, dir): (V3<f64>, V3<f64>),
+    (t_min, t_max): (f64, f64),
+    find: Find,
+    stats: &mut Stats,
+) -> Option<Hit> {
+    let object = &prepared.objects[index];
+    let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
+    let in_range = |t: f64| t > t_min && t <= t_max;
+    match &object.geometry {
+        Geometry::Triangles { triangles, bvh } => {
+            let hit = triangles_between(
+                prepared,
+                object,
+                (triangles, bvh.as_ref()),
+                (o, d),
+                (t_min, t_max),
+                find,
+                stats,
+            )?;
+            Some(Hit {
+                object: index,
+                ..hit
+            })
+        }
+        Geometry::Parallelogram { corner, e1, e2, .. } => {
+            stats.parallelogram_tests += 1;
+            let [t, alpha, beta] = test_parallelogram([corner, e1, e2], prepared.bug, o, d)?;
+            in_range(t).then_some(Hit::of(index, 0, [t, alpha, beta]))
+        }
+    }
+}
+
+/// The nearest (or, with [`Find::Any`], the first found) of an object's triangles hit in
+/// (t_min, t_max], in object space; its `object` is left 0.
+fn triangles_between(
+    prepared: &Prepared,
+    object: &PreparedObject,
+    (triangles, bvh): (&[PreparedTriangle], Option<&Bvh>),
+    (o, d): (V3<f64>, V3<f64>),
+    (t_min, t_max): (f64, f64),
+    find: Find,
+    stats: &mut Stats,
+) -> Option<Hit> {
+    let crack_free = crack_free_applies(prepared, object);
+    if crack_free
+        && find == Find::Nearest
+        && let Some(bvh) = bvh
+    {
+        let (primitive, values) = bvh.nearest_crack_free(
+            &o,
+            &d,
+            t_min,
+            t_max,
+            &mut stats.box_tests,
+            &mut stats.triangle_tests,
+        )?;
+        return Some(Hit::of(0, primitive, values));
+    }
+    let sheared = if crack_free {
+        ShearedRay::new(&o, &d)
+    } else {
+        None
+    };
+    if crack_free && sheared.is_none() {
+        return None;
+    }
+    let method = prepared.method_for(object);
+    let decide = |triangle: &PreparedTriangle| match &sheared {
+        Some(ray) => ray.intersect(&triangle.vertices, t_min),
+        None => test_triangle(triangle, method, prepared.bug, o, d).filter(|h| h[0] > t_min),
+    };
+    let mut best: Option<Hit> = None;
+    let mut tests = 0;
+    let mut consider = |primitive: usize| -> Option<f64> {
+        if find == Find::Any && best.is_some() {
+            return None;
+        }
+        tests += 1;
+        let values =
+            decide(&triangles[primitive]).filter(|h| h[0] <= best.map_or(t_max, |b| b.t))?;
+        offer(&mut best, Hit::of(0, primitive, values));
+        // An any-hit query is done: no box can be nearer than −∞, so the walk ends.
+        Some(if find == Find::Any {
+            f64::NEG_INFINITY
+        } else {
+            values[0]
+        })
+    };
+    let culls = !matches!(prepared.bug, Some(Bug::AndForOr | Bug::VInsteadOfSum));
+    match bvh.filter(|_| culls) {
+        Some(bvh) => bvh.traverse(&o, &d, t_min, t_max, &mut stats.box_tests, consider),
+        None => {
+            for primitive in 0..triangles.len() {
+                // −∞: an any-hit query found its hit.
+                if consider(primitive) == Some(f64::NEG_INFINITY) {
+                    break;
+                }
+            }
+        }
+    }
+    stats.triangle_tests += tests;
+    best
 }
 
 #[cfg(test)]

@@ -199,6 +199,7 @@ pub fn mesh_scene(
             texture: None,
             is_mesh: true,
         }]),
+        lighting: Default::default(),
     }
 }
 

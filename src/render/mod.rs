@@ -12,10 +12,15 @@ pub mod bvh;
 pub mod cast;
 pub mod crack_free;
 pub mod generate;
+pub mod light;
 pub mod objects;
+pub mod optics;
 pub mod probe;
+pub mod rays;
+pub mod sampling;
 pub mod scene_load;
 pub mod shade;
+pub mod trace_rays;
 
 use std::sync::Arc;
 
@@ -28,9 +33,13 @@ use crate::platform::{Progress, Sliced, Stopwatch};
 use crate::scene::render::{Camera, Effect, RenderScene};
 use assets::AssetSource;
 pub use cast::{Bug, Hit};
+use light::Lighting;
 use objects::{Geometry, PreparedObject, unit};
 pub use objects::{ObjectError, PrepareError};
 use shade::Shader;
+
+/// A ray: origin and direction (not normalised).
+pub type Ray = (V3<f64>, V3<f64>);
 
 /// Rays traced together through a mesh's BVH: neighbouring pixels of a row.
 const PACKET: usize = 16;
@@ -60,6 +69,9 @@ pub struct Stats {
     pub shading: u64,
     /// Distance fades (`depth`).
     pub depth_fades: u64,
+    /// The effects past ray casting: their rays by kind and the work those rays did (the counters
+    /// above count only the primary ray through each pixel's centre).
+    pub secondary: rays::Secondary,
 }
 
 impl Stats {
@@ -93,6 +105,7 @@ impl Stats {
             texture_samples: self.texture_samples + other.texture_samples,
             shading: self.shading + other.shading,
             depth_fades: self.depth_fades + other.depth_fades,
+            secondary: self.secondary.plus(other.secondary),
         }
     }
 }
@@ -155,6 +168,8 @@ pub struct Prepared {
     /// The objects, shared: a render with other effects, another method or a bug is a new
     /// `Prepared` over the same objects (a million-triangle mesh is not copied).
     pub objects: Arc<[PreparedObject]>,
+    /// Lights, materials and the parameters of the effects past ray casting.
+    pub lighting: Lighting,
 }
 
 impl Prepared {
@@ -180,6 +195,7 @@ impl Prepared {
             effects: scene.effects.clone(),
             bug: None,
             objects,
+            lighting: Lighting::of(scene),
         })
     }
 
@@ -219,6 +235,9 @@ impl Prepared {
     /// Renders rows `first..first + pixels.len() / width` into the given slices of the image.
     fn render_rows(&self, first: usize, pixels: &mut [[f32; 3]], covered: &mut [bool]) -> Stats {
         let width = self.width;
+        if trace_rays::applies(self) {
+            return trace_rays::Tracer::new(self).render_rows(first, pixels, covered);
+        }
         if batched::applies(self) {
             return batched::render_rows(self, first, pixels, covered);
         }
@@ -263,6 +282,37 @@ impl Prepared {
             }
         }
         stats
+    }
+
+    /// The primary rays of row `row` and their nearest hits, cast as [`Prepared::render_rows`] casts
+    /// them (packets of neighbouring pixels where a mesh takes the crack-free test), so the counters
+    /// of ray casting are the same with or without the effects past it. Counts rays and hits.
+    pub fn cast_row(
+        &self,
+        row: usize,
+        basis: Option<&Basis>,
+        stats: &mut Stats,
+    ) -> Vec<(Ray, Option<Hit>)> {
+        let width = self.width;
+        let ray = |column| camera_ray_in(&self.camera, basis, (width, self.height), row, column);
+        let packets = self
+            .objects
+            .iter()
+            .any(|o| cast::crack_free_applies(self, o));
+        let packed = if packets { width / PACKET * PACKET } else { 0 };
+        let mut out = Vec::with_capacity(width);
+        for start in (0..packed).step_by(PACKET) {
+            let rays: [(V3<f64>, V3<f64>); PACKET] = std::array::from_fn(|k| ray(start + k));
+            let hits = cast::nearest_hits(self, &rays, stats);
+            out.extend(rays.into_iter().zip(hits));
+        }
+        for column in packed..width {
+            let (origin, dir) = ray(column);
+            out.push(((origin, dir), cast::nearest_hit(self, origin, dir, stats)));
+        }
+        stats.rays += width as u64;
+        stats.hits += out.iter().filter(|(_, hit)| hit.is_some()).count() as u64;
+        out
     }
 
     /// A pixel's colour and coverage from its nearest hit (counting the ray and the hit).
@@ -434,12 +484,25 @@ pub fn camera_ray_in(
     row: usize,
     column: usize,
 ) -> (V3<f64>, V3<f64>) {
+    camera_ray_at(camera, basis, (width, height), row as f64, column as f64)
+}
+
+/// The ray through the fractional pixel position (row, column), pixel centres at whole numbers
+/// (antialiasing's samples lie between them).
+#[inline]
+pub fn camera_ray_at(
+    camera: &Camera,
+    basis: Option<&Basis>,
+    (width, height): (usize, usize),
+    row: f64,
+    column: f64,
+) -> (V3<f64>, V3<f64>) {
     // Pixel centres at both ends, as numpy's mgrid with a complex step count places them.
-    let along = |from: f64, to: f64, i: usize, n: usize| {
+    let along = |from: f64, to: f64, i: f64, n: usize| {
         if n <= 1 {
             from
         } else {
-            from + (to - from) * i as f64 / (n - 1) as f64
+            from + (to - from) * i / (n - 1) as f64
         }
     };
     match camera {
@@ -455,8 +518,8 @@ pub fn camera_ray_in(
             let Some(b) = basis else {
                 return ([0.0; 3], [0.0; 3]);
             };
-            let u = (column as f64 + 0.5) / width as f64 * 2.0 - 1.0;
-            let v = 1.0 - (row as f64 + 0.5) / height as f64 * 2.0;
+            let u = (column + 0.5) / width as f64 * 2.0 - 1.0;
+            let v = 1.0 - (row + 0.5) / height as f64 * 2.0;
             let dir: V3<f64> = std::array::from_fn(|k| {
                 b.forward[k] + b.right[k] * u * b.half_width + b.up[k] * v * b.half_height
             });
@@ -505,6 +568,9 @@ mod tests {
                 transform: Transform::default(),
             }],
             effects,
+            lights: vec![],
+            materials: vec![],
+            settings: Default::default(),
         };
         Prepared::new(&scene, &assets::Embedded).unwrap()
     }

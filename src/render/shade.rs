@@ -13,6 +13,22 @@ pub struct Shader {
     texture: bool,
     smooth: bool,
     facing: bool,
+    /// Lights shade the scene (see [`super::trace_rays`]): an object without another colour shows its
+    /// own, not white.
+    lit: bool,
+}
+
+/// A hit's surface before lighting (for the effects past ray casting).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    /// The colour from the texture, the vertex colours or the object's.
+    pub base: V3<f64>,
+    /// The world-space unit normal (interpolated under `smooth-normals`), as the geometry orients it.
+    pub normal: V3<f64>,
+    /// n̂ · (−ê), when a shading effect asked for it.
+    pub facing: Option<f64>,
+    /// The `depth` fade factor (1 without it).
+    pub fade: f64,
 }
 
 /// What shading a hit gave.
@@ -35,6 +51,44 @@ impl Shader {
             smooth: wants(Effect::SmoothNormals),
             // Smooth normals are a way of shading, so they shade by the facing ratio too.
             facing: wants(Effect::FacingRatio) || wants(Effect::SmoothNormals),
+            lit: false,
+        }
+    }
+
+    /// The shader for a scene lit by lights: objects keep their colours.
+    pub fn lit(effects: &[Effect]) -> Shader {
+        Shader {
+            lit: true,
+            ..Shader::new(effects)
+        }
+    }
+
+    /// A hit's surface: its colour, normal, facing ratio and fade, counting the same work as
+    /// [`Shader::shade`] (the normal is always found: lights and mirrors need it).
+    pub fn surface(
+        &self,
+        object: &PreparedObject,
+        hit: &Hit,
+        dir: &V3<f64>,
+        inverse_length: f64,
+        stats: &mut Stats,
+    ) -> Surface {
+        let base = self.base_color(object, hit, stats);
+        if self.facing {
+            stats.shading += 1;
+        }
+        let normal = self.world_normal(object, hit, stats);
+        let facing = self.facing.then(|| -dot(&normal, dir) * inverse_length);
+        let mut fade = 1.0;
+        if self.depth {
+            stats.depth_fades += 1;
+            fade = 1.0 / (1.0 + 0.1 * hit.t.abs() / inverse_length);
+        }
+        Surface {
+            base,
+            normal: unit(normal),
+            facing,
+            fade,
         }
     }
 
@@ -96,7 +150,11 @@ impl Shader {
             stats.color_interpolations += 1;
             return interpolate(&weights, &colors);
         }
-        if self.facing { object.color } else { [1.0; 3] }
+        if self.facing || self.lit {
+            object.color
+        } else {
+            [1.0; 3]
+        }
     }
 
     /// The world-space unit normal: interpolated from the vertex normals under `smooth-normals`, the

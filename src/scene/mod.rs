@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::geometry::Inputs;
 
+pub mod lighting;
 pub mod render;
 
 pub use render::RenderScene;
@@ -331,6 +332,30 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     (
         "render-mesh.ron",
         include_str!("../../assets/scenes/render-mesh.ron"),
+    ),
+    (
+        "render-cornell-box.ron",
+        include_str!("../../assets/scenes/render-cornell-box.ron"),
+    ),
+    (
+        "effect-shadows.ron",
+        include_str!("../../assets/scenes/effect-shadows.ron"),
+    ),
+    (
+        "effect-reflections.ron",
+        include_str!("../../assets/scenes/effect-reflections.ron"),
+    ),
+    (
+        "effect-refraction.ron",
+        include_str!("../../assets/scenes/effect-refraction.ron"),
+    ),
+    (
+        "effect-ambient-occlusion.ron",
+        include_str!("../../assets/scenes/effect-ambient-occlusion.ron"),
+    ),
+    (
+        "effect-antialiasing.ron",
+        include_str!("../../assets/scenes/effect-antialiasing.ron"),
     ),
     (
         "render-common-bugs.ron",

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::intersect::Method;
 use crate::math::linalg::{dot, sub};
+pub use crate::scene::lighting::{EffectSettings, Light, MAX_LIGHTS, Material};
 
 /// A camera: seed 003's image plane, or a pinhole looking at a target.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -52,6 +53,16 @@ pub enum Effect {
     SmoothNormals,
     /// A texture sampled at the interpolated texture coordinates (seed 004).
     Texture,
+    /// One shadow ray per light per shaded hit: is the light visible?
+    Shadows,
+    /// Mirror rays from reflective materials, up to `settings.max_depth` bounces.
+    Reflections,
+    /// Rays through glass by Snell's law (total internal reflection, Schlick's Fresnel mix).
+    Refraction,
+    /// `settings.occlusion_rays` seeded rays over the hemisphere: how open is the point?
+    AmbientOcclusion,
+    /// k×k stratified samples per pixel, k = `settings.samples_per_side`.
+    Antialiasing,
 }
 
 impl Effect {
@@ -76,6 +87,26 @@ impl Effect {
                  world space by the inverse transpose."
             }
             Effect::Texture => "The texture sampled at the interpolated (u, v).",
+            Effect::Shadows => {
+                "A shadow ray from each shaded hit to each light, stopping at the first thing in \
+                 between (an any-hit query): the light counts only if none is."
+            }
+            Effect::Reflections => {
+                "Mirrors reflect: a ray along r = d − 2(d·n)n from the hit, traced again, up to the \
+                 depth limit."
+            }
+            Effect::Refraction => {
+                "Glass bends rays by Snell's law, η₁ sin θ₁ = η₂ sin θ₂, reflects them wholly past \
+                 the critical angle, and mixes in the reflection by Schlick's Fresnel term."
+            }
+            Effect::AmbientOcclusion => {
+                "N seeded rays over the hemisphere above each hit: the share that escapes scales \
+                 the ambient light (an open plane keeps all of it)."
+            }
+            Effect::Antialiasing => {
+                "k×k rays a pixel, one jittered in each cell of a k×k grid, averaged: smooth edges \
+                 for k² times the primary rays."
+            }
         }
     }
 }
@@ -111,9 +142,10 @@ impl From<SceneMethod> for String {
     }
 }
 
-/// A scene to render (the `Render` problem of a scene file).
+/// A scene to render (the `Render` problem of a scene file). In a file each object names its own
+/// `material`; here they are gathered in `materials` (see [`SceneFile`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(from = "SceneFile", into = "SceneFile")]
 pub struct RenderScene {
     /// Image width in pixels.
     pub width: usize,
@@ -128,6 +160,12 @@ pub struct RenderScene {
     pub objects: Vec<Object>,
     /// What to compute at a hit.
     pub effects: Vec<Effect>,
+    /// The lights (none: the shading effects shade by the facing ratio, as seed 003).
+    pub lights: Vec<Light>,
+    /// Object i's material is `materials[i]`; missing ones are diffuse.
+    pub materials: Vec<Material>,
+    /// The effects' parameters.
+    pub settings: EffectSettings,
 }
 
 impl RenderScene {
@@ -147,9 +185,29 @@ impl RenderScene {
             object.numbers(&mut numbers);
             check_numbers("coordinates", &numbers)
                 .and_then(|()| check_scale(&object.transform.scale))
+                .and_then(|()| self.material(i).check())
                 .map_err(|e| format!("object {}: {e}", i + 1))?;
         }
-        Ok(())
+        self.check_lighting()
+    }
+
+    /// Object `index`'s material.
+    pub fn material(&self, index: usize) -> Material {
+        self.materials.get(index).copied().unwrap_or_default()
+    }
+
+    /// The lights and the effects' parameters.
+    fn check_lighting(&self) -> Result<(), String> {
+        if self.lights.len() > MAX_LIGHTS {
+            return Err(format!(
+                "the scene has {} lights: at most {MAX_LIGHTS} (each costs a shadow ray per hit)",
+                self.lights.len()
+            ));
+        }
+        for (i, light) in self.lights.iter().enumerate() {
+            light.check().map_err(|e| format!("light {}: {e}", i + 1))?;
+        }
+        self.settings.check()
     }
 
     /// A camera whose every ray has a direction.
@@ -364,6 +422,101 @@ impl Object {
         out.extend(self.color);
         let t = &self.transform;
         out.extend(t.translate.iter().chain(&t.rotate).chain(&t.scale));
+    }
+}
+
+/// A render scene as its file holds it: each object with its material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename = "RenderScene", deny_unknown_fields)]
+pub struct SceneFile {
+    width: usize,
+    height: usize,
+    camera: Camera,
+    #[serde(default)]
+    method: Option<SceneMethod>,
+    objects: Vec<ObjectFile>,
+    effects: Vec<Effect>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    lights: Vec<Light>,
+    #[serde(default, skip_serializing_if = "is_default")]
+    settings: EffectSettings,
+}
+
+/// An object as a file holds it: [`Object`] and its material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename = "Object", deny_unknown_fields)]
+struct ObjectFile {
+    shape: Shape,
+    #[serde(default = "default_color")]
+    color: [f64; 3],
+    #[serde(default)]
+    texture: Option<String>,
+    #[serde(default)]
+    transform: Transform,
+    #[serde(default, skip_serializing_if = "Material::is_diffuse")]
+    material: Material,
+}
+
+fn is_default(settings: &EffectSettings) -> bool {
+    *settings == EffectSettings::default()
+}
+
+impl From<SceneFile> for RenderScene {
+    fn from(file: SceneFile) -> RenderScene {
+        let (objects, materials) = file
+            .objects
+            .into_iter()
+            .map(|o| {
+                let object = Object {
+                    shape: o.shape,
+                    color: o.color,
+                    texture: o.texture,
+                    transform: o.transform,
+                };
+                (object, o.material)
+            })
+            .unzip();
+        RenderScene {
+            width: file.width,
+            height: file.height,
+            camera: file.camera,
+            method: file.method,
+            objects,
+            effects: file.effects,
+            lights: file.lights,
+            materials,
+            settings: file.settings,
+        }
+    }
+}
+
+impl From<RenderScene> for SceneFile {
+    fn from(scene: RenderScene) -> SceneFile {
+        let materials: Vec<Material> = (0..scene.objects.len())
+            .map(|i| scene.material(i))
+            .collect();
+        let objects = scene
+            .objects
+            .into_iter()
+            .zip(materials)
+            .map(|(o, material)| ObjectFile {
+                shape: o.shape,
+                color: o.color,
+                texture: o.texture,
+                transform: o.transform,
+                material,
+            })
+            .collect();
+        SceneFile {
+            width: scene.width,
+            height: scene.height,
+            camera: scene.camera,
+            method: scene.method,
+            objects,
+            effects: scene.effects,
+            lights: scene.lights,
+            settings: scene.settings,
+        }
     }
 }
 

@@ -1,0 +1,370 @@
+//! The effects past ray casting (seed 004's course onwards): lights with shadow rays, mirror and
+//! glass rays up to a depth limit, ambient occlusion and antialiasing, each computed only when the
+//! scene declares it. The primary ray through each pixel's centre is cast and counted as ray casting
+//! alone does (so [`Stats`]' first counters mean the same with or without effects); every other ray
+//! is counted by kind in [`Stats::secondary`].
+//!
+//! Secondary rays start off the surface: moved by `settings.offset` along the normal, to the side
+//! they leave by. Without that ([`Bug::ShadowAcne`]) a rounded hit point below its surface sees the
+//! surface itself at t ≈ 1e-16: shadow acne.
+
+use rand_pcg::Pcg32;
+
+use super::cast::{self, Bug, Hit};
+use super::light::{incoming, lambert};
+use super::objects::unit;
+use super::optics::{reflect, refract, schlick};
+use super::rays::RayKind;
+use super::sampling::{cosine_hemisphere, pixel_rng, stratified};
+use super::shade::{Shader, Surface};
+use super::{Basis, Prepared, Ray, Stats, camera_ray_at, pinhole_basis};
+use crate::math::linalg::{V3, dot};
+use crate::scene::render::{Effect, Material};
+
+/// True when the scene calls for an effect past ray casting, or has lights to shade by.
+pub fn applies(prepared: &Prepared) -> bool {
+    let on = |e: Effect| prepared.effects.contains(&e);
+    let past_casting = [
+        Effect::Shadows,
+        Effect::Reflections,
+        Effect::Refraction,
+        Effect::AmbientOcclusion,
+        Effect::Antialiasing,
+    ];
+    past_casting.into_iter().any(on)
+        || (!prepared.lighting.lights.is_empty()
+            && (on(Effect::FacingRatio) || on(Effect::SmoothNormals)))
+}
+
+/// Which effects are on, decided once per render.
+#[derive(Clone, Copy, Debug)]
+struct Effects {
+    shadows: bool,
+    reflections: bool,
+    refraction: bool,
+    occlusion: bool,
+    antialiasing: bool,
+}
+
+/// A render's tracer: the scene, its effects and the shader.
+pub struct Tracer<'a> {
+    prepared: &'a Prepared,
+    shader: Shader,
+    on: Effects,
+    basis: Option<Basis>,
+}
+
+impl<'a> Tracer<'a> {
+    /// The tracer for a prepared scene.
+    pub fn new(prepared: &'a Prepared) -> Tracer<'a> {
+        let on = |e: Effect| prepared.effects.contains(&e);
+        let lit = !prepared.lighting.lights.is_empty();
+        Tracer {
+            prepared,
+            shader: if lit {
+                Shader::lit(&prepared.effects)
+            } else {
+                Shader::new(&prepared.effects)
+            },
+            on: Effects {
+                shadows: on(Effect::Shadows),
+                reflections: on(Effect::Reflections),
+                refraction: on(Effect::Refraction),
+                occlusion: on(Effect::AmbientOcclusion),
+                antialiasing: on(Effect::Antialiasing),
+            },
+            basis: pinhole_basis(&prepared.camera, prepared.width, prepared.height),
+        }
+    }
+
+    /// Renders rows `first..` into the given slices, as [`Prepared`]'s ray caster does.
+    pub fn render_rows(
+        &self,
+        first: usize,
+        pixels: &mut [[f32; 3]],
+        covered: &mut [bool],
+    ) -> Stats {
+        let width = self.prepared.width;
+        let mut stats = Stats::default();
+        for (i, (pixels, covered)) in pixels
+            .chunks_mut(width)
+            .zip(covered.chunks_mut(width))
+            .enumerate()
+        {
+            let row = first + i;
+            let primary = self.prepared.cast_row(row, self.basis.as_ref(), &mut stats);
+            for (column, (ray, hit)) in primary.into_iter().enumerate() {
+                let colour = self.pixel((row, column), ray, hit, &mut stats);
+                pixels[column] = colour.map(|c| c as f32);
+                covered[column] = hit.is_some();
+            }
+        }
+        stats
+    }
+
+    /// A pixel's colour from its centre's primary ray and hit (cast and counted by the caller), and
+    /// with `antialiasing` k×k stratified sample rays averaged with it.
+    pub fn pixel(
+        &self,
+        (row, column): (usize, usize),
+        centre: Ray,
+        hit: Option<Hit>,
+        stats: &mut Stats,
+    ) -> V3<f64> {
+        let p = self.prepared;
+        let mut rng = pixel_rng(p.lighting.settings.seed, row * p.width + column);
+        let mut colour = match hit {
+            Some(hit) => self.radiance(hit, centre, (RayKind::Primary, 0), &mut rng, stats),
+            None => [0.0; 3],
+        };
+        if self.on.antialiasing {
+            let samples = stratified(p.lighting.settings.samples_per_side, &mut rng);
+            for (x, y) in &samples {
+                // Cell (x, y) of the pixel around its centre.
+                let ray = self.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
+                let c = self.trace(ray, RayKind::Sample, 0, &mut rng, stats);
+                colour = std::array::from_fn(|k| colour[k] + c[k]);
+            }
+            let n = (samples.len() + 1) as f64;
+            colour = colour.map(|c| c / n);
+        }
+        colour
+    }
+
+    /// The ray through the fractional pixel position (row, column), centres at whole numbers.
+    fn ray_at(&self, row: f64, column: f64) -> Ray {
+        let p = self.prepared;
+        camera_ray_at(
+            &p.camera,
+            self.basis.as_ref(),
+            (p.width, p.height),
+            row,
+            column,
+        )
+    }
+
+    /// The colour a secondary ray of `kind` brings back (black when it escapes), counted by kind.
+    fn trace(
+        &self,
+        ray: Ray,
+        kind: RayKind,
+        depth: u32,
+        rng: &mut Pcg32,
+        stats: &mut Stats,
+    ) -> V3<f64> {
+        stats.secondary.count(kind);
+        let hit = secondary_work(stats, |s| {
+            cast::nearest_hit_between(self.prepared, ray.0, ray.1, (0.0, f64::INFINITY), s)
+        });
+        match hit {
+            Some(hit) => {
+                stats.secondary.hits += 1;
+                self.radiance(hit, ray, (kind, depth), rng, stats)
+            }
+            None => [0.0; 3],
+        }
+    }
+
+    /// True when something lies on the ray within (0, t_max]: a shadow or occlusion ray.
+    fn blocked(&self, ray: Ray, t_max: f64, kind: RayKind, stats: &mut Stats) -> bool {
+        stats.secondary.count(kind);
+        let blocked = secondary_work(stats, |s| {
+            cast::any_hit(self.prepared, ray.0, ray.1, (0.0, t_max), s)
+        });
+        stats.secondary.blocked += u64::from(blocked);
+        blocked
+    }
+
+    /// The colour seen along `ray` at `hit`: the surface lit, then its material's rays.
+    /// `(kind, depth)`: the ray's kind and how many bounces led to it.
+    fn radiance(
+        &self,
+        hit: Hit,
+        ray: Ray,
+        (kind, depth): (RayKind, u32),
+        rng: &mut Pcg32,
+        stats: &mut Stats,
+    ) -> V3<f64> {
+        let object = &self.prepared.objects[hit.object];
+        let inverse_length = 1.0 / dot(&ray.1, &ray.1).sqrt();
+        // The primary ray's shading work counts as ray casting's; the rest as the effects'.
+        let surface = if kind == RayKind::Primary {
+            self.shader
+                .surface(object, &hit, &ray.1, inverse_length, stats)
+        } else {
+            self.shader
+                .surface(object, &hit, &ray.1, inverse_length, &mut Stats::default())
+        };
+        let point: V3<f64> = std::array::from_fn(|k| ray.0[k] + hit.t * ray.1[k]);
+        // The normal on the side the ray came from.
+        let front = if dot(&surface.normal, &ray.1) > 0.0 {
+            surface.normal.map(|c| -c)
+        } else {
+            surface.normal
+        };
+        let local = self.local(&surface, (&point, &front), rng, stats);
+        let local = local.map(|c| c * surface.fade);
+        let bounce = depth < self.prepared.lighting.settings.max_depth;
+        match self.prepared.lighting.material(hit.object) {
+            Material::Mirror { reflectance } if self.on.reflections && bounce => {
+                let mirrored = self.mirrored(
+                    &point,
+                    &front,
+                    &ray.1,
+                    RayKind::Reflection,
+                    depth,
+                    rng,
+                    stats,
+                );
+                mix(&local, &mirrored, reflectance)
+            }
+            Material::Glass { ior } if self.on.refraction && bounce => {
+                let entering = dot(&surface.normal, &ray.1) < 0.0;
+                let etas = if entering { (1.0, ior) } else { (ior, 1.0) };
+                self.glass(&local, (&point, &front), &ray.1, etas, depth, rng, stats)
+            }
+            _ => local,
+        }
+    }
+
+    /// The surface's own colour: lit by the lights (with shadow rays and ambient occlusion when
+    /// declared), or shaded by the facing ratio without lights.
+    fn local(
+        &self,
+        surface: &Surface,
+        (point, front): (&V3<f64>, &V3<f64>),
+        rng: &mut Pcg32,
+        stats: &mut Stats,
+    ) -> V3<f64> {
+        let lighting = &self.prepared.lighting;
+        let open = if self.on.occlusion {
+            self.openness(point, front, rng, stats)
+        } else {
+            1.0
+        };
+        if lighting.lights.is_empty() {
+            let ratio = surface.facing.map_or(1.0, |f| f.max(0.0));
+            return surface.base.map(|c| c * ratio * open);
+        }
+        let mut light = [lighting.settings.ambient * open; 3];
+        for source in &lighting.lights {
+            stats.secondary.light_evaluations += 1;
+            let seen = incoming(source, point);
+            let cosine = lambert(front, &seen.toward);
+            if cosine == 0.0 {
+                continue;
+            }
+            if self.on.shadows {
+                let from = self.off_surface(point, front, 1.0);
+                let toward: V3<f64> = std::array::from_fn(|k| point[k] + seen.toward[k] - from[k]);
+                let t_max = seen.t_max;
+                let toward = if t_max.is_finite() {
+                    toward
+                } else {
+                    seen.toward
+                };
+                if self.blocked((from, toward), t_max, RayKind::Shadow, stats) {
+                    continue;
+                }
+            }
+            for (l, e) in light.iter_mut().zip(seen.irradiance) {
+                *l += e * cosine;
+            }
+        }
+        std::array::from_fn(|k| surface.base[k] * light[k])
+    }
+
+    /// The share of `occlusion_rays` cosine-weighted rays over the hemisphere that escape (within
+    /// `occlusion_distance`): 1 for an open plane.
+    fn openness(
+        &self,
+        point: &V3<f64>,
+        front: &V3<f64>,
+        rng: &mut Pcg32,
+        stats: &mut Stats,
+    ) -> f64 {
+        let settings = &self.prepared.lighting.settings;
+        let reach = settings.occlusion_distance.unwrap_or(f64::INFINITY);
+        let from = self.off_surface(point, front, 1.0);
+        let open = (0..settings.occlusion_rays)
+            .filter(|_| {
+                let dir = cosine_hemisphere(front, rng);
+                !self.blocked((from, dir), reach, RayKind::Occlusion, stats)
+            })
+            .count();
+        open as f64 / f64::from(settings.occlusion_rays)
+    }
+
+    /// The colour along the mirror direction of `dir` about `front`.
+    #[allow(clippy::too_many_arguments)]
+    fn mirrored(
+        &self,
+        point: &V3<f64>,
+        front: &V3<f64>,
+        dir: &V3<f64>,
+        kind: RayKind,
+        depth: u32,
+        rng: &mut Pcg32,
+        stats: &mut Stats,
+    ) -> V3<f64> {
+        let reflected = reflect(dir, front);
+        let from = self.off_surface(point, front, 1.0);
+        self.trace((from, reflected), kind, depth + 1, rng, stats)
+    }
+
+    /// Glass: the refracted ray mixed with the reflected one by Schlick's Fresnel term (the surface's
+    /// own colour stands in for the reflection without `reflections`); past the critical angle the
+    /// ray is reflected wholly, inside the glass (a refraction ray).
+    #[allow(clippy::too_many_arguments)]
+    fn glass(
+        &self,
+        local: &V3<f64>,
+        (point, front): (&V3<f64>, &V3<f64>),
+        dir: &V3<f64>,
+        (from_eta, to_eta): (f64, f64),
+        depth: u32,
+        rng: &mut Pcg32,
+        stats: &mut Stats,
+    ) -> V3<f64> {
+        let d = unit(*dir);
+        let Some(through) = refract(&d, front, from_eta, to_eta) else {
+            return self.mirrored(point, front, &d, RayKind::Refraction, depth, rng, stats);
+        };
+        let fresnel = schlick(-dot(&d, front), from_eta, to_eta);
+        let from = self.off_surface(point, front, -1.0);
+        let refracted = self.trace((from, through), RayKind::Refraction, depth + 1, rng, stats);
+        let reflected = if self.on.reflections {
+            self.mirrored(point, front, &d, RayKind::Reflection, depth, rng, stats)
+        } else {
+            *local
+        };
+        mix(&refracted, &reflected, fresnel)
+    }
+
+    /// A secondary ray's origin: the hit point moved `offset` along the normal to the side
+    /// `side` (+1 the side the ray came from, −1 through the surface); the point itself under the
+    /// shadow-acne bug.
+    fn off_surface(&self, point: &V3<f64>, front: &V3<f64>, side: f64) -> V3<f64> {
+        if self.prepared.bug == Some(Bug::ShadowAcne) {
+            return *point;
+        }
+        let offset = self.prepared.lighting.settings.offset * side;
+        std::array::from_fn(|k| point[k] + offset * front[k])
+    }
+}
+
+/// (1 − w)·a + w·b.
+fn mix(a: &V3<f64>, b: &V3<f64>, w: f64) -> V3<f64> {
+    std::array::from_fn(|k| (1.0 - w) * a[k] + w * b[k])
+}
+
+/// Runs a secondary ray's cast on its own counters and adds its work to `stats.secondary`.
+fn secondary_work<T>(stats: &mut Stats, cast: impl FnOnce(&mut Stats) -> T) -> T {
+    let mut own = Stats::default();
+    let answer = cast(&mut own);
+    let s = &mut stats.secondary;
+    s.tests += own.triangle_tests + own.parallelogram_tests;
+    s.box_tests += own.box_tests;
+    s.transforms += own.transforms;
+    answer
+}

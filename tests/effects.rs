@@ -1,0 +1,266 @@
+//! The effects past ray casting (issue 13): an effect not declared casts no ray of its kind in any
+//! shipped scene, and each effect gives the answer known analytically: a shadow's edge at the pixel
+//! the light's projection predicts, ambient occlusion of an open plane = 1, k×k antialiasing samples.
+//! (The reflected direction, Snell's angle and total internal reflection at the critical angle are
+//! unit tests of `render::optics`.)
+
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::Path;
+
+use raylab::math::linalg::V3;
+use raylab::render::cast::nearest_hit;
+use raylab::render::optics::{critical_angle, reflect, refract};
+use raylab::render::rays::RayKind;
+use raylab::render::{Prepared, Stats, assets::Embedded, render};
+use raylab::scene::render::{Effect, RenderScene};
+use raylab::scene::{Problem, Scene};
+
+/// Every shipped render scene, by file name.
+fn shipped_render_scenes() -> Vec<(String, RenderScene)> {
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let mut files: Vec<_> = std::fs::read_dir(&folder)
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .filter_map(|path| match Scene::load(&path).unwrap().problem {
+            Problem::Render(scene) => {
+                let name = path.file_name().unwrap().to_string_lossy().into_owned();
+                Some((name, scene))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+/// A render scene from the text of its `Render(...)`.
+fn render_scene(body: &str) -> RenderScene {
+    let text = format!("(title: \"t\", note: \"n\", problem: Render({body}))");
+    match Scene::from_ron(&text, "test.ron").unwrap().problem {
+        Problem::Render(scene) => scene,
+        _ => unreachable!(),
+    }
+}
+
+/// The effects past ray casting and the kind of ray each casts.
+const KINDS: [(Effect, RayKind); 5] = [
+    (Effect::Shadows, RayKind::Shadow),
+    (Effect::Reflections, RayKind::Reflection),
+    (Effect::Refraction, RayKind::Refraction),
+    (Effect::AmbientOcclusion, RayKind::Occlusion),
+    (Effect::Antialiasing, RayKind::Sample),
+];
+
+fn rays_of(stats: &Stats, kind: RayKind) -> u64 {
+    stats.secondary.rays(kind)
+}
+
+#[test]
+fn an_effect_not_declared_casts_no_ray_of_its_kind_in_any_shipped_scene() {
+    let scenes = shipped_render_scenes();
+    let mut effects_seen = Vec::new();
+    for (file, scene) in &scenes {
+        let mut base = Prepared::new(scene, &Embedded).unwrap();
+        // An eighth of each side: the counting does not depend on the resolution.
+        base.width = (base.width / 8).max(2);
+        base.height = (base.height / 8).max(2);
+        let mut subsets = vec![scene.effects.clone()];
+        for left_out in &scene.effects {
+            subsets.push(
+                scene
+                    .effects
+                    .iter()
+                    .copied()
+                    .filter(|e| e != left_out)
+                    .collect(),
+            );
+        }
+        for (i, effects) in subsets.into_iter().enumerate() {
+            let mut prepared = base.clone();
+            prepared.effects = effects.clone();
+            let (_, stats) = render(&prepared);
+            for (effect, kind) in KINDS {
+                let rays = rays_of(&stats, kind);
+                if !effects.contains(&effect) {
+                    assert_eq!(rays, 0, "{file} with {effects:?}: {kind:?} rays");
+                } else if i == 0 {
+                    // As shipped, each declared effect casts rays (the scenes are built to show them).
+                    assert!(rays > 0, "{file}: {effect:?} declared but no {kind:?} ray");
+                    effects_seen.push(effect);
+                }
+            }
+            if scene.lights.is_empty() {
+                assert_eq!(stats.secondary.light_evaluations, 0, "{file}");
+            }
+            let traced = KINDS.iter().any(|(e, _)| effects.contains(e));
+            if !traced && (scene.lights.is_empty() || effects == [Effect::Coverage]) {
+                // Ray casting alone: nothing past it is done at all.
+                assert_eq!(
+                    stats.secondary,
+                    Default::default(),
+                    "{file} with {effects:?}"
+                );
+            }
+        }
+    }
+    for (effect, _) in KINDS {
+        assert!(
+            effects_seen.contains(&effect),
+            "no shipped scene shows {effect:?}"
+        );
+    }
+}
+
+/// A floor (z = 0, seen from above) and a strip at z = 1 over x ≤ 0, lit by a point light at
+/// (2, 0, 3): the strip's edge x = 0 throws the shadow's edge to x = 2 + (0 − 2)·3/(3 − 1) = −1.
+const SHADOW_SCENE: &str = r#"(
+    width: 81, height: 41,
+    camera: Pinhole(position: (-1.0, -4.0, 6.0), target: (-1.0, 0.0, 0.0), fov_y: 40.0),
+    objects: [
+        (shape: Parallelogram(corner: (-6.0, -6.0, 0.0), e1: (12.0, 0.0, 0.0), e2: (0.0, 12.0, 0.0))),
+        (shape: Parallelogram(corner: (-4.0, -1.5, 1.0), e1: (4.0, 0.0, 0.0), e2: (0.0, 3.0, 0.0))),
+    ],
+    effects: ["shadows"],
+    lights: [Point(position: (2.0, 0.0, 3.0), intensity: 9.0)],
+    settings: (ambient: 0.0),
+)"#;
+
+#[test]
+fn a_shadow_edge_falls_on_the_pixel_the_light_projects_it_to() {
+    let prepared = Prepared::new(&render_scene(SHADOW_SCENE), &Embedded).unwrap();
+    let (image, stats) = render(&prepared);
+    let mut checked = 0;
+    let mut edges = 0;
+    for row in 0..prepared.height {
+        let mut before: Option<bool> = None;
+        for column in 0..prepared.width {
+            let (origin, dir) = prepared.ray(row, column);
+            let hit = nearest_hit(&prepared, origin, dir, &mut Stats::default());
+            // Only the floor, where the strip's shadow falls (its y range seen from the light).
+            let Some(hit) = hit.filter(|h| h.object == 0) else {
+                before = None;
+                continue;
+            };
+            let floor: V3<f64> = std::array::from_fn(|k| origin[k] + hit.t * dir[k]);
+            // The light's ray to the floor point crosses z = 1 at (x, y) = L + (P − L)·(3 − 1)/3.
+            let at = |k: usize| [2.0, 0.0][k] + (floor[k] - [2.0, 0.0][k]) * 2.0 / 3.0;
+            let (x, y) = (at(0), at(1));
+            if !(-1.5 + 1e-6..1.5 - 1e-6).contains(&y) {
+                before = None;
+                continue;
+            }
+            let shadowed = (-4.0..=0.0).contains(&x);
+            let dark = image.pixels[row * prepared.width + column] == [0.0; 3];
+            assert_eq!(dark, shadowed, "pixel ({row}, {column}): floor {floor:?}");
+            if before.is_some_and(|b| b != shadowed) {
+                edges += 1;
+            }
+            before = Some(shadowed);
+            checked += 1;
+        }
+    }
+    assert!(
+        checked > 500 && edges > 5,
+        "{checked} pixels, {edges} edges"
+    );
+    assert!(stats.secondary.blocked > 0);
+}
+
+#[test]
+fn the_open_plane_is_wholly_unoccluded() {
+    let scene = render_scene(
+        r#"(
+        width: 24, height: 16,
+        camera: Pinhole(position: (0.0, -3.0, 2.0), target: (0.0, 0.0, 0.0), fov_y: 40.0),
+        objects: [(shape: Parallelogram(corner: (-50.0, -50.0, 0.0), e1: (100.0, 0.0, 0.0), e2: (0.0, 100.0, 0.0)), color: (0.5, 0.25, 1.0))],
+        effects: ["ambient-occlusion"],
+        settings: (occlusion_rays: 12),
+    )"#,
+    );
+    let prepared = Prepared::new(&scene, &Embedded).unwrap();
+    let (image, stats) = render(&prepared);
+    assert!(stats.hits > 100);
+    assert_eq!(stats.secondary.occlusion_rays, 12 * stats.hits);
+    assert_eq!(stats.secondary.blocked, 0);
+    for (pixel, covered) in image.pixels.iter().zip(&image.covered) {
+        if *covered {
+            // Without lights or a shading effect the surface is white (as coverage), times AO = 1.
+            assert_eq!(*pixel, [1.0; 3], "AO of an open plane is 1");
+        }
+    }
+}
+
+#[test]
+fn antialiasing_casts_k_squared_samples_a_pixel() {
+    for k in [1, 2, 3] {
+        let scene = render_scene(&format!(
+            r#"(
+            width: 10, height: 6,
+            camera: ImagePlane(x: (1.0, -1.0), y: (0.6, -0.6), z: 1.0),
+            objects: [(shape: Triangle(vertices: ((0.0, 1.0, 2.0), (1.0, -1.0, 2.0), (-1.0, -1.0, 2.0))))],
+            effects: ["coverage", "antialiasing"],
+            settings: (samples_per_side: {k}),
+        )"#
+        ));
+        let prepared = Prepared::new(&scene, &Embedded).unwrap();
+        let (_, stats) = render(&prepared);
+        assert_eq!(stats.rays, 60);
+        assert_eq!(stats.secondary.sample_rays, 60 * k * k, "k = {k}");
+    }
+}
+
+/// A ray down onto a mirror floor comes back up by r = d − 2(d·n)n and shows what is above: the
+/// render's mirror pixel takes the colour of the object the reflected ray hits.
+#[test]
+fn a_mirror_shows_what_the_reflected_ray_hits() {
+    let scene = render_scene(
+        r#"(
+        width: 1, height: 1,
+        camera: Pinhole(position: (0.0, -2.0, 2.0), target: (0.0, 0.0, 0.0), fov_y: 10.0),
+        objects: [
+            (shape: Parallelogram(corner: (-1.0, -1.0, 0.0), e1: (2.0, 0.0, 0.0), e2: (0.0, 2.0, 0.0)), material: Mirror(reflectance: 1.0)),
+            (shape: Parallelogram(corner: (-1.0, 2.0, 0.0), e1: (2.0, 0.0, 0.0), e2: (0.0, 0.0, 4.0)), color: (1.0, 0.0, 0.0)),
+        ],
+        effects: ["reflections"],
+        lights: [Directional(direction: (0.0, 1.0, 0.0), intensity: 1.0)],
+        settings: (ambient: 0.0),
+    )"#,
+    );
+    let prepared = Prepared::new(&scene, &Embedded).unwrap();
+    let (origin, dir) = prepared.ray(0, 0);
+    let r = reflect(&dir, &[0.0, 0.0, 1.0]);
+    assert_eq!(r, [dir[0], dir[1], -dir[2]]);
+    // The reflected ray from the floor's hit (0, 0, 0) climbs the wall at y = 2: it hits it at z = 2.
+    let t = -origin[2] / dir[2];
+    let floor: V3<f64> = std::array::from_fn(|k| origin[k] + t * dir[k]);
+    assert!(floor.iter().all(|c| c.abs() < 1e-12), "{floor:?}");
+    let (image, stats) = render(&prepared);
+    assert_eq!(stats.secondary.reflection_rays, 1);
+    assert_eq!(stats.secondary.hits, 1);
+    // The red wall, lit head-on by the light travelling +y, is what the mirror pixel shows.
+    assert!(
+        image.pixels[0][0] > 0.5 && image.pixels[0][1] == 0.0,
+        "{:?}",
+        image.pixels[0]
+    );
+}
+
+#[test]
+fn snell_and_total_internal_reflection_at_the_critical_angle() {
+    let n = [0.0, 0.0, 1.0];
+    let at = |degrees: f64| {
+        let theta = degrees.to_radians();
+        [theta.sin(), 0.0, -theta.cos()]
+    };
+    // Air to glass at 45°: sin θ₂ = sin 45° / 1.5.
+    let out = refract(&at(45.0), &n, 1.0, 1.5).unwrap();
+    assert!((out[0] - 45f64.to_radians().sin() / 1.5).abs() < 1e-12);
+    let critical = critical_angle(1.5, 1.0).unwrap().to_degrees();
+    assert!(refract(&at(critical - 1e-6), &n, 1.5, 1.0).is_some());
+    assert!(refract(&at(critical + 1e-6), &n, 1.5, 1.0).is_none());
+}
