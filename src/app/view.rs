@@ -150,9 +150,9 @@ pub enum OpenError {
     /// A problem of another view's kind.
     #[error("the {} view opens no such problem", .0.label())]
     NotMine(ViewKind),
-    /// A render scene whose numbers, size or camera are refused.
-    #[error("{0}")]
-    Scene(String),
+    /// A render scene whose numbers, size, camera or settings are refused.
+    #[error(transparent)]
+    Scene(#[from] crate::scene::check::CheckError),
     /// A render scene whose objects or files cannot be prepared.
     #[error(transparent)]
     Prepare(#[from] crate::render::PrepareError),

@@ -135,8 +135,8 @@ pub enum MeshError {
     #[error("not a readable OBJ mesh: {0}")]
     Unreadable(tobj::LoadError),
     /// A vertex coordinate that is not finite or too large.
-    #[error("{0}")]
-    Numbers(String),
+    #[error(transparent)]
+    Numbers(crate::scene::check::CheckError),
     /// No faces at all.
     #[error("the OBJ file has no faces")]
     NoFaces,
@@ -451,11 +451,8 @@ impl MeshLoad {
                 })?;
                 self.bytes = Vec::new();
                 for model in &self.models {
-                    crate::scene::render::check_numbers(
-                        "vertex coordinates",
-                        &model.mesh.positions,
-                    )
-                    .map_err(|e| refused(MeshError::Numbers(e)))?;
+                    crate::scene::check::check_numbers("vertex coordinates", &model.mesh.positions)
+                        .map_err(|e| refused(MeshError::Numbers(e)))?;
                 }
                 self.triangles.reserve(self.faces.triangles as usize);
                 self.stage = Stage::Build;

@@ -86,9 +86,9 @@ const BVH_MIN_TRIANGLES: usize = 8;
 /// Why a render scene cannot be prepared.
 #[derive(Debug, thiserror::Error)]
 pub enum PrepareError {
-    /// The scene's numbers, size or camera are refused.
-    #[error("{0}")]
-    Scene(String),
+    /// The scene's numbers, size, camera or settings are refused.
+    #[error(transparent)]
+    Scene(#[from] crate::scene::check::CheckError),
     /// An object (counted from 1) is refused or its files unreadable.
     #[error("object {index}: {error}")]
     Object {

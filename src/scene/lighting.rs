@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::render::check_numbers;
+use super::check::{CheckError, check_numbers};
 
 /// A light: a point radiating in all directions (its intensity falls off as 1/d²) or a direction,
 /// as the sun (no falloff).
@@ -101,34 +101,24 @@ pub const MAX_LIGHTS: usize = 256;
 
 impl EffectSettings {
     /// Limits that keep a render finite and meaningful.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), CheckError> {
         if self.max_depth > MAX_DEPTH {
-            return Err(format!(
-                "settings: max_depth is {}: at most {MAX_DEPTH} bounces (each may double the rays)",
-                self.max_depth
-            ));
+            return Err(CheckError::Depth(self.max_depth));
         }
         if !(1..=MAX_OCCLUSION_RAYS).contains(&self.occlusion_rays) {
-            return Err(format!(
-                "settings: occlusion_rays is {}: it must be 1 to {MAX_OCCLUSION_RAYS}",
-                self.occlusion_rays
-            ));
+            return Err(CheckError::OcclusionRays(self.occlusion_rays));
         }
         if !(1..=MAX_SAMPLES_PER_SIDE).contains(&self.samples_per_side) {
-            return Err(format!(
-                "settings: samples_per_side (k, for k×k samples a pixel) is {}: it must be 1 to \
-                 {MAX_SAMPLES_PER_SIDE}",
-                self.samples_per_side
-            ));
+            return Err(CheckError::SamplesPerSide(self.samples_per_side));
         }
         let distance = self.occlusion_distance.unwrap_or(1.0);
         check_numbers("settings", &[self.offset, self.ambient, distance])?;
         if !(self.offset >= 0.0 && self.ambient >= 0.0 && distance > 0.0) {
-            return Err(format!(
-                "settings: offset ({}) and ambient ({}) must be at least 0 and occlusion_distance \
-                 ({distance}) more than 0",
-                self.offset, self.ambient
-            ));
+            return Err(CheckError::NegativeSettings {
+                offset: self.offset,
+                ambient: self.ambient,
+                distance,
+            });
         }
         Ok(())
     }
@@ -136,7 +126,7 @@ impl EffectSettings {
 
 impl Light {
     /// Finite numbers, a colour and intensity of at least 0, a direction that is not zero.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), CheckError> {
         let (place, color, intensity) = match self {
             Light::Point {
                 position,
@@ -152,12 +142,13 @@ impl Light {
         let numbers = [&place[..], &color[..], &[intensity]].concat();
         check_numbers("its numbers", &numbers)?;
         if intensity < 0.0 || color.iter().any(|c| *c < 0.0) {
-            return Err(format!(
-                "its colour {color:?} and intensity {intensity} must be at least 0"
-            ));
+            return Err(CheckError::NegativeLight {
+                color: *color,
+                intensity,
+            });
         }
         if matches!(self, Light::Directional { .. }) && place.iter().all(|c| *c == 0.0) {
-            return Err("a directional light's direction is (0, 0, 0): it has no direction".into());
+            return Err(CheckError::NoDirection);
         }
         Ok(())
     }
@@ -165,16 +156,15 @@ impl Light {
 
 impl Material {
     /// A reflectance in [0, 1], an index of refraction above 0 (and at most 10).
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), CheckError> {
         match *self {
             Material::Diffuse => Ok(()),
-            Material::Mirror { reflectance } if !(0.0..=1.0).contains(&reflectance) => Err(
-                format!("the mirror's reflectance is {reflectance}: it must be between 0 and 1"),
-            ),
-            Material::Glass { ior } if !(ior > 0.0 && ior <= 10.0) => Err(format!(
-                "the glass's index of refraction is {ior}: it must be above 0 (1 is air, 1.5 \
-                 glass) and at most 10"
-            )),
+            Material::Mirror { reflectance } if !(0.0..=1.0).contains(&reflectance) => {
+                Err(CheckError::Reflectance(reflectance))
+            }
+            Material::Glass { ior } if !(ior > 0.0 && ior <= 10.0) => {
+                Err(CheckError::IndexOfRefraction(ior))
+            }
             _ => Ok(()),
         }
     }
@@ -199,7 +189,10 @@ mod tests {
 
     #[test]
     fn bad_parameters_are_refused_with_what_is_wrong() {
-        let glass = Material::Glass { ior: 0.0 }.check().unwrap_err();
+        let glass = Material::Glass { ior: 0.0 }
+            .check()
+            .unwrap_err()
+            .to_string();
         assert!(glass.contains("index of refraction is 0"), "{glass}");
         assert!(Material::Glass { ior: -1.5 }.check().is_err());
         assert!(Material::Mirror { reflectance: 1.5 }.check().is_err());
@@ -208,18 +201,33 @@ mod tests {
             max_depth: 100,
             ..Default::default()
         };
-        assert!(deep.check().unwrap_err().contains("max_depth is 100"));
+        assert!(
+            deep.check()
+                .unwrap_err()
+                .to_string()
+                .contains("max_depth is 100")
+        );
         let k0 = EffectSettings {
             samples_per_side: 0,
             ..Default::default()
         };
-        assert!(k0.check().unwrap_err().contains("samples_per_side"));
+        assert!(
+            k0.check()
+                .unwrap_err()
+                .to_string()
+                .contains("samples_per_side")
+        );
         let dark = Light::Point {
             position: [0.0; 3],
             color: [1.0; 3],
             intensity: -1.0,
         };
-        assert!(dark.check().unwrap_err().contains("intensity -1"));
+        assert!(
+            dark.check()
+                .unwrap_err()
+                .to_string()
+                .contains("intensity -1")
+        );
         let nowhere = Light::Directional {
             direction: [0.0; 3],
             color: [1.0; 3],

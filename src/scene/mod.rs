@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::geometry::Inputs;
 
+pub mod check;
 pub mod lighting;
 pub mod render;
 
@@ -133,8 +134,8 @@ pub struct Scene {
     pub problem: Problem,
 }
 
-/// Why a scene could not be read.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// Why a scene could not be read: the file, where in it (when known), and what was wrong.
+#[derive(Clone, Debug, PartialEq)]
 pub struct SceneError {
     /// The file name (or `<text>`).
     pub file: String,
@@ -143,22 +144,42 @@ pub struct SceneError {
     /// 1-based column, when known.
     pub column: Option<usize>,
     /// What was wrong or expected.
-    pub message: String,
+    pub problem: SceneProblem,
+}
+
+/// What was wrong with a scene file.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SceneProblem {
+    /// Not the file itself (missing, a directory, too large, unreadable).
+    #[error(transparent)]
+    Read(#[from] crate::files::ReadError),
+    /// Not UTF-8 text, from this byte (counted from 0).
+    #[error("not a text file (invalid UTF-8 at byte {0})")]
+    NotText(usize),
+    /// Not a scene in RON (what ron expected, a typo's field named plainly).
+    #[error("{}", describe(.0))]
+    Format(Box<ron::Error>),
+    /// A scene, with numbers or settings it cannot be drawn with.
+    #[error(transparent)]
+    Check(#[from] check::CheckError),
 }
 
 impl std::fmt::Display for SceneError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match (self.line, self.column) {
             (Some(line), Some(column)) => {
-                write!(f, "{}:{line}:{column}: {}", self.file, self.message)
+                write!(f, "{}:{line}:{column}: {}", self.file, self.problem)
             }
-            _ => write!(f, "{}: {}", self.file, self.message),
+            _ => write!(f, "{}: {}", self.file, self.problem),
         }
     }
 }
 
-impl std::error::Error for SceneError {}
-
+impl std::error::Error for SceneError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        Some(&self.problem)
+    }
+}
 impl Scene {
     /// Parses RON text; `file` names it in errors.
     pub fn from_ron(text: &str, file: &str) -> Result<Scene, SceneError> {
@@ -166,13 +187,13 @@ impl Scene {
             file: file.into(),
             line: Some(e.span.start.line),
             column: Some(e.span.start.col),
-            message: describe(&e.code),
+            problem: SceneProblem::Format(Box::new(e.code)),
         })?;
-        scene.check_finite().map_err(|message| SceneError {
+        scene.check_finite().map_err(|error| SceneError {
             file: file.into(),
             line: None,
             column: None,
-            message,
+            problem: error.into(),
         })?;
         Ok(scene)
     }
@@ -191,19 +212,15 @@ impl Scene {
     pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
         use crate::files::{SCENE, read_regular};
         let name = path.display().to_string();
-        let failed = |message: String| SceneError {
+        let failed = |problem: SceneProblem| SceneError {
             file: name.clone(),
             line: None,
             column: None,
-            message,
+            problem,
         };
-        let bytes = read_regular(path, SCENE).map_err(|e| failed(e.to_string()))?;
-        let text = String::from_utf8(bytes).map_err(|e| {
-            failed(format!(
-                "not a text file (invalid UTF-8 at byte {})",
-                e.utf8_error().valid_up_to()
-            ))
-        })?;
+        let bytes = read_regular(path, SCENE).map_err(|e| failed(e.into()))?;
+        let text = String::from_utf8(bytes)
+            .map_err(|e| failed(SceneProblem::NotText(e.utf8_error().valid_up_to())))?;
         Scene::from_ron(&text, &name)
     }
 
@@ -214,7 +231,7 @@ impl Scene {
     }
 
     /// NaN and infinities are not valid coordinates in a file.
-    fn check_finite(&self) -> Result<(), String> {
+    fn check_finite(&self) -> Result<(), check::CheckError> {
         let values: Vec<f64> = match &self.problem {
             Problem::Segments(s) => [s.a1, s.a2, s.b1, s.b2].concat(),
             Problem::Triangle(t) => [t.a, t.b, t.c, t.origin, t.dir, [t.t_min; 3]].concat(),
@@ -222,7 +239,10 @@ impl Scene {
             Problem::Render(render) => return render.check(),
         };
         match values.iter().find(|v| !v.is_finite()) {
-            Some(bad) => Err(format!("coordinates must be finite numbers, found {bad}")),
+            Some(&value) => Err(check::CheckError::NotFinite {
+                what: "coordinates",
+                value,
+            }),
             None => Ok(()),
         }
     }
@@ -518,7 +538,10 @@ mod tests {
             "(title: \"x\", note: \"y\", problem: Render((width: 4, height: 4, camera: ImagePlane(x: (1.0, -1.0), y: (1.0, -1.0), z: 1.0), objects: [(shape: Parallelogram(corner: (0.0, 0.0, 3.0), e1: (1.0, 0.0, 0.0), e2: (0.0, 1.0, 0.0)), transform: (translation: (1.0, 0.0, 0.0)))], effects: [])))",
         ] {
             let err = Scene::from_ron(text, "typo.ron").unwrap_err();
-            assert!(err.message.starts_with("unknown field"), "{err}");
+            assert!(
+                err.problem.to_string().starts_with("unknown field"),
+                "{err}"
+            );
         }
     }
 
@@ -545,9 +568,9 @@ mod tests {
         assert_eq!(err.line, Some(4));
         assert!(err.to_string().starts_with("bad.ron:4:"), "{err}");
         let err = Scene::from_ron("(title: \"x\", note: \"y\")", "short.ron").unwrap_err();
-        assert!(err.message.contains("problem"), "{err}");
+        assert!(err.problem.to_string().contains("problem"), "{err}");
         let nan = "(title: \"x\", note: \"y\", problem: Segments((a1: (NaN, 2.0), a2: (1.0, 1.0), b1: (0.0, 0.0), b2: (1.0, 1.0))))";
         let err = Scene::from_ron(nan, "nan.ron").unwrap_err();
-        assert!(err.message.contains("finite"), "{err}");
+        assert!(err.problem.to_string().contains("finite"), "{err}");
     }
 }

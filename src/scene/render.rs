@@ -5,6 +5,7 @@
 use glam::{DAffine3, DVec3, EulerRot};
 use serde::{Deserialize, Serialize};
 
+use super::check::{CheckError, check_numbers, check_scale};
 use crate::intersect::Method;
 use crate::math::linalg::{dot, sub};
 pub use crate::scene::lighting::{EffectSettings, Light, MAX_LIGHTS, Material};
@@ -171,12 +172,12 @@ pub struct RenderScene {
 impl RenderScene {
     /// Checks what the file format cannot: finite numbers within [`MAX_MAGNITUDE`], a usable size,
     /// camera and field of view, scales that can be inverted.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), CheckError> {
         if !(1..=MAX_SIDE).contains(&self.width) || !(1..=MAX_SIDE).contains(&self.height) {
-            return Err(format!(
-                "the image is {}x{}: each side must be 1 to {MAX_SIDE} pixels",
-                self.width, self.height
-            ));
+            return Err(CheckError::ImageSize {
+                width: self.width,
+                height: self.height,
+            });
         }
         check_numbers("the camera's numbers", &self.camera.numbers())?;
         self.check_camera()?;
@@ -186,7 +187,7 @@ impl RenderScene {
             check_numbers("coordinates", &numbers)
                 .and_then(|()| check_scale(&object.transform.scale))
                 .and_then(|()| self.material(i).check())
-                .map_err(|e| format!("object {}: {e}", i + 1))?;
+                .map_err(|e| e.in_object(i))?;
         }
         self.check_lighting()
     }
@@ -197,27 +198,22 @@ impl RenderScene {
     }
 
     /// The lights and the effects' parameters.
-    fn check_lighting(&self) -> Result<(), String> {
+    fn check_lighting(&self) -> Result<(), CheckError> {
         if self.lights.len() > MAX_LIGHTS {
-            return Err(format!(
-                "the scene has {} lights: at most {MAX_LIGHTS} (each costs a shadow ray per hit)",
-                self.lights.len()
-            ));
+            return Err(CheckError::TooManyLights(self.lights.len()));
         }
         for (i, light) in self.lights.iter().enumerate() {
-            light.check().map_err(|e| format!("light {}: {e}", i + 1))?;
+            light.check().map_err(|e| e.in_light(i))?;
         }
         self.settings.check()
     }
 
     /// A camera whose every ray has a direction.
-    fn check_camera(&self) -> Result<(), String> {
+    fn check_camera(&self) -> Result<(), CheckError> {
         match &self.camera {
-            Camera::ImagePlane { z, .. } if z.abs() < MIN_MAGNITUDE => Err(format!(
-                "the image plane is at z = {z}: rays start on the plane and point away from the \
-                 origin, so at z = 0 they run along the plane and the one through the origin has no \
-                 direction; put the plane at |z| ≥ {MIN_MAGNITUDE:e}"
-            )),
+            Camera::ImagePlane { z, .. } if z.abs() < MIN_MAGNITUDE => {
+                Err(CheckError::ImagePlaneAtOrigin(*z))
+            }
             Camera::ImagePlane { .. } => Ok(()),
             Camera::Pinhole {
                 position,
@@ -225,24 +221,15 @@ impl RenderScene {
                 fov_y,
             } => {
                 if !(*fov_y > 0.0 && *fov_y < 180.0) {
-                    return Err(format!(
-                        "the field of view is {fov_y}°: it must be between 0° and 180°"
-                    ));
+                    return Err(CheckError::FieldOfView(*fov_y));
                 }
                 let apart = sub(target, position);
                 if dot(&apart, &apart).sqrt() < MIN_MAGNITUDE {
-                    return Err(format!(
-                        "the camera's position and target are the same point (or closer than \
-                         {MIN_MAGNITUDE:e}): the camera has no direction"
-                    ));
+                    return Err(CheckError::CameraHasNoDirection);
                 }
                 let across = apart[0].hypot(apart[1]);
                 if across <= 1e-9 * apart[2].abs() {
-                    return Err(
-                        "the camera looks straight up or down: z is the image's up, so move the \
-                         target off the vertical through the position"
-                            .into(),
-                    );
+                    return Err(CheckError::CameraVertical);
                 }
                 Ok(())
             }
@@ -271,37 +258,6 @@ pub const MAX_MAGNITUDE: f64 = 1e30;
 
 /// The smallest magnitude of a transform's scale and of an image plane's z.
 pub const MIN_MAGNITUDE: f64 = 1e-30;
-
-/// Finite, and within ±[`MAX_MAGNITUDE`]; `what` names the numbers in the message.
-pub fn check_numbers(what: &str, numbers: &[f64]) -> Result<(), String> {
-    if let Some(bad) = numbers.iter().find(|v| !v.is_finite()) {
-        return Err(format!("{what} must be finite numbers, found {bad}"));
-    }
-    match numbers.iter().find(|v| v.abs() > MAX_MAGNITUDE) {
-        Some(big) => Err(format!(
-            "{what} must be at most {MAX_MAGNITUDE:e} in magnitude (so the renderer's arithmetic \
-             cannot overflow), found {big:e}"
-        )),
-        None => Ok(()),
-    }
-}
-
-/// A scale whose inverse stays within [`MAX_MAGNITUDE`].
-fn check_scale(scale: &[f64; 3]) -> Result<(), String> {
-    if scale.contains(&0.0) {
-        return Err(format!(
-            "the transform's scale {scale:?} has a zero component: the object would be flat and \
-             its transform has no inverse"
-        ));
-    }
-    match scale.iter().find(|s| s.abs() < MIN_MAGNITUDE) {
-        Some(small) => Err(format!(
-            "the transform's scale component {small:e} is too small to invert safely: each must be \
-             at least {MIN_MAGNITUDE:e} in magnitude"
-        )),
-        None => Ok(()),
-    }
-}
 
 /// The largest image side a scene may ask for.
 pub const MAX_SIDE: usize = 4096;
