@@ -7,7 +7,8 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::path::Path;
+mod shipped;
+use shipped::shipped_render_scenes;
 
 use raylab::math::linalg::V3;
 use raylab::render::cast::nearest_hit;
@@ -16,27 +17,6 @@ use raylab::render::rays::RayKind;
 use raylab::render::{Prepared, Stats, assets::Embedded, render};
 use raylab::scene::render::{Effect, RenderScene};
 use raylab::scene::{Problem, Scene};
-
-/// Every shipped render scene, by file name.
-fn shipped_render_scenes() -> Vec<(String, RenderScene)> {
-    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
-    let mut files: Vec<_> = std::fs::read_dir(&folder)
-        .unwrap()
-        .map(|entry| entry.unwrap().path())
-        .filter(|path| path.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    files.sort();
-    files
-        .into_iter()
-        .filter_map(|path| match Scene::load(&path).unwrap().problem {
-            Problem::Render(scene) => {
-                let name = path.file_name().unwrap().to_string_lossy().into_owned();
-                Some((name, scene))
-            }
-            _ => None,
-        })
-        .collect()
-}
 
 /// A render scene from the text of its `Render(...)`.
 fn render_scene(body: &str) -> RenderScene {

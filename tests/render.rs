@@ -5,6 +5,8 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod shipped;
+use shipped::shipped_render_scenes;
 use std::path::Path;
 
 use glam::DVec3;
@@ -32,27 +34,6 @@ fn prepared(file: &str, method: Method) -> Prepared {
     let mut prepared = Prepared::new(&scene(file), &Embedded).unwrap();
     prepared.method = Some(method);
     prepared
-}
-
-/// Every shipped scene file whose problem is a render, by file name.
-fn shipped_render_scenes() -> Vec<(String, RenderScene)> {
-    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
-    let mut files: Vec<_> = std::fs::read_dir(&folder)
-        .unwrap()
-        .map(|entry| entry.unwrap().path())
-        .filter(|path| path.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    files.sort();
-    files
-        .into_iter()
-        .filter_map(|path| match Scene::load(&path).unwrap().problem {
-            Problem::Render(scene) => {
-                let name = path.file_name().unwrap().to_string_lossy().into_owned();
-                Some((name, scene))
-            }
-            _ => None,
-        })
-        .collect()
 }
 
 /// The same camera with each side divided by `k` (the debug profile renders slowly).

@@ -112,12 +112,9 @@ impl PrepareError {
 /// Why one object cannot be prepared.
 #[derive(Debug, thiserror::Error)]
 pub enum ObjectError {
-    /// A scale with a zero component.
-    #[error(
-        "the transform's scale {0:?} has a zero component: the object would be flat and its \
-         transform has no inverse"
-    )]
-    FlatScale([f64; 3]),
+    /// A scale with a zero (or too small) component.
+    #[error(transparent)]
+    Scale(#[from] crate::scene::check::CheckError),
     /// A transform whose inverse overflows or underflows.
     #[error("the transform's scale {0:?} is too large or too small to invert in floating point")]
     Uninvertible([f64; 3]),
@@ -129,9 +126,7 @@ pub enum ObjectError {
 /// Prepares an object: reads its mesh and texture, inverts its transform.
 pub fn prepare(object: &Object, assets: &dyn AssetSource) -> Result<PreparedObject, ObjectError> {
     let matrix = object.transform.matrix();
-    if object.transform.scale.contains(&0.0) {
-        return Err(ObjectError::FlatScale(object.transform.scale));
-    }
+    crate::scene::check::check_scale(&object.transform.scale)?;
     let inverse = matrix.inverse();
     if !matrix.matrix3.determinant().is_normal() || !inverse.is_finite() {
         return Err(ObjectError::Uninvertible(object.transform.scale));
