@@ -55,16 +55,12 @@ impl RaylabApp {
     /// Leaves the lesson (the scene of its last slide stays open, to explore).
     pub fn leave_lesson(&mut self, ctx: &egui::Context) {
         if let Some(run) = self.lesson.take() {
-            self.notice = Some(Notice {
-                text: format!(
-                    "Left “{}” at slide {} of {}: Lessons → the same lesson starts it again",
-                    run.lesson.title,
-                    run.slide + 1,
-                    run.lesson.slides.len()
-                ),
-                error: false,
-                view: None,
-            });
+            self.notice = Some(Notice::info(format!(
+                "Left “{}” at slide {} of {}: Lessons → the same lesson starts it again",
+                run.lesson.title,
+                run.slide + 1,
+                run.lesson.slides.len()
+            )));
         }
         ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(false));
     }
@@ -84,11 +80,7 @@ impl RaylabApp {
         match crate::scene::preset(&slide.scene) {
             Some(scene) => {
                 if let Err(error) = self.load_scene(&scene) {
-                    self.notice = Some(Notice {
-                        text: format!("Slide {}: {error}", index + 1),
-                        error: true,
-                        view: None,
-                    });
+                    self.notice = Some(Notice::error(format!("Slide {}: {error}", index + 1)));
                 }
                 self.state.view = view_of(&scene.problem);
                 if let Some(camera) = slide.camera {
@@ -101,11 +93,11 @@ impl RaylabApp {
                 }
             }
             None => {
-                self.notice = Some(Notice {
-                    text: format!("Slide {}: no scene “{}”", index + 1, slide.scene),
-                    error: true,
-                    view: None,
-                })
+                self.notice = Some(Notice::error(format!(
+                    "Slide {}: no scene “{}”",
+                    index + 1,
+                    slide.scene
+                )))
             }
         }
     }

@@ -50,6 +50,25 @@ pub struct Notice {
     pub view: Option<ViewKind>,
 }
 
+impl Notice {
+    /// News for the whole app: what was loaded or saved.
+    pub fn info(text: impl Into<String>) -> Notice {
+        Notice {
+            text: text.into(),
+            error: false,
+            view: None,
+        }
+    }
+
+    /// What went wrong, for the whole app.
+    pub fn error(text: impl Into<String>) -> Notice {
+        Notice {
+            error: true,
+            ..Notice::info(text)
+        }
+    }
+}
+
 /// The eframe app.
 pub struct RaylabApp {
     /// The persistent state.
@@ -140,11 +159,7 @@ impl RaylabApp {
             problems.push(error.to_string());
         }
         if !problems.is_empty() {
-            self.notice = Some(Notice {
-                text: problems.join("; "),
-                error: true,
-                view: None,
-            });
+            self.notice = Some(Notice::error(problems.join("; ")));
         }
     }
 

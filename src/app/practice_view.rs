@@ -51,11 +51,7 @@ impl RaylabApp {
             Ok(problem) => {
                 let scene = scene_of(&problem.inputs, seed, level);
                 if let Err(error) = self.load_scene(&scene) {
-                    self.notice = Some(Notice {
-                        text: error.to_string(),
-                        error: true,
-                        view: None,
-                    });
+                    self.notice = Some(Notice::error(error.to_string()));
                     return;
                 }
                 self.state.view = view_of(&scene.problem);
@@ -76,11 +72,7 @@ impl RaylabApp {
                 });
             }
             Err(error) => {
-                self.notice = Some(Notice {
-                    text: format!("Could not make a problem: {error}"),
-                    error: true,
-                    view: None,
-                })
+                self.notice = Some(Notice::error(format!("Could not make a problem: {error}")))
             }
         }
     }

@@ -68,13 +68,10 @@ impl RaylabApp {
                 }
                 Answer::Cancelled => {}
                 Answer::Unavailable => {
-                    self.notice = Some(Notice {
-                        text: "No system file dialog opened here (no desktop portal or zenity): \
-                               type the path instead"
-                            .into(),
-                        error: true,
-                        view: None,
-                    });
+                    self.notice = Some(Notice::error(
+                        "No system file dialog opened here (no desktop portal or zenity): \
+                               type the path instead",
+                    ));
                 }
             }
         }
@@ -113,11 +110,9 @@ impl RaylabApp {
         if let Err(error) =
             crate::platform::pick_file(".ron", &self.inbox, move || ctx.request_repaint())
         {
-            self.notice = Some(Notice {
-                text: format!("Could not open the file picker: {error}"),
-                error: true,
-                view: None,
-            });
+            self.notice = Some(Notice::error(format!(
+                "Could not open the file picker: {error}"
+            )));
         }
     }
 
@@ -131,16 +126,8 @@ impl RaylabApp {
             Some(scene) => {
                 let name = file_name(&scene.title);
                 match crate::platform::download(&name, &scene.to_ron()) {
-                    Ok(()) => Notice {
-                        text: format!("Downloaded {name}"),
-                        error: false,
-                        view: None,
-                    },
-                    Err(error) => Notice {
-                        text: format!("Could not save: {error}"),
-                        error: true,
-                        view: None,
-                    },
+                    Ok(()) => Notice::info(format!("Downloaded {name}")),
+                    Err(error) => Notice::error(format!("Could not save: {error}")),
                 }
             }
             None => no_scene_to_save(),
@@ -157,16 +144,10 @@ impl RaylabApp {
                         .map_err(|error| format!("{name}: {error}"))?;
                     Ok(name)
                 }) {
-                    Ok(name) => Notice {
-                        text: format!("Opened {name}"),
-                        error: false,
-                        view: None,
-                    },
-                    Err(error) => Notice {
-                        text: format!("Could not open: {error} (the current scene is kept)"),
-                        error: true,
-                        view: None,
-                    },
+                    Ok(name) => Notice::info(format!("Opened {name}")),
+                    Err(error) => Notice::error(format!(
+                        "Could not open: {error} (the current scene is kept)"
+                    )),
                 },
             );
         }
@@ -192,23 +173,15 @@ impl RaylabApp {
                     error: false,
                     view: Some(self.state.view),
                 },
-                Err(error) => Notice {
-                    text: format!("Could not open: {error} (the current scene is kept)"),
-                    error: true,
-                    view: None,
-                },
+                Err(error) => Notice::error(format!(
+                    "Could not open: {error} (the current scene is kept)"
+                )),
             },
             Dialog::Save => match self.current_scene().map(|scene| scene.save(&path)) {
-                Some(Ok(())) => Notice {
-                    text: format!("Saved {}", path.display()),
-                    error: false,
-                    view: None,
-                },
-                Some(Err(error)) => Notice {
-                    text: format!("Could not save {}: {error}", path.display()),
-                    error: true,
-                    view: None,
-                },
+                Some(Ok(())) => Notice::info(format!("Saved {}", path.display())),
+                Some(Err(error)) => {
+                    Notice::error(format!("Could not save {}: {error}", path.display()))
+                }
                 None => no_scene_to_save(),
             },
         }
@@ -217,11 +190,7 @@ impl RaylabApp {
 
 /// The notice when the open view has no scene (the Accuracy view).
 pub(super) fn no_scene_to_save() -> Notice {
-    Notice {
-        text: "Open a Segments, Triangle, Parallelogram or Render view to save its scene".into(),
-        error: true,
-        view: None,
-    }
+    Notice::error("Open a Segments, Triangle, Parallelogram or Render view to save its scene")
 }
 
 /// A file name for a scene, from its title: `Seed 000: the lecture triangle` →

@@ -122,11 +122,7 @@ impl RaylabApp {
                     error: false,
                     view: Some(view_of(&preset.problem)),
                 },
-                Err(error) => Notice {
-                    text: format!("Could not load “{}”: {error}", preset.title),
-                    error: true,
-                    view: None,
-                },
+                Err(error) => Notice::error(format!("Could not load “{}”: {error}", preset.title)),
             });
             ui.close();
         }
@@ -142,11 +138,7 @@ impl RaylabApp {
         }
         if let Some(name) = chosen {
             if let Err(error) = self.start_lesson(name) {
-                self.notice = Some(Notice {
-                    text: error.to_string(),
-                    error: true,
-                    view: None,
-                });
+                self.notice = Some(Notice::error(error.to_string()));
             }
             ui.ctx()
                 .send_viewport_cmd(egui::ViewportCommand::Fullscreen(true));
