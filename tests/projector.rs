@@ -123,6 +123,17 @@ fn layout_problems(harness: &Harness<'static, RaylabApp>, screen: Rect) -> Vec<S
     problems
 }
 
+/// The scene with a render's image shrunk (same aspect) to at most 64 pixels a side: the view scales
+/// the image to the room it has, so the layout is the same, and a debug build renders the effect
+/// scenes (the Cornell box casts millions of rays) in a moment instead of minutes.
+fn small_image(mut scene: raylab::scene::Scene) -> raylab::scene::Scene {
+    if let raylab::scene::Problem::Render(render) = &mut scene.problem {
+        let k = render.width.max(render.height).div_ceil(64);
+        (render.width, render.height) = (render.width.div_ceil(k), render.height.div_ceil(k));
+    }
+    scene
+}
+
 /// Loads every preset at every zoom on a screen and collects what is wrong, per case.
 fn check_every_preset(width: f32, height: f32, zooms: &[f32]) -> Vec<String> {
     let mut problems = Vec::new();
@@ -130,7 +141,7 @@ fn check_every_preset(width: f32, height: f32, zooms: &[f32]) -> Vec<String> {
         let mut harness = projector(width, height, *zoom);
         let screen = Rect::from_min_size(egui::Pos2::ZERO, Vec2::new(width, height) / *zoom);
         for name in raylab::scene::preset_names() {
-            let scene = raylab::scene::preset(name).expect("a shipped preset");
+            let scene = small_image(raylab::scene::preset(name).expect("a shipped preset"));
             harness
                 .state_mut()
                 .load_scene(&scene)
