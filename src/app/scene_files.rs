@@ -69,8 +69,7 @@ impl RaylabApp {
                 Answer::Cancelled => {}
                 Answer::Unavailable => {
                     self.notice = Some(Notice::error(
-                        "No system file dialog opened here (no desktop portal or zenity): \
-                               type the path instead",
+                        "No system file dialog here: type the path instead",
                     ));
                 }
             }
