@@ -15,6 +15,7 @@
 use std::cell::RefCell;
 
 use super::crack_free::ShearedRay;
+use super::crack_free4::{self, Quad};
 use super::objects::PreparedTriangle;
 use crate::math::linalg::V3;
 
@@ -103,6 +104,12 @@ fn round_up(x: f64) -> f32 {
     if (f as f64) < x { f.next_up() } else { f }
 }
 
+/// The binary build's triangle order, and the triangles, for laying out the leaves.
+struct Leaves<'a> {
+    order: &'a [u32],
+    triangles: &'a [PreparedTriangle],
+}
+
 /// A node of the binary build: a box and either two children or a run of slots.
 struct BinaryNode {
     bounds: Bounds,
@@ -158,7 +165,13 @@ pub struct Bvh {
     /// Slot → triangle index.
     order: Vec<u32>,
     /// Slot → the triangle's vertices, stored in leaf order so a leaf's triangles are contiguous.
+    /// Each leaf starts at a multiple of four; the slots between leaves repeat a triangle and belong
+    /// to no leaf.
     vertices: Vec<[V3<f64>; 3]>,
+    /// The slots four at a time (slot / 4), for the four-triangle test.
+    quads: Vec<Quad>,
+    /// Triangles held (those with finite coordinates).
+    triangles: usize,
 }
 
 /// Per-ray constants of the box test.
@@ -193,38 +206,63 @@ impl Bvh {
             let len = order.len();
             builder.split(&mut order, 0, len, 0);
         }
-        let vertices = order
-            .iter()
-            .map(|&i| triangles[i as usize].vertices)
-            .collect();
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(binary.len() / 2 + 1),
-            order,
-            vertices,
+            order: Vec::with_capacity(order.len() + order.len() / 2),
+            vertices: Vec::with_capacity(order.len() + order.len() / 2),
+            quads: Vec::new(),
+            triangles: order.len(),
         };
         if !binary.is_empty() {
             // Node 0 holds the whole mesh's box as its one child: a ray that misses the mesh costs
             // one box test.
             bvh.nodes.push(Bvh::empty_node());
             let mut root = Bvh::empty_node();
-            bvh.place(&binary, 0, &mut root, 0);
+            let leaves = Leaves {
+                order: &order,
+                triangles,
+            };
+            bvh.place(&binary, &leaves, 0, &mut root, 0);
             bvh.nodes[0] = root;
         }
+        bvh.quads = bvh.vertices.chunks(4).map(Quad::new).collect();
         bvh
     }
 
+    /// Appends a leaf's triangles (binary slots `first..first + count`) at the next multiple of four
+    /// and returns its first slot.
+    fn append_leaf(&mut self, leaves: &Leaves, first: usize, count: usize) -> u32 {
+        let start = self.order.len();
+        for &i in &leaves.order[first..first + count] {
+            self.order.push(i);
+            self.vertices.push(leaves.triangles[i as usize].vertices);
+        }
+        while self.order.len() % 4 != 0 {
+            self.order.push(self.order[start]);
+            self.vertices.push(self.vertices[start]);
+        }
+        start as u32
+    }
+
     /// Puts binary node `index` into lane `lane` of `node`: its box, and its slots or its wide node.
-    fn place(&mut self, binary: &[BinaryNode], index: usize, node: &mut Node, lane: usize) {
+    fn place(
+        &mut self,
+        binary: &[BinaryNode],
+        leaves: &Leaves,
+        index: usize,
+        node: &mut Node,
+        lane: usize,
+    ) {
         let (min, max) = binary[index].bounds.to_f32();
         for k in 0..3 {
             node.min[k][lane] = min[k];
             node.max[k][lane] = max[k];
         }
         if binary[index].count > 0 {
-            node.child[lane] = binary[index].first as u32;
+            node.child[lane] = self.append_leaf(leaves, binary[index].first, binary[index].count);
             node.count[lane] = binary[index].count as u32;
         } else {
-            let inner = self.collapse(binary, index);
+            let inner = self.collapse(binary, leaves, index);
             self.nodes.push(inner);
             node.child[lane] = (self.nodes.len() - 1) as u32;
         }
@@ -241,7 +279,7 @@ impl Bvh {
 
     /// The wide node for binary inner node `index`: its children, opened (largest box first) until
     /// there are four or only leaves are left. Returns the node; its inner children are pushed.
-    fn collapse(&mut self, binary: &[BinaryNode], index: usize) -> Node {
+    fn collapse(&mut self, binary: &[BinaryNode], leaves: &Leaves, index: usize) -> Node {
         let mut children = vec![index];
         while children.len() < 4 {
             let openable = children
@@ -260,19 +298,19 @@ impl Bvh {
         }
         let mut node = Bvh::empty_node();
         for (lane, &c) in children.iter().enumerate() {
-            self.place(binary, c, &mut node, lane);
+            self.place(binary, leaves, c, &mut node, lane);
         }
         node
     }
 
     /// How many triangles the hierarchy holds (those with finite coordinates).
     pub fn len(&self) -> usize {
-        self.order.len()
+        self.triangles
     }
 
     /// True when it holds no triangle.
     pub fn is_empty(&self) -> bool {
-        self.order.is_empty()
+        self.triangles == 0
     }
 
     /// Visits the triangles whose boxes the ray o + t d meets for t from `t_min` to the nearest hit
@@ -367,24 +405,68 @@ impl Bvh {
         let mut best: Option<(usize, [f64; 3])> = None;
         self.walk::<AVX2>(origin, dir, t_min, t_max, box_tests, |slots, t_max| {
             *triangle_tests += slots.len() as u64;
-            let mut limit = t_max;
-            for slot in slots {
-                let Some(hit) = ray.intersect(&self.vertices[slot], t_min) else {
-                    continue;
-                };
-                let index = self.order[slot] as usize;
-                let closer = match best {
-                    None => hit[0] <= limit,
-                    Some((b, bh)) => hit[0] < bh[0] || (hit[0] == bh[0] && index < b),
-                };
-                if closer {
-                    best = Some((index, hit));
-                    limit = hit[0];
-                }
-            }
-            limit
+            self.leaf_crack_free::<AVX2>(&ray, slots, t_min, t_max, &mut best)
         });
         best
+    }
+
+    /// Tests a leaf's slots with the crack-free test, keeping in `best` the nearest hit with
+    /// t_min < t ≤ `limit` (ties to the lower triangle index); returns the new limit. With `AVX2`
+    /// (only from a function compiled with AVX2 and FMA) four triangles at a time, with the same
+    /// decisions and numbers (see [`crack_free4`]).
+    #[inline(always)]
+    fn leaf_crack_free<const AVX2: bool>(
+        &self,
+        ray: &ShearedRay,
+        slots: std::ops::Range<usize>,
+        t_min: f64,
+        mut limit: f64,
+        best: &mut Option<(usize, [f64; 3])>,
+    ) -> f64 {
+        let mut offer = |slot: usize, hit: [f64; 3], limit: &mut f64| {
+            let index = self.order[slot] as usize;
+            let closer = match *best {
+                None => hit[0] <= *limit,
+                Some((b, bh)) => hit[0] < bh[0] || (hit[0] == bh[0] && index < b),
+            };
+            if closer {
+                *best = Some((index, hit));
+                *limit = hit[0];
+            }
+        };
+        #[cfg(target_arch = "x86_64")]
+        if AVX2 {
+            // Leaves start at multiples of four (see `append_leaf`).
+            for first in slots.clone().step_by(4) {
+                let lanes = (1u32 << (slots.end - first).min(4)) - 1;
+                // SAFETY: AVX2 is only set by callers compiled with AVX2 and FMA.
+                let found =
+                    unsafe { crack_free4::intersect4(ray, &self.quads[first / 4], t_min, lanes) };
+                let mut hit = found.hit;
+                while hit != 0 {
+                    let lane = hit.trailing_zeros() as usize;
+                    hit &= hit - 1;
+                    let det = found.det[lane];
+                    let values = [found.t[lane], found.v[lane] / det, found.w[lane] / det];
+                    offer(first + lane, values, &mut limit);
+                }
+                let mut again = found.again;
+                while again != 0 {
+                    let lane = again.trailing_zeros() as usize;
+                    again &= again - 1;
+                    if let Some(hit) = ray.intersect(&self.vertices[first + lane], t_min) {
+                        offer(first + lane, hit, &mut limit);
+                    }
+                }
+            }
+            return limit;
+        }
+        for slot in slots {
+            if let Some(hit) = ray.intersect(&self.vertices[slot], t_min) {
+                offer(slot, hit, &mut limit);
+            }
+        }
+        limit
     }
 
     /// [`Bvh::nearest_crack_free`] for `P` rays at once (neighbouring pixels), each with its own
@@ -481,20 +563,13 @@ impl Bvh {
                         each &= each - 1;
                         let Some(ray) = &sheared[r] else { continue };
                         *triangle_tests += u64::from(entry.count);
-                        for slot in slots.clone() {
-                            let Some(hit) = ray.intersect(&self.vertices[slot], 0.0) else {
-                                continue;
-                            };
-                            let index = self.order[slot] as usize;
-                            let closer = match best[r] {
-                                None => hit[0] <= t_max[r],
-                                Some((b, bh)) => hit[0] < bh[0] || (hit[0] == bh[0] && index < b),
-                            };
-                            if closer {
-                                best[r] = Some((index, hit));
-                                t_max[r] = hit[0];
-                            }
-                        }
+                        t_max[r] = self.leaf_crack_free::<AVX2>(
+                            ray,
+                            slots.clone(),
+                            0.0,
+                            t_max[r],
+                            &mut best[r],
+                        );
                     }
                     continue;
                 }

@@ -11,6 +11,7 @@ mod batched;
 pub mod bvh;
 pub mod cast;
 pub mod crack_free;
+mod crack_free4;
 pub mod generate;
 pub mod objects;
 pub mod probe;
