@@ -15,6 +15,8 @@
 use std::cell::RefCell;
 
 use super::crack_free::ShearedRay;
+
+mod narrow;
 use super::crack_free4::{self, Quad};
 use super::objects::PreparedTriangle;
 use crate::math::linalg::V3;
@@ -158,6 +160,9 @@ thread_local! {
     static PACKET_STACK: RefCell<Vec<PacketPending>> = const { RefCell::new(Vec::new()) };
 }
 
+/// A ray's nearest hit in a hierarchy: the triangle's index and (t, β, γ).
+type Nearest = Option<(usize, [f64; 3])>;
+
 /// The hierarchy: 4-wide nodes (the root first), and the triangles in leaf order ("slots").
 #[derive(Clone, Debug)]
 pub struct Bvh {
@@ -172,6 +177,8 @@ pub struct Bvh {
     quads: Vec<Quad>,
     /// Triangles held (those with finite coordinates).
     triangles: usize,
+    /// True when every box is within the f32 packet test's range ([`narrow::BOX_LIMIT`]).
+    narrow: bool,
 }
 
 /// Per-ray constants of the box test.
@@ -212,6 +219,7 @@ impl Bvh {
             vertices: Vec::with_capacity(order.len() + order.len() / 2),
             quads: Vec::new(),
             triangles: order.len(),
+            narrow: true,
         };
         if !binary.is_empty() {
             // Node 0 holds the whole mesh's box as its one child: a ray that misses the mesh costs
@@ -237,7 +245,7 @@ impl Bvh {
             self.order.push(i);
             self.vertices.push(leaves.triangles[i as usize].vertices);
         }
-        while self.order.len() % 4 != 0 {
+        while !self.order.len().is_multiple_of(4) {
             self.order.push(self.order[start]);
             self.vertices.push(self.vertices[start]);
         }
@@ -254,6 +262,8 @@ impl Bvh {
         lane: usize,
     ) {
         let (min, max) = binary[index].bounds.to_f32();
+        let within = |c: &f32| f64::from(c.abs()) <= narrow::BOX_LIMIT;
+        self.narrow &= min.iter().chain(&max).all(within);
         for k in 0..3 {
             node.min[k][lane] = min[k];
             node.max[k][lane] = max[k];
@@ -489,7 +499,8 @@ impl Bvh {
         self.packet_inlined::<P, false>(rays, t_max, box_tests, triangle_tests)
     }
 
-    /// The packet traversal compiled with AVX2 and FMA (only called when the processor has them).
+    /// The packet traversal compiled with AVX2 and FMA (only called when the processor has them):
+    /// sixteen rays whose numbers allow it take [`narrow`]'s f32 box test of eight rays at once.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn packet_avx2<const P: usize>(
@@ -499,6 +510,15 @@ impl Bvh {
         box_tests: &mut u64,
         triangle_tests: &mut u64,
     ) -> [Option<(usize, [f64; 3])>; P] {
+        if P == narrow::RAYS && self.narrow && !self.nodes.is_empty() {
+            let packet: [(V3<f64>, V3<f64>); narrow::RAYS] = std::array::from_fn(|r| rays[r]);
+            let limits: [f64; narrow::RAYS] = std::array::from_fn(|r| t_max[r]);
+            // SAFETY: this function is compiled with AVX2 and FMA and runs only where they are.
+            let found = unsafe { self.packet_narrow(&packet, limits, box_tests, triangle_tests) };
+            if let Some(found) = found {
+                return std::array::from_fn(|r| found[r]);
+            }
+        }
         self.packet_inlined::<P, true>(rays, t_max, box_tests, triangle_tests)
     }
 

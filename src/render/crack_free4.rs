@@ -26,17 +26,14 @@ pub struct Quad {
 impl Quad {
     /// Up to four triangles; missing lanes repeat the first triangle (callers mask them off).
     pub fn new(triangles: &[[V3<f64>; 3]]) -> Quad {
-        let mut v = [[[0.0; 4]; 3]; 3];
-        for lane in 0..4 {
-            let t = triangles.get(lane).or(triangles.first());
-            if let Some(t) = t {
-                for (vertex, point) in t.iter().enumerate() {
-                    for (axis, c) in point.iter().enumerate() {
-                        v[vertex][axis][lane] = *c;
-                    }
-                }
-            }
-        }
+        let v = std::array::from_fn(|vertex| {
+            std::array::from_fn(|axis| {
+                std::array::from_fn(|lane| {
+                    let t = triangles.get(lane).or(triangles.first());
+                    t.map_or(0.0, |t| t[vertex][axis])
+                })
+            })
+        });
         Quad { v }
     }
 }

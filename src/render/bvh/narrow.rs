@@ -1,0 +1,257 @@
+//! The packet traversal's fast path: sixteen neighbouring rays traverse together, each child box
+//! tested against eight rays at once in f32 with AVX2 (SIMD across rays), the leaves tested ray by
+//! ray with the crack-free test four triangles at a time. The hits are the same as the one-ray
+//! traversal's: the box test only culls, and it is conservative.
+//!
+//! **Why no hit is lost.** A slab distance (box − o)/d is computed as box·(1/d) − o/d, one fused
+//! multiply-add from 1/d and o/d rounded to f32. Rounding 1/d and o/d (through f64) and the result
+//! each err by at most 2⁻²⁴(1 + 2⁻²⁸) relative, so with |box/d| ≤ |t| + |o/d| the computed t is
+//! within 2⁻²²·⁹(|t| + |o/d|) + 2⁻¹⁴⁰ of the exact one. The entry distance (a maximum over the axes
+//! and 0) is lowered by [`RELATIVE`]·|t| and the ray's slack (the largest over its axes of
+//! 2⁻²¹·|o/d| + 2⁻¹²⁰, rounded up); the exit distance (a minimum, with the ray's t_max rounded up)
+//! is raised by as much; the margin left over covers the rounding of the widening itself. A ray
+//! takes this path only when, on every axis, 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ and |o/d| ≤ 2¹⁰⁰, and the
+//! hierarchy only when its boxes are within [`BOX_LIMIT`] (2⁶²): every product stays below 2¹²⁷, no
+//! f32 is subnormal where it matters, nothing overflows or is NaN. Other packets take the one-ray
+//! box test.
+
+// The AVX2 kernel: each unsafe block says in a SAFETY comment why it is sound.
+#![allow(unsafe_code)]
+
+use std::cell::RefCell;
+
+use super::{Bvh, EMPTY, Nearest, ShearedRay, round_up};
+use crate::math::linalg::V3;
+
+/// Rays in a packet: two groups of eight f32 lanes.
+pub const RAYS: usize = 16;
+/// Box coordinates up to this magnitude (2⁶²) allow the f32 test.
+pub const BOX_LIMIT: f64 = 4.611_686_018_427_388e18;
+/// The relative widening of the distances, 2⁻¹⁹.
+const RELATIVE: f32 = 1.0 / 524_288.0;
+
+/// A child to visit: the rays that meet its box and the nearest (lowered) entry among them.
+#[derive(Clone, Copy)]
+struct Pending {
+    child: u32,
+    count: u32,
+    rays: u32,
+    near: f32,
+}
+
+thread_local! {
+    static STACK: RefCell<Vec<Pending>> = const { RefCell::new(Vec::new()) };
+}
+
+/// The packet's rays as f32 lanes (lane r is ray r).
+#[repr(C, align(32))]
+struct Lanes {
+    /// 1/d per axis.
+    inverse: [[f32; RAYS]; 3],
+    /// o/d per axis.
+    offset: [[f32; RAYS]; 3],
+    /// −0.0 where d is negative on the axis, else 0.0 (a sign mask for choosing the entry face).
+    negative: [[f32; RAYS]; 3],
+    /// The largest slack over the axes.
+    slack: [f32; RAYS],
+    /// t_max rounded up.
+    t_max: [f32; RAYS],
+}
+
+impl Lanes {
+    /// The lanes, or `None` when a ray's numbers are outside the range the error bound holds in.
+    fn new(rays: &[(V3<f64>, V3<f64>); RAYS], t_max: &[f64; RAYS]) -> Option<Lanes> {
+        let mut lanes = Lanes {
+            inverse: [[0.0; RAYS]; 3],
+            offset: [[0.0; RAYS]; 3],
+            negative: [[0.0; RAYS]; 3],
+            slack: [0.0; RAYS],
+            t_max: t_max.map(round_up),
+        };
+        for (r, (origin, dir)) in rays.iter().enumerate() {
+            let mut slack = 0.0f64;
+            for k in 0..3 {
+                let inverse = 1.0 / dir[k];
+                let offset = origin[k] * inverse;
+                let magnitude = inverse.abs();
+                let in_range = (8.673_617_379_884_035e-19..=1.152_921_504_606_847e18)
+                    .contains(&magnitude)
+                    && offset.abs() <= 1.27e30;
+                if !in_range {
+                    return None;
+                }
+                lanes.inverse[k][r] = inverse as f32;
+                lanes.offset[k][r] = offset as f32;
+                lanes.negative[k][r] = if dir[k] < 0.0 { -0.0 } else { 0.0 };
+                slack = slack.max(offset.abs() * (1.0 / 2_097_152.0) + 7.6e-37);
+            }
+            lanes.slack[r] = round_up(slack);
+        }
+        Some(lanes)
+    }
+}
+
+impl Bvh {
+    /// The nearest crack-free hits of sixteen rays, or `None` when their numbers do not allow the
+    /// f32 box test (the caller then takes the one-ray box test).
+    ///
+    /// # Safety
+    /// Only call on a processor with AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) unsafe fn packet_narrow(
+        &self,
+        rays: &[(V3<f64>, V3<f64>); RAYS],
+        mut t_max: [f64; RAYS],
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> Option<[Nearest; RAYS]> {
+        use std::arch::x86_64::*;
+        let sheared: [Option<ShearedRay>; RAYS] =
+            std::array::from_fn(|r| ShearedRay::new(&rays[r].0, &rays[r].1));
+        if sheared.iter().any(Option::is_none) {
+            return None;
+        }
+        let mut lanes = Lanes::new(rays, &t_max)?;
+        let mut best: [Nearest; RAYS] = [None; RAYS];
+        let magnitude = |x: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
+        let shrink = _mm256_set1_ps(1.0 - RELATIVE);
+        let relative = _mm256_set1_ps(RELATIVE);
+        let zero = _mm256_setzero_ps();
+        let infinity = _mm256_set1_ps(f32::INFINITY);
+        // SAFETY (every load below): eight f32s at lane 0 or 8 of a 16-f32 row of the 32-byte
+        // aligned `Lanes`, so 32-byte aligned.
+        let load = |row: &[f32; RAYS], group: usize| unsafe {
+            _mm256_load_ps(row.as_ptr().add(8 * group))
+        };
+        STACK.with_borrow_mut(|stack| {
+            stack.clear();
+            stack.push(Pending {
+                child: 0,
+                count: 0,
+                rays: (1 << RAYS) - 1,
+                near: 0.0,
+            });
+            while let Some(entry) = stack.pop() {
+                // Rays whose nearest hit so far is before the box have nothing left to find in it.
+                let mut live = 0;
+                for group in 0..2 {
+                    let reached = _mm256_cmp_ps::<_CMP_GE_OQ>(
+                        load(&lanes.t_max, group),
+                        _mm256_set1_ps(entry.near),
+                    );
+                    live |= (_mm256_movemask_ps(reached) as u32) << (8 * group);
+                }
+                live &= entry.rays;
+                if live == 0 {
+                    continue;
+                }
+                if entry.count > 0 {
+                    let slots = entry.child as usize..(entry.child + entry.count) as usize;
+                    let mut each = live;
+                    while each != 0 {
+                        let r = each.trailing_zeros() as usize;
+                        each &= each - 1;
+                        let Some(ray) = &sheared[r] else { continue };
+                        *triangle_tests += u64::from(entry.count);
+                        t_max[r] = self.leaf_crack_free::<true>(
+                            ray,
+                            slots.clone(),
+                            0.0,
+                            t_max[r],
+                            &mut best[r],
+                        );
+                        lanes.t_max[r] = round_up(t_max[r]);
+                    }
+                    continue;
+                }
+                let node = &self.nodes[entry.child as usize];
+                let mut found = [(0u32, 0u32, 0.0f32); 4];
+                let mut n = 0;
+                let mut children = 0;
+                for lane in 0..4 {
+                    if node.child[lane] == EMPTY {
+                        continue;
+                    }
+                    children += 1;
+                    let lo = [0, 1, 2].map(|k| _mm256_set1_ps(node.min[k][lane]));
+                    let hi = [0, 1, 2].map(|k| _mm256_set1_ps(node.max[k][lane]));
+                    let mut hit = 0u32;
+                    let mut nearest = infinity;
+                    for group in 0..2 {
+                        let active = (live >> (8 * group)) & 0xff;
+                        if active == 0 {
+                            continue;
+                        }
+                        let mut near = zero;
+                        let mut far = load(&lanes.t_max, group);
+                        for k in 0..3 {
+                            let negative = load(&lanes.negative[k], group);
+                            let entry_face = _mm256_blendv_ps(lo[k], hi[k], negative);
+                            let exit_face = _mm256_blendv_ps(hi[k], lo[k], negative);
+                            let inverse = load(&lanes.inverse[k], group);
+                            let offset = load(&lanes.offset[k], group);
+                            near =
+                                _mm256_max_ps(near, _mm256_fmsub_ps(entry_face, inverse, offset));
+                            far = _mm256_min_ps(far, _mm256_fmsub_ps(exit_face, inverse, offset));
+                        }
+                        // near ≥ 0: lowered as near·(1 − 2⁻¹⁹) − slack; far raised by as much.
+                        let slack = load(&lanes.slack, group);
+                        let near = _mm256_fmsub_ps(near, shrink, slack);
+                        let far =
+                            _mm256_fmadd_ps(relative, magnitude(far), _mm256_add_ps(far, slack));
+                        let meets = _mm256_cmp_ps::<_CMP_LE_OQ>(near, far);
+                        let meets_mask = _mm256_movemask_ps(meets) as u32 & active;
+                        if meets_mask == 0 {
+                            continue;
+                        }
+                        hit |= meets_mask << (8 * group);
+                        let active_lanes = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                            _mm256_and_si256(
+                                _mm256_set1_epi32(meets_mask as i32),
+                                _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128),
+                            ),
+                            _mm256_setzero_si256(),
+                        ));
+                        nearest =
+                            _mm256_min_ps(nearest, _mm256_blendv_ps(infinity, near, active_lanes));
+                    }
+                    if hit != 0 {
+                        found[n] = (lane as u32, hit, horizontal_min(nearest));
+                        n += 1;
+                    }
+                }
+                *box_tests += children * u64::from(live.count_ones());
+                // Farthest first, so the nearest is popped next.
+                for i in 1..n {
+                    let mut j = i;
+                    while j > 0 && found[j - 1].2 < found[j].2 {
+                        found.swap(j - 1, j);
+                        j -= 1;
+                    }
+                }
+                for &(lane, hit, near) in &found[..n] {
+                    stack.push(Pending {
+                        child: node.child[lane as usize],
+                        count: node.count[lane as usize],
+                        rays: hit,
+                        near,
+                    });
+                }
+            }
+        });
+        Some(best)
+    }
+}
+
+/// The smallest of eight f32s.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn horizontal_min(x: std::arch::x86_64::__m256) -> f32 {
+    use std::arch::x86_64::*;
+    let halves = _mm_min_ps(_mm256_castps256_ps128(x), _mm256_extractf128_ps::<1>(x));
+    let pairs = _mm_min_ps(halves, _mm_movehl_ps(halves, halves));
+    let one = _mm_min_ss(pairs, _mm_shuffle_ps::<1>(pairs, pairs));
+    _mm_cvtss_f32(one)
+}
