@@ -511,10 +511,15 @@ impl Bvh {
         triangle_tests: &mut u64,
     ) -> [Option<(usize, [f64; 3])>; P] {
         if P == narrow::RAYS && self.narrow && !self.nodes.is_empty() {
-            let packet: [(V3<f64>, V3<f64>); narrow::RAYS] = std::array::from_fn(|r| rays[r]);
-            let limits: [f64; narrow::RAYS] = std::array::from_fn(|r| t_max[r]);
-            // SAFETY: this function is compiled with AVX2 and FMA and runs only where they are.
-            let found = unsafe { self.packet_narrow(&packet, limits, box_tests, triangle_tests) };
+            let packet = <&[(V3<f64>, V3<f64>); narrow::RAYS]>::try_from(rays.as_slice());
+            let limits = <[f64; narrow::RAYS]>::try_from(t_max.as_slice());
+            let found = match (packet, limits) {
+                // SAFETY: this function is compiled with AVX2 and FMA and runs only where they are.
+                (Ok(packet), Ok(limits)) => unsafe {
+                    self.packet_narrow(packet, limits, box_tests, triangle_tests)
+                },
+                _ => None,
+            };
             if let Some(found) = found {
                 return std::array::from_fn(|r| found[r]);
             }
@@ -1144,6 +1149,62 @@ mod tests {
             }
         }
         assert!(seen.iter().all(|s| *s == 1));
+    }
+
+    /// Packets of sixteen rays (across whose rays the f32 box test runs where their numbers allow
+    /// it) find exactly what each ray finds alone: rows of neighbouring rays, scattered rays, rays
+    /// through the mesh's vertices and edge midpoints (on its boxes' faces and corners), with and
+    /// without a t_max, and packets with a zero direction component (the one-ray box test).
+    #[test]
+    fn packets_find_what_single_rays_find() {
+        use rand::{Rng, SeedableRng};
+        let mesh = load_mesh(&Embedded, "meshes/octasphere.obj").unwrap();
+        let bvh = Bvh::build(&mesh);
+        let mut random = rand_pcg::Pcg64::seed_from_u64(11);
+        let mut hits = 0;
+        for p in 0..600 {
+            let origin: V3<f64> = [
+                random.random_range(-0.5..0.5),
+                -3.0,
+                random.random_range(-0.5..0.5),
+            ];
+            let base = [
+                random.random_range(-0.4..0.4),
+                random.random_range(-0.4..0.4),
+            ];
+            let rays: [(V3<f64>, V3<f64>); 16] = std::array::from_fn(|r| {
+                let target: V3<f64> = match p % 4 {
+                    0 => [base[0] + r as f64 / 64.0, 0.0, base[1]],
+                    1 => std::array::from_fn(|_| random.random_range(-1.2..1.2)),
+                    2 => {
+                        let t = &mesh[random.random_range(0..mesh.len())].vertices;
+                        let (a, b) = (t[r % 3], t[(r + 1) % 3]);
+                        if r % 2 == 0 {
+                            a
+                        } else {
+                            std::array::from_fn(|k| a[k] * 0.5 + b[k] * 0.5)
+                        }
+                    }
+                    // Through x = 0 exactly: a zero direction component.
+                    _ => [0.0, 0.0, base[1] + r as f64 / 32.0],
+                };
+                let origin = if p % 4 == 3 {
+                    [0.0, -3.0, origin[2]]
+                } else {
+                    origin
+                };
+                (origin, std::array::from_fn(|k| target[k] - origin[k]))
+            });
+            let t_max: [f64; 16] =
+                std::array::from_fn(|r| if r % 5 == 0 { 2.9 } else { f64::INFINITY });
+            let packet = bvh.nearest_crack_free_packet(&rays, t_max, &mut 0, &mut 0);
+            for (r, (o, d)) in rays.iter().enumerate() {
+                let alone = bvh.nearest_crack_free(o, d, 0.0, t_max[r], &mut 0, &mut 0);
+                assert_eq!(packet[r], alone, "packet {p}, ray {r}: {o:?} {d:?}");
+                hits += alone.is_some() as usize;
+            }
+        }
+        assert!(hits > 4000, "{hits}");
     }
 
     /// Every triangle a brute-force loop hits first is the one the BVH finds first (ties to the lower

@@ -13,6 +13,7 @@ pub mod cast;
 pub mod crack_free;
 mod crack_free4;
 pub mod generate;
+mod lone;
 pub mod objects;
 pub mod probe;
 pub mod scene_load;

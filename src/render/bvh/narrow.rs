@@ -20,7 +20,7 @@
 
 use std::cell::RefCell;
 
-use super::{Bvh, EMPTY, Nearest, ShearedRay, round_up};
+use super::{Bvh, EMPTY, Nearest, ShearedRay};
 use crate::math::linalg::V3;
 
 /// Rays in a packet: two groups of eight f32 lanes.
@@ -46,47 +46,104 @@ thread_local! {
 /// The packet's rays as f32 lanes (lane r is ray r).
 #[repr(C, align(32))]
 struct Lanes {
-    /// 1/d per axis.
+    /// 1/d per axis (its sign bit also picks each slab's entry face).
     inverse: [[f32; RAYS]; 3],
     /// o/d per axis.
     offset: [[f32; RAYS]; 3],
-    /// −0.0 where d is negative on the axis, else 0.0 (a sign mask for choosing the entry face).
-    negative: [[f32; RAYS]; 3],
     /// The largest slack over the axes.
     slack: [f32; RAYS],
     /// t_max rounded up.
     t_max: [f32; RAYS],
 }
 
+/// A non-negative f64 rounded up to f32 (or above): nearest, raised by 2⁻²⁰ relative and 10⁻³⁷.
+#[inline(always)]
+fn up(x: f64) -> f32 {
+    (x as f32) * (1.0 + 1.0 / 1_048_576.0) + 1e-37
+}
+
 impl Lanes {
     /// The lanes, or `None` when a ray's numbers are outside the range the error bound holds in.
-    fn new(rays: &[(V3<f64>, V3<f64>); RAYS], t_max: &[f64; RAYS]) -> Option<Lanes> {
+    ///
+    /// # Safety
+    /// Only call on a processor with AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    unsafe fn new(rays: &[(V3<f64>, V3<f64>); RAYS], t_max: &[f64; RAYS]) -> Option<Lanes> {
+        use std::arch::x86_64::*;
         let mut lanes = Lanes {
             inverse: [[0.0; RAYS]; 3],
             offset: [[0.0; RAYS]; 3],
-            negative: [[0.0; RAYS]; 3],
             slack: [0.0; RAYS],
-            t_max: t_max.map(round_up),
+            t_max: [0.0; RAYS],
         };
-        for (r, (origin, dir)) in rays.iter().enumerate() {
-            let mut slack = 0.0f64;
-            for k in 0..3 {
-                let inverse = 1.0 / dir[k];
-                let offset = origin[k] * inverse;
-                let magnitude = inverse.abs();
-                let in_range = (8.673_617_379_884_035e-19..=1.152_921_504_606_847e18)
-                    .contains(&magnitude)
-                    && offset.abs() <= 1.27e30;
-                if !in_range {
-                    return None;
+        let magnitude = _mm256_set1_pd(-0.0);
+        let mut valid = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+        let mut slack = [_mm256_setzero_pd(); RAYS / 4];
+        for k in 0..3 {
+            for (quarter, slack) in slack.iter_mut().enumerate() {
+                let r = 4 * quarter;
+                let dir = _mm256_setr_pd(
+                    rays[r].1[k],
+                    rays[r + 1].1[k],
+                    rays[r + 2].1[k],
+                    rays[r + 3].1[k],
+                );
+                let origin = _mm256_setr_pd(
+                    rays[r].0[k],
+                    rays[r + 1].0[k],
+                    rays[r + 2].0[k],
+                    rays[r + 3].0[k],
+                );
+                let inverse = _mm256_div_pd(_mm256_set1_pd(1.0), dir);
+                let offset = _mm256_mul_pd(origin, inverse);
+                let inverse_size = _mm256_andnot_pd(magnitude, inverse);
+                let offset_size = _mm256_andnot_pd(magnitude, offset);
+                // 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ and |o/d| ≤ 2¹⁰⁰ (false for NaN).
+                let in_range = _mm256_and_pd(
+                    _mm256_and_pd(
+                        _mm256_cmp_pd::<_CMP_GE_OQ>(
+                            inverse_size,
+                            _mm256_set1_pd(8.673_617_379_884_035e-19),
+                        ),
+                        _mm256_cmp_pd::<_CMP_LE_OQ>(
+                            inverse_size,
+                            _mm256_set1_pd(1.152_921_504_606_847e18),
+                        ),
+                    ),
+                    _mm256_cmp_pd::<_CMP_LE_OQ>(offset_size, _mm256_set1_pd(1.27e30)),
+                );
+                valid = _mm256_and_pd(valid, in_range);
+                // SAFETY: four f32s at lane r (a multiple of four) of a 16-f32 row.
+                unsafe {
+                    _mm_storeu_ps(
+                        lanes.inverse[k].as_mut_ptr().add(r),
+                        _mm256_cvtpd_ps(inverse),
+                    );
+                    _mm_storeu_ps(lanes.offset[k].as_mut_ptr().add(r), _mm256_cvtpd_ps(offset));
                 }
-                lanes.inverse[k][r] = inverse as f32;
-                lanes.offset[k][r] = offset as f32;
-                lanes.negative[k][r] = if dir[k] < 0.0 { -0.0 } else { 0.0 };
-                slack = slack.max(offset.abs() * (1.0 / 2_097_152.0) + 7.6e-37);
+                let axis_slack = _mm256_add_pd(
+                    _mm256_mul_pd(offset_size, _mm256_set1_pd(1.0 / 2_097_152.0)),
+                    _mm256_set1_pd(7.6e-37),
+                );
+                *slack = _mm256_max_pd(*slack, axis_slack);
             }
-            lanes.slack[r] = round_up(slack);
         }
+        if _mm256_movemask_pd(valid) != 0b1111 {
+            return None;
+        }
+        for (quarter, slack) in slack.iter().enumerate() {
+            // Rounded to nearest, then raised by 2⁻²⁰ relative: at least the f64 slack (≥ 2⁻¹²⁰,
+            // a normal f32).
+            let raised = _mm_mul_ps(
+                _mm256_cvtpd_ps(*slack),
+                _mm_set1_ps(1.0 + 1.0 / 1_048_576.0),
+            );
+            // SAFETY: four f32s at lane 4·quarter of a 16-f32 row.
+            unsafe { _mm_storeu_ps(lanes.slack.as_mut_ptr().add(4 * quarter), raised) };
+        }
+        lanes.t_max = t_max.map(up);
         Some(lanes)
     }
 }
@@ -107,23 +164,24 @@ impl Bvh {
         triangle_tests: &mut u64,
     ) -> Option<[Nearest; RAYS]> {
         use std::arch::x86_64::*;
-        let sheared: [Option<ShearedRay>; RAYS] =
-            std::array::from_fn(|r| ShearedRay::new(&rays[r].0, &rays[r].1));
-        if sheared.iter().any(Option::is_none) {
-            return None;
-        }
-        let mut lanes = Lanes::new(rays, &t_max)?;
+        // SAFETY: the caller runs on a processor with AVX2 and FMA.
+        let mut lanes = unsafe { Lanes::new(rays, &t_max)? };
+        // Made when a ray first reaches a leaf (never `None` for rays in range: finite, d ≠ 0).
+        let mut sheared: [Option<ShearedRay>; RAYS] = [None; RAYS];
         let mut best: [Nearest; RAYS] = [None; RAYS];
-        let magnitude = |x: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
         let shrink = _mm256_set1_ps(1.0 - RELATIVE);
         let relative = _mm256_set1_ps(RELATIVE);
         let zero = _mm256_setzero_ps();
         let infinity = _mm256_set1_ps(f32::INFINITY);
-        // SAFETY (every load below): eight f32s at lane 0 or 8 of a 16-f32 row of the 32-byte
-        // aligned `Lanes`, so 32-byte aligned.
-        let load = |row: &[f32; RAYS], group: usize| unsafe {
-            _mm256_load_ps(row.as_ptr().add(8 * group))
-        };
+        let sign = _mm256_set1_ps(-0.0);
+        // A macro, not a closure, so that it is always inlined.
+        macro_rules! load {
+            ($row:expr, $group:expr) => {
+                // SAFETY: eight f32s at lane 0 or 8 of a 16-f32 row of the 32-byte aligned
+                // `Lanes`, so in bounds and 32-byte aligned.
+                unsafe { _mm256_load_ps($row.as_ptr().add(8 * $group)) }
+            };
+        }
         STACK.with_borrow_mut(|stack| {
             stack.clear();
             stack.push(Pending {
@@ -137,7 +195,7 @@ impl Bvh {
                 let mut live = 0;
                 for group in 0..2 {
                     let reached = _mm256_cmp_ps::<_CMP_GE_OQ>(
-                        load(&lanes.t_max, group),
+                        load!(lanes.t_max, group),
                         _mm256_set1_ps(entry.near),
                     );
                     live |= (_mm256_movemask_ps(reached) as u32) << (8 * group);
@@ -152,6 +210,9 @@ impl Bvh {
                     while each != 0 {
                         let r = each.trailing_zeros() as usize;
                         each &= each - 1;
+                        if sheared[r].is_none() {
+                            sheared[r] = ShearedRay::new(&rays[r].0, &rays[r].1);
+                        }
                         let Some(ray) = &sheared[r] else { continue };
                         *triangle_tests += u64::from(entry.count);
                         t_max[r] = self.leaf_crack_free::<true>(
@@ -161,7 +222,7 @@ impl Bvh {
                             t_max[r],
                             &mut best[r],
                         );
-                        lanes.t_max[r] = round_up(t_max[r]);
+                        lanes.t_max[r] = up(t_max[r]);
                     }
                     continue;
                 }
@@ -174,8 +235,17 @@ impl Bvh {
                         continue;
                     }
                     children += 1;
-                    let lo = [0, 1, 2].map(|k| _mm256_set1_ps(node.min[k][lane]));
-                    let hi = [0, 1, 2].map(|k| _mm256_set1_ps(node.max[k][lane]));
+                    // Written out, not mapped through closures, which may be left uninlined.
+                    let lo = [
+                        _mm256_set1_ps(node.min[0][lane]),
+                        _mm256_set1_ps(node.min[1][lane]),
+                        _mm256_set1_ps(node.min[2][lane]),
+                    ];
+                    let hi = [
+                        _mm256_set1_ps(node.max[0][lane]),
+                        _mm256_set1_ps(node.max[1][lane]),
+                        _mm256_set1_ps(node.max[2][lane]),
+                    ];
                     let mut hit = 0u32;
                     let mut nearest = infinity;
                     for group in 0..2 {
@@ -184,22 +254,22 @@ impl Bvh {
                             continue;
                         }
                         let mut near = zero;
-                        let mut far = load(&lanes.t_max, group);
+                        let mut far = load!(lanes.t_max, group);
                         for k in 0..3 {
-                            let negative = load(&lanes.negative[k], group);
-                            let entry_face = _mm256_blendv_ps(lo[k], hi[k], negative);
-                            let exit_face = _mm256_blendv_ps(hi[k], lo[k], negative);
-                            let inverse = load(&lanes.inverse[k], group);
-                            let offset = load(&lanes.offset[k], group);
+                            let inverse = load!(lanes.inverse[k], group);
+                            let offset = load!(lanes.offset[k], group);
+                            // The entry face is the low one where 1/d ≥ 0 (its sign bit picks).
+                            let entry_face = _mm256_blendv_ps(lo[k], hi[k], inverse);
+                            let exit_face = _mm256_blendv_ps(hi[k], lo[k], inverse);
                             near =
                                 _mm256_max_ps(near, _mm256_fmsub_ps(entry_face, inverse, offset));
                             far = _mm256_min_ps(far, _mm256_fmsub_ps(exit_face, inverse, offset));
                         }
                         // near ≥ 0: lowered as near·(1 − 2⁻¹⁹) − slack; far raised by as much.
-                        let slack = load(&lanes.slack, group);
+                        let slack = load!(lanes.slack, group);
                         let near = _mm256_fmsub_ps(near, shrink, slack);
-                        let far =
-                            _mm256_fmadd_ps(relative, magnitude(far), _mm256_add_ps(far, slack));
+                        let far_size = _mm256_andnot_ps(sign, far);
+                        let far = _mm256_fmadd_ps(relative, far_size, _mm256_add_ps(far, slack));
                         let meets = _mm256_cmp_ps::<_CMP_LE_OQ>(near, far);
                         let meets_mask = _mm256_movemask_ps(meets) as u32 & active;
                         if meets_mask == 0 {
