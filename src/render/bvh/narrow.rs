@@ -54,6 +54,14 @@ struct Lanes {
     slack: [f32; RAYS],
     /// t_max rounded up.
     t_max: [f32; RAYS],
+    /// −1 where d is zero on the axis (the ray is parallel to its slabs), else 0; 1/d and o/d
+    /// are then 0, and the slab is (−∞, ∞) when o is between its faces, else empty.
+    parallel: [[f32; RAYS]; 3],
+    /// o rounded down and up to f32 (below and above o), for the parallel axes.
+    origin_down: [[f32; RAYS]; 3],
+    origin_up: [[f32; RAYS]; 3],
+    /// Per axis, whether any ray is parallel to it.
+    any_parallel: [bool; 3],
 }
 
 /// A non-negative f64 rounded up to f32 (or above): nearest, raised by 2⁻²⁰ relative and 10⁻³⁷.
@@ -77,10 +85,16 @@ impl Lanes {
             offset: [[0.0; RAYS]; 3],
             slack: [0.0; RAYS],
             t_max: [0.0; RAYS],
+            parallel: [[0.0; RAYS]; 3],
+            origin_down: [[0.0; RAYS]; 3],
+            origin_up: [[0.0; RAYS]; 3],
+            any_parallel: [false; 3],
         };
         let magnitude = _mm256_set1_pd(-0.0);
         let mut valid = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
         let mut slack = [_mm256_setzero_pd(); RAYS / 4];
+        // Rays parallel to every axis so far (a zero direction is refused).
+        let mut all_parallel = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
         for k in 0..3 {
             for (quarter, slack) in slack.iter_mut().enumerate() {
                 let r = 4 * quarter;
@@ -96,25 +110,53 @@ impl Lanes {
                     rays[r + 2].0[k],
                     rays[r + 3].0[k],
                 );
-                let inverse = _mm256_div_pd(_mm256_set1_pd(1.0), dir);
+                let parallel = _mm256_cmp_pd::<_CMP_EQ_OQ>(dir, _mm256_setzero_pd());
+                all_parallel = _mm256_and_pd(all_parallel, parallel);
+                let inverse = _mm256_andnot_pd(parallel, _mm256_div_pd(_mm256_set1_pd(1.0), dir));
                 let offset = _mm256_mul_pd(origin, inverse);
                 let inverse_size = _mm256_andnot_pd(magnitude, inverse);
                 let offset_size = _mm256_andnot_pd(magnitude, offset);
-                // 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ and |o/d| ≤ 2¹⁰⁰ (false for NaN).
-                let in_range = _mm256_and_pd(
-                    _mm256_and_pd(
-                        _mm256_cmp_pd::<_CMP_GE_OQ>(
-                            inverse_size,
-                            _mm256_set1_pd(8.673_617_379_884_035e-19),
-                        ),
-                        _mm256_cmp_pd::<_CMP_LE_OQ>(
-                            inverse_size,
-                            _mm256_set1_pd(1.152_921_504_606_847e18),
-                        ),
+                let origin_size = _mm256_andnot_pd(magnitude, origin);
+                // 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ (or d = 0), |o/d| ≤ 2¹⁰⁰ and |o| ≤ 2¹⁰⁰ (false for NaN).
+                let inverse_in_range = _mm256_and_pd(
+                    _mm256_cmp_pd::<_CMP_GE_OQ>(
+                        inverse_size,
+                        _mm256_set1_pd(8.673_617_379_884_035e-19),
                     ),
-                    _mm256_cmp_pd::<_CMP_LE_OQ>(offset_size, _mm256_set1_pd(1.27e30)),
+                    _mm256_cmp_pd::<_CMP_LE_OQ>(
+                        inverse_size,
+                        _mm256_set1_pd(1.152_921_504_606_847e18),
+                    ),
+                );
+                let in_range = _mm256_and_pd(
+                    _mm256_or_pd(parallel, inverse_in_range),
+                    _mm256_and_pd(
+                        _mm256_cmp_pd::<_CMP_LE_OQ>(offset_size, _mm256_set1_pd(1.27e30)),
+                        _mm256_cmp_pd::<_CMP_LE_OQ>(origin_size, _mm256_set1_pd(1.27e30)),
+                    ),
                 );
                 valid = _mm256_and_pd(valid, in_range);
+                // o rounded to nearest (within 2⁻²⁴|o|), moved out by 2⁻²²|o| + 10⁻³⁷.
+                let near_origin = _mm256_cvtpd_ps(origin);
+                let widen = _mm_fmadd_ps(
+                    _mm_andnot_ps(_mm_set1_ps(-0.0), near_origin),
+                    _mm_set1_ps(1.0 / 4_194_304.0),
+                    _mm_set1_ps(1e-37),
+                );
+                let parallel_lanes = _mm256_cvtpd_ps(_mm256_and_pd(parallel, _mm256_set1_pd(-1.0)));
+                // SAFETY: four f32s at lane r (a multiple of four) of 16-f32 rows.
+                unsafe {
+                    _mm_storeu_ps(lanes.parallel[k].as_mut_ptr().add(r), parallel_lanes);
+                    _mm_storeu_ps(
+                        lanes.origin_down[k].as_mut_ptr().add(r),
+                        _mm_sub_ps(near_origin, widen),
+                    );
+                    _mm_storeu_ps(
+                        lanes.origin_up[k].as_mut_ptr().add(r),
+                        _mm_add_ps(near_origin, widen),
+                    );
+                }
+                lanes.any_parallel[k] |= _mm256_movemask_pd(parallel) != 0;
                 // SAFETY: four f32s at lane r (a multiple of four) of a 16-f32 row.
                 unsafe {
                     _mm_storeu_ps(
@@ -130,7 +172,7 @@ impl Lanes {
                 *slack = _mm256_max_pd(*slack, axis_slack);
             }
         }
-        if _mm256_movemask_pd(valid) != 0b1111 {
+        if _mm256_movemask_pd(valid) != 0b1111 || _mm256_movemask_pd(all_parallel) != 0 {
             return None;
         }
         for (quarter, slack) in slack.iter().enumerate() {
@@ -255,22 +297,40 @@ impl Bvh {
                         }
                         let mut near = zero;
                         let mut far = load!(lanes.t_max, group);
+                        let mut outside = zero;
                         for k in 0..3 {
                             let inverse = load!(lanes.inverse[k], group);
                             let offset = load!(lanes.offset[k], group);
                             // The entry face is the low one where 1/d ≥ 0 (its sign bit picks).
                             let entry_face = _mm256_blendv_ps(lo[k], hi[k], inverse);
                             let exit_face = _mm256_blendv_ps(hi[k], lo[k], inverse);
-                            near =
-                                _mm256_max_ps(near, _mm256_fmsub_ps(entry_face, inverse, offset));
-                            far = _mm256_min_ps(far, _mm256_fmsub_ps(exit_face, inverse, offset));
+                            let mut t0 = _mm256_fmsub_ps(entry_face, inverse, offset);
+                            let mut t1 = _mm256_fmsub_ps(exit_face, inverse, offset);
+                            if lanes.any_parallel[k] {
+                                // Parallel lanes: the whole line, or nothing when o is outside.
+                                let parallel = load!(lanes.parallel[k], group);
+                                let minus_infinity = _mm256_set1_ps(f32::NEG_INFINITY);
+                                t0 = _mm256_blendv_ps(t0, minus_infinity, parallel);
+                                t1 = _mm256_blendv_ps(t1, infinity, parallel);
+                                let up = load!(lanes.origin_up[k], group);
+                                let down = load!(lanes.origin_down[k], group);
+                                let beyond = _mm256_or_ps(
+                                    _mm256_cmp_ps::<_CMP_LT_OQ>(up, lo[k]),
+                                    _mm256_cmp_ps::<_CMP_GT_OQ>(down, hi[k]),
+                                );
+                                let is_parallel = _mm256_cmp_ps::<_CMP_LT_OQ>(parallel, zero);
+                                outside = _mm256_or_ps(outside, _mm256_and_ps(is_parallel, beyond));
+                            }
+                            near = _mm256_max_ps(near, t0);
+                            far = _mm256_min_ps(far, t1);
                         }
                         // near ≥ 0: lowered as near·(1 − 2⁻¹⁹) − slack; far raised by as much.
                         let slack = load!(lanes.slack, group);
                         let near = _mm256_fmsub_ps(near, shrink, slack);
                         let far_size = _mm256_andnot_ps(sign, far);
                         let far = _mm256_fmadd_ps(relative, far_size, _mm256_add_ps(far, slack));
-                        let meets = _mm256_cmp_ps::<_CMP_LE_OQ>(near, far);
+                        let meets =
+                            _mm256_andnot_ps(outside, _mm256_cmp_ps::<_CMP_LE_OQ>(near, far));
                         let meets_mask = _mm256_movemask_ps(meets) as u32 & active;
                         if meets_mask == 0 {
                             continue;
