@@ -7,6 +7,12 @@
 //! triangle the exact test would hit. A direction component that is zero is handled without 0 · ∞, and
 //! a ray that would enter a box only at t = ∞ (an overflow) misses it. Triangles with a non-finite
 //! coordinate are left out: no method hits them.
+//!
+//! The renderer's packets of sixteen neighbouring rays go through [`narrow`] where the processor has
+//! AVX2 and the rays' numbers allow: each child box tested against eight rays at once in f32, with a
+//! proven widening in place of the f64 test. Leaves start at multiples of four slots, so their
+//! triangles are tested four at a time with one ray ([`crack_free4`]), with the one-triangle test's
+//! decisions and numbers to the bit.
 
 // The AVX2 box tests: each unsafe block says in a SAFETY comment why it is sound (the CPU feature
 // was checked, or the caller was compiled for it).

@@ -47,14 +47,23 @@ fn dot4(a: &Lanes3, b: &Lanes3) -> __m256d {
 #[target_feature(enable = "avx2,fma")]
 #[inline]
 fn splat(v: &V3<f64>) -> Lanes3 {
-    v.map(|x| _mm256_set1_pd(x))
+    // Written out: a closure passed to `map` may be left uninlined, outside this AVX2 function.
+    [
+        _mm256_set1_pd(v[0]),
+        _mm256_set1_pd(v[1]),
+        _mm256_set1_pd(v[2]),
+    ]
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
 fn sub4(a: &Lanes3, b: &Lanes3) -> Lanes3 {
-    [0, 1, 2].map(|k| _mm256_sub_pd(a[k], b[k]))
+    [
+        _mm256_sub_pd(a[0], b[0]),
+        _mm256_sub_pd(a[1], b[1]),
+        _mm256_sub_pd(a[2], b[2]),
+    ]
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -62,7 +71,13 @@ fn sub4(a: &Lanes3, b: &Lanes3) -> Lanes3 {
 #[inline]
 fn load(rows: &[[f64; 4]; 3]) -> Lanes3 {
     // SAFETY: each row is four f64s, read unaligned.
-    rows.map(|row| unsafe { _mm256_loadu_pd(row.as_ptr()) })
+    unsafe {
+        [
+            _mm256_loadu_pd(rows[0].as_ptr()),
+            _mm256_loadu_pd(rows[1].as_ptr()),
+            _mm256_loadu_pd(rows[2].as_ptr()),
+        ]
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
