@@ -426,6 +426,72 @@ impl Bvh {
         best
     }
 
+    /// True when the crack-free test hits some triangle with `t_min < t < t_max` (an any-hit, or
+    /// shadow, query: the traversal stops at the first such hit, nearest boxes first). Counts box
+    /// and triangle tests. True exactly when [`Bvh::nearest_crack_free`] finds its nearest hit
+    /// before `t_max`. Compiled twice, as that is: AVX2 and FMA where the processor has them, else
+    /// the baseline.
+    pub fn occluded(
+        &self,
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        t_min: f64,
+        t_max: f64,
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the processor has AVX2 and FMA, checked just above.
+            return unsafe {
+                self.occluded_avx2(origin, dir, t_min, t_max, box_tests, triangle_tests)
+            };
+        }
+        self.occluded_inlined::<false>(origin, dir, t_min, t_max, box_tests, triangle_tests)
+    }
+
+    /// [`Bvh::occluded`] compiled with AVX2 and FMA (only called when the processor has them).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn occluded_avx2(
+        &self,
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        t_min: f64,
+        t_max: f64,
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> bool {
+        self.occluded_inlined::<true>(origin, dir, t_min, t_max, box_tests, triangle_tests)
+    }
+
+    /// The any-hit traversal itself, inlined into each of the two builds above.
+    #[inline(always)]
+    fn occluded_inlined<const AVX2: bool>(
+        &self,
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        t_min: f64,
+        t_max: f64,
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> bool {
+        let Some(ray) = ShearedRay::new(origin, dir) else {
+            return false;
+        };
+        let mut found = false;
+        self.walk::<AVX2>(origin, dir, t_min, t_max, box_tests, |slots, limit| {
+            *triangle_tests += slots.len() as u64;
+            let mut best = None;
+            self.leaf_crack_free::<AVX2>(&ray, slots, t_min, limit, &mut best);
+            found |= best.is_some_and(|(_, hit)| hit[0] < t_max);
+            // Once found, a limit below every box ends the walk.
+            if found { f64::NEG_INFINITY } else { limit }
+        });
+        found
+    }
+
     /// Tests a leaf's slots with the crack-free test, keeping in `best` the nearest hit with
     /// t_min < t ≤ `limit` (ties to the lower triangle index); returns the new limit. With `AVX2`
     /// (only from a function compiled with AVX2 and FMA) four triangles at a time, with the same
@@ -1211,6 +1277,37 @@ mod tests {
             }
         }
         assert!(hits > 4000, "{hits}");
+    }
+
+    /// The any-hit query is true exactly when the nearest-hit query finds a hit before t_max, on
+    /// random rays (seams and vertices included) with finite and infinite t_max.
+    #[test]
+    fn occluded_agrees_with_the_nearest_hit() {
+        use rand::{Rng, SeedableRng};
+        let mesh = load_mesh(&Embedded, "meshes/octasphere.obj").unwrap();
+        let bvh = Bvh::build(&mesh);
+        let mut random = rand_pcg::Pcg64::seed_from_u64(13);
+        let (mut occluded, mut open) = (0, 0);
+        for i in 0..20_000 {
+            let origin: V3<f64> = std::array::from_fn(|_| random.random_range(-3.0..3.0));
+            let target: V3<f64> = if i % 3 == 0 {
+                mesh[random.random_range(0..mesh.len())].vertices[i % 3]
+            } else {
+                std::array::from_fn(|_| random.random_range(-1.2..1.2))
+            };
+            let dir = std::array::from_fn(|k| target[k] - origin[k]);
+            let t_max = [f64::INFINITY, 1.0, 0.999_999, 0.5][i % 4];
+            let nearest = bvh.nearest_crack_free(&origin, &dir, 0.0, f64::INFINITY, &mut 0, &mut 0);
+            let expected = nearest.is_some_and(|(_, hit)| hit[0] < t_max);
+            assert_eq!(
+                bvh.occluded(&origin, &dir, 0.0, t_max, &mut 0, &mut 0),
+                expected,
+                "{origin:?} {dir:?} {t_max}"
+            );
+            occluded += expected as usize;
+            open += !expected as usize;
+        }
+        assert!(occluded > 3000 && open > 3000, "{occluded} {open}");
     }
 
     /// Every triangle a brute-force loop hits first is the one the BVH finds first (ties to the lower
