@@ -5,7 +5,9 @@
 //! Scenes: each shipped scene with a mesh (its objects written to a temporary OBJ in world space, with
 //! their transforms applied; a parallelogram as its two triangles), an 81 920-triangle irregular sphere,
 //! and a 40 000-triangle box seen from inside whose every ray runs along an edge or through a vertex.
-//! Then the scaling: irregular spheres from 1 280 to 1 310 720 triangles. Set `RAYLAB_PEER_REPEATS`
+//! Then shadow rays: `Bvh::occluded` (any hit) against Embree's occlusion queries
+//! (`benches/peer/embree_occluded.py`) on the same camera rays, for the sphere and the box. Then the
+//! scaling: irregular spheres from 1 280 to 1 310 720 triangles. Set `RAYLAB_PEER_REPEATS`
 //! to change the 21 renders, `RAYLAB_PEER_MAX_LEVEL` (3 to 8) to cut the scaling series short.
 
 use std::process::Command;
@@ -163,6 +165,101 @@ fn row(
     Ok(())
 }
 
+/// raylab's any-hit queries on every camera ray of a one-mesh scene, in a pool of [`THREADS`]
+/// threads (rows in parallel): (median ms, occluded rays).
+fn raylab_occluded(pool: &rayon::ThreadPool, prepared: &Prepared) -> Option<(f64, usize)> {
+    use rayon::prelude::*;
+    let Geometry::Triangles { bvh: Some(bvh), .. } = &prepared.objects.first()?.geometry else {
+        return None;
+    };
+    let count = || {
+        (0..prepared.height)
+            .into_par_iter()
+            .map(|row| {
+                (0..prepared.width)
+                    .filter(|&column| {
+                        let (o, d) = prepared.ray(row, column);
+                        bvh.occluded(&o, &d, 0.0, f64::INFINITY, &mut 0, &mut 0)
+                    })
+                    .count()
+            })
+            .sum::<usize>()
+    };
+    Some(pool.install(|| {
+        let occluded = count();
+        let mut times: Vec<f64> = (0..repeats())
+            .map(|_| {
+                let clock = Stopwatch::start();
+                std::hint::black_box(count());
+                clock.seconds() * 1e3
+            })
+            .collect();
+        times.sort_by(f64::total_cmp);
+        (times[times.len() / 2], occluded)
+    }))
+}
+
+/// Embree's occlusion queries on the same rays: (median ms, occluded rays).
+fn embree_occluded(
+    triangles: &[[V3<f64>; 3]],
+    prepared: &Prepared,
+    name: &str,
+) -> Result<(f64, usize), String> {
+    let script = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/benches/peer/embree_occluded.py"
+    );
+    let Camera::Pinhole {
+        position,
+        target,
+        fov_y,
+    } = &prepared.camera
+    else {
+        return Err("the script takes pinhole cameras only".into());
+    };
+    let path = std::env::temp_dir().join(format!(
+        "raylab-peer-shadow-{name}-{}.obj",
+        std::process::id()
+    ));
+    std::fs::write(&path, to_obj(triangles)).map_err(|e| format!("cannot write the OBJ: {e}"))?;
+    let join = |v: &[f64; 3]| format!("{:?},{:?},{:?}", v[0], v[1], v[2]);
+    let output = Command::new("python3")
+        .arg(script)
+        .arg("--obj")
+        .arg(&path)
+        .args(["--eye", &join(position), "--target", &join(target)])
+        .args(["--fov", &format!("{fov_y:?}")])
+        .args(["--size", &format!("{}x{}", prepared.width, prepared.height)])
+        .args(["--threads", &THREADS.to_string()])
+        .args(["--reps", &repeats().to_string()])
+        .output();
+    let _ = std::fs::remove_file(&path);
+    let output = output.map_err(|e| format!("cannot run python3: {e}"))?;
+    median_and_coverage(&output)
+}
+
+/// Shadow rays: both sides' any-hit queries on the generated meshes.
+fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
+    println!(
+        "\nshadow rays: any-hit (occlusion) queries on the camera rays, no distance limit, \
+         {THREADS} threads each"
+    );
+    for (name, prepared, triangles) in scenes.iter().skip(3) {
+        let Some((ours_ms, ours)) = raylab_occluded(pool, prepared) else {
+            continue;
+        };
+        match embree_occluded(triangles, prepared, name) {
+            Ok((peer_ms, peer)) => println!(
+                "{name:>24} {:>9}   Embree {peer_ms:8.3} ms   raylab {ours_ms:8.3} ms   \
+                 raylab/Embree speed {:5.2}x   occluded: Embree {peer}, raylab {ours}",
+                triangles.len(),
+                peer_ms / ours_ms,
+            ),
+            Err(why) => println!("Embree shadow peer skipped: {why}"),
+        }
+    }
+}
+
 /// A shipped scene, coverage only.
 fn shipped(file: &str) -> Prepared {
     let path = format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
@@ -224,6 +321,7 @@ pub fn compare() {
             return;
         }
     }
+    shadow_rays(&pool, &scenes);
     let max_level = std::env::var("RAYLAB_PEER_MAX_LEVEL")
         .ok()
         .and_then(|l| l.parse().ok())

@@ -7,6 +7,12 @@
 //! triangle the exact test would hit. A direction component that is zero is handled without 0 · ∞, and
 //! a ray that would enter a box only at t = ∞ (an overflow) misses it. Triangles with a non-finite
 //! coordinate are left out: no method hits them.
+//!
+//! The renderer's packets of sixteen neighbouring rays go through [`narrow`] where the processor has
+//! AVX2 and the rays' numbers allow: each child box tested against eight rays at once in f32, with a
+//! proven widening in place of the f64 test. Leaves start at multiples of four slots, so their
+//! triangles are tested four at a time with one ray ([`crack_free4`]), with the one-triangle test's
+//! decisions and numbers to the bit.
 
 // The AVX2 box tests: each unsafe block says in a SAFETY comment why it is sound (the CPU feature
 // was checked, or the caller was compiled for it).
@@ -15,6 +21,9 @@
 use std::cell::RefCell;
 
 use super::crack_free::ShearedRay;
+
+mod narrow;
+use super::crack_free4::{self, Quad};
 use super::objects::PreparedTriangle;
 use crate::math::linalg::V3;
 
@@ -103,6 +112,12 @@ fn round_up(x: f64) -> f32 {
     if (f as f64) < x { f.next_up() } else { f }
 }
 
+/// The binary build's triangle order, and the triangles, for laying out the leaves.
+struct Leaves<'a> {
+    order: &'a [u32],
+    triangles: &'a [PreparedTriangle],
+}
+
 /// A node of the binary build: a box and either two children or a run of slots.
 struct BinaryNode {
     bounds: Bounds,
@@ -151,6 +166,9 @@ thread_local! {
     static PACKET_STACK: RefCell<Vec<PacketPending>> = const { RefCell::new(Vec::new()) };
 }
 
+/// A ray's nearest hit in a hierarchy: the triangle's index and (t, β, γ).
+type Nearest = Option<(usize, [f64; 3])>;
+
 /// The hierarchy: 4-wide nodes (the root first), and the triangles in leaf order ("slots").
 #[derive(Clone, Debug)]
 pub struct Bvh {
@@ -158,7 +176,15 @@ pub struct Bvh {
     /// Slot → triangle index.
     order: Vec<u32>,
     /// Slot → the triangle's vertices, stored in leaf order so a leaf's triangles are contiguous.
+    /// Each leaf starts at a multiple of four; the slots between leaves repeat a triangle and belong
+    /// to no leaf.
     vertices: Vec<[V3<f64>; 3]>,
+    /// The slots four at a time (slot / 4), for the four-triangle test.
+    quads: Vec<Quad>,
+    /// Triangles held (those with finite coordinates).
+    triangles: usize,
+    /// True when every box is within the f32 packet test's range ([`narrow::BOX_LIMIT`]).
+    narrow: bool,
 }
 
 /// Per-ray constants of the box test.
@@ -193,38 +219,66 @@ impl Bvh {
             let len = order.len();
             builder.split(&mut order, 0, len, 0);
         }
-        let vertices = order
-            .iter()
-            .map(|&i| triangles[i as usize].vertices)
-            .collect();
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(binary.len() / 2 + 1),
-            order,
-            vertices,
+            order: Vec::with_capacity(order.len() + order.len() / 2),
+            vertices: Vec::with_capacity(order.len() + order.len() / 2),
+            quads: Vec::new(),
+            triangles: order.len(),
+            narrow: true,
         };
         if !binary.is_empty() {
             // Node 0 holds the whole mesh's box as its one child: a ray that misses the mesh costs
             // one box test.
             bvh.nodes.push(Bvh::empty_node());
             let mut root = Bvh::empty_node();
-            bvh.place(&binary, 0, &mut root, 0);
+            let leaves = Leaves {
+                order: &order,
+                triangles,
+            };
+            bvh.place(&binary, &leaves, 0, &mut root, 0);
             bvh.nodes[0] = root;
         }
+        bvh.quads = bvh.vertices.chunks(4).map(Quad::new).collect();
         bvh
     }
 
+    /// Appends a leaf's triangles (binary slots `first..first + count`) at the next multiple of four
+    /// and returns its first slot.
+    fn append_leaf(&mut self, leaves: &Leaves, first: usize, count: usize) -> u32 {
+        let start = self.order.len();
+        for &i in &leaves.order[first..first + count] {
+            self.order.push(i);
+            self.vertices.push(leaves.triangles[i as usize].vertices);
+        }
+        while !self.order.len().is_multiple_of(4) {
+            self.order.push(self.order[start]);
+            self.vertices.push(self.vertices[start]);
+        }
+        start as u32
+    }
+
     /// Puts binary node `index` into lane `lane` of `node`: its box, and its slots or its wide node.
-    fn place(&mut self, binary: &[BinaryNode], index: usize, node: &mut Node, lane: usize) {
+    fn place(
+        &mut self,
+        binary: &[BinaryNode],
+        leaves: &Leaves,
+        index: usize,
+        node: &mut Node,
+        lane: usize,
+    ) {
         let (min, max) = binary[index].bounds.to_f32();
+        let within = |c: &f32| f64::from(c.abs()) <= narrow::BOX_LIMIT;
+        self.narrow &= min.iter().chain(&max).all(within);
         for k in 0..3 {
             node.min[k][lane] = min[k];
             node.max[k][lane] = max[k];
         }
         if binary[index].count > 0 {
-            node.child[lane] = binary[index].first as u32;
+            node.child[lane] = self.append_leaf(leaves, binary[index].first, binary[index].count);
             node.count[lane] = binary[index].count as u32;
         } else {
-            let inner = self.collapse(binary, index);
+            let inner = self.collapse(binary, leaves, index);
             self.nodes.push(inner);
             node.child[lane] = (self.nodes.len() - 1) as u32;
         }
@@ -241,7 +295,7 @@ impl Bvh {
 
     /// The wide node for binary inner node `index`: its children, opened (largest box first) until
     /// there are four or only leaves are left. Returns the node; its inner children are pushed.
-    fn collapse(&mut self, binary: &[BinaryNode], index: usize) -> Node {
+    fn collapse(&mut self, binary: &[BinaryNode], leaves: &Leaves, index: usize) -> Node {
         let mut children = vec![index];
         while children.len() < 4 {
             let openable = children
@@ -260,19 +314,19 @@ impl Bvh {
         }
         let mut node = Bvh::empty_node();
         for (lane, &c) in children.iter().enumerate() {
-            self.place(binary, c, &mut node, lane);
+            self.place(binary, leaves, c, &mut node, lane);
         }
         node
     }
 
     /// How many triangles the hierarchy holds (those with finite coordinates).
     pub fn len(&self) -> usize {
-        self.order.len()
+        self.triangles
     }
 
     /// True when it holds no triangle.
     pub fn is_empty(&self) -> bool {
-        self.order.is_empty()
+        self.triangles == 0
     }
 
     /// Visits the triangles whose boxes the ray o + t d meets for t from `t_min` to the nearest hit
@@ -367,24 +421,134 @@ impl Bvh {
         let mut best: Option<(usize, [f64; 3])> = None;
         self.walk::<AVX2>(origin, dir, t_min, t_max, box_tests, |slots, t_max| {
             *triangle_tests += slots.len() as u64;
-            let mut limit = t_max;
-            for slot in slots {
-                let Some(hit) = ray.intersect(&self.vertices[slot], t_min) else {
-                    continue;
-                };
-                let index = self.order[slot] as usize;
-                let closer = match best {
-                    None => hit[0] <= limit,
-                    Some((b, bh)) => hit[0] < bh[0] || (hit[0] == bh[0] && index < b),
-                };
-                if closer {
-                    best = Some((index, hit));
-                    limit = hit[0];
-                }
-            }
-            limit
+            self.leaf_crack_free::<AVX2>(&ray, slots, t_min, t_max, &mut best)
         });
         best
+    }
+
+    /// True when the crack-free test hits some triangle with `t_min < t < t_max` (an any-hit, or
+    /// shadow, query: the traversal stops at the first such hit, nearest boxes first). Counts box
+    /// and triangle tests. True exactly when [`Bvh::nearest_crack_free`] finds its nearest hit
+    /// before `t_max`. Compiled twice, as that is: AVX2 and FMA where the processor has them, else
+    /// the baseline.
+    pub fn occluded(
+        &self,
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        t_min: f64,
+        t_max: f64,
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the processor has AVX2 and FMA, checked just above.
+            return unsafe {
+                self.occluded_avx2(origin, dir, t_min, t_max, box_tests, triangle_tests)
+            };
+        }
+        self.occluded_inlined::<false>(origin, dir, t_min, t_max, box_tests, triangle_tests)
+    }
+
+    /// [`Bvh::occluded`] compiled with AVX2 and FMA (only called when the processor has them).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn occluded_avx2(
+        &self,
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        t_min: f64,
+        t_max: f64,
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> bool {
+        self.occluded_inlined::<true>(origin, dir, t_min, t_max, box_tests, triangle_tests)
+    }
+
+    /// The any-hit traversal itself, inlined into each of the two builds above.
+    #[inline(always)]
+    fn occluded_inlined<const AVX2: bool>(
+        &self,
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        t_min: f64,
+        t_max: f64,
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> bool {
+        let Some(ray) = ShearedRay::new(origin, dir) else {
+            return false;
+        };
+        let mut found = false;
+        self.walk::<AVX2>(origin, dir, t_min, t_max, box_tests, |slots, limit| {
+            *triangle_tests += slots.len() as u64;
+            let mut best = None;
+            self.leaf_crack_free::<AVX2>(&ray, slots, t_min, limit, &mut best);
+            found |= best.is_some_and(|(_, hit)| hit[0] < t_max);
+            // Once found, a limit below every box ends the walk.
+            if found { f64::NEG_INFINITY } else { limit }
+        });
+        found
+    }
+
+    /// Tests a leaf's slots with the crack-free test, keeping in `best` the nearest hit with
+    /// t_min < t ≤ `limit` (ties to the lower triangle index); returns the new limit. With `AVX2`
+    /// (only from a function compiled with AVX2 and FMA) four triangles at a time, with the same
+    /// decisions and numbers (see [`crack_free4`]).
+    #[inline(always)]
+    fn leaf_crack_free<const AVX2: bool>(
+        &self,
+        ray: &ShearedRay,
+        slots: std::ops::Range<usize>,
+        t_min: f64,
+        mut limit: f64,
+        best: &mut Option<(usize, [f64; 3])>,
+    ) -> f64 {
+        let mut offer = |slot: usize, hit: [f64; 3], limit: &mut f64| {
+            let index = self.order[slot] as usize;
+            let closer = match *best {
+                None => hit[0] <= *limit,
+                Some((b, bh)) => hit[0] < bh[0] || (hit[0] == bh[0] && index < b),
+            };
+            if closer {
+                *best = Some((index, hit));
+                *limit = hit[0];
+            }
+        };
+        #[cfg(target_arch = "x86_64")]
+        if AVX2 {
+            // Leaves start at multiples of four (see `append_leaf`).
+            for first in slots.clone().step_by(4) {
+                let lanes = (1u32 << (slots.end - first).min(4)) - 1;
+                // SAFETY: AVX2 is only set by callers compiled with AVX2 and FMA.
+                let found =
+                    unsafe { crack_free4::intersect4(ray, &self.quads[first / 4], t_min, lanes) };
+                let mut hit = found.hit;
+                while hit != 0 {
+                    let lane = hit.trailing_zeros() as usize;
+                    hit &= hit - 1;
+                    let det = found.det[lane];
+                    let values = [found.t[lane], found.v[lane] / det, found.w[lane] / det];
+                    offer(first + lane, values, &mut limit);
+                }
+                let mut again = found.again;
+                while again != 0 {
+                    let lane = again.trailing_zeros() as usize;
+                    again &= again - 1;
+                    if let Some(hit) = ray.intersect(&self.vertices[first + lane], t_min) {
+                        offer(first + lane, hit, &mut limit);
+                    }
+                }
+            }
+            return limit;
+        }
+        for slot in slots {
+            if let Some(hit) = ray.intersect(&self.vertices[slot], t_min) {
+                offer(slot, hit, &mut limit);
+            }
+        }
+        limit
     }
 
     /// [`Bvh::nearest_crack_free`] for `P` rays at once (neighbouring pixels), each with its own
@@ -407,7 +571,8 @@ impl Bvh {
         self.packet_inlined::<P, false>(rays, t_max, box_tests, triangle_tests)
     }
 
-    /// The packet traversal compiled with AVX2 and FMA (only called when the processor has them).
+    /// The packet traversal compiled with AVX2 and FMA (only called when the processor has them):
+    /// sixteen rays whose numbers allow it take [`narrow`]'s f32 box test of eight rays at once.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn packet_avx2<const P: usize>(
@@ -417,6 +582,20 @@ impl Bvh {
         box_tests: &mut u64,
         triangle_tests: &mut u64,
     ) -> [Option<(usize, [f64; 3])>; P] {
+        if P == narrow::RAYS && self.narrow && !self.nodes.is_empty() {
+            let packet = <&[(V3<f64>, V3<f64>); narrow::RAYS]>::try_from(rays.as_slice());
+            let limits = <[f64; narrow::RAYS]>::try_from(t_max.as_slice());
+            let found = match (packet, limits) {
+                // SAFETY: this function is compiled with AVX2 and FMA and runs only where they are.
+                (Ok(packet), Ok(limits)) => unsafe {
+                    self.packet_narrow(packet, limits, box_tests, triangle_tests)
+                },
+                _ => None,
+            };
+            if let Some(found) = found {
+                return std::array::from_fn(|r| found[r]);
+            }
+        }
         self.packet_inlined::<P, true>(rays, t_max, box_tests, triangle_tests)
     }
 
@@ -481,20 +660,13 @@ impl Bvh {
                         each &= each - 1;
                         let Some(ray) = &sheared[r] else { continue };
                         *triangle_tests += u64::from(entry.count);
-                        for slot in slots.clone() {
-                            let Some(hit) = ray.intersect(&self.vertices[slot], 0.0) else {
-                                continue;
-                            };
-                            let index = self.order[slot] as usize;
-                            let closer = match best[r] {
-                                None => hit[0] <= t_max[r],
-                                Some((b, bh)) => hit[0] < bh[0] || (hit[0] == bh[0] && index < b),
-                            };
-                            if closer {
-                                best[r] = Some((index, hit));
-                                t_max[r] = hit[0];
-                            }
-                        }
+                        t_max[r] = self.leaf_crack_free::<AVX2>(
+                            ray,
+                            slots.clone(),
+                            0.0,
+                            t_max[r],
+                            &mut best[r],
+                        );
                     }
                     continue;
                 }
@@ -1049,6 +1221,93 @@ mod tests {
             }
         }
         assert!(seen.iter().all(|s| *s == 1));
+    }
+
+    /// Packets of sixteen rays (across whose rays the f32 box test runs where their numbers allow
+    /// it) find exactly what each ray finds alone: rows of neighbouring rays, scattered rays, rays
+    /// through the mesh's vertices and edge midpoints (on its boxes' faces and corners), with and
+    /// without a t_max, and packets with a zero direction component (the one-ray box test).
+    #[test]
+    fn packets_find_what_single_rays_find() {
+        use rand::{Rng, SeedableRng};
+        let mesh = load_mesh(&Embedded, "meshes/octasphere.obj").unwrap();
+        let bvh = Bvh::build(&mesh);
+        let mut random = rand_pcg::Pcg64::seed_from_u64(11);
+        let mut hits = 0;
+        for p in 0..600 {
+            let origin: V3<f64> = [
+                random.random_range(-0.5..0.5),
+                -3.0,
+                random.random_range(-0.5..0.5),
+            ];
+            let base = [
+                random.random_range(-0.4..0.4),
+                random.random_range(-0.4..0.4),
+            ];
+            let rays: [(V3<f64>, V3<f64>); 16] = std::array::from_fn(|r| {
+                let target: V3<f64> = match p % 4 {
+                    0 => [base[0] + r as f64 / 64.0, 0.0, base[1]],
+                    1 => std::array::from_fn(|_| random.random_range(-1.2..1.2)),
+                    2 => {
+                        let t = &mesh[random.random_range(0..mesh.len())].vertices;
+                        let (a, b) = (t[r % 3], t[(r + 1) % 3]);
+                        if r % 2 == 0 {
+                            a
+                        } else {
+                            std::array::from_fn(|k| a[k] * 0.5 + b[k] * 0.5)
+                        }
+                    }
+                    // Through x = 0 exactly: a zero direction component.
+                    _ => [0.0, 0.0, base[1] + r as f64 / 32.0],
+                };
+                let origin = if p % 4 == 3 {
+                    [0.0, -3.0, origin[2]]
+                } else {
+                    origin
+                };
+                (origin, std::array::from_fn(|k| target[k] - origin[k]))
+            });
+            let t_max: [f64; 16] =
+                std::array::from_fn(|r| if r % 5 == 0 { 2.9 } else { f64::INFINITY });
+            let packet = bvh.nearest_crack_free_packet(&rays, t_max, &mut 0, &mut 0);
+            for (r, (o, d)) in rays.iter().enumerate() {
+                let alone = bvh.nearest_crack_free(o, d, 0.0, t_max[r], &mut 0, &mut 0);
+                assert_eq!(packet[r], alone, "packet {p}, ray {r}: {o:?} {d:?}");
+                hits += alone.is_some() as usize;
+            }
+        }
+        assert!(hits > 4000, "{hits}");
+    }
+
+    /// The any-hit query is true exactly when the nearest-hit query finds a hit before t_max, on
+    /// random rays (seams and vertices included) with finite and infinite t_max.
+    #[test]
+    fn occluded_agrees_with_the_nearest_hit() {
+        use rand::{Rng, SeedableRng};
+        let mesh = load_mesh(&Embedded, "meshes/octasphere.obj").unwrap();
+        let bvh = Bvh::build(&mesh);
+        let mut random = rand_pcg::Pcg64::seed_from_u64(13);
+        let (mut occluded, mut open) = (0, 0);
+        for i in 0..20_000 {
+            let origin: V3<f64> = std::array::from_fn(|_| random.random_range(-3.0..3.0));
+            let target: V3<f64> = if i % 3 == 0 {
+                mesh[random.random_range(0..mesh.len())].vertices[i % 3]
+            } else {
+                std::array::from_fn(|_| random.random_range(-1.2..1.2))
+            };
+            let dir = std::array::from_fn(|k| target[k] - origin[k]);
+            let t_max = [f64::INFINITY, 1.0, 0.999_999, 0.5][i % 4];
+            let nearest = bvh.nearest_crack_free(&origin, &dir, 0.0, f64::INFINITY, &mut 0, &mut 0);
+            let expected = nearest.is_some_and(|(_, hit)| hit[0] < t_max);
+            assert_eq!(
+                bvh.occluded(&origin, &dir, 0.0, t_max, &mut 0, &mut 0),
+                expected,
+                "{origin:?} {dir:?} {t_max}"
+            );
+            occluded += expected as usize;
+            open += !expected as usize;
+        }
+        assert!(occluded > 3000 && open > 3000, "{occluded} {open}");
     }
 
     /// Every triangle a brute-force loop hits first is the one the BVH finds first (ties to the lower

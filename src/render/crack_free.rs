@@ -63,6 +63,13 @@ impl ShearedRay {
         })
     }
 
+    /// The origin, the axes that become x, y and z, and the shear constants (sx, sy, sz), for the
+    /// four-triangle kernel of [`super::crack_free4`].
+    #[inline(always)]
+    pub(super) fn parts(&self) -> (&V3<f64>, [usize; 3], [f64; 3]) {
+        (&self.origin, self.axes, self.shear)
+    }
+
     /// A vertex in the sheared space: (x, y) in the plane across the ray, z along it (scaled by 1/d_z).
     #[inline(always)]
     fn shear(&self, p: &V3<f64>) -> [f64; 3] {
@@ -141,7 +148,7 @@ fn edge_sign_and_value(p: &[f64; 3], q: &[f64; 3]) -> (i8, f64) {
 }
 
 /// Products smaller than this could lose bits to underflow: their signs are decided differently.
-const TINY: f64 = 1e-280;
+pub(super) const TINY: f64 = 1e-280;
 
 fn sign(x: f64) -> i8 {
     if x > 0.0 {

@@ -1,0 +1,387 @@
+//! The packet traversal's fast path: sixteen neighbouring rays traverse together, each child box
+//! tested against eight rays at once in f32 with AVX2 (SIMD across rays), the leaves tested ray by
+//! ray with the crack-free test four triangles at a time. The hits are the same as the one-ray
+//! traversal's: the box test only culls, and it is conservative.
+//!
+//! **Why no hit is lost.** A slab distance (box − o)/d is computed as box·(1/d) − o/d, one fused
+//! multiply-add from 1/d and o/d rounded to f32. Rounding 1/d and o/d (through f64) and the result
+//! each err by at most 2⁻²⁴(1 + 2⁻²⁸) relative, so with |box/d| ≤ |t| + |o/d| the computed t is
+//! within 2⁻²²·⁹(|t| + |o/d|) + 2⁻¹⁴⁰ of the exact one. The entry distance (a maximum over the axes
+//! and 0) is lowered by [`RELATIVE`]·|t| and the ray's slack (the largest over its axes of
+//! 2⁻²¹·|o/d| + 2⁻¹²⁰, rounded up); the exit distance (a minimum, with the ray's t_max rounded up)
+//! is raised by as much; the margin left over covers the rounding of the widening itself. A ray
+//! takes this path only when, on every axis, 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ and |o/d| ≤ 2¹⁰⁰, and the
+//! hierarchy only when its boxes are within [`BOX_LIMIT`] (2⁶²): every product stays below 2¹²⁷, no
+//! f32 is subnormal where it matters, nothing overflows or is NaN. Other packets take the one-ray
+//! box test.
+
+// The AVX2 kernel: each unsafe block says in a SAFETY comment why it is sound.
+#![allow(unsafe_code)]
+
+use std::cell::RefCell;
+
+use super::{Bvh, EMPTY, Nearest, ShearedRay};
+use crate::math::linalg::V3;
+
+/// Rays in a packet: two groups of eight f32 lanes.
+pub const RAYS: usize = 16;
+/// Box coordinates up to this magnitude (2⁶²) allow the f32 test.
+pub const BOX_LIMIT: f64 = 4.611_686_018_427_388e18;
+/// The relative widening of the distances, 2⁻¹⁹.
+const RELATIVE: f32 = 1.0 / 524_288.0;
+
+/// A child to visit: the rays that meet its box and the nearest (lowered) entry among them.
+#[derive(Clone, Copy)]
+struct Pending {
+    child: u32,
+    count: u32,
+    rays: u32,
+    near: f32,
+}
+
+thread_local! {
+    static STACK: RefCell<Vec<Pending>> = const { RefCell::new(Vec::new()) };
+}
+
+/// The packet's rays as f32 lanes (lane r is ray r).
+#[repr(C, align(32))]
+struct Lanes {
+    /// 1/d per axis (its sign bit also picks each slab's entry face).
+    inverse: [[f32; RAYS]; 3],
+    /// o/d per axis.
+    offset: [[f32; RAYS]; 3],
+    /// The largest slack over the axes.
+    slack: [f32; RAYS],
+    /// t_max rounded up.
+    t_max: [f32; RAYS],
+    /// −1 where d is zero on the axis (the ray is parallel to its slabs), else 0; 1/d and o/d
+    /// are then 0, and the slab is (−∞, ∞) when o is between its faces, else empty.
+    parallel: [[f32; RAYS]; 3],
+    /// o rounded down and up to f32 (below and above o), for the parallel axes.
+    origin_down: [[f32; RAYS]; 3],
+    origin_up: [[f32; RAYS]; 3],
+    /// Per axis, whether any ray is parallel to it.
+    any_parallel: [bool; 3],
+}
+
+/// A non-negative f64 rounded up to f32 (or above): nearest, raised by 2⁻²⁰ relative and 10⁻³⁷.
+#[inline(always)]
+fn up(x: f64) -> f32 {
+    (x as f32) * (1.0 + 1.0 / 1_048_576.0) + 1e-37
+}
+
+impl Lanes {
+    /// The lanes, or `None` when a ray's numbers are outside the range the error bound holds in.
+    ///
+    /// # Safety
+    /// Only call on a processor with AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    unsafe fn new(rays: &[(V3<f64>, V3<f64>); RAYS], t_max: &[f64; RAYS]) -> Option<Lanes> {
+        use std::arch::x86_64::*;
+        let mut lanes = Lanes {
+            inverse: [[0.0; RAYS]; 3],
+            offset: [[0.0; RAYS]; 3],
+            slack: [0.0; RAYS],
+            t_max: [0.0; RAYS],
+            parallel: [[0.0; RAYS]; 3],
+            origin_down: [[0.0; RAYS]; 3],
+            origin_up: [[0.0; RAYS]; 3],
+            any_parallel: [false; 3],
+        };
+        let magnitude = _mm256_set1_pd(-0.0);
+        let mut valid = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+        let mut slack = [_mm256_setzero_pd(); RAYS / 4];
+        // Rays parallel to every axis so far (a zero direction is refused).
+        let mut all_parallel = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+        for k in 0..3 {
+            for (quarter, slack) in slack.iter_mut().enumerate() {
+                let r = 4 * quarter;
+                let dir = _mm256_setr_pd(
+                    rays[r].1[k],
+                    rays[r + 1].1[k],
+                    rays[r + 2].1[k],
+                    rays[r + 3].1[k],
+                );
+                let origin = _mm256_setr_pd(
+                    rays[r].0[k],
+                    rays[r + 1].0[k],
+                    rays[r + 2].0[k],
+                    rays[r + 3].0[k],
+                );
+                let parallel = _mm256_cmp_pd::<_CMP_EQ_OQ>(dir, _mm256_setzero_pd());
+                all_parallel = _mm256_and_pd(all_parallel, parallel);
+                let inverse = _mm256_andnot_pd(parallel, _mm256_div_pd(_mm256_set1_pd(1.0), dir));
+                let offset = _mm256_mul_pd(origin, inverse);
+                let inverse_size = _mm256_andnot_pd(magnitude, inverse);
+                let offset_size = _mm256_andnot_pd(magnitude, offset);
+                let origin_size = _mm256_andnot_pd(magnitude, origin);
+                // 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ (or d = 0), |o/d| ≤ 2¹⁰⁰ and |o| ≤ 2¹⁰⁰ (false for NaN).
+                let inverse_in_range = _mm256_and_pd(
+                    _mm256_cmp_pd::<_CMP_GE_OQ>(
+                        inverse_size,
+                        _mm256_set1_pd(8.673_617_379_884_035e-19),
+                    ),
+                    _mm256_cmp_pd::<_CMP_LE_OQ>(
+                        inverse_size,
+                        _mm256_set1_pd(1.152_921_504_606_847e18),
+                    ),
+                );
+                let in_range = _mm256_and_pd(
+                    _mm256_or_pd(parallel, inverse_in_range),
+                    _mm256_and_pd(
+                        _mm256_cmp_pd::<_CMP_LE_OQ>(offset_size, _mm256_set1_pd(1.27e30)),
+                        _mm256_cmp_pd::<_CMP_LE_OQ>(origin_size, _mm256_set1_pd(1.27e30)),
+                    ),
+                );
+                valid = _mm256_and_pd(valid, in_range);
+                // o rounded to nearest (within 2⁻²⁴|o|), moved out by 2⁻²²|o| + 10⁻³⁷.
+                let near_origin = _mm256_cvtpd_ps(origin);
+                let widen = _mm_fmadd_ps(
+                    _mm_andnot_ps(_mm_set1_ps(-0.0), near_origin),
+                    _mm_set1_ps(1.0 / 4_194_304.0),
+                    _mm_set1_ps(1e-37),
+                );
+                let parallel_lanes = _mm256_cvtpd_ps(_mm256_and_pd(parallel, _mm256_set1_pd(-1.0)));
+                // SAFETY: four f32s at lane r (a multiple of four) of 16-f32 rows.
+                unsafe {
+                    _mm_storeu_ps(lanes.parallel[k].as_mut_ptr().add(r), parallel_lanes);
+                    _mm_storeu_ps(
+                        lanes.origin_down[k].as_mut_ptr().add(r),
+                        _mm_sub_ps(near_origin, widen),
+                    );
+                    _mm_storeu_ps(
+                        lanes.origin_up[k].as_mut_ptr().add(r),
+                        _mm_add_ps(near_origin, widen),
+                    );
+                }
+                lanes.any_parallel[k] |= _mm256_movemask_pd(parallel) != 0;
+                // SAFETY: four f32s at lane r (a multiple of four) of a 16-f32 row.
+                unsafe {
+                    _mm_storeu_ps(
+                        lanes.inverse[k].as_mut_ptr().add(r),
+                        _mm256_cvtpd_ps(inverse),
+                    );
+                    _mm_storeu_ps(lanes.offset[k].as_mut_ptr().add(r), _mm256_cvtpd_ps(offset));
+                }
+                let axis_slack = _mm256_add_pd(
+                    _mm256_mul_pd(offset_size, _mm256_set1_pd(1.0 / 2_097_152.0)),
+                    _mm256_set1_pd(7.6e-37),
+                );
+                *slack = _mm256_max_pd(*slack, axis_slack);
+            }
+        }
+        if _mm256_movemask_pd(valid) != 0b1111 || _mm256_movemask_pd(all_parallel) != 0 {
+            return None;
+        }
+        for (quarter, slack) in slack.iter().enumerate() {
+            // Rounded to nearest, then raised by 2⁻²⁰ relative: at least the f64 slack (≥ 2⁻¹²⁰,
+            // a normal f32).
+            let raised = _mm_mul_ps(
+                _mm256_cvtpd_ps(*slack),
+                _mm_set1_ps(1.0 + 1.0 / 1_048_576.0),
+            );
+            // SAFETY: four f32s at lane 4·quarter of a 16-f32 row.
+            unsafe { _mm_storeu_ps(lanes.slack.as_mut_ptr().add(4 * quarter), raised) };
+        }
+        lanes.t_max = t_max.map(up);
+        Some(lanes)
+    }
+}
+
+impl Bvh {
+    /// The nearest crack-free hits of sixteen rays, or `None` when their numbers do not allow the
+    /// f32 box test (the caller then takes the one-ray box test).
+    ///
+    /// # Safety
+    /// Only call on a processor with AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) unsafe fn packet_narrow(
+        &self,
+        rays: &[(V3<f64>, V3<f64>); RAYS],
+        mut t_max: [f64; RAYS],
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> Option<[Nearest; RAYS]> {
+        use std::arch::x86_64::*;
+        // SAFETY: the caller runs on a processor with AVX2 and FMA.
+        let mut lanes = unsafe { Lanes::new(rays, &t_max)? };
+        // Made when a ray first reaches a leaf (never `None` for rays in range: finite, d ≠ 0).
+        let mut sheared: [Option<ShearedRay>; RAYS] = [None; RAYS];
+        let mut best: [Nearest; RAYS] = [None; RAYS];
+        let shrink = _mm256_set1_ps(1.0 - RELATIVE);
+        let relative = _mm256_set1_ps(RELATIVE);
+        let zero = _mm256_setzero_ps();
+        let infinity = _mm256_set1_ps(f32::INFINITY);
+        let sign = _mm256_set1_ps(-0.0);
+        // A macro, not a closure, so that it is always inlined.
+        macro_rules! load {
+            ($row:expr, $group:expr) => {
+                // SAFETY: eight f32s at lane 0 or 8 of a 16-f32 row of the 32-byte aligned
+                // `Lanes`, so in bounds and 32-byte aligned.
+                unsafe { _mm256_load_ps($row.as_ptr().add(8 * $group)) }
+            };
+        }
+        STACK.with_borrow_mut(|stack| {
+            stack.clear();
+            stack.push(Pending {
+                child: 0,
+                count: 0,
+                rays: (1 << RAYS) - 1,
+                near: 0.0,
+            });
+            while let Some(entry) = stack.pop() {
+                // Rays whose nearest hit so far is before the box have nothing left to find in it.
+                let mut live = 0;
+                for group in 0..2 {
+                    let reached = _mm256_cmp_ps::<_CMP_GE_OQ>(
+                        load!(lanes.t_max, group),
+                        _mm256_set1_ps(entry.near),
+                    );
+                    live |= (_mm256_movemask_ps(reached) as u32) << (8 * group);
+                }
+                live &= entry.rays;
+                if live == 0 {
+                    continue;
+                }
+                if entry.count > 0 {
+                    let slots = entry.child as usize..(entry.child + entry.count) as usize;
+                    let mut each = live;
+                    while each != 0 {
+                        let r = each.trailing_zeros() as usize;
+                        each &= each - 1;
+                        if sheared[r].is_none() {
+                            sheared[r] = ShearedRay::new(&rays[r].0, &rays[r].1);
+                        }
+                        let Some(ray) = &sheared[r] else { continue };
+                        *triangle_tests += u64::from(entry.count);
+                        t_max[r] = self.leaf_crack_free::<true>(
+                            ray,
+                            slots.clone(),
+                            0.0,
+                            t_max[r],
+                            &mut best[r],
+                        );
+                        lanes.t_max[r] = up(t_max[r]);
+                    }
+                    continue;
+                }
+                let node = &self.nodes[entry.child as usize];
+                let mut found = [(0u32, 0u32, 0.0f32); 4];
+                let mut n = 0;
+                let mut children = 0;
+                for lane in 0..4 {
+                    if node.child[lane] == EMPTY {
+                        continue;
+                    }
+                    children += 1;
+                    // Written out, not mapped through closures, which may be left uninlined.
+                    let lo = [
+                        _mm256_set1_ps(node.min[0][lane]),
+                        _mm256_set1_ps(node.min[1][lane]),
+                        _mm256_set1_ps(node.min[2][lane]),
+                    ];
+                    let hi = [
+                        _mm256_set1_ps(node.max[0][lane]),
+                        _mm256_set1_ps(node.max[1][lane]),
+                        _mm256_set1_ps(node.max[2][lane]),
+                    ];
+                    let mut hit = 0u32;
+                    let mut nearest = infinity;
+                    for group in 0..2 {
+                        let active = (live >> (8 * group)) & 0xff;
+                        if active == 0 {
+                            continue;
+                        }
+                        let mut near = zero;
+                        let mut far = load!(lanes.t_max, group);
+                        let mut outside = zero;
+                        for k in 0..3 {
+                            let inverse = load!(lanes.inverse[k], group);
+                            let offset = load!(lanes.offset[k], group);
+                            // The entry face is the low one where 1/d ≥ 0 (its sign bit picks).
+                            let entry_face = _mm256_blendv_ps(lo[k], hi[k], inverse);
+                            let exit_face = _mm256_blendv_ps(hi[k], lo[k], inverse);
+                            let mut t0 = _mm256_fmsub_ps(entry_face, inverse, offset);
+                            let mut t1 = _mm256_fmsub_ps(exit_face, inverse, offset);
+                            if lanes.any_parallel[k] {
+                                // Parallel lanes: the whole line, or nothing when o is outside.
+                                let parallel = load!(lanes.parallel[k], group);
+                                let minus_infinity = _mm256_set1_ps(f32::NEG_INFINITY);
+                                t0 = _mm256_blendv_ps(t0, minus_infinity, parallel);
+                                t1 = _mm256_blendv_ps(t1, infinity, parallel);
+                                let up = load!(lanes.origin_up[k], group);
+                                let down = load!(lanes.origin_down[k], group);
+                                let beyond = _mm256_or_ps(
+                                    _mm256_cmp_ps::<_CMP_LT_OQ>(up, lo[k]),
+                                    _mm256_cmp_ps::<_CMP_GT_OQ>(down, hi[k]),
+                                );
+                                let is_parallel = _mm256_cmp_ps::<_CMP_LT_OQ>(parallel, zero);
+                                outside = _mm256_or_ps(outside, _mm256_and_ps(is_parallel, beyond));
+                            }
+                            near = _mm256_max_ps(near, t0);
+                            far = _mm256_min_ps(far, t1);
+                        }
+                        // near ≥ 0: lowered as near·(1 − 2⁻¹⁹) − slack; far raised by as much.
+                        let slack = load!(lanes.slack, group);
+                        let near = _mm256_fmsub_ps(near, shrink, slack);
+                        let far_size = _mm256_andnot_ps(sign, far);
+                        let far = _mm256_fmadd_ps(relative, far_size, _mm256_add_ps(far, slack));
+                        let meets =
+                            _mm256_andnot_ps(outside, _mm256_cmp_ps::<_CMP_LE_OQ>(near, far));
+                        let meets_mask = _mm256_movemask_ps(meets) as u32 & active;
+                        if meets_mask == 0 {
+                            continue;
+                        }
+                        hit |= meets_mask << (8 * group);
+                        let active_lanes = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                            _mm256_and_si256(
+                                _mm256_set1_epi32(meets_mask as i32),
+                                _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128),
+                            ),
+                            _mm256_setzero_si256(),
+                        ));
+                        nearest =
+                            _mm256_min_ps(nearest, _mm256_blendv_ps(infinity, near, active_lanes));
+                    }
+                    if hit != 0 {
+                        found[n] = (lane as u32, hit, horizontal_min(nearest));
+                        n += 1;
+                    }
+                }
+                *box_tests += children * u64::from(live.count_ones());
+                // Farthest first, so the nearest is popped next.
+                for i in 1..n {
+                    let mut j = i;
+                    while j > 0 && found[j - 1].2 < found[j].2 {
+                        found.swap(j - 1, j);
+                        j -= 1;
+                    }
+                }
+                for &(lane, hit, near) in &found[..n] {
+                    stack.push(Pending {
+                        child: node.child[lane as usize],
+                        count: node.count[lane as usize],
+                        rays: hit,
+                        near,
+                    });
+                }
+            }
+        });
+        Some(best)
+    }
+}
+
+/// The smallest of eight f32s.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn horizontal_min(x: std::arch::x86_64::__m256) -> f32 {
+    use std::arch::x86_64::*;
+    let halves = _mm_min_ps(_mm256_castps256_ps128(x), _mm256_extractf128_ps::<1>(x));
+    let pairs = _mm_min_ps(halves, _mm_movehl_ps(halves, halves));
+    let one = _mm_min_ss(pairs, _mm_shuffle_ps::<1>(pairs, pairs));
+    _mm_cvtss_f32(one)
+}

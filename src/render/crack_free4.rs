@@ -1,0 +1,371 @@
+//! The crack-free test of [`super::crack_free`] for one ray and four triangles at once, with AVX2 on
+//! four f64 lanes (a BVH leaf's triangles).
+//!
+//! Each lane does the one-triangle test's arithmetic in the same order, without fused multiply-adds,
+//! so it gets the same numbers. Where all three edge functions are clear of their rounding bounds
+//! their float signs are the exact signs, and the lane is decided here exactly as the one-triangle
+//! test decides it; two clear edge functions of opposite signs are a miss whatever the third. Every
+//! other lane (an edge function near zero, a zero determinant, a t that is not finite) is handed back
+//! to be tested by [`ShearedRay::intersect`] itself. So the decisions, and the hits' numbers, are the
+//! one-triangle test's to the bit.
+
+// The AVX2 kernel: its unsafe blocks say in SAFETY comments why they are sound.
+#![allow(unsafe_code)]
+
+use super::crack_free::ShearedRay;
+use crate::math::linalg::V3;
+
+/// Four triangles' vertices as `[vertex][axis][lane]`, aligned for 32-byte loads.
+#[derive(Clone, Debug)]
+#[repr(C, align(32))]
+pub struct Quad {
+    /// Vertex A, B, C; axis x, y, z; one lane per triangle.
+    pub v: [[[f64; 4]; 3]; 3],
+}
+
+impl Quad {
+    /// Up to four triangles; missing lanes repeat the first triangle (callers mask them off).
+    pub fn new(triangles: &[[V3<f64>; 3]]) -> Quad {
+        let v = std::array::from_fn(|vertex| {
+            std::array::from_fn(|axis| {
+                std::array::from_fn(|lane| {
+                    let t = triangles.get(lane).or(triangles.first());
+                    t.map_or(0.0, |t| t[vertex][axis])
+                })
+            })
+        });
+        Quad { v }
+    }
+}
+
+/// What the four-lane test found, a bit per lane in the masks.
+pub struct QuadHits {
+    /// Lanes decided here as hits with t > t_min.
+    pub hit: u32,
+    /// Lanes to test again one at a time with [`ShearedRay::intersect`].
+    pub again: u32,
+    /// Per lane: t, and the edge functions V, W and their sum (β = V / det, γ = W / det).
+    pub t: [f64; 4],
+    pub v: [f64; 4],
+    pub w: [f64; 4],
+    pub det: [f64; 4],
+}
+
+/// Four lanes of f64 (x86-64 only).
+#[cfg(target_arch = "x86_64")]
+type F4 = std::arch::x86_64::__m256d;
+
+/// An edge function's lanes: its float value, the lanes where it is clear of its rounding bound,
+/// and its two products.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+struct Edge {
+    value: F4,
+    clear: F4,
+    left: F4,
+    right: F4,
+}
+
+/// Tests the lanes in `lanes` (a bit each) of `quad` against `ray`.
+///
+/// # Safety
+/// Only call on a processor with AVX2 and FMA (the function is compiled for them).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+pub unsafe fn intersect4(ray: &ShearedRay, quad: &Quad, t_min: f64, lanes: u32) -> QuadHits {
+    use std::arch::x86_64::*;
+    let (origin, [kx, ky, kz], [sx, sy, sz]) = ray.parts();
+    let (ox, oy, oz) = (
+        _mm256_set1_pd(origin[kx]),
+        _mm256_set1_pd(origin[ky]),
+        _mm256_set1_pd(origin[kz]),
+    );
+    let (sx, sy, sz) = (_mm256_set1_pd(sx), _mm256_set1_pd(sy), _mm256_set1_pd(sz));
+    // SAFETY: each row is four f64s in a 32-byte aligned struct.
+    let load =
+        |vertex: usize, axis: usize| unsafe { _mm256_load_pd(quad.v[vertex][axis].as_ptr()) };
+    // As `ShearedRay::shear`: x' = (x − ox) − sx·z, y' = (y − oy) − sy·z, z' = sz·z with z = z − oz.
+    let shear = |vertex: usize| {
+        let z = _mm256_sub_pd(load(vertex, kz), oz);
+        [
+            _mm256_sub_pd(_mm256_sub_pd(load(vertex, kx), ox), _mm256_mul_pd(sx, z)),
+            _mm256_sub_pd(_mm256_sub_pd(load(vertex, ky), oy), _mm256_mul_pd(sy, z)),
+            _mm256_mul_pd(sz, z),
+        ]
+    };
+    let (a, b, c) = (shear(0), shear(1), shear(2));
+    let magnitude = |x: F4| _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
+    // As `edge_sign_and_value`: P × Q, and whether it is clear of its rounding bound.
+    let edge = |p: &[F4; 3], q: &[F4; 3]| {
+        let left = _mm256_mul_pd(p[0], q[1]);
+        let right = _mm256_mul_pd(p[1], q[0]);
+        let value = _mm256_sub_pd(left, right);
+        let sum = _mm256_add_pd(magnitude(left), magnitude(right));
+        let bound = _mm256_mul_pd(_mm256_set1_pd(2.0 * f64::EPSILON), sum);
+        let clear = _mm256_and_pd(
+            _mm256_cmp_pd::<_CMP_GT_OQ>(magnitude(value), bound),
+            _mm256_cmp_pd::<_CMP_GT_OQ>(sum, _mm256_set1_pd(super::crack_free::TINY)),
+        );
+        Edge {
+            value,
+            clear,
+            left,
+            right,
+        }
+    };
+    let edges = [edge(&c, &b), edge(&a, &c), edge(&b, &a)];
+    let all_clear = _mm256_and_pd(
+        _mm256_and_pd(edges[0].clear, edges[1].clear),
+        edges[2].clear,
+    );
+    if (_mm256_movemask_pd(all_clear) as u32 & lanes) != lanes {
+        // SAFETY: this function is compiled with AVX2 and FMA and runs only where they are.
+        return unsafe { settle_exactly(&[a, b, c], &edges, t_min, lanes) };
+    }
+    // Every edge function clear of its bound: its float sign is its exact sign.
+    let zero = _mm256_setzero_pd();
+    let positive = |e: &Edge| _mm256_cmp_pd::<_CMP_GT_OQ>(e.value, zero);
+    let negative = |e: &Edge| _mm256_cmp_pd::<_CMP_LT_OQ>(e.value, zero);
+    let all_pos = _mm256_and_pd(
+        _mm256_and_pd(positive(&edges[0]), positive(&edges[1])),
+        positive(&edges[2]),
+    );
+    let all_neg = _mm256_and_pd(
+        _mm256_and_pd(negative(&edges[0]), negative(&edges[1])),
+        negative(&edges[2]),
+    );
+    let inside = _mm256_or_pd(all_pos, all_neg);
+    // SAFETY: as above.
+    unsafe {
+        finish(
+            &[a, b, c],
+            &edges,
+            inside,
+            _mm256_xor_pd(inside, all_clear),
+            t_min,
+            lanes,
+        )
+    }
+}
+
+/// The hits of the lanes found `inside`; lanes neither inside nor `missed`, and inside lanes whose
+/// t the division does not give (a zero determinant, a t that is not finite), go back to the
+/// one-triangle test.
+///
+/// # Safety
+/// Only call on a processor with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn finish(
+    [a, b, c]: &[[F4; 3]; 3],
+    edges: &[Edge; 3],
+    inside: F4,
+    missed: F4,
+    t_min: f64,
+    lanes: u32,
+) -> QuadHits {
+    use std::arch::x86_64::*;
+    let (u, v, w) = (edges[0].value, edges[1].value, edges[2].value);
+    // As the one-triangle test: det = U + V + W, t = (U·Az + V·Bz + W·Cz) / det.
+    let det = _mm256_add_pd(_mm256_add_pd(u, v), w);
+    let scaled_t = _mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(u, a[2]), _mm256_mul_pd(v, b[2])),
+        _mm256_mul_pd(w, c[2]),
+    );
+    let t = _mm256_div_pd(scaled_t, det);
+    let magnitude = _mm256_andnot_pd(_mm256_set1_pd(-0.0), t);
+    let usable = _mm256_and_pd(
+        _mm256_cmp_pd::<_CMP_NEQ_OQ>(det, _mm256_setzero_pd()),
+        _mm256_cmp_pd::<_CMP_LT_OQ>(magnitude, _mm256_set1_pd(f64::INFINITY)),
+    );
+    let decided = _mm256_and_pd(inside, usable);
+    let hit = _mm256_and_pd(
+        decided,
+        _mm256_cmp_pd::<_CMP_GT_OQ>(t, _mm256_set1_pd(t_min)),
+    );
+    let hit = _mm256_movemask_pd(hit) as u32 & lanes;
+    let settled = _mm256_movemask_pd(_mm256_or_pd(decided, missed)) as u32;
+    let mut out = QuadHits {
+        hit,
+        again: lanes & !settled,
+        t: [0.0; 4],
+        v: [0.0; 4],
+        w: [0.0; 4],
+        det: [0.0; 4],
+    };
+    if hit != 0 {
+        // SAFETY: four f64s into each four-f64 array.
+        unsafe {
+            _mm256_storeu_pd(out.t.as_mut_ptr(), t);
+            _mm256_storeu_pd(out.v.as_mut_ptr(), v);
+            _mm256_storeu_pd(out.w.as_mut_ptr(), w);
+            _mm256_storeu_pd(out.det.as_mut_ptr(), det);
+        }
+    }
+    out
+}
+
+/// The lanes where an edge function is within its rounding bound of zero: its exact sign by the
+/// error-free expansion of `exact_cross_sign` (where its products fit; other lanes go back to the
+/// one-triangle test), then the one-triangle test's decision: one sign only, and each zero edge
+/// counted by the tie rule. Out of line: most rays graze no edge.
+///
+/// # Safety
+/// Only call on a processor with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+unsafe fn settle_exactly(
+    vertices: &[[F4; 3]; 3],
+    edges: &[Edge; 3],
+    t_min: f64,
+    lanes: u32,
+) -> QuadHits {
+    use std::arch::x86_64::*;
+    let [a, b, c] = vertices;
+    let zero = _mm256_setzero_pd();
+    let magnitude = |x: F4| _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
+    let finite = |x: F4| _mm256_cmp_pd::<_CMP_LT_OQ>(magnitude(x), _mm256_set1_pd(f64::INFINITY));
+    let is_zero = |x: F4| _mm256_cmp_pd::<_CMP_EQ_OQ>(x, zero);
+    let above = |x: F4| _mm256_cmp_pd::<_CMP_GT_OQ>(x, zero);
+    let below = |x: F4| _mm256_cmp_pd::<_CMP_LT_OQ>(x, zero);
+    let (and, or) = (
+        |x: F4, y: F4| _mm256_and_pd(x, y),
+        |x: F4, y: F4| _mm256_or_pd(x, y),
+    );
+    // Knuth's two-sum: s + e = x + y exactly.
+    let two_sum = |x: F4, y: F4| {
+        let s = _mm256_add_pd(x, y);
+        let yv = _mm256_sub_pd(s, x);
+        let xv = _mm256_sub_pd(s, yv);
+        (s, _mm256_add_pd(_mm256_sub_pd(x, xv), _mm256_sub_pd(y, yv)))
+    };
+    // (a1 + a0) − b as three nonoverlapping terms, largest first.
+    let two_one_diff = |a1: F4, a0: F4, b: F4| {
+        let (i, x0) = two_sum(a0, _mm256_xor_pd(b, _mm256_set1_pd(-0.0)));
+        let (x2, x1) = two_sum(a1, i);
+        (x2, x1, x0)
+    };
+    // Masks of the lanes where P × Q's exact sign is positive, negative, and known.
+    let signs = |e: &Edge, p: &[F4; 3], q: &[F4; 3]| {
+        let tiny = _mm256_set1_pd(super::crack_free::TINY);
+        // a·b = left + le and c·d = right + re exactly, where the products fit.
+        let le = _mm256_fmsub_pd(p[0], q[1], e.left);
+        let re = _mm256_fmsub_pd(p[1], q[0], e.right);
+        let fits = |x: F4, y: F4, product: F4| {
+            or(
+                or(is_zero(x), is_zero(y)),
+                and(
+                    _mm256_cmp_pd::<_CMP_GT_OQ>(magnitude(product), tiny),
+                    finite(product),
+                ),
+            )
+        };
+        let operands = and(
+            and(finite(p[0]), finite(q[1])),
+            and(finite(p[1]), finite(q[0])),
+        );
+        let fit = and(
+            operands,
+            and(fits(p[0], q[1], e.left), fits(p[1], q[0], e.right)),
+        );
+        // (left + le) − (right + re) as four nonoverlapping terms, largest first; its sign is its
+        // largest nonzero term's.
+        let (j, k, x0) = two_one_diff(e.left, le, re);
+        let (x3, x2, x1) = two_one_diff(j, k, e.right);
+        let lead = _mm256_blendv_pd(
+            x3,
+            _mm256_blendv_pd(x2, _mm256_blendv_pd(x1, x0, is_zero(x1)), is_zero(x2)),
+            is_zero(x3),
+        );
+        let sign_of = _mm256_blendv_pd(lead, e.value, e.clear);
+        let known = or(e.clear, fit);
+        (
+            and(known, above(sign_of)),
+            and(known, below(sign_of)),
+            known,
+        )
+    };
+    let (u_pos, u_neg, u_known) = signs(&edges[0], c, b);
+    let (v_pos, v_neg, v_known) = signs(&edges[1], a, c);
+    let (w_pos, w_neg, w_known) = signs(&edges[2], b, a);
+    let any_pos = or(or(u_pos, v_pos), w_pos);
+    let any_neg = or(or(u_neg, v_neg), w_neg);
+    // Two exact signs that differ: a miss whatever the third.
+    let outside = and(any_pos, any_neg);
+    let known = and(and(u_known, v_known), w_known);
+    let one_sign = _mm256_xor_pd(any_pos, any_neg);
+    // A zero edge counts only when its perturbed sign (−sign Δy, or sign Δx where Δy = 0) is the
+    // triangle's orientation.
+    let tie_ok = |positive: F4, negative: F4, p: &[F4; 3], q: &[F4; 3]| {
+        let zero_edge = _mm256_andnot_pd(or(positive, negative), known);
+        let dx = _mm256_sub_pd(q[0], p[0]);
+        let dy = _mm256_sub_pd(q[1], p[1]);
+        let dy_zero = is_zero(dy);
+        let perturbed_pos = _mm256_blendv_pd(below(dy), above(dx), dy_zero);
+        let perturbed_neg = _mm256_blendv_pd(above(dy), below(dx), dy_zero);
+        let agrees = or(and(any_pos, perturbed_pos), and(any_neg, perturbed_neg));
+        or(_mm256_andnot_pd(zero_edge, known), agrees)
+    };
+    let ties = and(
+        and(tie_ok(u_pos, u_neg, c, b), tie_ok(v_pos, v_neg, a, c)),
+        tie_ok(w_pos, w_neg, b, a),
+    );
+    let inside = and(and(known, one_sign), ties);
+    let missed = or(outside, _mm256_andnot_pd(and(one_sign, ties), known));
+    // SAFETY: this function is compiled with AVX2 and FMA and runs only where they are.
+    unsafe { finish(vertices, edges, inside, missed, t_min, lanes) }
+}
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+    use crate::render::camera_ray;
+    use crate::render::generate::grid_box;
+
+    /// Four at a time decides every lane it settles as the one-triangle test does, to the bit, on
+    /// the grid box whose every camera ray runs along an edge or through a vertex (the exact signs
+    /// and the tie rule), and on rays nudged off the grid (clear signs).
+    #[test]
+    fn four_at_a_time_decides_as_one_at_a_time() {
+        if !(std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("fma"))
+        {
+            return;
+        }
+        let (camera, side, triangles) = grid_box(6);
+        let (mut settled, mut hits) = (0, 0);
+        for row in 0..side {
+            for column in 0..side {
+                let (origin, dir) = camera_ray(&camera, side, side, row, column);
+                for nudge in [0.0, 1e-3] {
+                    let dir = [dir[0] + nudge, dir[1], dir[2] - nudge];
+                    let Some(ray) = ShearedRay::new(&origin, &dir) else {
+                        continue;
+                    };
+                    for group in triangles.chunks(4) {
+                        let lanes = (1u32 << group.len()) - 1;
+                        // SAFETY: the processor has AVX2 and FMA, checked above.
+                        let found = unsafe { intersect4(&ray, &Quad::new(group), 0.0, lanes) };
+                        for (lane, triangle) in group.iter().enumerate() {
+                            if found.again & (1 << lane) != 0 {
+                                continue;
+                            }
+                            settled += 1;
+                            let det = found.det[lane];
+                            let got = (found.hit & (1 << lane) != 0)
+                                .then(|| [found.t[lane], found.v[lane] / det, found.w[lane] / det]);
+                            let expected = ray.intersect(triangle, 0.0);
+                            let bits = |v: Option<[f64; 3]>| v.map(|v| v.map(f64::to_bits));
+                            assert_eq!(bits(got), bits(expected), "({row}, {column}) {lane}");
+                            hits += got.is_some() as usize;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(settled > 50_000 && hits > 300, "{settled} {hits}");
+    }
+}
