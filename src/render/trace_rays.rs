@@ -102,8 +102,12 @@ impl<'a> Tracer<'a> {
         stats
     }
 
-    /// A pixel's colour from its centre's primary ray and hit (cast and counted by the caller), and
-    /// with `antialiasing` k×k stratified sample rays averaged with it.
+    /// A pixel's colour from its centre's primary ray and hit (cast and counted by the caller).
+    ///
+    /// With `antialiasing` the colour is the mean of exactly k×k stratified sample rays; the centre
+    /// ray still decides coverage (and is the ray the probe follows), and its surface is shaded as
+    /// ray casting shades it, so ray casting's counters mean the same with or without antialiasing,
+    /// but its light is not gathered: no shadow, mirror, glass or occlusion ray starts from it.
     pub fn pixel(
         &self,
         (row, column): (usize, usize),
@@ -113,22 +117,32 @@ impl<'a> Tracer<'a> {
     ) -> V3<f64> {
         let p = self.prepared;
         let mut rng = pixel_rng(p.lighting.settings.seed, row * p.width + column);
-        let mut colour = match hit {
-            Some(hit) => self.radiance(hit, centre, (RayKind::Primary, 0), &mut rng, stats),
-            None => [0.0; 3],
-        };
-        if self.on.antialiasing {
-            let samples = stratified(p.lighting.settings.samples_per_side, &mut rng);
-            for (x, y) in &samples {
-                // Cell (x, y) of the pixel around its centre.
-                let ray = self.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
-                let c = self.trace(ray, RayKind::Sample, 0, &mut rng, stats);
-                colour = std::array::from_fn(|k| colour[k] + c[k]);
-            }
-            let n = (samples.len() + 1) as f64;
-            colour = colour.map(|c| c / n);
+        if !self.on.antialiasing {
+            return match hit {
+                Some(hit) => self.radiance(hit, centre, (RayKind::Primary, 0), &mut rng, stats),
+                None => [0.0; 3],
+            };
         }
-        colour
+        if let Some(hit) = hit {
+            self.surface_at(&hit, &centre, stats);
+        }
+        let samples = stratified(p.lighting.settings.samples_per_side, &mut rng);
+        let mut sum = [0.0; 3];
+        for (x, y) in &samples {
+            // Cell (x, y) of the pixel around its centre.
+            let ray = self.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
+            let c = self.trace(ray, RayKind::Sample, 0, &mut rng, stats);
+            sum = std::array::from_fn(|k| sum[k] + c[k]);
+        }
+        sum.map(|c| c / samples.len() as f64)
+    }
+
+    /// The surface a ray hit, with its shading work counted in `stats`.
+    fn surface_at(&self, hit: &Hit, ray: &Ray, stats: &mut Stats) -> Surface {
+        let object = &self.prepared.objects[hit.object];
+        let inverse_length = 1.0 / dot(&ray.1, &ray.1).sqrt();
+        self.shader
+            .surface(object, hit, &ray.1, inverse_length, stats)
     }
 
     /// The ray through the fractional pixel position (row, column), centres at whole numbers.
@@ -185,15 +199,11 @@ impl<'a> Tracer<'a> {
         rng: &mut Pcg32,
         stats: &mut Stats,
     ) -> V3<f64> {
-        let object = &self.prepared.objects[hit.object];
-        let inverse_length = 1.0 / dot(&ray.1, &ray.1).sqrt();
         // The primary ray's shading work counts as ray casting's; the rest as the effects'.
         let surface = if kind == RayKind::Primary {
-            self.shader
-                .surface(object, &hit, &ray.1, inverse_length, stats)
+            self.surface_at(&hit, &ray, stats)
         } else {
-            self.shader
-                .surface(object, &hit, &ray.1, inverse_length, &mut Stats::default())
+            self.surface_at(&hit, &ray, &mut Stats::default())
         };
         let point: V3<f64> = std::array::from_fn(|k| ray.0[k] + hit.t * ray.1[k]);
         // The normal on the side the ray came from.
