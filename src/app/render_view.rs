@@ -5,9 +5,11 @@
 //! Renders run as a [`Job`] (a thread natively, slices of frames on the web) and only when something
 //! they depend on changed.
 
+mod effects;
 mod jobs;
 mod probe;
 mod spaces;
+mod tree;
 
 use jobs::{Choices, Runtime, loads_in_background};
 
@@ -30,8 +32,9 @@ use crate::platform::Job;
 use crate::render::assets::{AssetSource, OnDisk};
 use crate::render::objects::Geometry;
 use crate::render::probe::{Probe, probe};
+use crate::render::ray_tree::{RayTree, ray_tree};
 use crate::render::scene_load::{SceneLoad, UNITS_PER_MESH, mesh_names};
-use crate::render::{Bug, Prepared, RenderJob, Rendered};
+use crate::render::{Bug, Hit, Prepared, RenderJob, Rendered};
 use crate::scene::render::{Effect, RenderScene};
 use crate::scene::{ParallelogramScene, Problem, TriangleScene};
 
@@ -208,31 +211,74 @@ impl RenderView {
         self.runtime.probed_problem.as_ref()
     }
 
+    /// The ray tree of the probed pixel.
+    pub fn ray_tree(&self) -> Option<&RayTree> {
+        self.runtime.tree.as_ref()
+    }
+
     /// Draws the view.
     pub fn ui(&mut self, ui: &mut Ui) -> Option<Action> {
         self.update(ui.ctx());
+        // A ray of the tree was loaded last frame: now its view opens.
+        let pending = self.runtime.pending.take();
         self.controls_ui(ui);
         let mut action = None;
         match self.mode {
             Mode::Image => {
-                // The image comes first: on a zoomed projector the text below it scrolls, the
-                // image keeps its place.
+                // The image comes first: on a zoomed projector the text beside or below it
+                // scrolls, the image keeps its place.
                 self.loading_ui(ui);
                 self.status_ui(ui);
-                let below = 4.5 * ui.text_style_height(&egui::TextStyle::Body);
-                self.images_ui(ui, &mut action, below);
-                egui::ScrollArea::vertical()
-                    .id_salt("render-probe")
-                    .auto_shrink([false, false])
-                    .show(ui, |ui| {
-                        if let Some(probed) = self.probe_ui(ui) {
-                            action = Some(probed);
-                        }
+                let body = ui.text_style_height(&egui::TextStyle::Body);
+                let side = 24.0 * body;
+                let images = self.images_width(ui);
+                if ui.available_width() >= images + side {
+                    ui.horizontal_top(|ui| {
+                        ui.vertical(|ui| {
+                            ui.set_width(images);
+                            self.images_ui(ui, &mut action, 0.0);
+                        });
+                        ui.vertical(|ui| self.details_ui(ui, &mut action));
                     });
+                } else {
+                    self.images_ui(ui, &mut action, 4.5 * body);
+                    self.details_ui(ui, &mut action);
+                }
             }
             Mode::Spaces => self.spaces_ui(ui),
         }
-        action
+        if self.runtime.pending.is_some() {
+            ui.ctx().request_repaint();
+        }
+        action.or(pending)
+    }
+
+    /// Beside or below the image: the rays by kind, each effect's cost, the probe and its ray tree.
+    fn details_ui(&mut self, ui: &mut Ui, action: &mut Option<Action>) {
+        egui::ScrollArea::vertical()
+            .id_salt("render-probe")
+            .auto_shrink([false, false])
+            .show(ui, |ui| {
+                self.rays_by_kind_ui(ui);
+                self.cost_ui(ui);
+                ui.separator();
+                if let Some(probed) = self.probe_ui(ui) {
+                    *action = Some(probed);
+                }
+            });
+    }
+
+    /// The width the images take when they fill the height left (the side column goes beside them
+    /// when there is room).
+    fn images_width(&self, ui: &Ui) -> f32 {
+        let (width, height) = match &self.runtime.correct.shown {
+            Some(shown) => (shown.rendered.image.width, shown.rendered.image.height),
+            None => (self.scene.width, self.scene.height),
+        };
+        let panes = if self.bug.is_some() { 2.0 } else { 1.0 };
+        let caption = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
+        let scale = ((ui.available_height() - caption).max(120.0) / height.max(1) as f32).max(0.05);
+        width as f32 * scale * panes + 12.0 * (panes - 1.0)
     }
 
     fn controls_ui(&mut self, ui: &mut Ui) {
@@ -242,7 +288,7 @@ impl RenderView {
                 let mut on = self.effects.contains(&effect);
                 if ui
                     .toggle_value(&mut on, effect.name())
-                    .on_hover_text(effect.explanation())
+                    .on_hover_text(effects::effect_hint(effect, &self.scene))
                     .changed()
                 {
                     if on {
