@@ -229,20 +229,37 @@ impl RenderView {
                 // scrolls, the image keeps its place.
                 self.loading_ui(ui);
                 self.status_ui(ui);
+                // Beside the image when there is room for a column 18 lines wide and an image 16
+                // lines wide (the image gives up width for it); below it on a narrow or zoomed
+                // screen.
+                // When even the image has too little height (200% on a projector), the image and
+                // everything below it scroll together.
                 let body = ui.text_style_height(&egui::TextStyle::Body);
-                let side = 24.0 * body;
-                let images = self.images_width(ui);
-                if ui.available_width() >= images + side {
+                let side = 18.0 * body;
+                let available = ui.available_size();
+                if available.y < 14.0 * body {
+                    egui::ScrollArea::vertical()
+                        .id_salt("render-tight")
+                        .auto_shrink([false, false])
+                        .show(ui, |ui| {
+                            let room = Vec2::new(available.x, available.y - 2.0 * body);
+                            self.images_ui(ui, &mut action, room);
+                            self.details_ui(ui, &mut action, true, false);
+                        });
+                } else if available.x >= side + 16.0 * body {
+                    let images = self.images_width(ui).min(available.x - side - 12.0);
                     ui.horizontal_top(|ui| {
                         ui.vertical(|ui| {
                             ui.set_width(images);
-                            self.images_ui(ui, &mut action, 0.0);
+                            let room = ui.available_size();
+                            self.images_ui(ui, &mut action, room);
                         });
-                        ui.vertical(|ui| self.details_ui(ui, &mut action));
+                        ui.vertical(|ui| self.details_ui(ui, &mut action, false, true));
                     });
                 } else {
-                    self.images_ui(ui, &mut action, 4.5 * body);
-                    self.details_ui(ui, &mut action);
+                    let room = available - Vec2::new(0.0, 4.5 * body);
+                    self.images_ui(ui, &mut action, room);
+                    self.details_ui(ui, &mut action, true, true);
                 }
             }
             Mode::Spaces => self.spaces_ui(ui),
@@ -254,18 +271,31 @@ impl RenderView {
     }
 
     /// Beside or below the image: the rays by kind, each effect's cost, the probe and its ray tree.
-    fn details_ui(&mut self, ui: &mut Ui, action: &mut Option<Action>) {
-        egui::ScrollArea::vertical()
-            .id_salt("render-probe")
-            .auto_shrink([false, false])
-            .show(ui, |ui| {
-                self.rays_by_kind_ui(ui);
-                self.cost_ui(ui);
-                ui.separator();
-                if let Some(probed) = self.probe_ui(ui) {
-                    *action = Some(probed);
-                }
-            });
+    /// `compact`: the rays by kind on wrapped lines rather than a table (below the image);
+    /// `scroll`: in a scroll area of their own.
+    fn details_ui(
+        &mut self,
+        ui: &mut Ui,
+        action: &mut Option<Action>,
+        compact: bool,
+        scroll: bool,
+    ) {
+        let mut details = |ui: &mut Ui| {
+            self.rays_by_kind_ui(ui, compact);
+            self.cost_ui(ui);
+            ui.separator();
+            if let Some(probed) = self.probe_ui(ui) {
+                *action = Some(probed);
+            }
+        };
+        if scroll {
+            egui::ScrollArea::vertical()
+                .id_salt("render-probe")
+                .auto_shrink([false, false])
+                .show(ui, details);
+        } else {
+            details(ui);
+        }
     }
 
     /// The width the images take when they fill the height left (the side column goes beside them
@@ -426,7 +456,7 @@ impl RenderView {
     }
 
     /// The image (and the bug's image beside it); a click probes a pixel.
-    fn images_ui(&mut self, ui: &mut Ui, action: &mut Option<Action>, below: f32) {
+    fn images_ui(&mut self, ui: &mut Ui, action: &mut Option<Action>, room: Vec2) {
         let Some(shown) = &self.runtime.correct.shown else {
             ui.label("Rendering…");
             return;
@@ -434,9 +464,9 @@ impl RenderView {
         let (width, height) = (shown.rendered.image.width, shown.rendered.image.height);
         let panes = if self.bug.is_some() { 2.0 } else { 1.0 };
         let gap = 12.0;
-        // Room for the caption above and for `below` under the image, but never a thumbnail.
+        // `room` holds the caption above and the image, but never a thumbnail.
         let caption = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
-        let available = ui.available_size() - Vec2::new(0.0, caption + below);
+        let available = room - Vec2::new(0.0, caption);
         let available = Vec2::new(available.x, available.y.max(120.0));
         let scale = ((available.x - gap * (panes - 1.0)) / panes / width as f32)
             .min(available.y / height as f32)

@@ -146,47 +146,65 @@ fn millis(seconds: f64) -> String {
 }
 
 impl RenderView {
-    /// The last render's rays by kind: a row per kind, the count right-aligned.
-    pub(super) fn rays_by_kind_ui(&self, ui: &mut Ui) {
+    /// The last render's rays by kind: a table, a row per kind with its count right-aligned, or
+    /// (`compact`) the counts on wrapped lines.
+    pub(super) fn rays_by_kind_ui(&self, ui: &mut Ui, compact: bool) {
         let Some(shown) = &self.runtime.correct.shown else {
             return;
         };
         let stats = &shown.rendered.stats;
+        let rows: Vec<(String, String, String)> = KINDS
+            .iter()
+            .map(|(kind, name)| {
+                let off = effect_of(*kind).is_some_and(|e| !shown.key.effects.contains(&e));
+                let shown_name = if off {
+                    format!("{name} (off)")
+                } else {
+                    name.to_string()
+                };
+                let value = grouped(rays(stats, *kind));
+                let info = format!("{name} rays: {value}");
+                (shown_name, value, info)
+            })
+            .chain(std::iter::once((
+                "all".to_string(),
+                grouped(all_rays(stats)),
+                format!("all rays: {}", grouped(all_rays(stats))),
+            )))
+            .collect();
+        let heading = "Every ray the last render cast, by what it was for: an effect that is off \
+                       casts none";
+        let labelled = |response: egui::Response, info: &str| {
+            response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Label, true, info));
+        };
+        if compact {
+            ui.horizontal_wrapped(|ui| {
+                ui.label(RichText::new("Rays by kind:").strong())
+                    .on_hover_text(heading);
+                for (name, value, info) in &rows {
+                    // A kind and its count stay together on a line.
+                    let text = RichText::new(format!("{name} {value}")).strong();
+                    let label = egui::Label::new(text).wrap_mode(egui::TextWrapMode::Extend);
+                    labelled(ui.add(label), info);
+                    ui.add_space(6.0);
+                }
+            });
+            return;
+        }
         ui.label(RichText::new("Rays by kind").strong())
-            .on_hover_text(
-                "Every ray the last render cast, by what it was for: an effect that is off casts \
-                 none",
-            );
+            .on_hover_text(heading);
+        let width = rows.iter().map(|(_, v, _)| v.len()).max().unwrap_or(0);
         egui::Grid::new("render-rays-by-kind")
             .num_columns(2)
             .spacing([16.0, 2.0])
             .show(ui, |ui| {
-                for (kind, name) in KINDS {
-                    let count = rays(stats, kind);
-                    let off = effect_of(kind).is_some_and(|e| !shown.key.effects.contains(&e));
-                    let text = if off {
-                        format!("{name} (off)")
-                    } else {
-                        name.to_string()
-                    };
-                    ui.label(text);
-                    let value = grouped(count);
-                    let response = ui
-                        .with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                            ui.label(RichText::new(&value).monospace().strong())
-                        });
-                    let info = format!("{name} rays: {value}");
-                    response
-                        .inner
-                        .widget_info(|| egui::WidgetInfo::labeled(egui::Role::Label, true, &info));
+                for (name, value, info) in &rows {
+                    ui.label(name);
+                    // Monospace, padded on the left: the digits line up.
+                    let padded = format!("{value:>width$}");
+                    labelled(ui.label(RichText::new(padded).monospace().strong()), info);
                     ui.end_row();
                 }
-                ui.label(RichText::new("all").strong());
-                let total = grouped(all_rays(stats));
-                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                    ui.label(RichText::new(total).monospace().strong())
-                });
-                ui.end_row();
             });
     }
 
@@ -287,18 +305,19 @@ impl RenderView {
     }
 }
 
-/// A row per render: the effects, its time, the rays it cast, and what leaving the effect out saved.
+/// A row per render: the effects, its time, and its change against all effects on (three narrow
+/// columns: the table sits in the column beside the image).
 fn cost_table(ui: &mut Ui, result: &[EffectCost]) {
     let Some(all) = result.first() else {
         return;
     };
     egui::Grid::new("render-cost")
         .num_columns(3)
-        .spacing([14.0, 2.0])
+        .spacing([12.0, 2.0])
         .show(ui, |ui| {
             ui.label(RichText::new("render").strong());
             ui.label(RichText::new("time").strong());
-            ui.label(RichText::new("rays").strong());
+            ui.label(RichText::new("vs all").strong());
             ui.end_row();
             for row in result {
                 let name = match row.without {
@@ -306,21 +325,23 @@ fn cost_table(ui: &mut Ui, result: &[EffectCost]) {
                     Some(effect) => format!("without {}", effect.name()),
                 };
                 ui.label(name);
-                let mut time = millis(row.seconds);
-                if row.without.is_some() && all.seconds > 0.0 {
+                ui.label(RichText::new(millis(row.seconds)).monospace().strong());
+                let change = if row.without.is_some() && all.seconds > 0.0 {
                     let change = (row.seconds - all.seconds) / all.seconds * 100.0;
                     let sign = if change < 0.0 { "−" } else { "+" };
-                    time = format!("{time} ({sign}{:.0}%)", change.abs());
-                }
-                ui.label(RichText::new(time).monospace());
-                ui.label(RichText::new(grouped(all_rays(&row.stats))).monospace());
+                    format!("{sign}{:.0}%", change.abs())
+                } else {
+                    String::new()
+                };
+                ui.label(RichText::new(change).monospace());
                 ui.end_row();
             }
         })
         .response
         .on_hover_text(
-            "Each render's wall-clock time, with the change against all effects on: an effect \
-             costs what its rays cost, and nothing when it is off (times vary a little run to run)",
+            "Each render's wall-clock time, and how much faster it is than with all effects on: an \
+             effect costs what its rays cost, and nothing when it is off (times vary a little from \
+             run to run)",
         );
 }
 
