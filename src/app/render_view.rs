@@ -230,8 +230,8 @@ impl RenderView {
                 self.loading_ui(ui);
                 self.status_ui(ui);
                 // Beside the image when there is room for a column 18 lines wide and an image 16
-                // lines wide (the image gives up width for it); below it on a narrow or zoomed
-                // screen.
+                // lines wide (the image gives up width for it, a bug's pair of images does not);
+                // below it on a narrow or zoomed screen.
                 // When even the image has too little height (200% on a projector), the image and
                 // everything below it scroll together.
                 let body = ui.text_style_height(&egui::TextStyle::Body);
@@ -246,7 +246,10 @@ impl RenderView {
                             self.images_ui(ui, &mut action, room);
                             self.details_ui(ui, &mut action, true, false);
                         });
-                } else if available.x >= side + 16.0 * body {
+                } else if available.x >= side + 16.0 * body
+                    // Two images side by side keep their full size: the column goes below them.
+                    && (self.bug.is_none() || self.images_width(ui) + side <= available.x)
+                {
                     let images = self.images_width(ui).min(available.x - side - 12.0);
                     ui.horizontal_top(|ui| {
                         ui.vertical(|ui| {
