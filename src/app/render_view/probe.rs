@@ -24,7 +24,9 @@ impl RenderView {
             {
                 let result = probe(&prepared, row, column);
                 let problem = probed_problem(&prepared, &result);
-                self.runtime.tree = Some(ray_tree(&prepared, row, column));
+                // Ray casting alone has no tree: one ray, shown above.
+                self.runtime.tree = crate::render::trace_rays::applies(&prepared)
+                    .then(|| ray_tree(&prepared, row, column));
                 (Some(result), problem)
             }
             _ => {
