@@ -318,6 +318,47 @@ mod tests {
     }
 
     #[test]
+    fn a_glass_pixel_has_a_refracted_and_a_reflected_child_that_bend_by_snell() {
+        let prepared = prepared(
+            r#"(
+            width: 1, height: 1,
+            camera: Pinhole(position: (1.5, -4.0, 0.3), target: (0.0, 1.0, 0.3), fov_y: 5.0),
+            objects: [
+                (shape: Parallelogram(corner: (-0.5, 1.0, -1.0), e1: (1.0, 0.0, 0.0), e2: (0.0, 0.0, 2.0)), material: Glass(ior: 1.5)),
+                (shape: Parallelogram(corner: (-5.0, 3.0, -5.0), e1: (10.0, 0.0, 0.0), e2: (0.0, 0.0, 10.0))),
+            ],
+            effects: ["refraction", "reflections"],
+            settings: (max_depth: 1),
+        )"#,
+        );
+        // The pane's normal e1 × e2 = (0, −2, 0) faces the camera: the ray goes into the glass.
+        let tree = ray_tree(&prepared, 0, 0);
+        assert_eq!(tree.root.hit.map(|h| h.object), Some(0), "the glass pane");
+        let kinds: Vec<_> = tree
+            .root
+            .children
+            .iter()
+            .map(|c| (c.kind, c.depth))
+            .collect();
+        assert_eq!(
+            kinds,
+            [(RayKind::Refraction, 1), (RayKind::Reflection, 1)],
+            "refracted first, then the Fresnel reflection"
+        );
+        // Into glass at incidence θ₁: sin θ₂ = sin θ₁ / 1.5.
+        let sine = |d: &V3<f64>| {
+            let length = crate::math::linalg::dot(d, d).sqrt();
+            (d[0] * d[0] + d[2] * d[2]).sqrt() / length
+        };
+        let into = sine(&tree.root.ray.1);
+        let through = sine(&tree.root.children[0].ray.1);
+        assert!(into > 0.001, "a slanted ray: {into}");
+        assert!((through - into / 1.5).abs() < 1e-12, "{into} {through}");
+        // The depth limit: no ray below bounce 1.
+        assert!(tree.root.children.iter().all(|c| c.children.is_empty()));
+    }
+
+    #[test]
     fn occlusion_rays_are_summarised_and_samples_counted() {
         let prepared = prepared(
             r#"(
