@@ -324,7 +324,17 @@ fn cost_table(ui: &mut Ui, result: &[EffectCost]) {
                     None => "all effects on".to_string(),
                     Some(effect) => format!("without {}", effect.name()),
                 };
-                ui.label(name);
+                let by_kind: Vec<String> = KINDS
+                    .iter()
+                    .map(|(kind, kind_name)| {
+                        format!("{kind_name} {}", grouped(rays(&row.stats, *kind)))
+                    })
+                    .collect();
+                ui.label(name).on_hover_text(format!(
+                    "{} rays: {}",
+                    grouped(all_rays(&row.stats)),
+                    by_kind.join(", ")
+                ));
                 ui.label(RichText::new(millis(row.seconds)).monospace().strong());
                 let change = if row.without.is_some() && all.seconds > 0.0 {
                     let change = (row.seconds - all.seconds) / all.seconds * 100.0;
