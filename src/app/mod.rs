@@ -189,7 +189,7 @@ impl RaylabApp {
             self.state.render.probed_ray_name(),
             self.state.titles[ViewKind::Render as usize].0
         );
-        let note = "The ray the renderer cast through that pixel, and what it met.".to_string();
+        let note = "The ray the renderer cast for that pixel, and what it met.".to_string();
         self.steps_to_top = true;
         match action {
             render_view::Action::Triangle(scene) => {

@@ -140,16 +140,16 @@ impl RenderView {
                     }
                 }
                 (LightTest::Lit(..), _) => {
-                    ui.label(
-                        RichText::new("lit: nothing in the way")
-                            .color(palette::INSIDE.readable(ui)),
-                    );
+                    ui.label(RichText::new("lit").color(palette::INSIDE.readable(ui)))
+                        .on_hover_text("Nothing between the hit and the light");
                 }
                 (LightTest::FacesAway, _) => {
-                    ui.label("the surface faces away from it: no ray");
+                    ui.label("faces away: no ray").on_hover_text(
+                        "The surface turns its back to this light: no light, no ray",
+                    );
                 }
                 (LightTest::Untested, _) => {
-                    ui.label("counted as lit: shadows are off, no ray");
+                    ui.label("lit (shadows off: no ray)");
                 }
             }
         });
