@@ -1,6 +1,6 @@
 //! The effects past ray casting (issue 13): an effect not declared casts no ray of its kind in any
 //! shipped scene, and each effect gives the answer known analytically: a shadow's edge at the pixel
-//! the light's projection predicts, ambient occlusion of an open plane = 1, k×k antialiasing samples.
+//! the light's projection predicts, ambient occlusion of an open plane = 1, k×k antialiasing samples, the pixel their mean.
 //! (The reflected direction, Snell's angle and total internal reflection at the critical angle are
 //! unit tests of `render::optics`.)
 
@@ -188,9 +188,30 @@ fn antialiasing_casts_k_squared_samples_a_pixel() {
         )"#
         ));
         let prepared = Prepared::new(&scene, &Embedded).unwrap();
-        let (_, stats) = render(&prepared);
+        let (image, stats) = render(&prepared);
         assert_eq!(stats.rays, 60);
         assert_eq!(stats.secondary.sample_rays, 60 * k * k, "k = {k}");
+        // The colour is the mean of the k² samples alone: under coverage a sample is white or black,
+        // so each pixel is (samples that hit)/k², and together they account for every sample hit.
+        let k2 = (k * k) as f32;
+        let mut hits = 0;
+        for pixel in &image.pixels {
+            let white = pixel[0] * k2;
+            assert_eq!(
+                white,
+                white.round(),
+                "k = {k}: {pixel:?} is not a mean of {k2} samples"
+            );
+            assert!(pixel.iter().all(|c| *c == pixel[0]));
+            hits += white.round() as u64;
+        }
+        assert_eq!(hits, stats.secondary.hits, "k = {k}");
+        // Some pixels on the triangle's edges are partly covered.
+        assert!(k == 1 || image.pixels.iter().any(|p| p[0] > 0.0 && p[0] < 1.0));
+        // Coverage is the centre ray's: the same mask as without antialiasing.
+        let mut plain = prepared.clone();
+        plain.effects = vec![Effect::Coverage];
+        assert_eq!(render(&plain).0.covered, image.covered, "k = {k}");
     }
 }
 

@@ -199,12 +199,12 @@ impl RaylabApp {
     /// Carries out what the Render view asked for: a probed ray into the Triangle or Parallelogram
     /// view (its steps then show in the panel), or a switch of view.
     fn render_action(&mut self, action: render_view::Action) {
-        let (row, column) = self.state.render.probed.unwrap_or_default();
         let title = format!(
-            "Pixel ({row}, {column}) of “{}”",
+            "{} of “{}”",
+            self.state.render.probed_ray_name(),
             self.state.titles[ViewKind::Render as usize].0
         );
-        let note = "The ray the renderer cast through that pixel, and what it met.".to_string();
+        let note = "The ray the renderer cast for that pixel, and what it met.".to_string();
         self.steps_to_top = true;
         match action {
             render_view::Action::Triangle(scene) => {

@@ -5,9 +5,11 @@
 //! Renders run as a [`Job`] (a thread natively, slices of frames on the web) and only when something
 //! they depend on changed.
 
+mod effects;
 mod jobs;
 mod probe;
 mod spaces;
+mod tree;
 
 use jobs::{Choices, Runtime, loads_in_background};
 
@@ -30,8 +32,9 @@ use crate::platform::Job;
 use crate::render::assets::{AssetSource, OnDisk};
 use crate::render::objects::Geometry;
 use crate::render::probe::{Probe, probe};
+use crate::render::ray_tree::{RayTree, ray_tree};
 use crate::render::scene_load::{SceneLoad, UNITS_PER_MESH, mesh_names};
-use crate::render::{Bug, Prepared, RenderJob, Rendered};
+use crate::render::{Bug, Hit, Prepared, RenderJob, Rendered};
 use crate::scene::render::{Effect, RenderScene};
 use crate::scene::{ParallelogramScene, Problem, TriangleScene};
 
@@ -208,31 +211,107 @@ impl RenderView {
         self.runtime.probed_problem.as_ref()
     }
 
+    /// The ray tree of the probed pixel.
+    pub fn ray_tree(&self) -> Option<&RayTree> {
+        self.runtime.tree.as_ref()
+    }
+
     /// Draws the view.
     pub fn ui(&mut self, ui: &mut Ui) -> Option<Action> {
         self.update(ui.ctx());
+        // A ray of the tree was loaded last frame: now its view opens.
+        let pending = self.runtime.pending.take();
         self.controls_ui(ui);
         let mut action = None;
         match self.mode {
             Mode::Image => {
-                // The image comes first: on a zoomed projector the text below it scrolls, the
-                // image keeps its place.
+                // The image comes first: on a zoomed projector the text beside or below it
+                // scrolls, the image keeps its place.
                 self.loading_ui(ui);
                 self.status_ui(ui);
-                let below = 4.5 * ui.text_style_height(&egui::TextStyle::Body);
-                self.images_ui(ui, &mut action, below);
-                egui::ScrollArea::vertical()
-                    .id_salt("render-probe")
-                    .auto_shrink([false, false])
-                    .show(ui, |ui| {
-                        if let Some(probed) = self.probe_ui(ui) {
-                            action = Some(probed);
-                        }
+                // Beside the image when there is room for a column 18 lines wide and an image 16
+                // lines wide (the image gives up width for it, a bug's pair of images does not);
+                // below it on a narrow or zoomed screen.
+                // When even the image has too little height (200% on a projector), the image and
+                // everything below it scroll together.
+                let body = ui.text_style_height(&egui::TextStyle::Body);
+                let side = 18.0 * body;
+                let available = ui.available_size();
+                if available.y < 14.0 * body {
+                    egui::ScrollArea::vertical()
+                        .id_salt("render-tight")
+                        .auto_shrink([false, false])
+                        .show(ui, |ui| {
+                            let room = Vec2::new(available.x, available.y - 2.0 * body);
+                            self.images_ui(ui, &mut action, room);
+                            self.details_ui(ui, &mut action, true, false);
+                        });
+                } else if available.x >= side + 16.0 * body
+                    // Two images side by side keep their full size: the column goes below them.
+                    && (self.bug.is_none() || self.images_width(ui) + side <= available.x)
+                {
+                    let images = self.images_width(ui).min(available.x - side - 12.0);
+                    ui.horizontal_top(|ui| {
+                        ui.vertical(|ui| {
+                            ui.set_width(images);
+                            let room = ui.available_size();
+                            self.images_ui(ui, &mut action, room);
+                        });
+                        ui.vertical(|ui| self.details_ui(ui, &mut action, false, true));
                     });
+                } else {
+                    let room = available - Vec2::new(0.0, 4.5 * body);
+                    self.images_ui(ui, &mut action, room);
+                    self.details_ui(ui, &mut action, true, true);
+                }
             }
             Mode::Spaces => self.spaces_ui(ui),
         }
-        action
+        if self.runtime.pending.is_some() {
+            ui.ctx().request_repaint();
+        }
+        action.or(pending)
+    }
+
+    /// Beside or below the image: the rays by kind, each effect's cost, the probe and its ray tree.
+    /// `compact`: the rays by kind on wrapped lines rather than a table (below the image);
+    /// `scroll`: in a scroll area of their own.
+    fn details_ui(
+        &mut self,
+        ui: &mut Ui,
+        action: &mut Option<Action>,
+        compact: bool,
+        scroll: bool,
+    ) {
+        let mut details = |ui: &mut Ui| {
+            self.rays_by_kind_ui(ui, compact);
+            self.cost_ui(ui);
+            ui.separator();
+            if let Some(probed) = self.probe_ui(ui) {
+                *action = Some(probed);
+            }
+        };
+        if scroll {
+            egui::ScrollArea::vertical()
+                .id_salt("render-probe")
+                .auto_shrink([false, false])
+                .show(ui, details);
+        } else {
+            details(ui);
+        }
+    }
+
+    /// The width the images take when they fill the height left (the side column goes beside them
+    /// when there is room).
+    fn images_width(&self, ui: &Ui) -> f32 {
+        let (width, height) = match &self.runtime.correct.shown {
+            Some(shown) => (shown.rendered.image.width, shown.rendered.image.height),
+            None => (self.scene.width, self.scene.height),
+        };
+        let panes = if self.bug.is_some() { 2.0 } else { 1.0 };
+        let caption = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
+        let scale = ((ui.available_height() - caption).max(120.0) / height.max(1) as f32).max(0.05);
+        width as f32 * scale * panes + 12.0 * (panes - 1.0)
     }
 
     fn controls_ui(&mut self, ui: &mut Ui) {
@@ -242,7 +321,7 @@ impl RenderView {
                 let mut on = self.effects.contains(&effect);
                 if ui
                     .toggle_value(&mut on, effect.name())
-                    .on_hover_text(effect.explanation())
+                    .on_hover_text(effects::effect_hint(effect, &self.scene))
                     .changed()
                 {
                     if on {
@@ -380,7 +459,7 @@ impl RenderView {
     }
 
     /// The image (and the bug's image beside it); a click probes a pixel.
-    fn images_ui(&mut self, ui: &mut Ui, action: &mut Option<Action>, below: f32) {
+    fn images_ui(&mut self, ui: &mut Ui, action: &mut Option<Action>, room: Vec2) {
         let Some(shown) = &self.runtime.correct.shown else {
             ui.label("Rendering…");
             return;
@@ -388,9 +467,9 @@ impl RenderView {
         let (width, height) = (shown.rendered.image.width, shown.rendered.image.height);
         let panes = if self.bug.is_some() { 2.0 } else { 1.0 };
         let gap = 12.0;
-        // Room for the caption above and for `below` under the image, but never a thumbnail.
+        // `room` holds the caption above and the image, but never a thumbnail.
         let caption = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
-        let available = ui.available_size() - Vec2::new(0.0, caption + below);
+        let available = room - Vec2::new(0.0, caption);
         let available = Vec2::new(available.x, available.y.max(120.0));
         let scale = ((available.x - gap * (panes - 1.0)) / panes / width as f32)
             .min(available.y / height as f32)

@@ -23,6 +23,10 @@ use std::cell::RefCell;
 use super::crack_free::ShearedRay;
 
 mod narrow;
+#[cfg_attr(
+    not(target_arch = "x86_64"),
+    allow(dead_code, unused_imports, reason = "used by the x86-64 kernels only")
+)]
 use super::crack_free4::{self, Quad};
 use super::objects::PreparedTriangle;
 use crate::math::linalg::V3;
@@ -167,6 +171,10 @@ thread_local! {
 }
 
 /// A ray's nearest hit in a hierarchy: the triangle's index and (t, β, γ).
+#[cfg_attr(
+    not(target_arch = "x86_64"),
+    allow(dead_code, unused_imports, reason = "used by the x86-64 kernels only")
+)]
 type Nearest = Option<(usize, [f64; 3])>;
 
 /// The hierarchy: 4-wide nodes (the root first), and the triangles in leaf order ("slots").

@@ -66,6 +66,10 @@ impl ShearedRay {
     /// The origin, the axes that become x, y and z, and the shear constants (sx, sy, sz), for the
     /// four-triangle kernel of [`super::crack_free4`].
     #[inline(always)]
+    #[cfg_attr(
+        not(target_arch = "x86_64"),
+        allow(dead_code, reason = "used by the x86-64 kernels only")
+    )]
     pub(super) fn parts(&self) -> (&V3<f64>, [usize; 3], [f64; 3]) {
         (&self.origin, self.axes, self.shear)
     }

@@ -9,6 +9,11 @@
 //! to be tested by [`ShearedRay::intersect`] itself. So the decisions, and the hits' numbers, are the
 //! one-triangle test's to the bit.
 
+// The kernels are x86-64 only: elsewhere (the web page) the one-ray paths serve.
+#![cfg_attr(
+    not(target_arch = "x86_64"),
+    allow(dead_code, unused_imports, reason = "used by the x86-64 kernels only")
+)]
 // The AVX2 kernel: its unsafe blocks say in SAFETY comments why they are sound.
 #![allow(unsafe_code)]
 

@@ -10,7 +10,8 @@ use serde::Serialize;
 pub enum RayKind {
     /// Through a pixel (its centre; antialiasing's samples are [`RayKind::Sample`]).
     Primary,
-    /// Antialiasing's jittered samples: primary rays too, k² a pixel.
+    /// Antialiasing's stratified samples: primary rays too, exactly k² a pixel (the pixel's colour
+    /// is their mean; the centre ray only decides coverage and is the probe's).
     Sample,
     /// From a hit to a light (`shadows`).
     Shadow,

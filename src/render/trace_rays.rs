@@ -46,6 +46,39 @@ struct Effects {
     antialiasing: bool,
 }
 
+/// How a light reaches a hit, as the ray tree tells it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightTest {
+    /// The surface faces away from the light: no ray is cast.
+    FacesAway,
+    /// Lit, not tested: `shadows` is off.
+    Untested,
+    /// The shadow ray `(origin, direction)` up to `t_max` found nothing in the way.
+    Lit(Ray, f64),
+    /// The shadow ray `(origin, direction)` up to `t_max` was blocked.
+    Blocked(Ray, f64),
+}
+
+/// What a pixel's rays do, told as they are cast: the probe's ray tree listens
+/// ([`super::ray_tree`]); a render passes [`Silent`], which the compiler removes.
+pub trait Record {
+    /// A reflected, refracted or sample ray of `kind` starts at bounce `depth`.
+    fn start(&mut self, _kind: RayKind, _depth: u32, _ray: Ray) {}
+    /// The started ray's nearest hit.
+    fn met(&mut self, _hit: Option<Hit>) {}
+    /// The started ray brings back `colour`, and ends.
+    fn end(&mut self, _colour: V3<f64>) {}
+    /// How light `index` reaches the current ray's hit.
+    fn light(&mut self, _index: usize, _test: LightTest) {}
+    /// The current hit's ambient-occlusion rays: `cast` of them, `blocked` found something.
+    fn occlusion(&mut self, _cast: u32, _blocked: u32) {}
+}
+
+/// Records nothing: a render.
+pub struct Silent;
+
+impl Record for Silent {}
+
 /// A render's tracer: the scene, its effects and the shader.
 pub struct Tracer<'a> {
     prepared: &'a Prepared,
@@ -102,8 +135,12 @@ impl<'a> Tracer<'a> {
         stats
     }
 
-    /// A pixel's colour from its centre's primary ray and hit (cast and counted by the caller), and
-    /// with `antialiasing` k×k stratified sample rays averaged with it.
+    /// A pixel's colour from its centre's primary ray and hit (cast and counted by the caller).
+    ///
+    /// With `antialiasing` the colour is the mean of exactly k×k stratified sample rays; the centre
+    /// ray still decides coverage (and is the ray the probe follows), and its surface is shaded as
+    /// ray casting shades it, so ray casting's counters mean the same with or without antialiasing,
+    /// but its light is not gathered: no shadow, mirror, glass or occlusion ray starts from it.
     pub fn pixel(
         &self,
         (row, column): (usize, usize),
@@ -113,26 +150,42 @@ impl<'a> Tracer<'a> {
     ) -> V3<f64> {
         let p = self.prepared;
         let mut rng = pixel_rng(p.lighting.settings.seed, row * p.width + column);
-        let mut colour = match hit {
-            Some(hit) => self.radiance(hit, centre, (RayKind::Primary, 0), &mut rng, stats),
-            None => [0.0; 3],
-        };
-        if self.on.antialiasing {
-            let samples = stratified(p.lighting.settings.samples_per_side, &mut rng);
-            for (x, y) in &samples {
-                // Cell (x, y) of the pixel around its centre.
-                let ray = self.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
-                let c = self.trace(ray, RayKind::Sample, 0, &mut rng, stats);
-                colour = std::array::from_fn(|k| colour[k] + c[k]);
-            }
-            let n = (samples.len() + 1) as f64;
-            colour = colour.map(|c| c / n);
+        if !self.on.antialiasing {
+            return match hit {
+                Some(hit) => self.radiance(
+                    hit,
+                    centre,
+                    (RayKind::Primary, 0),
+                    (&mut rng, &mut Silent),
+                    stats,
+                ),
+                None => [0.0; 3],
+            };
         }
-        colour
+        if let Some(hit) = hit {
+            self.surface_at(&hit, &centre, stats);
+        }
+        let samples = stratified(p.lighting.settings.samples_per_side, &mut rng);
+        let mut sum = [0.0; 3];
+        for (x, y) in &samples {
+            // Cell (x, y) of the pixel around its centre.
+            let ray = self.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
+            let c = self.trace(ray, (RayKind::Sample, 0), (&mut rng, &mut Silent), stats);
+            sum = std::array::from_fn(|k| sum[k] + c[k]);
+        }
+        sum.map(|c| c / samples.len() as f64)
+    }
+
+    /// The surface a ray hit, with its shading work counted in `stats`.
+    fn surface_at(&self, hit: &Hit, ray: &Ray, stats: &mut Stats) -> Surface {
+        let object = &self.prepared.objects[hit.object];
+        let inverse_length = 1.0 / dot(&ray.1, &ray.1).sqrt();
+        self.shader
+            .surface(object, hit, &ray.1, inverse_length, stats)
     }
 
     /// The ray through the fractional pixel position (row, column), centres at whole numbers.
-    fn ray_at(&self, row: f64, column: f64) -> Ray {
+    pub(super) fn ray_at(&self, row: f64, column: f64) -> Ray {
         let p = self.prepared;
         camera_ray_at(
             &p.camera,
@@ -144,25 +197,28 @@ impl<'a> Tracer<'a> {
     }
 
     /// The colour a secondary ray of `kind` brings back (black when it escapes), counted by kind.
-    fn trace(
+    fn trace<R: Record>(
         &self,
         ray: Ray,
-        kind: RayKind,
-        depth: u32,
-        rng: &mut Pcg32,
+        (kind, depth): (RayKind, u32),
+        (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> V3<f64> {
         stats.secondary.count(kind);
+        rec.start(kind, depth, ray);
         let hit = secondary_work(stats, |s| {
             cast::nearest_hit_between(self.prepared, ray.0, ray.1, (0.0, f64::INFINITY), s)
         });
-        match hit {
+        rec.met(hit);
+        let colour = match hit {
             Some(hit) => {
                 stats.secondary.hits += 1;
-                self.radiance(hit, ray, (kind, depth), rng, stats)
+                self.radiance(hit, ray, (kind, depth), (rng, &mut *rec), stats)
             }
             None => [0.0; 3],
-        }
+        };
+        rec.end(colour);
+        colour
     }
 
     /// True when something lies on the ray within (0, t_max]: a shadow or occlusion ray.
@@ -177,23 +233,19 @@ impl<'a> Tracer<'a> {
 
     /// The colour seen along `ray` at `hit`: the surface lit, then its material's rays.
     /// `(kind, depth)`: the ray's kind and how many bounces led to it.
-    fn radiance(
+    pub(super) fn radiance<R: Record>(
         &self,
         hit: Hit,
         ray: Ray,
         (kind, depth): (RayKind, u32),
-        rng: &mut Pcg32,
+        (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> V3<f64> {
-        let object = &self.prepared.objects[hit.object];
-        let inverse_length = 1.0 / dot(&ray.1, &ray.1).sqrt();
         // The primary ray's shading work counts as ray casting's; the rest as the effects'.
         let surface = if kind == RayKind::Primary {
-            self.shader
-                .surface(object, &hit, &ray.1, inverse_length, stats)
+            self.surface_at(&hit, &ray, stats)
         } else {
-            self.shader
-                .surface(object, &hit, &ray.1, inverse_length, &mut Stats::default())
+            self.surface_at(&hit, &ray, &mut Stats::default())
         };
         let point: V3<f64> = std::array::from_fn(|k| ray.0[k] + hit.t * ray.1[k]);
         // The normal on the side the ray came from.
@@ -202,18 +254,16 @@ impl<'a> Tracer<'a> {
         } else {
             surface.normal
         };
-        let local = self.local(&surface, (&point, &front), rng, stats);
+        let local = self.local(&surface, (&point, &front), (&mut *rng, &mut *rec), stats);
         let local = local.map(|c| c * surface.fade);
         let bounce = depth < self.prepared.lighting.settings.max_depth;
         match self.prepared.lighting.material(hit.object) {
             Material::Mirror { reflectance } if self.on.reflections && bounce => {
                 let mirrored = self.mirrored(
-                    &point,
-                    &front,
+                    (&point, &front),
                     &ray.1,
-                    RayKind::Reflection,
-                    depth,
-                    rng,
+                    (RayKind::Reflection, depth),
+                    (rng, rec),
                     stats,
                 );
                 mix(&local, &mirrored, reflectance)
@@ -221,7 +271,14 @@ impl<'a> Tracer<'a> {
             Material::Glass { ior } if self.on.refraction && bounce => {
                 let entering = dot(&surface.normal, &ray.1) < 0.0;
                 let etas = if entering { (1.0, ior) } else { (ior, 1.0) };
-                self.glass(&local, (&point, &front), &ray.1, etas, depth, rng, stats)
+                self.glass(
+                    &local,
+                    (&point, &front),
+                    (&ray.1, depth),
+                    etas,
+                    (rng, rec),
+                    stats,
+                )
             }
             _ => local,
         }
@@ -229,16 +286,16 @@ impl<'a> Tracer<'a> {
 
     /// The surface's own colour: lit by the lights (with shadow rays and ambient occlusion when
     /// declared), or shaded by the facing ratio without lights.
-    fn local(
+    fn local<R: Record>(
         &self,
         surface: &Surface,
         (point, front): (&V3<f64>, &V3<f64>),
-        rng: &mut Pcg32,
+        (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> V3<f64> {
         let lighting = &self.prepared.lighting;
         let open = if self.on.occlusion {
-            self.openness(point, front, rng, stats)
+            self.openness(point, front, (rng, &mut *rec), stats)
         } else {
             1.0
         };
@@ -247,14 +304,17 @@ impl<'a> Tracer<'a> {
             return surface.base.map(|c| c * ratio * open);
         }
         let mut light = [lighting.settings.ambient * open; 3];
-        for source in &lighting.lights {
+        for (index, source) in lighting.lights.iter().enumerate() {
             stats.secondary.light_evaluations += 1;
             let seen = incoming(source, point);
             let cosine = lambert(front, &seen.toward);
             if cosine == 0.0 {
+                rec.light(index, LightTest::FacesAway);
                 continue;
             }
-            if self.on.shadows {
+            if !self.on.shadows {
+                rec.light(index, LightTest::Untested);
+            } else {
                 let from = self.off_surface(point, front, 1.0);
                 let toward: V3<f64> = std::array::from_fn(|k| point[k] + seen.toward[k] - from[k]);
                 let t_max = seen.t_max;
@@ -263,9 +323,12 @@ impl<'a> Tracer<'a> {
                 } else {
                     seen.toward
                 };
-                if self.blocked((from, toward), t_max, RayKind::Shadow, stats) {
+                let ray = (from, toward);
+                if self.blocked(ray, t_max, RayKind::Shadow, stats) {
+                    rec.light(index, LightTest::Blocked(ray, t_max));
                     continue;
                 }
+                rec.light(index, LightTest::Lit(ray, t_max));
             }
             for (l, e) in light.iter_mut().zip(seen.irradiance) {
                 *l += e * cosine;
@@ -276,11 +339,11 @@ impl<'a> Tracer<'a> {
 
     /// The share of `occlusion_rays` cosine-weighted rays over the hemisphere that escape (within
     /// `occlusion_distance`): 1 for an open plane.
-    fn openness(
+    fn openness<R: Record>(
         &self,
         point: &V3<f64>,
         front: &V3<f64>,
-        rng: &mut Pcg32,
+        (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> f64 {
         let settings = &self.prepared.lighting.settings;
@@ -292,49 +355,49 @@ impl<'a> Tracer<'a> {
                 !self.blocked((from, dir), reach, RayKind::Occlusion, stats)
             })
             .count();
-        open as f64 / f64::from(settings.occlusion_rays)
+        let cast = settings.occlusion_rays;
+        rec.occlusion(cast, cast - open as u32);
+        open as f64 / f64::from(cast)
     }
 
     /// The colour along the mirror direction of `dir` about `front`.
-    #[allow(clippy::too_many_arguments)]
-    fn mirrored(
+    fn mirrored<R: Record>(
         &self,
-        point: &V3<f64>,
-        front: &V3<f64>,
+        (point, front): (&V3<f64>, &V3<f64>),
         dir: &V3<f64>,
-        kind: RayKind,
-        depth: u32,
-        rng: &mut Pcg32,
+        (kind, depth): (RayKind, u32),
+        rng_rec: (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> V3<f64> {
         let reflected = reflect(dir, front);
         let from = self.off_surface(point, front, 1.0);
-        self.trace((from, reflected), kind, depth + 1, rng, stats)
+        self.trace((from, reflected), (kind, depth + 1), rng_rec, stats)
     }
 
     /// Glass: the refracted ray mixed with the reflected one by Schlick's Fresnel term (the surface's
     /// own colour stands in for the reflection without `reflections`); past the critical angle the
     /// ray is reflected wholly, inside the glass (a refraction ray).
-    #[allow(clippy::too_many_arguments)]
-    fn glass(
+    fn glass<R: Record>(
         &self,
         local: &V3<f64>,
         (point, front): (&V3<f64>, &V3<f64>),
-        dir: &V3<f64>,
+        (dir, depth): (&V3<f64>, u32),
         (from_eta, to_eta): (f64, f64),
-        depth: u32,
-        rng: &mut Pcg32,
+        (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> V3<f64> {
         let d = unit(*dir);
+        let at = (point, front);
         let Some(through) = refract(&d, front, from_eta, to_eta) else {
-            return self.mirrored(point, front, &d, RayKind::Refraction, depth, rng, stats);
+            let kind = (RayKind::Refraction, depth);
+            return self.mirrored(at, &d, kind, (rng, rec), stats);
         };
         let fresnel = schlick(-dot(&d, front), from_eta, to_eta);
         let from = self.off_surface(point, front, -1.0);
-        let refracted = self.trace((from, through), RayKind::Refraction, depth + 1, rng, stats);
+        let kind = (RayKind::Refraction, depth + 1);
+        let refracted = self.trace((from, through), kind, (&mut *rng, &mut *rec), stats);
         let reflected = if self.on.reflections {
-            self.mirrored(point, front, &d, RayKind::Reflection, depth, rng, stats)
+            self.mirrored(at, &d, (RayKind::Reflection, depth), (rng, rec), stats)
         } else {
             *local
         };

@@ -16,6 +16,14 @@ pub(super) struct Runtime {
     pub(super) probe_key: Option<Choices>,
     /// The probed ray with what it met, as the problem its steps are shown for.
     pub(super) probed_problem: Option<Action>,
+    /// The probed pixel's ray tree.
+    pub(super) tree: Option<RayTree>,
+    /// The ray of the tree last opened in its view, by name (`None`: the primary ray).
+    pub(super) opened: Option<String>,
+    /// What to ask of the app on the next frame (a ray of the tree is loaded, then its view opens).
+    pub(super) pending: Option<Action>,
+    /// The measurement of each effect's cost.
+    pub(super) cost: Option<effects::Cost>,
 }
 
 /// A copy starts without images: they render again when it is shown.
@@ -166,6 +174,7 @@ impl RenderView {
             Some(bug) => self.start_if_changed(ctx, Some(bug)),
             None => self.runtime.buggy = Slot::default(),
         }
+        self.poll_cost(ctx);
         self.runtime.correct.take_finished(ctx, "render");
         self.runtime.buggy.take_finished(ctx, "render-bug");
         if self.is_rendering() {

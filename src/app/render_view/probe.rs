@@ -24,12 +24,49 @@ impl RenderView {
             {
                 let result = probe(&prepared, row, column);
                 let problem = probed_problem(&prepared, &result);
+                // Ray casting alone has no tree: one ray, shown above.
+                self.runtime.tree = crate::render::trace_rays::applies(&prepared)
+                    .then(|| ray_tree(&prepared, row, column));
                 (Some(result), problem)
             }
-            _ => (None, None),
+            _ => {
+                self.runtime.tree = None;
+                (None, None)
+            }
         };
         self.runtime.probe = probe;
         self.runtime.probed_problem = problem;
+        self.runtime.opened = None;
+    }
+
+    /// The pixel's ray last loaded into the Triangle (or Parallelogram) view: "Pixel (3, 4)", or
+    /// "Pixel (3, 4): the shadow ray to light 1 from the primary ray".
+    pub fn probed_ray_name(&self) -> String {
+        let (row, column) = self.probed.unwrap_or_default();
+        match &self.runtime.opened {
+            Some(name) => format!("Pixel ({row}, {column}): {name}"),
+            None => format!("Pixel ({row}, {column})"),
+        }
+    }
+
+    /// The problem of a ray of the tree and what it hit, for its view.
+    pub(super) fn hit_problem(&self, ray: crate::render::Ray, hit: Hit) -> Option<Action> {
+        let (_, Ok(prepared)) = self.runtime.prepared.as_ref()? else {
+            return None;
+        };
+        problem_of(prepared, ray, hit)
+    }
+
+    /// Loads a ray of the tree into its view, and switches to that view on the next frame.
+    pub(super) fn open_ray(&mut self, opened: tree::Opened) -> Action {
+        let view = match opened.problem {
+            Action::Parallelogram(_) => super::ViewKind::Parallelogram,
+            _ => super::ViewKind::Triangle,
+        };
+        self.runtime.probed_problem = Some(opened.problem.clone());
+        self.runtime.opened = Some(opened.name);
+        self.runtime.pending = Some(Action::Open(view));
+        opened.problem
     }
 
     /// Probes a pixel; the hit (or nearest missed) primitive goes to its view.
@@ -39,9 +76,24 @@ impl RenderView {
         self.runtime.probed_problem.clone()
     }
 
-    /// What the probe found, and a button to the view that shows its steps.
-    pub(super) fn probe_ui(&self, ui: &mut Ui) -> Option<Action> {
-        let Some(probe) = &self.runtime.probe else {
+    /// What the probe found, a button to the view that shows its steps, and the pixel's ray tree.
+    pub(super) fn probe_ui(&mut self, ui: &mut Ui) -> Option<Action> {
+        let action = self.primary_ui(ui);
+        let Some(tree) = self.runtime.tree.take() else {
+            return action;
+        };
+        ui.add_space(6.0);
+        let opened = self.ray_tree_ui(ui, &tree);
+        self.runtime.tree = Some(tree);
+        match opened {
+            Some(opened) => Some(self.open_ray(opened)),
+            None => action,
+        }
+    }
+
+    /// The primary ray: what it met, and a button to the view that shows its steps.
+    fn primary_ui(&mut self, ui: &mut Ui) -> Option<Action> {
+        let Some(probe) = self.runtime.probe.clone() else {
             ui.label(
                 RichText::new(
                     "Click a pixel: its ray goes into the Triangle view and the step panel.",
@@ -50,6 +102,7 @@ impl RenderView {
             );
             return None;
         };
+        let probe = &probe;
         let vector = |v: &[f64; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
         let (row, column) = probe.pixel;
         let mut action = None;
@@ -98,7 +151,8 @@ impl RenderView {
                     if let Some(facing) = probe.facing {
                         ui.label(format!("facing ratio n̂·(−ê) = {facing:.4}"));
                     }
-                    let [r, g, b] = probe.color.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+                    let colour = self.shown_colour(probe.pixel).unwrap_or(probe.color);
+                    let [r, g, b] = colour.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
                     ui.label(format!("colour ({r}, {g}, {b})"));
                     let (rect, _) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::hover());
                     ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
@@ -129,7 +183,32 @@ impl RenderView {
                 action = Some(Action::Open(kind));
             }
         });
+        // After a ray of the tree was opened, the view holds that ray: load the primary again.
+        if action.is_some()
+            && self.runtime.opened.is_some()
+            && let Ok(prepared) = self.prepared(None)
+            && let Some(problem) = probed_problem(&prepared, probe)
+        {
+            let name = "the primary ray".to_string();
+            self.runtime.opened = None;
+            let loaded = self.open_ray(tree::Opened { problem, name });
+            self.runtime.opened = None;
+            return Some(loaded);
+        }
         action
+    }
+
+    /// The pixel's colour in the image shown, when it was rendered under the current choices (lit,
+    /// with shadows, mirrors, glass and antialiasing's mean: more than the probe's one ray shades).
+    fn shown_colour(&self, (row, column): (usize, usize)) -> Option<[f32; 3]> {
+        let shown = self.runtime.correct.shown.as_ref()?;
+        let key = &shown.key;
+        let current =
+            key.scene == self.scene && key.effects == self.effects && key.method == self.method;
+        let image = &shown.rendered.image;
+        current
+            .then(|| image.pixels.get(row * image.width + column).copied())
+            .flatten()
     }
 
     pub(super) fn object_kind(&self, index: usize) -> &'static str {
@@ -155,7 +234,22 @@ pub(super) fn probed_problem(prepared: &Prepared, result: &Probe) -> Option<Acti
             t_min: 0.0,
         }));
     }
-    let object = &prepared.objects[result.hit?.object];
+    problem_of(prepared, (result.origin, result.dir), result.hit?)
+}
+
+/// The ray with the triangle or parallelogram it hit, in world space.
+fn problem_of(prepared: &Prepared, (origin, dir): crate::render::Ray, hit: Hit) -> Option<Action> {
+    let object = prepared.objects.get(hit.object)?;
+    if let Some([a, b, c]) = crate::render::world_triangle(object, hit.primitive) {
+        return Some(Action::Triangle(TriangleScene {
+            a,
+            b,
+            c,
+            origin,
+            dir,
+            t_min: 0.0,
+        }));
+    }
     let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
         return None;
     };
@@ -164,7 +258,7 @@ pub(super) fn probed_problem(prepared: &Prepared, result: &Probe) -> Option<Acti
         corner: m.transform_point3(DVec3::from(*corner)).to_array(),
         e1: m.transform_vector3(DVec3::from(*e1)).to_array(),
         e2: m.transform_vector3(DVec3::from(*e2)).to_array(),
-        origin: result.origin,
-        dir: result.dir,
+        origin,
+        dir,
     }))
 }

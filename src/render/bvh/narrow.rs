@@ -15,6 +15,11 @@
 //! f32 is subnormal where it matters, nothing overflows or is NaN. Other packets take the one-ray
 //! box test.
 
+// The kernels are x86-64 only: elsewhere (the web page) the one-ray paths serve.
+#![cfg_attr(
+    not(target_arch = "x86_64"),
+    allow(dead_code, unused_imports, reason = "used by the x86-64 kernels only")
+)]
 // The AVX2 kernel: each unsafe block says in a SAFETY comment why it is sound.
 #![allow(unsafe_code)]
 

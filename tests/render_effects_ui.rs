@@ -1,0 +1,170 @@
+//! The Render view's effects past ray casting, driven through the app as a student would: an effect
+//! toggled by its label, the rays by kind read off the screen, each effect's cost measured, a pixel
+//! in shadow probed and its shadow ray found in the ray tree and opened in the Triangle view.
+
+// A test or benchmark fails by panicking: unwrap and expect are how it says so.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+#[allow(dead_code)] // the shared helpers these tests do not need
+mod common;
+
+use common::{app_harness, click_image, load_preset, shows_text_containing, wait_for_render};
+use egui::Vec2;
+use egui_kittest::kittest::Queryable;
+use raylab::app::ViewKind;
+use raylab::render::rays::RayKind;
+use raylab::render::trace_rays::LightTest;
+
+/// A count as the view writes it: 1234567 as "1 234 567".
+fn grouped(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Clicks the widget with this label, scrolled into view first (the probe's column scrolls).
+fn click_label(harness: &mut egui_kittest::Harness<'static, raylab::app::RaylabApp>, label: &str) {
+    harness.get_by_label(label).scroll_to_me();
+    harness.run();
+    harness.get_by_label(label).click();
+    harness.run();
+}
+
+#[test]
+fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
+    let mut harness = app_harness();
+    load_preset(&mut harness, "Effect: shadows");
+    assert_eq!(harness.state().state.view, ViewKind::Render);
+    let stats = harness.state().state.render.rendered().unwrap().stats;
+    let shadow = stats.secondary.shadow_rays;
+    assert!(shadow > 10_000, "{shadow}");
+    // The rays by kind are on the screen: one shadow ray per lit hit, one primary ray per pixel.
+    assert!(shows_text_containing(
+        &harness,
+        &format!("shadow rays: {}", grouped(shadow))
+    ));
+    assert!(shows_text_containing(
+        &harness,
+        &format!("primary rays: {}", grouped(200 * 150))
+    ));
+
+    // Turned off by its label, the effect casts no shadow ray, and the screen says so.
+    harness.get_by_label("shadows").click();
+    wait_for_render(&mut harness);
+    let stats = harness.state().state.render.rendered().unwrap().stats;
+    assert_eq!(stats.secondary.shadow_rays, 0);
+    assert!(shows_text_containing(&harness, "shadow rays: 0"));
+    assert!(shows_text_containing(&harness, "shadow (off)"));
+    harness.get_by_label("shadows").click();
+    wait_for_render(&mut harness);
+    assert!(shows_text_containing(
+        &harness,
+        &format!("shadow rays: {}", grouped(shadow))
+    ));
+
+    // The image's centre sees the floor at the origin, in the triangle's shadow (the light is
+    // straight above the triangle).
+    click_image(&mut harness, "Correct render", Vec2::new(0.5, 0.5));
+    let tree = harness.state().state.render.ray_tree().cloned().unwrap();
+    assert_eq!(tree.root.hit.unwrap().object, 0, "the floor");
+    let light = tree.root.lights[0];
+    let LightTest::Blocked(shadow_ray, _) = light.test else {
+        panic!("the centre is in shadow: {light:?}");
+    };
+    assert_eq!(
+        light.blocker.unwrap().object,
+        1,
+        "the triangle is in the way"
+    );
+    assert!(shows_text_containing(&harness, "Shadow ray → light 1:"));
+    assert!(shows_text_containing(
+        &harness,
+        "blocked by object 2 (triangle)"
+    ));
+
+    // Its steps: the shadow ray against the triangle that blocks it, in the Triangle view.
+    click_label(
+        &mut harness,
+        "Open the shadow ray to light 1 from the primary ray in the Triangle (3D) view",
+    );
+    let state = &harness.state().state;
+    assert_eq!(state.view, ViewKind::Triangle);
+    let triangle = &state.triangle.scene;
+    assert_eq!((triangle.origin, triangle.dir), shadow_ray);
+    assert!(
+        state.titles[ViewKind::Triangle as usize]
+            .0
+            .contains("the shadow ray to light 1"),
+        "{:?}",
+        state.titles[ViewKind::Triangle as usize]
+    );
+    assert!(shows_text_containing(
+        &harness,
+        "the ray hits the triangle at t ="
+    ));
+
+    // Back in the Render view, the primary ray's own button opens the primary ray again (the floor
+    // is a parallelogram), not the shadow ray the Triangle view holds.
+    harness.get_by_label("Render").click();
+    harness.run();
+    click_label(&mut harness, "Open in Parallelogram →");
+    let state = &harness.state().state;
+    assert_eq!(state.view, ViewKind::Parallelogram);
+    assert_eq!(state.parallelogram.scene.origin, tree.root.ray.0);
+    assert_eq!(state.parallelogram.scene.dir, tree.root.ray.1);
+}
+
+#[test]
+fn a_mirror_pixel_shows_its_reflected_ray_and_each_effect_has_a_cost() {
+    let mut harness = app_harness();
+    load_preset(&mut harness, "Effect: reflections");
+    let stats = harness.state().state.render.rendered().unwrap().stats;
+    let reflected = stats.secondary.rays(RayKind::Reflection);
+    assert!(reflected > 0);
+    assert!(shows_text_containing(
+        &harness,
+        &format!("reflection rays: {}", grouped(reflected))
+    ));
+
+    // Somewhere in the upper middle of the image is the mirror (object 2).
+    let mut on_mirror = false;
+    for (x, y) in [
+        (0.45, 0.3),
+        (0.35, 0.25),
+        (0.55, 0.2),
+        (0.3, 0.4),
+        (0.6, 0.35),
+    ] {
+        click_image(&mut harness, "Correct render", Vec2::new(x, y));
+        let tree = harness.state().state.render.ray_tree().cloned().unwrap();
+        if tree.root.hit.is_some_and(|h| h.object == 1) {
+            let child = &tree.root.children[0];
+            assert_eq!((child.kind, child.depth), (RayKind::Reflection, 1));
+            on_mirror = true;
+            break;
+        }
+    }
+    assert!(on_mirror, "no click landed on the mirror");
+    assert!(shows_text_containing(
+        &harness,
+        "The reflected ray (bounce 1)"
+    ));
+
+    // Each effect's cost: the scene rendered with all on, then without each.
+    click_label(&mut harness, "Measure the cost of each effect");
+    let started = std::time::Instant::now();
+    while !shows_text_containing(&harness, "without reflections") {
+        assert!(started.elapsed().as_secs() < 120, "no cost table");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        harness.step();
+    }
+    harness.run();
+    assert!(shows_text_containing(&harness, "all effects on"));
+    assert!(shows_text_containing(&harness, "without smooth-normals"));
+}
