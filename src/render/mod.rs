@@ -248,41 +248,16 @@ impl Prepared {
         let shader = Shader::new(&self.effects);
         // The pinhole's frame once, not once a pixel.
         let basis = pinhole_basis(&self.camera, width, self.height);
-        let packets = self
-            .objects
-            .iter()
-            .any(|o| cast::crack_free_applies(self, o));
         let mut stats = Stats::default();
+        let mut row_hits = Vec::with_capacity(width);
         for (i, (pixels, covered)) in pixels
             .chunks_mut(width)
             .zip(covered.chunks_mut(width))
             .enumerate()
         {
-            let row = first + i;
-            let ray = |column| {
-                camera_ray_in(
-                    &self.camera,
-                    basis.as_ref(),
-                    (width, self.height),
-                    row,
-                    column,
-                )
-            };
-            // Neighbouring pixels in packets (the same hits as one at a time), the rest alone.
-            let packed = if packets { width / PACKET * PACKET } else { 0 };
-            for start in (0..packed).step_by(PACKET) {
-                let rays: [(V3<f64>, V3<f64>); PACKET] = std::array::from_fn(|k| ray(start + k));
-                let hits = cast::nearest_hits(self, &rays, &mut stats);
-                for (k, hit) in hits.into_iter().enumerate() {
-                    let (column, dir) = (start + k, rays[k].1);
-                    let colour = self.shade(&shader, hit, &dir, &mut stats);
-                    (pixels[column], covered[column]) = colour;
-                }
-            }
-            for column in packed..width {
-                let (origin, dir) = ray(column);
-                let hit = cast::nearest_hit(self, origin, dir, &mut stats);
-                (pixels[column], covered[column]) = self.shade(&shader, hit, &dir, &mut stats);
+            self.cast_row_into(first + i, basis.as_ref(), &mut stats, &mut row_hits);
+            for (column, ((_, dir), hit)) in row_hits.iter().enumerate() {
+                (pixels[column], covered[column]) = self.shade(&shader, *hit, dir, &mut stats);
             }
         }
         stats
@@ -297,14 +272,28 @@ impl Prepared {
         basis: Option<&Basis>,
         stats: &mut Stats,
     ) -> Vec<(Ray, Option<Hit>)> {
+        let mut out = Vec::with_capacity(self.width);
+        self.cast_row_into(row, basis, stats, &mut out);
+        out
+    }
+
+    /// [`Prepared::cast_row`] into `out` (cleared first), so a row loop reuses one buffer.
+    fn cast_row_into(
+        &self,
+        row: usize,
+        basis: Option<&Basis>,
+        stats: &mut Stats,
+        out: &mut Vec<(Ray, Option<Hit>)>,
+    ) {
         let width = self.width;
         let ray = |column| camera_ray_in(&self.camera, basis, (width, self.height), row, column);
         let packets = self
             .objects
             .iter()
             .any(|o| cast::crack_free_applies(self, o));
+        // Neighbouring pixels in packets (the same hits as one at a time), the rest alone.
         let packed = if packets { width / PACKET * PACKET } else { 0 };
-        let mut out = Vec::with_capacity(width);
+        out.clear();
         for start in (0..packed).step_by(PACKET) {
             let rays: [(V3<f64>, V3<f64>); PACKET] = std::array::from_fn(|k| ray(start + k));
             let hits = cast::nearest_hits(self, &rays, stats);
@@ -316,10 +305,9 @@ impl Prepared {
         }
         stats.rays += width as u64;
         stats.hits += out.iter().filter(|(_, hit)| hit.is_some()).count() as u64;
-        out
     }
 
-    /// A pixel's colour and coverage from its nearest hit (counting the ray and the hit).
+    /// A pixel's colour and coverage from its nearest hit (the ray and hit counted by the caster).
     #[inline]
     fn shade(
         &self,
@@ -328,11 +316,9 @@ impl Prepared {
         dir: &V3<f64>,
         stats: &mut Stats,
     ) -> ([f32; 3], bool) {
-        stats.rays += 1;
         let Some(hit) = hit else {
             return ([0.0; 3], false);
         };
-        stats.hits += 1;
         let object = &self.objects[hit.object];
         let inverse_length = 1.0 / dot(dir, dir).sqrt();
         let colour = shader.shade(object, &hit, dir, inverse_length, stats).color;
