@@ -118,13 +118,7 @@ fn bvh(c: &mut Criterion) {
 /// the rays of each kind (`cargo bench --bench render -- cost-table` prints it and skips the rest).
 fn cost_table(_: &mut Criterion) {
     use raylab::render::rays::RayKind;
-    let past_casting = [
-        Effect::Shadows,
-        Effect::Reflections,
-        Effect::Refraction,
-        Effect::AmbientOcclusion,
-        Effect::Antialiasing,
-    ];
+    let past_casting = Effect::PAST_CASTING;
     println!(
         "| scene | effects | time (ms) | primary | samples | shadow | reflection | refraction | occlusion |"
     );

@@ -24,14 +24,7 @@ use crate::scene::render::{Effect, Material};
 /// True when the scene calls for an effect past ray casting, or has lights to shade by.
 pub fn applies(prepared: &Prepared) -> bool {
     let on = |e: Effect| prepared.effects.contains(&e);
-    let past_casting = [
-        Effect::Shadows,
-        Effect::Reflections,
-        Effect::Refraction,
-        Effect::AmbientOcclusion,
-        Effect::Antialiasing,
-    ];
-    past_casting.into_iter().any(on)
+    Effect::PAST_CASTING.into_iter().any(on)
         || (!prepared.lighting.lights.is_empty()
             && (on(Effect::FacingRatio) || on(Effect::SmoothNormals)))
 }

@@ -67,6 +67,15 @@ pub enum Effect {
 }
 
 impl Effect {
+    /// The effects past ray casting: each casts rays of its own kind.
+    pub const PAST_CASTING: [Effect; 5] = [
+        Effect::Shadows,
+        Effect::Reflections,
+        Effect::Refraction,
+        Effect::AmbientOcclusion,
+        Effect::Antialiasing,
+    ];
+
     /// The name in scene files (`facing-ratio`).
     pub fn name(self) -> &'static str {
         self.into()
