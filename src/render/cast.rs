@@ -527,8 +527,8 @@ pub fn nearest_hit_between(
     best
 }
 
-/// True when anything is hit with `t_min < t ≤ t_max`: an any-hit query that stops at the first hit
-/// (shadow and occlusion rays).
+/// True when anything is hit with `t_min < t < t_max`: an any-hit query that stops at the first hit
+/// (shadow and occlusion rays; a surface exactly at the light does not hide it).
 pub fn any_hit(
     prepared: &Prepared,
     origin: V3<f64>,
@@ -536,9 +536,31 @@ pub fn any_hit(
     range: (f64, f64),
     stats: &mut Stats,
 ) -> bool {
-    (0..prepared.objects.len()).any(|index| {
-        object_hit_between(prepared, index, (origin, dir), range, Find::Any, stats).is_some()
-    })
+    (0..prepared.objects.len())
+        .any(|index| object_blocks(prepared, index, (origin, dir), range, stats))
+}
+
+/// True when object `index` is hit in (t_min, t_max): a mesh taking the crack-free test asks its
+/// BVH's any-hit walk ([`Bvh::occluded`], the same decisions as the nearest-hit test's), anything
+/// else the first hit [`object_hit_between`] finds.
+fn object_blocks(
+    prepared: &Prepared,
+    index: usize,
+    (origin, dir): (V3<f64>, V3<f64>),
+    (t_min, t_max): (f64, f64),
+    stats: &mut Stats,
+) -> bool {
+    let object = &prepared.objects[index];
+    if let Geometry::Triangles { bvh: Some(bvh), .. } = &object.geometry
+        && crack_free_applies(prepared, object)
+    {
+        let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
+        let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
+        return bvh.occluded(&o, &d, t_min, t_max, boxes, triangles);
+    }
+    // The largest float below t_max: the same open interval.
+    let range = (t_min, t_max.next_down());
+    object_hit_between(prepared, index, (origin, dir), range, Find::Any, stats).is_some()
 }
 
 /// Object `index`'s nearest hit in (t_min, t_max], or with [`Find::Any`] the first one found.
