@@ -249,16 +249,20 @@ impl Prepared {
         // The pinhole's frame once, not once a pixel.
         let basis = pinhole_basis(&self.camera, width, self.height);
         let mut stats = Stats::default();
-        let mut row_hits = Vec::with_capacity(width);
         for (i, (pixels, covered)) in pixels
             .chunks_mut(width)
             .zip(covered.chunks_mut(width))
             .enumerate()
         {
-            self.cast_row_into(first + i, basis.as_ref(), &mut stats, &mut row_hits);
-            for (column, ((_, dir), hit)) in row_hits.iter().enumerate() {
-                (pixels[column], covered[column]) = self.shade(&shader, *hit, dir, &mut stats);
-            }
+            // Each pixel shaded as soon as its packet is cast, while its numbers are at hand.
+            self.cast_row_each(
+                first + i,
+                basis.as_ref(),
+                &mut stats,
+                |column, (_, dir), hit, stats| {
+                    (pixels[column], covered[column]) = self.shade(&shader, hit, &dir, stats);
+                },
+            );
         }
         stats
     }
@@ -273,17 +277,19 @@ impl Prepared {
         stats: &mut Stats,
     ) -> Vec<(Ray, Option<Hit>)> {
         let mut out = Vec::with_capacity(self.width);
-        self.cast_row_into(row, basis, stats, &mut out);
+        self.cast_row_each(row, basis, stats, |_, ray, hit, _| out.push((ray, hit)));
         out
     }
 
-    /// [`Prepared::cast_row`] into `out` (cleared first), so a row loop reuses one buffer.
-    fn cast_row_into(
+    /// Casts row `row` as [`Prepared::cast_row`] does, handing each pixel's column, ray and hit to
+    /// `each` in column order, a packet at a time. Counts rays and hits.
+    #[inline(always)]
+    fn cast_row_each(
         &self,
         row: usize,
         basis: Option<&Basis>,
         stats: &mut Stats,
-        out: &mut Vec<(Ray, Option<Hit>)>,
+        mut each: impl FnMut(usize, Ray, Option<Hit>, &mut Stats),
     ) {
         let width = self.width;
         let ray = |column| camera_ray_in(&self.camera, basis, (width, self.height), row, column);
@@ -293,18 +299,23 @@ impl Prepared {
             .any(|o| cast::crack_free_applies(self, o));
         // Neighbouring pixels in packets (the same hits as one at a time), the rest alone.
         let packed = if packets { width / PACKET * PACKET } else { 0 };
-        out.clear();
+        let mut hits = 0;
         for start in (0..packed).step_by(PACKET) {
             let rays: [(V3<f64>, V3<f64>); PACKET] = std::array::from_fn(|k| ray(start + k));
-            let hits = cast::nearest_hits(self, &rays, stats);
-            out.extend(rays.into_iter().zip(hits));
+            let found = cast::nearest_hits(self, &rays, stats);
+            for (k, hit) in found.into_iter().enumerate() {
+                hits += u64::from(hit.is_some());
+                each(start + k, rays[k], hit, stats);
+            }
         }
         for column in packed..width {
             let (origin, dir) = ray(column);
-            out.push(((origin, dir), cast::nearest_hit(self, origin, dir, stats)));
+            let hit = cast::nearest_hit(self, origin, dir, stats);
+            hits += u64::from(hit.is_some());
+            each(column, (origin, dir), hit, stats);
         }
         stats.rays += width as u64;
-        stats.hits += out.iter().filter(|(_, hit)| hit.is_some()).count() as u64;
+        stats.hits += hits;
     }
 
     /// A pixel's colour and coverage from its nearest hit (the ray and hit counted by the caster).
