@@ -236,6 +236,8 @@ impl RenderView {
                 // everything below it scroll together.
                 let body = ui.text_style_height(&egui::TextStyle::Body);
                 let side = 18.0 * body;
+                // Below the image: room for the rays by kind, the cost button and a probed pixel.
+                let below = 8.5 * body;
                 let available = ui.available_size();
                 if available.y < 14.0 * body {
                     egui::ScrollArea::vertical()
@@ -249,6 +251,10 @@ impl RenderView {
                 } else if available.x >= side + 16.0 * body
                     // Two images side by side keep their full size: the column goes below them.
                     && (self.bug.is_none() || self.images_width(ui) + side <= available.x)
+                    // A wide image keeps its size too: where the column beside it would shrink it
+                    // to two thirds or less (seed 003's 2:1 image), the column goes below.
+                    && self.fit_scale(ui, available - Vec2::new(0.0, below))
+                        < 1.45 * self.fit_scale(ui, Vec2::new(available.x - side - 12.0, available.y))
                 {
                     let images = self.images_width(ui).min(available.x - side - 12.0);
                     ui.horizontal_top(|ui| {
@@ -260,7 +266,7 @@ impl RenderView {
                         ui.vertical(|ui| self.details_ui(ui, &mut action, false, true));
                     });
                 } else {
-                    let room = available - Vec2::new(0.0, 4.5 * body);
+                    let room = available - Vec2::new(0.0, below);
                     self.images_ui(ui, &mut action, room);
                     self.details_ui(ui, &mut action, true, true);
                 }
@@ -299,6 +305,18 @@ impl RenderView {
         } else {
             details(ui);
         }
+    }
+
+    /// How much the images are enlarged when they fit in `room` (below their caption).
+    fn fit_scale(&self, ui: &Ui, room: Vec2) -> f32 {
+        let (width, height) = match &self.runtime.correct.shown {
+            Some(shown) => (shown.rendered.image.width, shown.rendered.image.height),
+            None => (self.scene.width, self.scene.height),
+        };
+        let panes = if self.bug.is_some() { 2.0 } else { 1.0 };
+        let caption = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
+        let across = (room.x - 12.0 * (panes - 1.0)) / panes / width.max(1) as f32;
+        across.min((room.y - caption) / height.max(1) as f32)
     }
 
     /// The width the images take when they fill the height left (the side column goes beside them
