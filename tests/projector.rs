@@ -366,3 +366,25 @@ fn lessons_and_practice_read_cleanly_at_150_and_200_percent() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// A long scene note keeps to two rows beside its title at 200% (ending in "…", whole on hover):
+/// the Cornell box's note took five and left the image a sliver.
+#[test]
+fn a_long_note_takes_at_most_two_rows_at_200_percent() {
+    let mut harness = projector(1280.0, 800.0, 2.0);
+    let scene = small_image(raylab::scene::preset("render-cornell-box").expect("a shipped preset"));
+    let note = scene.note.clone();
+    harness
+        .state_mut()
+        .load_scene(&scene)
+        .expect("presets load");
+    common::wait_for_render(&mut harness);
+    let title = harness.get_by_label("Render: a Cornell box").rect();
+    let shown = harness.get_by_label(&note).rect();
+    assert!(
+        shown.height() < 2.5 * title.height(),
+        "the note takes {:.0} points, its title's row {:.0}",
+        shown.height(),
+        title.height()
+    );
+}

@@ -229,9 +229,9 @@ impl RenderView {
                 // scrolls, the image keeps its place.
                 self.loading_ui(ui);
                 self.status_ui(ui);
-                // Beside the image when there is room for a column 18 lines wide and an image 16
+                // Beside the image when there is room for a column 18 lines wide and an image 10
                 // lines wide (the image gives up width for it, a bug's pair of images does not);
-                // below it on a narrow or zoomed screen.
+                // below it on a narrow screen or under a wide image.
                 // When even the image has too little height (200% on a projector), the image and
                 // everything below it scroll together.
                 let body = ui.text_style_height(&egui::TextStyle::Body);
@@ -248,11 +248,11 @@ impl RenderView {
                             self.images_ui(ui, &mut action, room);
                             self.details_ui(ui, &mut action, true, false);
                         });
-                } else if available.x >= side + 16.0 * body
+                } else if available.x >= side + 10.0 * body
                     // Two images side by side keep their full size: the column goes below them.
                     && (self.bug.is_none() || self.images_width(ui) + side <= available.x)
-                    // A wide image keeps its size too: where the column beside it would shrink it
-                    // to two thirds or less (seed 003's 2:1 image), the column goes below.
+                    // One image goes where it is larger, unless the column beside it would shrink
+                    // it to two thirds or less (seed 003's 2:1 image): then the column goes below.
                     && self.fit_scale(ui, available - Vec2::new(0.0, below))
                         < 1.45 * self.fit_scale(ui, Vec2::new(available.x - side - 12.0, available.y))
                 {
@@ -585,11 +585,16 @@ fn rendering_band(ui: &Ui, rect: egui::Rect) {
         0.0,
         ui.visuals().extreme_bg_color.gamma_multiply(0.85),
     );
-    painter.text(
-        band.left_center() + Vec2::new(8.0, 0.0),
-        egui::Align2::LEFT_CENTER,
-        "rendering… (the previous image)",
-        egui::TextStyle::Body.resolve(ui.style()),
-        ui.visuals().text_color(),
-    );
+    // The long note where it fits, else the short one: a small image (zoomed in) clips no words.
+    let font = egui::TextStyle::Body.resolve(ui.style());
+    let color = ui.visuals().text_color();
+    let room = band.width() - 16.0;
+    let galley = ["rendering… (the previous image)", "rendering…"]
+        .into_iter()
+        .map(|text| painter.layout_no_wrap(text.into(), font.clone(), color))
+        .find(|galley| galley.size().x <= room);
+    if let Some(galley) = galley {
+        let at = band.left_center() + Vec2::new(8.0, -galley.size().y / 2.0);
+        painter.galley(at, galley, color);
+    }
 }

@@ -51,9 +51,10 @@ impl RaylabApp {
                     "The inputs have changed since this scene was loaded: the note below \
                          describes the scene as it was loaded",
                 );
-                ui.label(RichText::new(format!("As loaded: {note}")).weak().italics());
+                let as_loaded = format!("As loaded: {note}");
+                note_label(ui, RichText::new(&as_loaded).weak().italics(), &as_loaded);
             } else {
-                ui.label(RichText::new(note).weak());
+                note_label(ui, RichText::new(note).weak(), note);
             }
             if let Some(notice) = self.notice_here() {
                 let color = if notice.error {
@@ -301,4 +302,18 @@ fn theme_buttons(ui: &mut Ui) {
     if preference != before {
         ui.ctx().set_theme(preference);
     }
+}
+
+/// Rows the scene's note may take beside its title.
+const NOTE_ROWS: usize = 2;
+
+/// The scene's note in at most [`NOTE_ROWS`] rows, ending in "…" when cut, the whole note on hover:
+/// a long note must not push the view off a zoomed projector.
+fn note_label(ui: &mut Ui, text: RichText, whole: &str) {
+    let mut job = egui::text::LayoutJob::default();
+    let valign = ui.text_valign();
+    text.append_to(&mut job, ui.style(), egui::FontSelection::Default, valign);
+    job.wrap.max_rows = NOTE_ROWS;
+    job.wrap.overflow_character = Some('…');
+    ui.add(egui::Label::new(job)).on_hover_text(whole);
 }
