@@ -1,16 +1,11 @@
 //! The desktop's own Open and Save dialogs (rfd: the XDG desktop portal on Linux, else zenity; the
 //! system's dialogs on Windows and macOS), run on a thread of their own so the window keeps drawing.
-//! Where neither exists (a bare X server, a classroom machine without a desktop) the dialog comes back
-//! at once with nothing, and raylab's own typed path stays the way to name a file.
+//! Where neither can open (no session bus for the portal, no zenity on a display: a bare X server,
+//! a classroom machine without a desktop, CI) none is tried, and raylab's own typed path stays the
+//! way to name a file.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
-
-use crate::platform::Stopwatch;
-
-/// A native dialog comes back with nothing within this time only when it could not open (a person
-/// takes longer to cancel one).
-const UNAVAILABLE_SECONDS: f64 = 0.3;
 
 /// What a native dialog said.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,8 +20,7 @@ pub enum Answer {
 
 /// A native dialog on its thread; [`Browsing::answer`] is `None` until it is closed.
 pub struct Browsing {
-    slot: Arc<Mutex<Option<Option<PathBuf>>>>,
-    clock: Stopwatch,
+    slot: Arc<Mutex<Option<Answer>>>,
 }
 
 impl Browsing {
@@ -39,6 +33,10 @@ impl Browsing {
         file_name: &str,
         wake: impl Fn() + Send + 'static,
     ) -> Option<Browsing> {
+        if !can_open() {
+            let slot = Arc::new(Mutex::new(Some(Answer::Unavailable)));
+            return Some(Browsing { slot });
+        }
         let slot = Arc::new(Mutex::new(None));
         let answer = Arc::clone(&slot);
         let mut dialog = rfd::FileDialog::new()
@@ -59,26 +57,39 @@ impl Browsing {
                     dialog.pick_file()
                 };
                 if let Ok(mut slot) = answer.lock() {
-                    *slot = Some(chosen);
+                    *slot = Some(chosen.map_or(Answer::Cancelled, Answer::Chosen));
                 }
                 wake();
             })
             .ok()?;
-        Some(Browsing {
-            slot,
-            clock: Stopwatch::start(),
-        })
+        Some(Browsing { slot })
     }
 
     /// The dialog's answer once it is closed (given once).
     pub fn answer(&mut self) -> Option<Answer> {
-        let chosen = self.slot.lock().ok()?.take()?;
-        Some(match chosen {
-            Some(path) => Answer::Chosen(path),
-            None if self.clock.seconds() < UNAVAILABLE_SECONDS => Answer::Unavailable,
-            None => Answer::Cancelled,
-        })
+        self.slot.lock().ok()?.take()
     }
+}
+
+/// True where rfd can show a dialog: on Linux and the BSDs a session bus for the desktop portal, or
+/// zenity on a display; elsewhere the system's own dialogs always can.
+fn can_open() -> bool {
+    if cfg!(any(target_os = "windows", target_os = "macos")) {
+        return true;
+    }
+    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+    let bus = set("DBUS_SESSION_BUS_ADDRESS")
+        || std::env::var_os("XDG_RUNTIME_DIR")
+            .is_some_and(|dir| Path::new(&dir).join("bus").exists());
+    let display = set("DISPLAY") || set("WAYLAND_DISPLAY");
+    bus || (display && on_path("zenity"))
+}
+
+/// True when `program` is an executable file in a folder of PATH.
+fn on_path(program: &str) -> bool {
+    std::env::var_os("PATH").is_some_and(|path| {
+        std::env::split_paths(&path).any(|folder| folder.join(program).is_file())
+    })
 }
 
 /// The folder of the typed path when it exists, else the working folder.
