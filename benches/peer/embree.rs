@@ -8,7 +8,8 @@
 //! Then shadow rays: `Bvh::occluded` (any hit) against Embree's occlusion queries
 //! (`benches/peer/embree_occluded.py`) on the same camera rays, for the sphere and the box. Then the
 //! scaling: irregular spheres from 1 280 to 1 310 720 triangles. Set `RAYLAB_PEER_REPEATS`
-//! to change the 21 renders, `RAYLAB_PEER_MAX_LEVEL` (3 to 8) to cut the scaling series short.
+//! to change the 21 renders, `RAYLAB_PEER_MAX_LEVEL` (3 to 8) to cut the scaling series short, and
+//! `RAYLAB_PEER_ONLY` (comma-separated parts of row names, e.g. `level 8,box`) to run only those rows.
 
 use std::process::Command;
 
@@ -31,6 +32,14 @@ fn repeats() -> usize {
         .ok()
         .and_then(|r| r.parse().ok())
         .unwrap_or(21)
+}
+
+/// True when the row `name` is to run: `RAYLAB_PEER_ONLY` unset, or one of its comma-separated
+/// parts in the name.
+fn wanted(name: &str) -> bool {
+    std::env::var("RAYLAB_PEER_ONLY").map_or(true, |only| {
+        only.split(',').any(|part| name.contains(part.trim()))
+    })
 }
 
 /// The script's path, if it is there.
@@ -245,6 +254,9 @@ fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
          {THREADS} threads each"
     );
     for (name, prepared, triangles) in scenes.iter().skip(3) {
+        if !wanted(&format!("shadow {name}")) {
+            continue;
+        }
         let Some((ours_ms, ours)) = raylab_occluded(pool, prepared) else {
             continue;
         };
@@ -315,7 +327,7 @@ pub fn compare() {
     let (camera, side, triangles) = grid_box(100);
     let prepared = mesh_scene(&triangles, camera, side, side);
     scenes.push(("box from inside".into(), prepared, triangles));
-    for (name, prepared, triangles) in &scenes {
+    for (name, prepared, triangles) in scenes.iter().filter(|(name, ..)| wanted(name)) {
         if let Err(why) = row(&pool, script, name, prepared, triangles) {
             println!("Embree peer skipped: {why} (it needs python3 with embreex and numpy)");
             return;
@@ -328,7 +340,7 @@ pub fn compare() {
         .unwrap_or(8u32)
         .clamp(3, 8);
     println!("\nscaling: irregular spheres, 400x400, coverage only, {THREADS} threads each");
-    for level in 3..=max_level {
+    for level in (3..=max_level).filter(|level| wanted(&format!("sphere level {level}"))) {
         let (prepared, triangles) = sphere(level);
         if let Err(why) = row(
             &pool,

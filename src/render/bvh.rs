@@ -133,7 +133,9 @@ struct BinaryNode {
 }
 
 /// A 4-wide node: four child boxes (lanes), each an inner node, a leaf (a run of slots), or empty.
+/// 128 bytes, aligned to a cache line: a node is read in two lines, not three.
 #[derive(Clone, Debug)]
+#[repr(C, align(64))]
 struct Node {
     /// Box minima per axis, one lane per child.
     min: [[f32; 4]; 3],
