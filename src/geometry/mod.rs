@@ -22,34 +22,25 @@ pub trait Solver {
     fn solve_traced(&self) -> (Self::Answer, Trace);
 }
 
-impl<R: Real> Solver for segments::SegmentPair<R> {
-    type Answer = segments::SegmentsSolution<R>;
-    fn solve(&self) -> Self::Answer {
-        segments::solve(self)
-    }
-    fn solve_traced(&self) -> (Self::Answer, Trace) {
-        segments::solve_traced(self)
-    }
+/// Each lecture module's problem answers through that module's own `solve` and `solve_traced`.
+macro_rules! solver_in_module {
+    ($($module:ident: $problem:ident -> $answer:ident),* $(,)?) => {$(
+        impl<R: Real> Solver for $module::$problem<R> {
+            type Answer = $module::$answer<R>;
+            fn solve(&self) -> Self::Answer {
+                $module::solve(self)
+            }
+            fn solve_traced(&self) -> (Self::Answer, Trace) {
+                $module::solve_traced(self)
+            }
+        }
+    )*};
 }
 
-impl<R: Real> Solver for triangle::RayTriangle<R> {
-    type Answer = triangle::TriangleSolution<R>;
-    fn solve(&self) -> Self::Answer {
-        triangle::solve(self)
-    }
-    fn solve_traced(&self) -> (Self::Answer, Trace) {
-        triangle::solve_traced(self)
-    }
-}
-
-impl<R: Real> Solver for parallelogram::RayParallelogram<R> {
-    type Answer = parallelogram::ParallelogramSolution<R>;
-    fn solve(&self) -> Self::Answer {
-        parallelogram::solve(self)
-    }
-    fn solve_traced(&self) -> (Self::Answer, Trace) {
-        parallelogram::solve_traced(self)
-    }
+solver_in_module! {
+    segments: SegmentPair -> SegmentsSolution,
+    triangle: RayTriangle -> TriangleSolution,
+    parallelogram: RayParallelogram -> ParallelogramSolution,
 }
 
 /// A lecture problem as the app holds it: f64 inputs, read into a precision when solved.
