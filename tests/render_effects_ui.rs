@@ -12,21 +12,9 @@ use common::{app_harness, click_image, load_preset, shows_text_containing, wait_
 use egui::Vec2;
 use egui_kittest::kittest::Queryable;
 use raylab::app::ViewKind;
+use raylab::app::render_view::grouped;
 use raylab::render::rays::RayKind;
 use raylab::render::trace_rays::LightTest;
-
-/// A count as the view writes it: 1234567 as "1 234 567".
-fn grouped(n: u64) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(' ');
-        }
-        out.push(c);
-    }
-    out
-}
 
 /// Clicks the widget with this label, scrolled into view first (the probe's column scrolls).
 fn click_label(harness: &mut egui_kittest::Harness<'static, raylab::app::RaylabApp>, label: &str) {
