@@ -8,7 +8,7 @@
 #[allow(dead_code)] // the shared helpers these tests do not need
 mod common;
 
-use common::{app_harness, click_image, load_preset, shows_text_containing, wait_for_render};
+use common::{app_at, click_image, shows_text_containing, wait_for_render};
 use egui::Vec2;
 use egui_kittest::kittest::Queryable;
 use raylab::app::ViewKind;
@@ -26,8 +26,7 @@ fn click_label(harness: &mut egui_kittest::Harness<'static, raylab::app::RaylabA
 
 #[test]
 fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
-    let mut harness = app_harness();
-    load_preset(&mut harness, "Effect: shadows");
+    let mut harness = app_at("Effect: shadows");
     assert_eq!(harness.state().state.view, ViewKind::Render);
     let stats = harness.state().state.render.rendered().unwrap().stats;
     let shadow = stats.secondary.shadow_rays;
@@ -110,8 +109,7 @@ fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
 
 #[test]
 fn a_mirror_pixel_shows_its_reflected_ray_and_each_effect_has_a_cost() {
-    let mut harness = app_harness();
-    load_preset(&mut harness, "Effect: reflections");
+    let mut harness = app_at("Effect: reflections");
     let stats = harness.state().state.render.rendered().unwrap().stats;
     let reflected = stats.secondary.rays(RayKind::Reflection);
     assert!(reflected > 0);
