@@ -12,7 +12,7 @@ use raylab::geometry::triangle::{self, RayTriangle, TriangleOutcome};
 use raylab::math::exact::Exact;
 use raylab::trace::{Trace, to_latex, to_text};
 
-const LECTURE: [[f64; 3]; 3] = [[3.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 3.0]];
+const LECTURE: [[f64; 3]; 3] = raylab::intersect::Case::LECTURE.tri;
 
 /// Renders a trace every way; any panic fails the test.
 fn render_all(trace: &Trace) {

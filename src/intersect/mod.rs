@@ -75,6 +75,14 @@ pub struct Case<F> {
 }
 
 impl Case<f64> {
+    /// The lecture's example: the triangle (3,0,0), (0,3,0), (0,0,3) and the ray from the origin
+    /// along (1,1,1), which meets it at t = 1 (β = γ = 1/3).
+    pub const LECTURE: Case<f64> = Case {
+        tri: [[3.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 3.0]],
+        origin: [0.0; 3],
+        dir: [1.0, 1.0, 1.0],
+    };
+
     /// Rounds every coordinate to f32 (f32 runs and their exact judge both see these numbers).
     pub fn to_f32(&self) -> Case<f32> {
         let r = |v: V3<f64>| v.map(|x| x as f32);
