@@ -140,17 +140,13 @@ fn latex_has_bmatrix_and_cramer_fractions() {
     args.extend(["--format", "latex", "--precision", "exact"]);
     let output = raylab(&args);
     let latex = stdout(&output);
-    assert!(
-        latex.contains(
-            "M = \\begin{bmatrix} 3 & 3 & 1 \\\\ -3 & 0 & 1 \\\\ 0 & -3 & 1 \\end{bmatrix}"
-        ),
-        "{latex}"
-    );
-    assert!(
-        latex.contains("\\beta = \\frac{|M_1|}{|M|} = \\frac{9}{27} = \\frac{1}{3}"),
-        "{latex}"
-    );
-    assert!(latex.contains("\\begin{vmatrix}"), "{latex}");
+    for expected in [
+        "M = \\begin{bmatrix} 3 & 3 & 1 \\\\ -3 & 0 & 1 \\\\ 0 & -3 & 1 \\end{bmatrix}",
+        "\\beta = \\frac{|M_1|}{|M|} = \\frac{9}{27} = \\frac{1}{3}",
+        "\\begin{vmatrix}",
+    ] {
+        assert!(latex.contains(expected), "missing {expected:?} in\n{latex}");
+    }
     assert!(
         latex.contains("{\\color{teal} 3}"),
         "replaced column is highlighted: {latex}"
