@@ -28,8 +28,11 @@ fn triangle_in<R: Real>(v: [[f64; 3]; 5]) -> (triangle::TriangleSolution<R>, Tra
 
 /// The lecture's triangle (3,0,0), (0,3,0), (0,0,3) and a ray from the origin along `dir`.
 fn lecture_along(dir: [f64; 3]) -> [[f64; 3]; 5] {
-    let [a, b, c] = Case::LECTURE.tri;
-    [a, b, c, [0.0; 3], dir]
+    Case {
+        dir,
+        ..Case::LECTURE
+    }
+    .vectors()
 }
 
 #[test]
@@ -121,14 +124,7 @@ fn seed000_three_alternatives() {
 
 #[test]
 fn seed003_ray_hits_at_its_printed_point() {
-    let v = [
-        [0.0, 1.0, 1.5],
-        [1.0, 0.0, 1.25],
-        [-1.0, 0.0, 1.0],
-        [0.0, 0.0, 0.0],
-        [0.1, 0.1, 1.0],
-    ];
-    let (float, _) = triangle_in::<f64>(v);
+    let (float, _) = triangle_in::<f64>(Case::SEED003.vectors());
     assert!(float.outcome.is_hit());
     let p = float.solution.unwrap().point;
     let printed = [0.11842105, 0.11842105, 1.18421053];
