@@ -12,7 +12,7 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use raylab::accuracy::families::{Family, generate};
 use raylab::intersect::batch::{self, TrianglesSoA};
-use raylab::intersect::{Case, Method};
+use raylab::intersect::{Case, Float, InverseSolve, Method};
 
 const BATCH: usize = 4096;
 
@@ -23,6 +23,14 @@ fn cases() -> Vec<Case<f64>> {
         .collect()
 }
 
+/// How many of `cases` `method` finds a hit in: the work one timed iteration does.
+fn hits<F: Float + InverseSolve>(method: Method, cases: &[Case<F>]) -> usize {
+    cases
+        .iter()
+        .filter(|case| method.run(black_box(*case)).hit)
+        .count()
+}
+
 fn methods(c: &mut Criterion) {
     let cases64 = cases();
     let cases32: Vec<Case<f32>> = cases64.iter().map(Case::to_f32).collect();
@@ -30,33 +38,17 @@ fn methods(c: &mut Criterion) {
     group.throughput(Throughput::Elements(BATCH as u64));
     for method in Method::FLOAT {
         group.bench_function(format!("{}/f32", method.name()), |b| {
-            b.iter(|| {
-                cases32
-                    .iter()
-                    .filter(|case| method.run(black_box(*case)).hit)
-                    .count()
-            })
+            b.iter(|| hits(method, &cases32))
         });
         group.bench_function(format!("{}/f64", method.name()), |b| {
-            b.iter(|| {
-                cases64
-                    .iter()
-                    .filter(|case| method.run(black_box(*case)).hit)
-                    .count()
-            })
+            b.iter(|| hits(method, &cases64))
         });
     }
     group.finish();
     let mut exact = c.benchmark_group("method-exact");
     let few = &cases64[..64];
     exact.throughput(Throughput::Elements(few.len() as u64));
-    exact.bench_function("exact/rational", |b| {
-        b.iter(|| {
-            few.iter()
-                .filter(|case| Method::Exact.run(black_box(*case)).hit)
-                .count()
-        })
-    });
+    exact.bench_function("exact/rational", |b| b.iter(|| hits(Method::Exact, few)));
     exact.bench_function("exact/integer-reference", |b| {
         b.iter(|| {
             few.iter()

@@ -11,6 +11,7 @@ use std::time::Duration;
 use criterion::{
     BenchmarkGroup, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
 };
+use raylab::render::cost::each_left_out;
 use raylab::render::objects::Geometry;
 use raylab::render::{Prepared, assets::Embedded, render};
 use raylab::scene::render::{Effect, RenderScene};
@@ -43,6 +44,18 @@ fn bench_render(
     group.bench_function(id, |b| b.iter(|| render(prepared).1.hits));
 }
 
+/// The effects labelled "all", then each one that `leave_out` picks left out ("without …").
+fn all_and_each_left_out(
+    effects: &[Effect],
+    leave_out: impl Fn(&Effect) -> bool,
+) -> Vec<(String, Vec<Effect>)> {
+    let mut runs = vec![("all".to_string(), effects.to_vec())];
+    for (off, rest) in each_left_out(effects).filter(|(off, _)| leave_out(off)) {
+        runs.push((format!("without {}", off.name()), rest));
+    }
+    runs
+}
+
 /// Each scene with all its effects, each one left out, and coverage alone.
 fn effects(c: &mut Criterion) {
     for file in [
@@ -52,16 +65,7 @@ fn effects(c: &mut Criterion) {
     ] {
         let scene = scene(file);
         let prepared = Prepared::new(&scene, &Embedded).unwrap();
-        let mut subsets = vec![("all".to_string(), scene.effects.clone())];
-        for left_out in &scene.effects {
-            let rest: Vec<Effect> = scene
-                .effects
-                .iter()
-                .copied()
-                .filter(|e| e != left_out)
-                .collect();
-            subsets.push((format!("without {}", left_out.name()), rest));
-        }
+        let mut subsets = all_and_each_left_out(&scene.effects, |_| true);
         subsets.push(("coverage only".into(), vec![Effect::Coverage]));
         let mut group = c.benchmark_group(format!("effects/{}", file.trim_end_matches(".ron")));
         let mut seen = Vec::new();
@@ -133,11 +137,7 @@ fn cost_table(_: &mut Criterion) {
     ] {
         let scene = scene(file);
         let prepared = Prepared::new(&scene, &Embedded).unwrap();
-        let mut runs = vec![("all".to_string(), scene.effects.clone())];
-        for off in scene.effects.iter().filter(|e| past_casting.contains(e)) {
-            let rest = scene.effects.iter().copied().filter(|e| e != off).collect();
-            runs.push((format!("without {}", off.name()), rest));
-        }
+        let runs = all_and_each_left_out(&scene.effects, |e| past_casting.contains(e));
         for (label, effects) in runs {
             let mut prepared = prepared.clone();
             prepared.effects = effects;

@@ -13,17 +13,12 @@ use raylab::geometry::Real;
 use raylab::geometry::parallelogram::{self, RayParallelogram};
 use raylab::geometry::segments::{self, SegmentPair};
 use raylab::geometry::triangle::{self, RayTriangle};
+use raylab::intersect::Case;
 use raylab::math::exact::Exact;
 
 /// Seed 003's ray and triangle: non-integer inputs, so the exact run meets real fractions.
 fn seed003<R: Real>() -> RayTriangle<R> {
-    let v = [
-        [0.0, 1.0, 1.5],
-        [1.0, 0.0, 1.25],
-        [-1.0, 0.0, 1.0],
-        [0.0, 0.0, 0.0],
-        [0.1, 0.1, 1.0],
-    ];
+    let v = Case::SEED003.vectors();
     RayTriangle::from_f64(v.map(DVec3::from_array), 0.0).unwrap()
 }
 

@@ -637,6 +637,17 @@ impl Recorder {
         }
     }
 
+    /// Runs `solve` with a recorder that keeps every step: its answer, and the trace it recorded.
+    pub fn traced<A>(
+        solver: &'static str,
+        precision: Precision,
+        solve: impl FnOnce(&mut Recorder) -> A,
+    ) -> (A, Trace) {
+        let mut rec = Recorder::new(true, solver, precision);
+        let answer = solve(&mut rec);
+        (answer, rec.into_trace())
+    }
+
     /// True if steps are being recorded.
     pub fn is_recording(&self) -> bool {
         self.trace.is_some()

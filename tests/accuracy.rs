@@ -201,11 +201,7 @@ fn the_quick_study_produces_every_record() {
 
 #[test]
 fn every_method_traces_its_own_steps() {
-    let lecture = Case {
-        tri: [[3.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 3.0]],
-        origin: [0.0; 3],
-        dir: [1.0, 1.0, 1.0],
-    };
+    let lecture = Case::LECTURE;
     let own_step = [
         (Method::Cramer, "det_M1"),
         (Method::MollerTrumbore, "p"),

@@ -6,7 +6,9 @@
 
 mod common;
 
-use common::{click_image, load_preset, shows_text_containing, wait_for_render};
+use common::{
+    app_at, click_image, load_preset, press, shows_text_containing, step_while, wait_for_render,
+};
 use egui::accesskit::Role;
 use egui::{Pos2, Vec2};
 use egui_kittest::Harness;
@@ -32,14 +34,22 @@ fn drag(harness: &mut Harness<'static, RaylabApp>, from: Pos2, to: Pos2) {
     harness.run();
 }
 
+/// Clicks the widgets with these labels one after another (a menu, then its item), the app running
+/// after each click.
+fn click(harness: &mut Harness<'static, RaylabApp>, labels: &[&str]) {
+    for label in labels {
+        harness.get_by_label(label).click();
+        harness.run();
+    }
+}
+
 fn shows(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
     harness.query_all_by_label(text).next().is_some()
 }
 
 #[test]
 fn dragging_t_and_s_onto_the_crossing_reads_17_22_and_21_22() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Seed 000: segments that cross");
+    let mut harness = app_at("Seed 000: segments that cross");
     assert_eq!(harness.state().state.view, ViewKind::Segments);
     let solved = harness
         .state()
@@ -64,8 +74,7 @@ fn dragging_t_and_s_onto_the_crossing_reads_17_22_and_21_22() {
 
 #[test]
 fn a_handle_dragged_elsewhere_does_not_snap() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Seed 000: segments that cross");
+    let mut harness = app_at("Seed 000: segments that cross");
     let view = &harness.state().state.segments;
     let t_handle = view.handle_on_screen(Handle::T).unwrap();
     let a2 = view.handle_on_screen(Handle::Endpoint(1)).unwrap();
@@ -79,54 +88,43 @@ fn a_handle_dragged_elsewhere_does_not_snap() {
 
 #[test]
 fn beta_gamma_sliders_move_p_inside_and_outside() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Seed 000: the lecture triangle");
+    let mut harness = app_at("Seed 000: the lecture triangle");
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
-    harness
-        .get_by_role_and_label(Role::Slider, "β")
-        .set_value_accesskit(0.25);
-    harness
-        .get_by_role_and_label(Role::Slider, "γ")
-        .set_value_accesskit(0.25);
-    harness.run();
-    assert!(shows(&harness, "P(β, γ) is inside the triangle"));
-    harness
-        .get_by_role_and_label(Role::Slider, "γ")
-        .set_value_accesskit(0.9);
-    harness.run();
-    assert!(shows(
-        &harness,
-        "P(β, γ) is outside: fails β + γ ≤ 1 (beyond edge BC)"
-    ));
-    harness
-        .get_by_role_and_label(Role::Slider, "β")
-        .set_value_accesskit(-0.2);
-    harness
-        .get_by_role_and_label(Role::Slider, "γ")
-        .set_value_accesskit(0.5);
-    harness.run();
-    assert!(shows(
-        &harness,
-        "P(β, γ) is outside: fails β ≥ 0 (beyond edge CA)"
-    ));
+    for (beta, gamma, verdict) in [
+        (0.25, 0.25, "P(β, γ) is inside the triangle"),
+        (
+            0.25,
+            0.9,
+            "P(β, γ) is outside: fails β + γ ≤ 1 (beyond edge BC)",
+        ),
+        (
+            -0.2,
+            0.5,
+            "P(β, γ) is outside: fails β ≥ 0 (beyond edge CA)",
+        ),
+    ] {
+        for (slider, value) in [("β", beta), ("γ", gamma)] {
+            harness
+                .get_by_role_and_label(Role::Slider, slider)
+                .set_value_accesskit(value);
+        }
+        harness.run();
+        assert!(shows(&harness, verdict), "β = {beta}, γ = {gamma}");
+    }
 }
 
 #[test]
 fn solve_slides_to_one_third_one_third_one() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Seed 000: the lecture triangle");
-    harness.get_by_label("Solve").click();
-    harness.run();
-    assert!(shows(&harness, "β = 1/3"));
-    assert!(shows(&harness, "γ = 1/3"));
-    assert!(shows(&harness, "t = 1"));
-    assert!(shows(&harness, "P(β, γ) = L + tD: they meet"));
+    let mut harness = app_at("Seed 000: the lecture triangle");
+    click(&mut harness, &["Solve"]);
+    for text in ["β = 1/3", "γ = 1/3", "t = 1", "P(β, γ) = L + tD: they meet"] {
+        assert!(shows(&harness, text), "{text} is not shown");
+    }
 }
 
 #[test]
 fn a_parallel_ray_shows_its_named_state() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Ray parallel to the triangle's plane");
+    let harness = app_at("Ray parallel to the triangle's plane");
     let status = harness
         .state()
         .state
@@ -157,8 +155,7 @@ fn copied(harness: &Harness<'static, RaylabApp>) -> Vec<String> {
 
 #[test]
 fn copy_as_latex_copies_the_core_latex() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Seed 000: the lecture triangle");
+    let mut harness = app_at("Seed 000: the lecture triangle");
     harness.get_by_label("Copy all as LaTeX").click();
     harness.step();
     let text = copied(&harness).join("\n");
@@ -193,10 +190,8 @@ fn keyboard_zoom_works() {
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Plus);
     harness.run();
     assert!(harness.ctx.zoom_factor() > before);
-    harness.get_by_label("−").click();
-    harness.run();
-    harness.get_by_label("−").click();
-    harness.run();
+    click(&mut harness, &["−"]);
+    click(&mut harness, &["−"]);
     assert!(harness.ctx.zoom_factor() < before);
 }
 
@@ -239,8 +234,7 @@ fn bad_inputs_never_panic() {
 
 #[test]
 fn state_survives_a_restart() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Seed 000: alternative 2");
+    let mut harness = app_at("Seed 000: alternative 2");
     harness.state_mut().state.triangle.beta = 0.125;
     let saved = ron::to_string(&harness.state().state).unwrap();
     let restored: raylab::app::AppState = ron::from_str(&saved).unwrap();
@@ -263,25 +257,18 @@ fn scenes_save_and_open_and_bad_files_keep_the_scene() {
     let dir = std::env::temp_dir().join(format!("raylab-ui-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("mine.ron");
-    let mut harness = harness();
-    load_preset(&mut harness, "Seed 000: alternative 3");
+    let mut harness = app_at("Seed 000: alternative 3");
     harness.state_mut().state.triangle.scene.origin = [0.5, 0.25, 0.0];
     harness.state_mut().state.scene_path = path.display().to_string();
     // Save through the File menu and its dialog.
-    harness.get_by_label("File").click();
-    harness.run();
-    harness.get_by_label("Save scene as…").click();
-    harness.run();
+    click(&mut harness, &["File", "Save scene as…"]);
     harness.get_by_role_and_label(Role::Button, "Save").click();
     harness.run();
     assert!(path.exists());
     assert!(harness.state().notice.as_ref().is_some_and(|n| !n.error));
 
     load_preset(&mut harness, "Seed 000: segments that cross");
-    harness.get_by_label("File").click();
-    harness.run();
-    harness.get_by_label("Open scene…").click();
-    harness.run();
+    click(&mut harness, &["File", "Open scene…"]);
     harness.get_by_role_and_label(Role::Button, "Open").click();
     harness.run();
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
@@ -322,13 +309,9 @@ fn browse_falls_back_to_the_typed_path_without_a_desktop() {
         eprintln!("skipped: a desktop is here, and a real file dialog would open");
         return;
     }
-    let mut harness = harness();
-    load_preset(&mut harness, "Seed 000: alternative 3");
+    let mut harness = app_at("Seed 000: alternative 3");
     harness.state_mut().state.scene_path = "kept/as/typed.ron".into();
-    harness.get_by_label("File").click();
-    harness.run();
-    harness.get_by_label("Open scene…").click();
-    harness.run();
+    click(&mut harness, &["File", "Open scene…"]);
     harness.state_mut().notice = None;
     harness.get_by_label("Browse…").click();
     let started = std::time::Instant::now();
@@ -356,24 +339,16 @@ fn the_accuracy_view_runs_in_the_background_and_loads_hard_cases() {
     let mut harness = harness();
     common::start_study(&mut harness, [40, 40], 1, 0.0);
     // The UI keeps drawing frames while the named worker thread measures.
-    let started = std::time::Instant::now();
-    while harness.state().accuracy.is_running() {
-        assert!(
-            started.elapsed().as_secs() < 120,
-            "the study did not finish"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(20));
-        harness.step();
-    }
-    harness.run();
+    step_while(&mut harness, 20, "the study did not finish", |app| {
+        app.accuracy.is_running()
+    });
     assert!(!harness.state().accuracy.records.is_empty());
     assert!(shows(
         &harness,
         "Largest relative error of t against time per test"
     ));
     // Picking the seam family leaves its rows in the table (the picker's button and the rows).
-    harness.get_by_label("seam").click();
-    harness.run();
+    click(&mut harness, &["seam"]);
     assert!(
         harness.query_all_by_label("seam").count() > 1,
         "the picker and the table list the seam sweep"
@@ -401,23 +376,15 @@ fn a_running_study_can_be_cancelled() {
     let mut harness = harness();
     common::start_study(&mut harness, [3000, 3000], 1, 0.05);
     harness.get_by_label("Cancel").click();
-    let started = std::time::Instant::now();
-    while harness.state().accuracy.is_running() {
-        assert!(
-            started.elapsed().as_secs() < 120,
-            "cancel did not stop the study"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(20));
-        harness.step();
-    }
-    harness.run();
+    step_while(&mut harness, 20, "cancel did not stop the study", |app| {
+        app.accuracy.is_running()
+    });
     assert!(harness.state().accuracy.status.contains("cancelled"));
 }
 
 #[test]
 fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Seed 003: facing ratio");
+    let mut harness = app_at("Seed 003: facing ratio");
     assert_eq!(harness.state().state.view, ViewKind::Render);
     let stats = harness.state().state.render.rendered().unwrap().stats;
     // The covered pixels of seed 003's own script, and one shading per hit.
@@ -455,17 +422,14 @@ fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
         &harness,
         "the ray hits the triangle at t ="
     ));
-    harness.get_by_label("Open in Triangle (3D) →").click();
-    harness.run();
+    click(&mut harness, &["Open in Triangle (3D) →"]);
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
 }
 
 #[test]
 fn a_common_bug_renders_beside_the_correct_image() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Render: common bugs");
-    harness.get_by_label("Compare with a bug:").click();
-    harness.run();
+    let mut harness = app_at("Render: common bugs");
+    click(&mut harness, &["Compare with a bug:"]);
     harness
         .get_by_role_and_label(Role::Button, "accepting t < 0")
         .click();
@@ -488,13 +452,11 @@ fn a_common_bug_renders_beside_the_correct_image() {
 
 #[test]
 fn the_spaces_mode_shows_one_t_in_world_and_object_space() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Render: a transformed object");
+    let mut harness = app_at("Render: a transformed object");
     click_image(&mut harness, "Correct render", Vec2::new(0.55, 0.35));
     let hit = harness.state().state.render.probe().unwrap().hit.unwrap();
     assert_eq!(hit.object, 0, "the probe is on the stretched sphere");
-    harness.get_by_label("World vs object space").click();
-    harness.run();
+    click(&mut harness, &["World vs object space"]);
     assert!(shows(&harness, "World space"));
     assert!(shows(&harness, "Object space"));
     let t = format!("t = {:.6}", hit.t);
@@ -518,8 +480,7 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
         "(title: \"x\", note: \"y\", problem: Render((width: 8, height: 8, camera: ImagePlane(x: (1.0, -1.0), y: (1.0, -1.0), z: 1.0), objects: [(shape: Mesh(obj: \"meshes/nowhere.obj\"))], effects: [\"coverage\"])))",
     )
     .unwrap();
-    let mut harness = harness();
-    load_preset(&mut harness, "Render: a closed mesh");
+    let mut harness = app_at("Render: a closed mesh");
     let before = harness.state().state.render.scene.clone();
     harness.state_mut().state.scene_path = bad.display().to_string();
     let notice = harness.state_mut().run_dialog_path(false);
@@ -546,34 +507,28 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
 #[test]
 fn a_lesson_plays_with_the_keys_and_a_slide_survives_exploring() {
     let mut harness = harness();
-    harness.get_by_label("Lessons").click();
-    harness.run();
-    harness
-        .get_by_label("Seed 000: segments, then a ray and a triangle")
-        .click();
-    harness.run();
+    click(
+        &mut harness,
+        &["Lessons", "Seed 000: segments, then a ray and a triangle"],
+    );
     assert!(shows(&harness, "Slide 1 of 14"));
     assert_eq!(harness.state().state.view, ViewKind::Segments);
     assert!(shows(&harness, "Two segments in parametric form"));
     // The question's answer is revealed on request.
     assert!(!shows_text_containing(&harness, "two equations (x and y)"));
-    harness.get_by_label("Show the answer").click();
-    harness.run();
+    click(&mut harness, &["Show the answer"]);
     assert!(shows_text_containing(&harness, "two equations (x and y)"));
     // Space, → and Page Down go forward, as a clicker sends them; each slide loads its scene.
-    for key in [egui::Key::Space, egui::Key::ArrowRight, egui::Key::PageDown] {
-        harness.key_press(key);
-        harness.run();
-    }
+    press(
+        &mut harness,
+        [egui::Key::Space, egui::Key::ArrowRight, egui::Key::PageDown],
+    );
     assert!(shows(&harness, "Slide 4 of 14"));
     assert_eq!(
         common::highlighted(&harness),
         "Highlighted: s at its solution"
     );
-    for _ in 4..8 {
-        harness.key_press(egui::Key::Space);
-        harness.run();
-    }
+    press(&mut harness, [egui::Key::Space; 4]);
     assert!(shows(&harness, "Slide 8 of 14"));
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
     assert_eq!(
@@ -595,15 +550,11 @@ fn a_lesson_plays_with_the_keys_and_a_slide_survives_exploring() {
         "the drag moved A"
     );
     // ...and come back to the slide as the lesson has it.
-    harness.get_by_label("↺ Restore slide").click();
-    harness.run();
+    click(&mut harness, &["↺ Restore slide"]);
     assert_eq!(harness.state().state.triangle.scene.a, lecture_a);
     assert!(shows(&harness, "Slide 9 of 14"));
     // ← and Page Up go back; Esc leaves with the slide's scene open.
-    harness.key_press(egui::Key::ArrowLeft);
-    harness.run();
-    harness.key_press(egui::Key::PageUp);
-    harness.run();
+    press(&mut harness, [egui::Key::ArrowLeft, egui::Key::PageUp]);
     assert!(shows(&harness, "Slide 7 of 14"));
     harness.key_press(egui::Key::Escape);
     harness.run();
@@ -614,10 +565,8 @@ fn a_lesson_plays_with_the_keys_and_a_slide_survives_exploring() {
 
 #[test]
 fn the_steps_switch_to_symbols_and_back() {
-    let mut harness = harness();
-    load_preset(&mut harness, "Seed 000: the lecture triangle");
-    harness.get_by_label("symbolic").click();
-    harness.run();
+    let mut harness = app_at("Seed 000: the lecture triangle");
+    click(&mut harness, &["symbolic"]);
     // Seed 002's expanded |M|, and each merge checked on the lecture's numbers (|M| = 27).
     assert!(shows_text_containing(&harness, "|M| = ax*by*dz - ax*bz*dy"));
     assert!(shows_text_containing(&harness, "✓ on this scene: 27 = 27"));
@@ -626,8 +575,7 @@ fn the_steps_switch_to_symbols_and_back() {
         "merged (q, r and four dot products"
     ));
     // Back to numbers.
-    harness.get_by_label("exact").click();
-    harness.run();
+    click(&mut harness, &["exact"]);
     assert!(!shows_text_containing(&harness, "ax*by*dz"));
     assert!(shows_text_containing(
         &harness,
@@ -638,10 +586,7 @@ fn the_steps_switch_to_symbols_and_back() {
 #[test]
 fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() {
     let mut harness = harness();
-    harness.get_by_label("Practice").click();
-    harness.run();
-    harness.get_by_label("Triangle: find β, γ and t").click();
-    harness.run();
+    click(&mut harness, &["Practice", "Triangle: find β, γ and t"]);
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
     assert!(shows(&harness, "Score: 0 right of 1 tried"));
     // The view keeps the verdict to itself until the answer is right.
@@ -662,14 +607,7 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
         "Not yet (1 wrong so far). Look again at"
     ));
     // The right answer, read from the exact solver's own values (β, γ, t).
-    let values: Vec<String> = harness
-        .state()
-        .practice
-        .as_ref()
-        .unwrap()
-        .practice
-        .problem
-        .answer
+    let values: Vec<String> = practice_answer(&harness)
         .values
         .iter()
         .map(|v| v.value.fraction())
@@ -688,8 +626,7 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
     assert!(painted(&harness, "the ray hits the triangle"));
     assert!(shows_text_containing(&harness, "the ray hits the triangle"));
     assert!(!shows(&harness, "Reveal the answer"));
-    harness.get_by_label("New problem").click();
-    harness.run();
+    click(&mut harness, &["New problem"]);
     assert!(shows(&harness, "Score: 1 right of 2 tried"));
     // F5 does not present an unanswered problem (the steps would give it away).
     harness.key_press(egui::Key::F5);
@@ -698,6 +635,18 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
     harness.key_press(egui::Key::Escape);
     harness.run();
     assert!(harness.state().practice.is_none());
+}
+
+/// The exact answer to the practice problem on screen.
+fn practice_answer<'a>(harness: &'a Harness<'static, RaylabApp>) -> &'a raylab::exercise::Answer {
+    &harness
+        .state()
+        .practice
+        .as_ref()
+        .unwrap()
+        .practice
+        .problem
+        .answer
 }
 
 /// True if some text painted in the last frame (labels on a canvas included) contains `needle`.
@@ -719,23 +668,10 @@ fn painted(harness: &Harness<'static, RaylabApp>, needle: &str) -> bool {
 #[test]
 fn an_outcome_is_picked_with_one_click() {
     let mut harness = harness();
-    harness.get_by_label("Practice").click();
-    harness.run();
-    harness.get_by_label("Triangle: find β, γ and t").click();
-    harness.run();
+    click(&mut harness, &["Practice", "Triangle: find β, γ and t"]);
     // The level picker in the practice bar: a ray beyond one edge.
-    harness.get_by_label("outside").click();
-    harness.run();
-    let outcome = harness
-        .state()
-        .practice
-        .as_ref()
-        .unwrap()
-        .practice
-        .problem
-        .answer
-        .outcome
-        .text();
+    click(&mut harness, &["outside"]);
+    let outcome = practice_answer(&harness).outcome.text();
     assert!(outcome.starts_with("outside "), "{outcome}");
     // The wrong edge first, then the right one.
     let wrong = ["outside AB", "outside BC", "outside CA"]

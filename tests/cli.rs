@@ -7,7 +7,7 @@ mod run;
 
 use std::process::{Command, Output};
 
-use run::raylab_with_stdin;
+use run::{PARALLELOGRAM_HIT, raylab_with_stdin};
 use serde_json::Value;
 
 fn raylab(args: &[&str]) -> Output {
@@ -25,10 +25,27 @@ fn stderr(output: &Output) -> String {
     String::from_utf8(output.stderr.clone()).unwrap()
 }
 
-fn json(args: &[&str]) -> Value {
+/// The standard output of `raylab args…`, which must succeed (its standard error is shown if not).
+fn succeeds(args: &[&str]) -> String {
     let output = raylab(args);
     assert!(output.status.success(), "{}", stderr(&output));
-    serde_json::from_str(&stdout(&output)).expect("one JSON object")
+    stdout(&output)
+}
+
+/// The standard error of `raylab args…`, which must fail.
+fn fails(args: &[&str]) -> String {
+    let output = raylab(args);
+    assert!(!output.status.success(), "{args:?} should fail");
+    stderr(&output)
+}
+
+fn json(args: &[&str]) -> Value {
+    serde_json::from_str(&succeeds(args)).expect("one JSON object")
+}
+
+/// [`json`] for a scene's arguments followed by flags.
+fn json_of(scene: &[&str], flags: &[&str]) -> Value {
+    json(&[scene, flags].concat())
 }
 
 const SEED000_SEGMENTS: [&str; 10] = [
@@ -62,9 +79,10 @@ fn text_shows_every_step_of_the_lecture_example() {
 
 #[test]
 fn json_has_status_parameters_point_and_exact_strings() {
-    let mut args = SEED000_SEGMENTS.to_vec();
-    args.extend(["--format", "json", "--precision", "exact"]);
-    let result = json(&args);
+    let result = json_of(
+        &SEED000_SEGMENTS,
+        &["--format", "json", "--precision", "exact"],
+    );
     assert_eq!(result["status"], "crossing");
     assert_eq!(result["exact"]["t"], "17/22");
     assert_eq!(result["exact"]["s"], "21/22");
@@ -77,9 +95,10 @@ fn json_has_status_parameters_point_and_exact_strings() {
             .any(|s| s["id"] == "det_M" && s["payload"]["kind"] == "determinant")
     );
 
-    let mut args = LECTURE_TRIANGLE.to_vec();
-    args.extend(["--format", "json", "--precision", "exact"]);
-    let result = json(&args);
+    let result = json_of(
+        &LECTURE_TRIANGLE,
+        &["--format", "json", "--precision", "exact"],
+    );
     assert_eq!(result["status"], "hit");
     assert_eq!(result["exact"]["beta"], "1/3");
     assert_eq!(result["exact"]["gamma"], "1/3");
@@ -90,24 +109,11 @@ fn json_has_status_parameters_point_and_exact_strings() {
 
 #[test]
 fn float_json_has_no_exact_block_and_nulls_for_missing_parameters() {
-    let args = [
-        "solve",
-        "triangle",
-        "--a",
-        "3,0,0",
-        "--b",
-        "0,3,0",
-        "--c",
-        "0,0,3",
-        "--origin",
-        "0,0,0",
-        "--dir",
-        "1,-1,0",
-        "--format",
-        "json",
-        "--no-trace",
-    ];
-    let result = json(&args);
+    // The lecture triangle and origin, the ray along the triangle's plane.
+    let result = json_of(
+        &LECTURE_TRIANGLE[..10],
+        &["--dir", "1,-1,0", "--format", "json", "--no-trace"],
+    );
     assert_eq!(result["status"], "parallel");
     assert_eq!(result["t"], Value::Null);
     assert_eq!(result["point"], Value::Null);
@@ -117,25 +123,10 @@ fn float_json_has_no_exact_block_and_nulls_for_missing_parameters() {
 
 #[test]
 fn parallelogram_and_f32_run() {
-    let args = [
-        "solve",
-        "parallelogram",
-        "--corner",
-        "0,0,0",
-        "--e1",
-        "2,0,0",
-        "--e2",
-        "0,1,0",
-        "--origin",
-        "0.5,0.5,1",
-        "--dir",
-        "0,0,-1",
-        "--format",
-        "json",
-        "--precision",
-        "f32",
-    ];
-    let result = json(&args);
+    let result = json_of(
+        &PARALLELOGRAM_HIT,
+        &["--format", "json", "--precision", "f32"],
+    );
     assert_eq!(result["status"], "hit");
     assert_eq!(result["precision"], "f32");
     assert_eq!(result["alpha"], 0.25);
@@ -149,17 +140,13 @@ fn latex_has_bmatrix_and_cramer_fractions() {
     args.extend(["--format", "latex", "--precision", "exact"]);
     let output = raylab(&args);
     let latex = stdout(&output);
-    assert!(
-        latex.contains(
-            "M = \\begin{bmatrix} 3 & 3 & 1 \\\\ -3 & 0 & 1 \\\\ 0 & -3 & 1 \\end{bmatrix}"
-        ),
-        "{latex}"
-    );
-    assert!(
-        latex.contains("\\beta = \\frac{|M_1|}{|M|} = \\frac{9}{27} = \\frac{1}{3}"),
-        "{latex}"
-    );
-    assert!(latex.contains("\\begin{vmatrix}"), "{latex}");
+    for expected in [
+        "M = \\begin{bmatrix} 3 & 3 & 1 \\\\ -3 & 0 & 1 \\\\ 0 & -3 & 1 \\end{bmatrix}",
+        "\\beta = \\frac{|M_1|}{|M|} = \\frac{9}{27} = \\frac{1}{3}",
+        "\\begin{vmatrix}",
+    ] {
+        assert!(latex.contains(expected), "missing {expected:?} in\n{latex}");
+    }
     assert!(
         latex.contains("{\\color{teal} 3}"),
         "replaced column is highlighted: {latex}"
@@ -335,9 +322,10 @@ fn the_lecture_examples_file_solves_as_the_readme_says() {
 
 #[test]
 fn solve_runs_any_study_method_with_its_trace() {
-    let mut args = LECTURE_TRIANGLE.to_vec();
-    args.extend(["--method", "watertight", "--format", "json"]);
-    let result = json(&args);
+    let result = json_of(
+        &LECTURE_TRIANGLE,
+        &["--method", "watertight", "--format", "json"],
+    );
     assert_eq!(result["method"], "watertight");
     assert_eq!(result["status"], "hit");
     assert_eq!(result["t"], 1.0);
@@ -350,9 +338,10 @@ fn solve_runs_any_study_method_with_its_trace() {
         "inverse",
         "exact",
     ] {
-        let mut args = LECTURE_TRIANGLE.to_vec();
-        args.extend(["--method", method, "--format", "json", "--precision", "f32"]);
-        let result = json(&args);
+        let result = json_of(
+            &LECTURE_TRIANGLE,
+            &["--method", method, "--format", "json", "--precision", "f32"],
+        );
         assert_eq!(result["status"], "hit", "{method}");
     }
     expect_one_line_error(
@@ -397,7 +386,7 @@ fn scratch(name: &str) -> (std::path::PathBuf, std::path::PathBuf) {
 fn render_writes_a_png_and_names_bad_scene_files() {
     let (dir, png) = scratch("render");
     let scene = FACING;
-    let output = raylab(&[
+    let stats = succeeds(&[
         "render",
         scene,
         "-o",
@@ -406,26 +395,17 @@ fn render_writes_a_png_and_names_bad_scene_files() {
         "--method",
         "moller-trumbore",
     ]);
-    assert!(output.status.success(), "{}", stderr(&output));
-    assert!(
-        stdout(&output).contains("covered pixels 38737"),
-        "{}",
-        stdout(&output)
-    );
-    assert!(stdout(&output).contains("colour interpolations 0"));
+    assert!(stats.contains("covered pixels 38737"), "{stats}");
+    assert!(stats.contains("colour interpolations 0"));
     assert!(std::fs::metadata(&png).unwrap().len() > 1000);
     let bad = dir.join("bad.ron");
     std::fs::write(&bad, "(title: \"x\",\n note: \"y\",\n problem: Render((width: 4, height: 4,\n camera: Sideways,\n objects: [], effects: [])))").unwrap();
-    let output = raylab(&["render", bad.to_str().unwrap(), "-o", png.to_str().unwrap()]);
-    assert!(!output.status.success());
-    let message = stderr(&output);
+    let message = fails(&["render", bad.to_str().unwrap(), "-o", png.to_str().unwrap()]);
     assert_eq!(message.trim_end().lines().count(), 1, "{message}");
     assert!(message.contains("bad.ron:4:"), "{message}");
     // A scene that parses but names a mesh that is not there: the file and what is missing.
     std::fs::write(&bad, "(title: \"x\", note: \"y\", problem: Render((width: 4, height: 4, camera: ImagePlane(x: (1.0, -1.0), y: (1.0, -1.0), z: 1.0), objects: [(shape: Mesh(obj: \"meshes/missing.obj\"))], effects: [\"coverage\"])))").unwrap();
-    let output = raylab(&["render", bad.to_str().unwrap(), "-o", png.to_str().unwrap()]);
-    assert!(!output.status.success());
-    let message = stderr(&output);
+    let message = fails(&["render", bad.to_str().unwrap(), "-o", png.to_str().unwrap()]);
     assert!(
         message.contains("object 1: cannot find 'meshes/missing.obj'"),
         "{message}"
@@ -439,7 +419,7 @@ fn render_takes_effects_and_a_bug_and_names_bad_ones() {
     let png = png.to_str().unwrap();
     let scene = FACING;
     // Only coverage: the facing ratio the scene calls for is not computed.
-    let output = raylab(&[
+    let stats = succeeds(&[
         "render",
         scene,
         "-o",
@@ -448,23 +428,16 @@ fn render_takes_effects_and_a_bug_and_names_bad_ones() {
         "--effects",
         "coverage",
     ]);
-    assert!(output.status.success(), "{}", stderr(&output));
-    assert!(
-        stdout(&output).contains("shading 0,"),
-        "{}",
-        stdout(&output)
-    );
+    assert!(stats.contains("shading 0,"), "{stats}");
     // Seed 003's `and` for `or`: far more of the plane is "hit".
-    let output = raylab(&["render", scene, "-o", png, "--stats", "--bug", "and-for-or"]);
-    assert!(output.status.success(), "{}", stderr(&output));
-    assert!(!stdout(&output).contains("covered pixels 38737"));
+    let stats = succeeds(&["render", scene, "-o", png, "--stats", "--bug", "and-for-or"]);
+    assert!(!stats.contains("covered pixels 38737"));
     for (flag, value, expected) in [
         ("--bug", "and-for-and", "unknown bug 'and-for-and'"),
         ("--effects", "coverage,glow", "unknown effect 'glow'"),
     ] {
-        let output = raylab(&["render", scene, "-o", png, flag, value]);
-        assert!(!output.status.success());
-        assert!(stderr(&output).contains(expected), "{}", stderr(&output));
+        let message = fails(&["render", scene, "-o", png, flag, value]);
+        assert!(message.contains(expected), "{message}");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -482,9 +455,7 @@ fn an_unknown_lesson_is_refused_before_a_window_opens() {
 fn symbolic_steps_derive_the_triangle_and_check_each_merge_on_the_numbers() {
     let mut args = LECTURE_TRIANGLE.to_vec();
     args.extend(["--precision", "symbolic"]);
-    let output = raylab(&args);
-    assert!(output.status.success(), "{}", stderr(&output));
-    let text = stdout(&output);
+    let text = succeeds(&args);
     assert!(text.contains("|M| = ax*by*dz - ax*bz*dy"), "{text}");
     // The lecture triangle: |M| = 27, |M1| = |M2| = 9, |M3| = 27, on both sides of every merge.
     for check in ["27 = 27", "9 = 9"] {

@@ -12,6 +12,7 @@ use shipped::shipped_render_scenes;
 
 use raylab::math::linalg::V3;
 use raylab::render::cast::nearest_hit;
+use raylab::render::cost::each_left_out;
 use raylab::render::optics::{critical_angle, reflect, refract};
 use raylab::render::rays::RayKind;
 use raylab::render::{Prepared, Stats, assets::Embedded, render};
@@ -50,16 +51,7 @@ fn an_effect_not_declared_casts_no_ray_of_its_kind_in_any_shipped_scene() {
         base.width = (base.width / 8).max(2);
         base.height = (base.height / 8).max(2);
         let mut subsets = vec![scene.effects.clone()];
-        for left_out in &scene.effects {
-            subsets.push(
-                scene
-                    .effects
-                    .iter()
-                    .copied()
-                    .filter(|e| e != left_out)
-                    .collect(),
-            );
-        }
+        subsets.extend(each_left_out(&scene.effects).map(|(_, rest)| rest));
         for (i, effects) in subsets.into_iter().enumerate() {
             let mut prepared = base.clone();
             prepared.effects = effects.clone();

@@ -6,7 +6,12 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+#[allow(dead_code)] // the helpers these tests do not need
+mod run;
+
 use std::process::Command;
+
+use run::PARALLELOGRAM_HIT;
 
 fn raylab_latex(args: &[&str]) -> String {
     let output = Command::new(env!("CARGO_BIN_EXE_raylab"))
@@ -78,22 +83,7 @@ fn every_outcome_compiles_with_pdflatex() {
             "exact",
         ]);
     }
-    body += &raylab_latex(&[
-        "solve",
-        "parallelogram",
-        "--corner",
-        "0,0,0",
-        "--e1",
-        "2,0,0",
-        "--e2",
-        "0,1,0",
-        "--origin",
-        "0.5,0.5,1",
-        "--dir",
-        "0,0,-1",
-        "--precision",
-        "exact",
-    ]);
+    body += &raylab_latex(&[&PARALLELOGRAM_HIT[..], &["--precision", "exact"]].concat());
     let dir = std::env::temp_dir().join(format!("raylab-latex-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let document = format!(

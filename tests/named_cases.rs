@@ -12,7 +12,7 @@ use raylab::geometry::triangle::{self, RayTriangle, TriangleOutcome};
 use raylab::math::exact::Exact;
 use raylab::trace::{Trace, to_latex, to_text};
 
-const LECTURE: [[f64; 3]; 3] = [[3.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 3.0]];
+const LECTURE: [[f64; 3]; 3] = raylab::intersect::Case::LECTURE.tri;
 
 /// Renders a trace every way; any panic fails the test.
 fn render_all(trace: &Trace) {
@@ -349,26 +349,18 @@ fn outside_parallelogram_names_both_broken_bounds() {
 fn nearly_parallel_rays_use_a_scale_free_tolerance() {
     // The same grazing ray at every scale gets the same answer: the tolerance is relative.
     for scale in [1e-20, 1e-5, 1.0, 1e5, 1e20] {
-        let s = |v: [f64; 3]| v.map(|x| x * scale);
-        let grazing = [
-            s(LECTURE[0]),
-            s(LECTURE[1]),
-            s(LECTURE[2]),
-            [0.0; 3],
-            [1.0, -1.0, 1e-17],
-        ];
+        // The lecture triangle at this scale, the ray from the origin rising `dz` out of its plane.
+        let rising = |dz: f64| {
+            let [a, b, c] = LECTURE.map(|v| v.map(|x| x * scale));
+            [a, b, c, [0.0; 3], [1.0, -1.0, dz]]
+        };
+        let grazing = rising(1e-17);
         assert_eq!(
             triangle_status::<f64>(grazing, 0.0).0,
             "parallel",
             "scale {scale}"
         );
-        let steep = [
-            s(LECTURE[0]),
-            s(LECTURE[1]),
-            s(LECTURE[2]),
-            [0.0; 3],
-            [1.0, -1.0, 1e-3],
-        ];
+        let steep = rising(1e-3);
         assert_ne!(
             triangle_status::<f64>(steep, 0.0).0,
             "parallel",

@@ -201,30 +201,21 @@ fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting(
         "Highlighted: column A−B, column A−C, column D"
     );
     // Space, → and Page Down go forward, as presentation clickers send them.
-    harness.key_press(egui::Key::Space);
-    harness.run();
-    harness.key_press(egui::Key::ArrowRight);
-    harness.run();
+    common::press(&mut harness, [egui::Key::Space, egui::Key::ArrowRight]);
     assert!(harness.query_by_label("Step 3 of 23").is_some());
     assert_eq!(
         common::highlighted(&harness),
         "Highlighted: right-hand side Y"
     );
     // Step 5 is M1: Y in place of the first column, A−B.
-    harness.key_press(egui::Key::PageDown);
-    harness.run();
-    harness.key_press(egui::Key::PageDown);
-    harness.run();
+    common::press(&mut harness, [egui::Key::PageDown; 2]);
     assert!(harness.query_by_label("Step 5 of 23").is_some());
     assert_eq!(
         common::highlighted(&harness),
         "Highlighted: right-hand side Y, column A−B"
     );
     // On to β = |M1|/|M| (step 13): the β handle slides to β* = 1/3.
-    for _ in 5..13 {
-        harness.key_press(egui::Key::Space);
-        harness.run();
-    }
+    common::press(&mut harness, [egui::Key::Space; 8]);
     assert!(harness.query_by_label("Step 13 of 23").is_some());
     assert_eq!(
         common::highlighted(&harness),
@@ -232,24 +223,15 @@ fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting(
     );
     assert!((harness.state().state.triangle.beta - 1.0 / 3.0).abs() < 1e-12);
     // The check β + γ ≤ 1 (step 19) highlights edge BC; ← and Page Up go back.
-    for _ in 13..19 {
-        harness.key_press(egui::Key::ArrowRight);
-        harness.run();
-    }
+    common::press(&mut harness, [egui::Key::ArrowRight; 6]);
     assert_eq!(
         common::highlighted(&harness),
         "Highlighted: edge BC (β + γ ≤ 1)"
     );
-    harness.key_press(egui::Key::ArrowRight);
-    harness.run();
-    harness.key_press(egui::Key::ArrowRight);
-    harness.run();
+    common::press(&mut harness, [egui::Key::ArrowRight; 2]);
     assert!(harness.query_by_label("Step 21 of 23").is_some());
     assert_eq!(common::highlighted(&harness), "Highlighted: the hit point");
-    harness.key_press(egui::Key::ArrowLeft);
-    harness.run();
-    harness.key_press(egui::Key::PageUp);
-    harness.run();
+    common::press(&mut harness, [egui::Key::ArrowLeft, egui::Key::PageUp]);
     assert!(harness.query_by_label("Step 19 of 23").is_some());
     // The view fills the screen beside the one step: no top bar, no controls.
     assert!(harness.query_by_label("Presets").is_none());

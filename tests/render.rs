@@ -15,6 +15,7 @@ use raylab::intersect::{Case, Method};
 use raylab::math::linalg::{V3, dot, sub};
 use raylab::render::bvh::Bvh;
 use raylab::render::cast::{nearest_hit, nearest_hits, test_triangle, to_object_space};
+use raylab::render::cost::each_left_out;
 use raylab::render::crack_free::ShearedRay;
 use raylab::render::generate::{grid_box, mesh_scene};
 use raylab::render::objects::{Geometry, PreparedObject, PreparedTriangle, prepare};
@@ -216,16 +217,7 @@ fn effects_not_called_for_cost_zero_work() {
         let base = shrunk(Prepared::new(scene, &Embedded).unwrap(), 4);
         // The scene's effects, each one left out in turn, and coverage alone.
         let mut subsets = vec![scene.effects.clone()];
-        for left_out in &scene.effects {
-            subsets.push(
-                scene
-                    .effects
-                    .iter()
-                    .copied()
-                    .filter(|e| e != left_out)
-                    .collect(),
-            );
-        }
+        subsets.extend(each_left_out(&scene.effects).map(|(_, rest)| rest));
         subsets.push(vec![Effect::Coverage]);
         let mut first: Option<(Image, Stats)> = None;
         let mut targets = None;

@@ -8,25 +8,13 @@
 #[allow(dead_code)] // the shared helpers these tests do not need
 mod common;
 
-use common::{app_harness, click_image, load_preset, shows_text_containing, wait_for_render};
+use common::{app_at, click_image, shows_text_containing, wait_for_render};
 use egui::Vec2;
 use egui_kittest::kittest::Queryable;
 use raylab::app::ViewKind;
+use raylab::app::render_view::grouped;
 use raylab::render::rays::RayKind;
 use raylab::render::trace_rays::LightTest;
-
-/// A count as the view writes it: 1234567 as "1 234 567".
-fn grouped(n: u64) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(' ');
-        }
-        out.push(c);
-    }
-    out
-}
 
 /// Clicks the widget with this label, scrolled into view first (the probe's column scrolls).
 fn click_label(harness: &mut egui_kittest::Harness<'static, raylab::app::RaylabApp>, label: &str) {
@@ -38,8 +26,7 @@ fn click_label(harness: &mut egui_kittest::Harness<'static, raylab::app::RaylabA
 
 #[test]
 fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
-    let mut harness = app_harness();
-    load_preset(&mut harness, "Effect: shadows");
+    let mut harness = app_at("Effect: shadows");
     assert_eq!(harness.state().state.view, ViewKind::Render);
     let stats = harness.state().state.render.rendered().unwrap().stats;
     let shadow = stats.secondary.shadow_rays;
@@ -122,8 +109,7 @@ fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
 
 #[test]
 fn a_mirror_pixel_shows_its_reflected_ray_and_each_effect_has_a_cost() {
-    let mut harness = app_harness();
-    load_preset(&mut harness, "Effect: reflections");
+    let mut harness = app_at("Effect: reflections");
     let stats = harness.state().state.render.rendered().unwrap().stats;
     let reflected = stats.secondary.rays(RayKind::Reflection);
     assert!(reflected > 0);

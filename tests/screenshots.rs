@@ -10,7 +10,7 @@
 #[allow(dead_code)] // the shared helpers these pictures do not need
 mod common;
 
-use common::{click_image, load_preset, wait_for_render};
+use common::{click_image, load_preset, press, wait_for_render};
 use egui::Vec2;
 use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable;
@@ -28,6 +28,11 @@ fn harness(size: Vec2, pixels_per_point: f32, theme: egui::Theme) -> Harness<'st
             raylab::app::set_style(&cc.egui_ctx);
             RaylabApp::new()
         })
+}
+
+/// The projector's 1280x800 pixels at 150%, in the light theme.
+fn zoomed_projector() -> Harness<'static, RaylabApp> {
+    harness(Vec2::new(1280.0, 800.0) / 1.5, 1.5, egui::Theme::Light)
 }
 
 /// The preset each view is shown with, and what is done before the picture.
@@ -169,37 +174,31 @@ fn accuracy_screenshot(folder: &str) {
 /// Presentation mode on the projector at 150%: the lecture triangle at step 5 (M1), its Y and A−B
 /// highlighted in the view.
 fn presentation_screenshot(folder: &str, write: bool) {
-    let mut harness = harness(Vec2::new(1280.0, 800.0) / 1.5, 1.5, egui::Theme::Light);
+    let mut harness = zoomed_projector();
     prepare(&mut harness, VIEWS[1].1, None);
     harness.key_press(egui::Key::F5);
     harness.run();
-    for _ in 1..5 {
-        harness.key_press(egui::Key::Space);
-        harness.run();
-    }
+    press(&mut harness, [egui::Key::Space; 4]);
     assert!(harness.query_by_label("Step 5 of 23").is_some());
     save_shot(&mut harness, folder, "presentation", write);
 }
 
 /// A lesson on the projector at 150%: seed 000's slide on β = |M1|/|M|, with its narration and step.
 fn lesson_screenshot(folder: &str, write: bool) {
-    let mut harness = harness(Vec2::new(1280.0, 800.0) / 1.5, 1.5, egui::Theme::Light);
+    let mut harness = zoomed_projector();
     harness.run();
     harness
         .state_mut()
         .start_lesson("seed000-segments-and-triangle")
         .expect("a shipped lesson");
-    for _ in 1..9 {
-        harness.key_press(egui::Key::Space);
-        harness.run();
-    }
+    press(&mut harness, [egui::Key::Space; 8]);
     assert!(harness.query_by_label("Slide 9 of 14").is_some());
     save_shot(&mut harness, folder, "lesson", write);
 }
 
 /// Practice at 150%: a triangle problem beyond an edge, after a wrong answer and its hint.
 fn practice_screenshot(folder: &str, write: bool) {
-    let mut harness = harness(Vec2::new(1280.0, 800.0) / 1.5, 1.5, egui::Theme::Light);
+    let mut harness = zoomed_projector();
     harness.run();
     harness.state_mut().start_practice(
         raylab::exercise::Kind::Triangle,

@@ -8,6 +8,7 @@ use raylab::geometry::Real;
 use raylab::geometry::parallelogram::{self, ParallelogramOutcome, RayParallelogram};
 use raylab::geometry::segments::{self, SegmentPair, SegmentsOutcome};
 use raylab::geometry::triangle::{self, Edge, RayTriangle, TriangleMiss, TriangleOutcome};
+use raylab::intersect::Case;
 use raylab::math::exact::Exact;
 use raylab::trace::Trace;
 
@@ -23,6 +24,15 @@ fn exact_segments(points: [[f64; 2]; 4]) -> (segments::SegmentsSolution<Exact>, 
 fn triangle_in<R: Real>(v: [[f64; 3]; 5]) -> (triangle::TriangleSolution<R>, Trace) {
     let problem = RayTriangle::<R>::from_f64(v.map(DVec3::from_array), 0.0).unwrap();
     triangle::solve_traced(&problem)
+}
+
+/// The lecture's triangle (3,0,0), (0,3,0), (0,0,3) and a ray from the origin along `dir`.
+fn lecture_along(dir: [f64; 3]) -> [[f64; 3]; 5] {
+    Case {
+        dir,
+        ..Case::LECTURE
+    }
+    .vectors()
 }
 
 #[test]
@@ -65,13 +75,7 @@ fn seed000_first_segments_do_not_meet_and_say_why() {
 
 #[test]
 fn seed000_lecture_triangle_gives_thirds_and_t_one() {
-    let (solved, trace) = triangle_in::<Exact>([
-        [3.0, 0.0, 0.0],
-        [0.0, 3.0, 0.0],
-        [0.0, 0.0, 3.0],
-        [0.0, 0.0, 0.0],
-        [1.0, 1.0, 1.0],
-    ]);
+    let (solved, trace) = triangle_in::<Exact>(lecture_along([1.0, 1.0, 1.0]));
     assert_eq!(solved.outcome, TriangleOutcome::Hit);
     let s = solved.solution.unwrap();
     assert_eq!((s.beta, s.gamma, s.t), (q("1/3"), q("1/3"), q("1")));
@@ -120,14 +124,7 @@ fn seed000_three_alternatives() {
 
 #[test]
 fn seed003_ray_hits_at_its_printed_point() {
-    let v = [
-        [0.0, 1.0, 1.5],
-        [1.0, 0.0, 1.25],
-        [-1.0, 0.0, 1.0],
-        [0.0, 0.0, 0.0],
-        [0.1, 0.1, 1.0],
-    ];
-    let (float, _) = triangle_in::<f64>(v);
+    let (float, _) = triangle_in::<f64>(Case::SEED003.vectors());
     assert!(float.outcome.is_hit());
     let p = float.solution.unwrap().point;
     let printed = [0.11842105, 0.11842105, 1.18421053];
@@ -179,12 +176,6 @@ fn seed001_parallelogram_by_inverse() {
 
 #[test]
 fn misses_name_the_edge() {
-    let base = [
-        [3.0, 0.0, 0.0],
-        [0.0, 3.0, 0.0],
-        [0.0, 0.0, 3.0],
-        [0.0, 0.0, 0.0],
-    ];
     let cases = [
         ([1.0, 1.0, -0.5], vec![Edge::Ab]),
         ([1.0, -0.5, 1.0], vec![Edge::Ca]),
@@ -193,7 +184,7 @@ fn misses_name_the_edge() {
         ([3.0, -1.0, -1.0], vec![Edge::Ca, Edge::Ab]),
     ];
     for (dir, edges) in cases {
-        let (solved, _) = triangle_in::<Exact>([base[0], base[1], base[2], base[3], dir]);
+        let (solved, _) = triangle_in::<Exact>(lecture_along(dir));
         let expected = TriangleOutcome::Miss(TriangleMiss::Outside {
             edges: edges.clone(),
         });

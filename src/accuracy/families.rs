@@ -100,6 +100,19 @@ fn single(tri: [V3<f64>; 3], origin: V3<f64>, target: V3<f64>, parameter: f64) -
     }
 }
 
+/// A ray to `target` from a random point above it (up to 2 aside, 1 to 4 up): origin and direction.
+fn ray_from_above(rng: &mut Pcg64, target: &V3<f64>) -> (V3<f64>, V3<f64>) {
+    let origin = add(
+        target,
+        &[
+            rng.random_range(-2.0..2.0),
+            rng.random_range(-2.0..2.0),
+            rng.random_range(1.0..4.0),
+        ],
+    );
+    (origin, sub(target, &origin))
+}
+
 /// A point of the triangle's plane at barycentrics (β, γ).
 fn at(tri: &[V3<f64>; 3], beta: f64, gamma: f64) -> V3<f64> {
     let [a, b, c] = tri;
@@ -156,15 +169,7 @@ fn probe(family: Family, index: usize, rng: &mut Pcg64) -> Probe {
             );
             let u: f64 = rng.random_range(0.01..0.99);
             let target = add(&v0, &scale(&u, &sub(&v2, &v0)));
-            let origin = add(
-                &target,
-                &[
-                    rng.random_range(-2.0..2.0),
-                    rng.random_range(-2.0..2.0),
-                    rng.random_range(1.0..4.0),
-                ],
-            );
-            let dir = sub(&target, &origin);
+            let (origin, dir) = ray_from_above(rng, &target);
             Probe {
                 cases: vec![
                     Case {
@@ -200,15 +205,7 @@ fn probe(family: Family, index: usize, rng: &mut Pcg64) -> Probe {
                     )
                 })
                 .collect();
-            let origin = add(
-                &centre,
-                &[
-                    rng.random_range(-2.0..2.0),
-                    rng.random_range(-2.0..2.0),
-                    rng.random_range(1.0..4.0),
-                ],
-            );
-            let dir = sub(&centre, &origin);
+            let (origin, dir) = ray_from_above(rng, &centre);
             Probe {
                 // The shared vertex is each triangle's C, not A: with A = centre the lecture's
                 // Y = A − L would equal D bit for bit, and the test would be trivially exact.

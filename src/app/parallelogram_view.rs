@@ -48,14 +48,16 @@ pub struct ParallelogramView {
     pub labels: Vec<PlacedLabel>,
 }
 
-impl Default for ParallelogramView {
-    fn default() -> ParallelogramView {
-        let scene = crate::scene::first_built_in(|s| match s {
-            crate::scene::Problem::Parallelogram(p) => Some(p),
-            _ => None,
-        });
-        let mut view = ParallelogramView {
-            scene: scene.clone(),
+/// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
+pub type Solved = Shown<ParallelogramLecture>;
+
+lecture_view!(ParallelogramView, Parallelogram);
+
+impl ParallelogramView {
+    /// The view of `scene` before [`ParallelogramView::load`] sets its sliders and camera.
+    fn unloaded(scene: ParallelogramScene) -> ParallelogramView {
+        ParallelogramView {
+            scene,
             alpha: 0.0,
             beta: 0.0,
             t: 0.0,
@@ -65,18 +67,9 @@ impl Default for ParallelogramView {
             framed_for: None,
             highlight: Vec::new(),
             labels: Vec::new(),
-        };
-        view.load(scene);
-        view
+        }
     }
-}
 
-/// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
-pub type Solved = Shown<ParallelogramLecture>;
-
-lecture_view!(ParallelogramView, Parallelogram);
-
-impl ParallelogramView {
     /// Loads a scene.
     pub fn load(&mut self, scene: ParallelogramScene) {
         let corner = DVec3::from(scene.corner);

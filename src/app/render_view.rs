@@ -11,6 +11,8 @@ mod probe;
 mod spaces;
 mod tree;
 
+pub use effects::grouped;
+
 use jobs::{Choices, Runtime, loads_in_background};
 
 use super::view::{ActiveSolve, OpenError, Request, View, not_mine};

@@ -96,14 +96,16 @@ pub struct SegmentsView {
     pub labels: Vec<PlacedLabel>,
 }
 
-impl Default for SegmentsView {
-    fn default() -> SegmentsView {
-        let scene = crate::scene::first_built_in(|s| match s {
-            crate::scene::Problem::Segments(s) => Some(s),
-            _ => None,
-        });
-        let mut view = SegmentsView {
-            scene: scene.clone(),
+/// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
+pub type Solved = Shown<SegmentsLecture>;
+
+lecture_view!(SegmentsView, Segments);
+
+impl SegmentsView {
+    /// The view of `scene` before [`SegmentsView::load`] places its handles and fits the plot.
+    fn unloaded(scene: SegmentsScene) -> SegmentsView {
+        SegmentsView {
+            scene,
             t: 0.0,
             s: 0.0,
             show_lines: true,
@@ -116,18 +118,9 @@ impl Default for SegmentsView {
             animation: None,
             highlight: Vec::new(),
             labels: Vec::new(),
-        };
-        view.load(scene);
-        view
+        }
     }
-}
 
-/// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
-pub type Solved = Shown<SegmentsLecture>;
-
-lecture_view!(SegmentsView, Segments);
-
-impl SegmentsView {
     /// Loads a scene: new segments, handles at the start, view fitted.
     pub fn load(&mut self, scene: SegmentsScene) {
         self.scene = scene;

@@ -71,14 +71,16 @@ pub struct TriangleView {
     pub labels: Vec<super::widgets::labels::PlacedLabel>,
 }
 
-impl Default for TriangleView {
-    fn default() -> TriangleView {
-        let scene = crate::scene::first_built_in(|s| match s {
-            crate::scene::Problem::Triangle(t) => Some(t),
-            _ => None,
-        });
-        let mut view = TriangleView {
-            scene: scene.clone(),
+/// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
+pub type Solved = Shown<TriangleLecture>;
+
+lecture_view!(TriangleView, Triangle);
+
+impl TriangleView {
+    /// The view of `scene` before [`TriangleView::load`] sets its sliders and camera.
+    fn unloaded(scene: TriangleScene) -> TriangleView {
+        TriangleView {
+            scene,
             beta: 0.0,
             gamma: 0.0,
             t: 0.0,
@@ -92,18 +94,9 @@ impl Default for TriangleView {
             highlight: Vec::new(),
             hovered_column: None,
             labels: Vec::new(),
-        };
-        view.load(scene);
-        view
+        }
     }
-}
 
-/// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
-pub type Solved = Shown<TriangleLecture>;
-
-lecture_view!(TriangleView, Triangle);
-
-impl TriangleView {
     /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.
     pub fn load(&mut self, scene: TriangleScene) {
         self.camera = OrbitCamera::framing(&self.points_of(&scene)).across(DVec3::from(scene.dir));
@@ -624,6 +617,12 @@ impl TriangleView {
     fn draw_highlights(&self, canvas: &Canvas, solved: &Solved, labels: &mut LabelLayer) {
         let [a, b, c, l, d] = self.scene.vectors();
         let glow = |color: egui::Color32| Stroke::new(11.0, faded(color, 90));
+        // A vector from one point to another, glowing, with its name at its middle.
+        let glowing_arrow = |labels: &mut LabelLayer, (from, to), name: &str, color| {
+            canvas.line(from, to, glow(color));
+            canvas.arrow(from, to, Stroke::new(3.0, color));
+            canvas.place_label(labels, (from + to) / 2.0, name, color, Priority::Normal);
+        };
         let mut emphasised = self.highlight.clone();
         if let Some(column) = self.hovered_column {
             emphasised.push(Element::Column(column));
@@ -631,39 +630,13 @@ impl TriangleView {
         for element in emphasised {
             match element {
                 Element::Column(Column::AMinusB) => {
-                    canvas.line(b, a, glow(palette::BETA));
-                    canvas.arrow(b, a, Stroke::new(3.0, palette::BETA));
-                    canvas.place_label(
-                        labels,
-                        (a + b) / 2.0,
-                        "A−B",
-                        palette::BETA,
-                        Priority::Normal,
-                    );
+                    glowing_arrow(labels, (b, a), "A−B", palette::BETA);
                 }
                 Element::Column(Column::AMinusC) => {
-                    canvas.line(c, a, glow(palette::GAMMA));
-                    canvas.arrow(c, a, Stroke::new(3.0, palette::GAMMA));
-                    canvas.place_label(
-                        labels,
-                        (a + c) / 2.0,
-                        "A−C",
-                        palette::GAMMA,
-                        Priority::Normal,
-                    );
+                    glowing_arrow(labels, (c, a), "A−C", palette::GAMMA);
                 }
                 Element::Column(Column::D) => canvas.line(l, l + d, glow(palette::RAY)),
-                Element::Rhs => {
-                    canvas.line(l, a, glow(palette::RHS));
-                    canvas.arrow(l, a, Stroke::new(3.0, palette::RHS));
-                    canvas.place_label(
-                        labels,
-                        (a + l) / 2.0,
-                        "Y = A − L",
-                        palette::RHS,
-                        Priority::Normal,
-                    );
-                }
+                Element::Rhs => glowing_arrow(labels, (l, a), "Y = A − L", palette::RHS),
                 Element::Side(side) => {
                     let (from, to) = match side {
                         Side::Ca => (c, a),

@@ -74,9 +74,22 @@ pub trait View {
 /// The [`View`] of a lecture view (Segments, Triangle, Parallelogram): its problem is
 /// `Problem::$variant`, its frame's solve `ActiveSolve::$variant`, and it has `load(scene)`,
 /// `solve(precision)`, `ui` and `present_ui(ui, solved)`, `show_parameter(parameter, solved, now)`
-/// and a `highlight` list.
+/// and a `highlight` list. Its `Default` is the first built-in scene of its kind, loaded into
+/// `unloaded(scene)`.
 macro_rules! lecture_view {
     ($view:ty, $variant:ident) => {
+        impl Default for $view {
+            fn default() -> Self {
+                let scene = $crate::scene::first_built_in(|s| match s {
+                    $crate::scene::Problem::$variant(p) => Some(p),
+                    _ => None,
+                });
+                let mut view = Self::unloaded(scene.clone());
+                view.load(scene);
+                view
+            }
+        }
+
         impl $crate::app::view::View for $view {
             fn kind(&self) -> $crate::app::ViewKind {
                 $crate::app::ViewKind::$variant

@@ -103,21 +103,31 @@ impl<'a> Cursor<'a> {
             return self.scalar();
         }
         let start = self.at;
-        self.at += 1;
+        self.list([b'[', b']'], |cursor| cursor.scalar().map(|_| ()))?;
+        Some(&self.text[start..self.at])
+    }
+
+    /// `open`, then items (each read by `item`) separated by commas, then `close`; or gives up.
+    fn list(
+        &mut self,
+        [open, close]: [u8; 2],
+        mut item: impl FnMut(&mut Self) -> Option<()>,
+    ) -> Option<()> {
+        self.expect(open)?;
         self.skip_space();
-        if self.peek()? != b']' {
+        if self.peek()? != close {
             loop {
-                self.scalar()?;
+                item(self)?;
                 self.skip_space();
                 match self.peek()? {
                     b',' => self.at += 1,
-                    b']' => break,
+                    b if b == close => break,
                     _ => return None,
                 }
             }
         }
         self.at += 1;
-        Some(&self.text[start..self.at])
+        Some(())
     }
 }
 
@@ -126,24 +136,14 @@ impl<'a> Cursor<'a> {
 /// it with serde_json, which also reports any error); `field` may have been called by then.
 pub fn object<'a>(line: &'a str, mut field: impl FnMut(&'a str, &'a str)) -> Option<()> {
     let mut cursor = Cursor { text: line, at: 0 };
-    cursor.expect(b'{')?;
-    cursor.skip_space();
-    if cursor.peek()? != b'}' {
-        loop {
-            cursor.skip_space();
-            let key = cursor.plain_string()?;
-            cursor.expect(b':')?;
-            let value = cursor.value()?;
-            field(&key[1..key.len() - 1], value);
-            cursor.skip_space();
-            match cursor.peek()? {
-                b',' => cursor.at += 1,
-                b'}' => break,
-                _ => return None,
-            }
-        }
-    }
-    cursor.at += 1;
+    cursor.list([b'{', b'}'], |cursor| {
+        cursor.skip_space();
+        let key = cursor.plain_string()?;
+        cursor.expect(b':')?;
+        let value = cursor.value()?;
+        field(&key[1..key.len() - 1], value);
+        Some(())
+    })?;
     cursor.skip_space();
     (cursor.at == line.len()).then_some(())
 }
@@ -154,24 +154,14 @@ pub fn array<const N: usize>(raw: &str) -> Option<([Option<&str>; N], usize)> {
     let mut items = [None; N];
     let mut count = 0;
     let mut cursor = Cursor { text: raw, at: 0 };
-    cursor.expect(b'[')?;
-    cursor.skip_space();
-    if cursor.peek()? != b']' {
-        loop {
-            let item = cursor.scalar()?;
-            if count < N {
-                items[count] = Some(item);
-            }
-            count += 1;
-            cursor.skip_space();
-            match cursor.peek()? {
-                b',' => cursor.at += 1,
-                b']' => break,
-                _ => return None,
-            }
+    cursor.list([b'[', b']'], |cursor| {
+        let item = cursor.scalar()?;
+        if count < N {
+            items[count] = Some(item);
         }
-    }
-    cursor.at += 1;
+        count += 1;
+        Some(())
+    })?;
     cursor.skip_space();
     (cursor.at == raw.len()).then_some((items, count))
 }

@@ -22,34 +22,25 @@ pub trait Solver {
     fn solve_traced(&self) -> (Self::Answer, Trace);
 }
 
-impl<R: Real> Solver for segments::SegmentPair<R> {
-    type Answer = segments::SegmentsSolution<R>;
-    fn solve(&self) -> Self::Answer {
-        segments::solve(self)
-    }
-    fn solve_traced(&self) -> (Self::Answer, Trace) {
-        segments::solve_traced(self)
-    }
+/// Each lecture module's problem answers through that module's own `solve` and `solve_traced`.
+macro_rules! solver_in_module {
+    ($($module:ident: $problem:ident -> $answer:ident),* $(,)?) => {$(
+        impl<R: Real> Solver for $module::$problem<R> {
+            type Answer = $module::$answer<R>;
+            fn solve(&self) -> Self::Answer {
+                $module::solve(self)
+            }
+            fn solve_traced(&self) -> (Self::Answer, Trace) {
+                $module::solve_traced(self)
+            }
+        }
+    )*};
 }
 
-impl<R: Real> Solver for triangle::RayTriangle<R> {
-    type Answer = triangle::TriangleSolution<R>;
-    fn solve(&self) -> Self::Answer {
-        triangle::solve(self)
-    }
-    fn solve_traced(&self) -> (Self::Answer, Trace) {
-        triangle::solve_traced(self)
-    }
-}
-
-impl<R: Real> Solver for parallelogram::RayParallelogram<R> {
-    type Answer = parallelogram::ParallelogramSolution<R>;
-    fn solve(&self) -> Self::Answer {
-        parallelogram::solve(self)
-    }
-    fn solve_traced(&self) -> (Self::Answer, Trace) {
-        parallelogram::solve_traced(self)
-    }
+solver_in_module! {
+    segments: SegmentPair -> SegmentsSolution,
+    triangle: RayTriangle -> TriangleSolution,
+    parallelogram: RayParallelogram -> ParallelogramSolution,
 }
 
 /// A lecture problem as the app holds it: f64 inputs, read into a precision when solved.
@@ -103,37 +94,30 @@ pub enum TriangleLecture {}
 /// A ray and a parallelogram (seed 001).
 pub enum ParallelogramLecture {}
 
-impl Lecture for SegmentsLecture {
-    type Floats = [DVec2; 4];
-    type Answer<R: Real> = segments::SegmentsSolution<R>;
-    fn answer<R: Real>(points: [DVec2; 4], reading: Reading) -> Self::Answer<R> {
-        segments::solve_inputs(reading, points)
-    }
-    fn inputs(points: [DVec2; 4]) -> Inputs {
-        Inputs::Segments(points)
-    }
+/// Each lecture type reads its floats through its module's `solve_inputs`, and hands them to
+/// [`traced`] as its `Inputs` variant: `|floats pattern| (arguments) => variant`.
+macro_rules! lecture_of_module {
+    ($($lecture:ident: $module:ident::$answer:ident, $floats:ty,
+        |$pattern:pat_param| ($($arg:ident),*) => $variant:ident;)*) => {$(
+        impl Lecture for $lecture {
+            type Floats = $floats;
+            type Answer<R: Real> = $module::$answer<R>;
+            fn answer<R: Real>($pattern: $floats, reading: Reading) -> Self::Answer<R> {
+                $module::solve_inputs(reading, $($arg),*)
+            }
+            fn inputs($pattern: $floats) -> Inputs {
+                Inputs::$variant($($arg),*)
+            }
+        }
+    )*};
 }
 
-impl Lecture for TriangleLecture {
-    type Floats = ([DVec3; 5], f64);
-    type Answer<R: Real> = triangle::TriangleSolution<R>;
-    fn answer<R: Real>((vectors, t_min): ([DVec3; 5], f64), reading: Reading) -> Self::Answer<R> {
-        triangle::solve_inputs(reading, vectors, t_min)
-    }
-    fn inputs((vectors, t_min): ([DVec3; 5], f64)) -> Inputs {
-        Inputs::Triangle(vectors, t_min)
-    }
-}
-
-impl Lecture for ParallelogramLecture {
-    type Floats = [DVec3; 5];
-    type Answer<R: Real> = parallelogram::ParallelogramSolution<R>;
-    fn answer<R: Real>(vectors: [DVec3; 5], reading: Reading) -> Self::Answer<R> {
-        parallelogram::solve_inputs(reading, vectors)
-    }
-    fn inputs(vectors: [DVec3; 5]) -> Inputs {
-        Inputs::Parallelogram(vectors)
-    }
+lecture_of_module! {
+    SegmentsLecture: segments::SegmentsSolution, [DVec2; 4], |points| (points) => Segments;
+    TriangleLecture: triangle::TriangleSolution, ([DVec3; 5], f64),
+        |(vectors, t_min)| (vectors, t_min) => Triangle;
+    ParallelogramLecture: parallelogram::ParallelogramSolution, [DVec3; 5],
+        |vectors| (vectors) => Parallelogram;
 }
 
 /// A problem solved for a view: in f64 (to draw), exactly (to show fractions), and traced in the

@@ -167,9 +167,7 @@ pub fn solve<R: Real>(p: &RayParallelogram<R>) -> ParallelogramSolution<R> {
 
 /// Solves by the inverse matrix, with every step.
 pub fn solve_traced<R: Real>(p: &RayParallelogram<R>) -> (ParallelogramSolution<R>, Trace) {
-    let mut rec = Recorder::new(true, "parallelogram", R::PRECISION);
-    let solution = solve_with(p, &mut rec);
-    (solution, rec.into_trace())
+    Recorder::traced("parallelogram", R::PRECISION, |rec| solve_with(p, rec))
 }
 
 fn solve_with<R: Real>(p: &RayParallelogram<R>, rec: &mut Recorder) -> ParallelogramSolution<R> {
@@ -216,9 +214,9 @@ pub fn solve_inputs_traced<R: Real>(
     reading: Reading,
     vectors: [DVec3; 5],
 ) -> (ParallelogramSolution<R>, Trace) {
-    let mut rec = Recorder::new(true, "parallelogram", R::PRECISION);
-    let solution = solve_inputs_with(reading, vectors, &mut rec);
-    (solution, rec.into_trace())
+    Recorder::traced("parallelogram", R::PRECISION, |rec| {
+        solve_inputs_with(reading, vectors, rec)
+    })
 }
 
 fn solve_inputs_with<R: Real>(

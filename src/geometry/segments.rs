@@ -166,9 +166,7 @@ pub fn solve<R: Real>(pair: &SegmentPair<R>) -> SegmentsSolution<R> {
 
 /// Solves the 2x2 system by Cramer's rule and classifies, with every step.
 pub fn solve_traced<R: Real>(pair: &SegmentPair<R>) -> (SegmentsSolution<R>, Trace) {
-    let mut rec = Recorder::new(true, "segments", R::PRECISION);
-    let solution = solve_with(pair, &mut rec);
-    (solution, rec.into_trace())
+    Recorder::traced("segments", R::PRECISION, |rec| solve_with(pair, rec))
 }
 
 fn solve_with<R: Real>(pair: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSolution<R> {
@@ -214,9 +212,9 @@ pub fn solve_inputs_traced<R: Real>(
     reading: Reading,
     points: [DVec2; 4],
 ) -> (SegmentsSolution<R>, Trace) {
-    let mut rec = Recorder::new(true, "segments", R::PRECISION);
-    let solution = solve_inputs_with(reading, points, &mut rec);
-    (solution, rec.into_trace())
+    Recorder::traced("segments", R::PRECISION, |rec| {
+        solve_inputs_with(reading, points, rec)
+    })
 }
 
 fn solve_inputs_with<R: Real>(

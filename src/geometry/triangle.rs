@@ -203,9 +203,7 @@ pub fn solve<R: Real>(problem: &RayTriangle<R>) -> TriangleSolution<R> {
 
 /// Solves the lecture's system by Cramer's rule, with every step.
 pub fn solve_traced<R: Real>(problem: &RayTriangle<R>) -> (TriangleSolution<R>, Trace) {
-    let mut rec = Recorder::new(true, "triangle", R::PRECISION);
-    let solution = solve_with(problem, &mut rec);
-    (solution, rec.into_trace())
+    Recorder::traced("triangle", R::PRECISION, |rec| solve_with(problem, rec))
 }
 
 fn solve_with<R: Real>(problem: &RayTriangle<R>, rec: &mut Recorder) -> TriangleSolution<R> {
@@ -241,9 +239,9 @@ pub fn solve_inputs_traced<R: Real>(
     vectors: [DVec3; 5],
     t_min: f64,
 ) -> (TriangleSolution<R>, Trace) {
-    let mut rec = Recorder::new(true, "triangle", R::PRECISION);
-    let solution = solve_inputs_with(reading, vectors, t_min, &mut rec);
-    (solution, rec.into_trace())
+    Recorder::traced("triangle", R::PRECISION, |rec| {
+        solve_inputs_with(reading, vectors, t_min, rec)
+    })
 }
 
 fn solve_inputs_with<R: Real>(

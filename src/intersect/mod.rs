@@ -75,6 +75,29 @@ pub struct Case<F> {
 }
 
 impl Case<f64> {
+    /// The lecture's example: the triangle (3,0,0), (0,3,0), (0,0,3) and the ray from the origin
+    /// along (1,1,1), which meets it at t = 1 (β = γ = 1/3).
+    pub const LECTURE: Case<f64> = Case {
+        tri: [[3.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 3.0]],
+        origin: [0.0; 3],
+        dir: [1.0, 1.0, 1.0],
+    };
+
+    /// Seed 003's notebook example: its triangle and the ray from the origin along (0.1, 0.1, 1),
+    /// which meets it at about (0.1184, 0.1184, 1.1842); non-integer inputs, so exact arithmetic
+    /// meets real fractions.
+    pub const SEED003: Case<f64> = Case {
+        tri: [[0.0, 1.0, 1.5], [1.0, 0.0, 1.25], [-1.0, 0.0, 1.0]],
+        origin: [0.0; 3],
+        dir: [0.1, 0.1, 1.0],
+    };
+
+    /// A, B, C, the origin and the direction, in the order the lecture's solver reads them.
+    pub fn vectors(&self) -> [V3<f64>; 5] {
+        let [a, b, c] = self.tri;
+        [a, b, c, self.origin, self.dir]
+    }
+
     /// Rounds every coordinate to f32 (f32 runs and their exact judge both see these numbers).
     pub fn to_f32(&self) -> Case<f32> {
         let r = |v: V3<f64>| v.map(|x| x as f32);

@@ -132,11 +132,7 @@ mod tests {
 
     #[test]
     fn agrees_with_the_rational_solver() {
-        let lecture = Case {
-            tri: [[3.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 3.0]],
-            origin: [0.0; 3],
-            dir: [1.0, 1.0, 1.0],
-        };
+        let lecture = Case::LECTURE;
         let r = reference(&lecture);
         assert!(r.hit);
         assert_eq!(r.values, Some([1.0, 1.0 / 3.0, 1.0 / 3.0]));

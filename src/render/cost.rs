@@ -19,6 +19,14 @@ pub struct EffectCost {
     pub stats: Stats,
 }
 
+/// `effects` with each one left out in turn: that effect, and the others in their order.
+pub fn each_left_out(effects: &[Effect]) -> impl Iterator<Item = (Effect, Vec<Effect>)> + '_ {
+    effects.iter().map(|&off| {
+        let rest = effects.iter().copied().filter(|&e| e != off).collect();
+        (off, rest)
+    })
+}
+
 /// Renders `prepared` with its effects, then without each in turn.
 pub struct CostJob {
     renders: Vec<(Option<Effect>, Arc<Prepared>)>,
@@ -30,10 +38,10 @@ impl CostJob {
     /// The renders: all of `prepared`'s effects, then each one left out.
     pub fn new(prepared: &Prepared) -> CostJob {
         let mut renders = vec![(None, Arc::new(prepared.clone()))];
-        for effect in &prepared.effects {
+        for (effect, rest) in each_left_out(&prepared.effects) {
             let mut without = prepared.clone();
-            without.effects.retain(|e| e != effect);
-            renders.push((Some(*effect), Arc::new(without)));
+            without.effects = rest;
+            renders.push((Some(effect), Arc::new(without)));
         }
         CostJob {
             renders,

@@ -21,21 +21,54 @@ pub fn app_harness() -> Harness<'static, RaylabApp> {
         })
 }
 
+/// [`app_harness`] with a preset loaded (see [`load_preset`]).
+#[allow(
+    dead_code,
+    reason = "the screenshot and projector tests build their own sizes and themes"
+)]
+pub fn app_at(preset: &str) -> Harness<'static, RaylabApp> {
+    let mut harness = app_harness();
+    load_preset(&mut harness, preset);
+    harness
+}
+
 /// Steps frames until the Render view's renders are done (they run on a worker thread): one frame
 /// for the click, one for the view to start its render, then until it has finished.
 pub fn wait_for_render(harness: &mut Harness<'static, RaylabApp>) {
     harness.step();
     harness.step();
+    step_while(harness, 10, "the render did not finish", |app| {
+        app.state.render.is_rendering()
+    });
+}
+
+/// Steps frames `pause_ms` apart while `busy` holds (work on a worker thread), then runs the app to
+/// rest; fails with `failure` after two minutes.
+pub fn step_while(
+    harness: &mut Harness<'static, RaylabApp>,
+    pause_ms: u64,
+    failure: &str,
+    busy: impl Fn(&RaylabApp) -> bool,
+) {
     let started = std::time::Instant::now();
-    while harness.state().state.render.is_rendering() {
-        assert!(
-            started.elapsed().as_secs() < 120,
-            "the render did not finish"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(10));
+    while busy(harness.state()) {
+        assert!(started.elapsed().as_secs() < 120, "{failure}");
+        std::thread::sleep(std::time::Duration::from_millis(pause_ms));
         harness.step();
     }
     harness.run();
+}
+
+/// Presses each key in turn, the app running after each, as a presentation clicker sends them.
+#[allow(
+    dead_code,
+    reason = "not every test crate that includes common presses keys"
+)]
+pub fn press(harness: &mut Harness<'static, RaylabApp>, keys: impl IntoIterator<Item = egui::Key>) {
+    for key in keys {
+        harness.key_press(key);
+        harness.run();
+    }
 }
 
 /// Presses and releases the mouse on the image with this label, at a fraction of its size.

@@ -3,6 +3,23 @@
 use std::io::Write;
 use std::process::{Command, Output, Stdio};
 
+/// A ray straight down onto the parallelogram 2 × 1 at the origin, through α = 1/4, β = 1/2 at t = 1.
+#[allow(dead_code, reason = "not every command-line test solves it")]
+pub const PARALLELOGRAM_HIT: [&str; 12] = [
+    "solve",
+    "parallelogram",
+    "--corner",
+    "0,0,0",
+    "--e1",
+    "2,0,0",
+    "--e2",
+    "0,1,0",
+    "--origin",
+    "0.5,0.5,1",
+    "--dir",
+    "0,0,-1",
+];
+
 /// Runs `raylab args…` with `stdin` on its standard input. The input is written from a thread, so a
 /// large input cannot block against a full output pipe.
 pub fn raylab_with_stdin(args: &[&str], stdin: &[u8]) -> Output {

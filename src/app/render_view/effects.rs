@@ -123,7 +123,7 @@ fn all_rays(stats: &Stats) -> u64 {
 }
 
 /// 1234567 as "1 234 567": big counts read at a glance from the back of a room.
-pub(super) fn grouped(n: u64) -> String {
+pub fn grouped(n: u64) -> String {
     let digits = n.to_string();
     let mut out = String::new();
     for (i, c) in digits.chars().enumerate() {

@@ -246,34 +246,25 @@ mod tests {
     fn a_status_line_uses_one_format() {
         let quarter: crate::math::exact::Exact = "1/4".parse().unwrap();
         let half: crate::math::exact::Exact = "1/2".parse().unwrap();
+        // α (solution 1/4) and β (solution 0.75, shown as 1/2) at these values.
+        let line = |[alpha, beta]: [f64; 2]| {
+            shown_values(&[
+                ShownValue {
+                    value: alpha,
+                    solution: Some(0.25),
+                    exact: Some(&quarter),
+                },
+                ShownValue {
+                    value: beta,
+                    solution: Some(0.75),
+                    exact: Some(&half),
+                },
+            ])
+        };
         // α on its solution 1/4, β at 0.5 (not its solution): both fractions.
-        let both = shown_values(&[
-            ShownValue {
-                value: 0.25,
-                solution: Some(0.25),
-                exact: Some(&quarter),
-            },
-            ShownValue {
-                value: 0.5,
-                solution: Some(0.75),
-                exact: Some(&half),
-            },
-        ]);
-        assert_eq!(both, ["1/4", "1/2"]);
+        assert_eq!(line([0.25, 0.5]), ["1/4", "1/2"]);
         // One value that is no short fraction turns the whole line into decimals.
-        let mixed = shown_values(&[
-            ShownValue {
-                value: 0.5,
-                solution: Some(0.25),
-                exact: Some(&quarter),
-            },
-            ShownValue {
-                value: 0.3,
-                solution: Some(0.75),
-                exact: Some(&half),
-            },
-        ]);
-        assert_eq!(mixed, ["0.5", "0.3"]);
+        assert_eq!(line([0.5, 0.3]), ["0.5", "0.3"]);
     }
 
     use super::snap;
