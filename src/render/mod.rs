@@ -45,8 +45,13 @@ use shade::Shader;
 /// A ray: origin and direction (not normalised).
 pub type Ray = (V3<f64>, V3<f64>);
 
-/// Rays traced together through a mesh's BVH: neighbouring pixels of a row.
+/// Rays traced together through a mesh's BVH: neighbouring pixels, a tile of [`TILE_ROWS`] rows by
+/// [`TILE_COLUMNS`] columns, or of one row.
 const PACKET: usize = 16;
+/// A tile's rows.
+const TILE_ROWS: usize = 4;
+/// A tile's columns.
+const TILE_COLUMNS: usize = PACKET / TILE_ROWS;
 
 /// Work done by a render.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -249,72 +254,96 @@ impl Prepared {
         // The pinhole's frame once, not once a pixel.
         let basis = pinhole_basis(&self.camera, width, self.height);
         let mut stats = Stats::default();
-        for (i, (pixels, covered)) in pixels
-            .chunks_mut(width)
-            .zip(covered.chunks_mut(width))
-            .enumerate()
-        {
-            // Each pixel shaded as soon as its packet is cast, while its numbers are at hand.
-            self.cast_row_each(
-                first + i,
-                basis.as_ref(),
-                &mut stats,
-                |column, (_, dir), hit, stats| {
-                    (pixels[column], covered[column]) = self.shade(&shader, hit, &dir, stats);
-                },
-            );
-        }
+        let rows = first..first + pixels.len() / width;
+        // Each pixel shaded as soon as its packet is cast, while its numbers are at hand.
+        self.cast_rows_each(
+            rows,
+            basis.as_ref(),
+            &mut stats,
+            |(row, column), (_, dir), hit, stats| {
+                let at = (row - first) * width + column;
+                (pixels[at], covered[at]) = self.shade(&shader, hit, &dir, stats);
+            },
+        );
         stats
     }
 
-    /// The primary rays of row `row` and their nearest hits, cast as [`Prepared::render_rows`] casts
-    /// them (packets of neighbouring pixels where a mesh takes the crack-free test), so the counters
-    /// of ray casting are the same with or without the effects past it. Counts rays and hits.
-    pub fn cast_row(
+    /// The primary rays of rows `rows` and their nearest hits, row after row, cast as
+    /// [`Prepared::render_rows`] casts them (packets of neighbouring pixels where a mesh takes the
+    /// crack-free test), so the counters of ray casting are the same with or without the effects
+    /// past it. Counts rays and hits.
+    pub fn cast_rows(
         &self,
-        row: usize,
+        rows: std::ops::Range<usize>,
         basis: Option<&Basis>,
         stats: &mut Stats,
     ) -> Vec<(Ray, Option<Hit>)> {
-        let mut out = Vec::with_capacity(self.width);
-        self.cast_row_each(row, basis, stats, |_, ray, hit, _| out.push((ray, hit)));
+        let (first, width) = (rows.start, self.width);
+        let mut out = vec![(([0.0; 3], [0.0; 3]), None); rows.len() * width];
+        self.cast_rows_each(rows, basis, stats, |(row, column), ray, hit, _| {
+            out[(row - first) * width + column] = (ray, hit);
+        });
         out
     }
 
-    /// Casts row `row` as [`Prepared::cast_row`] does, handing each pixel's column, ray and hit to
-    /// `each` in column order, a packet at a time. Counts rays and hits.
+    /// Casts rows `rows` as [`Prepared::cast_rows`] does, handing each pixel's (row, column), ray
+    /// and hit to `each`, a packet at a time. A band of [`TILE_ROWS`] rows goes in square tiles of
+    /// neighbouring pixels (their rays stay closer together through the hierarchy than a row's);
+    /// other bands, a row at a time. Counts rays and hits.
     #[inline(always)]
-    fn cast_row_each(
+    fn cast_rows_each(
         &self,
-        row: usize,
+        rows: std::ops::Range<usize>,
         basis: Option<&Basis>,
         stats: &mut Stats,
-        mut each: impl FnMut(usize, Ray, Option<Hit>, &mut Stats),
+        mut each: impl FnMut((usize, usize), Ray, Option<Hit>, &mut Stats),
     ) {
         let width = self.width;
-        let ray = |column| camera_ray_in(&self.camera, basis, (width, self.height), row, column);
+        let ray =
+            |(row, column)| camera_ray_in(&self.camera, basis, (width, self.height), row, column);
         let packets = self
             .objects
             .iter()
             .any(|o| cast::crack_free_applies(self, o));
-        // Neighbouring pixels in packets (the same hits as one at a time), the rest alone.
-        let packed = if packets { width / PACKET * PACKET } else { 0 };
         let mut hits = 0;
-        for start in (0..packed).step_by(PACKET) {
-            let rays: [(V3<f64>, V3<f64>); PACKET] = std::array::from_fn(|k| ray(start + k));
-            let found = cast::nearest_hits(self, &rays, stats);
-            for (k, hit) in found.into_iter().enumerate() {
-                hits += u64::from(hit.is_some());
-                each(start + k, rays[k], hit, stats);
+        let mut deliver = |pixel, ray, hit: Option<Hit>, stats: &mut Stats| {
+            hits += u64::from(hit.is_some());
+            each(pixel, ray, hit, stats);
+        };
+        // Neighbouring pixels in packets (the same hits as one at a time), the rest alone.
+        let (tiles, packed) = match (packets, rows.len() == TILE_ROWS) {
+            (false, _) => (false, 0),
+            (true, true) => (true, width / TILE_COLUMNS * TILE_COLUMNS),
+            (true, false) => (false, width / PACKET * PACKET),
+        };
+        if tiles {
+            for start in (0..packed).step_by(TILE_COLUMNS) {
+                let pixel = |k| (rows.start + k / TILE_COLUMNS, start + k % TILE_COLUMNS);
+                // The rays made in place (`from_fn`, inlined), not mapped from the pixels.
+                let rays: [Ray; PACKET] = std::array::from_fn(|k| ray(pixel(k)));
+                let found = cast::nearest_hits(self, &rays, stats);
+                for (k, hit) in found.into_iter().enumerate() {
+                    deliver(pixel(k), rays[k], hit, stats);
+                }
             }
         }
-        for column in packed..width {
-            let (origin, dir) = ray(column);
-            let hit = cast::nearest_hit(self, origin, dir, stats);
-            hits += u64::from(hit.is_some());
-            each(column, (origin, dir), hit, stats);
+        for row in rows.clone() {
+            if !tiles {
+                for start in (0..packed).step_by(PACKET) {
+                    let rays: [Ray; PACKET] = std::array::from_fn(|k| ray((row, start + k)));
+                    let found = cast::nearest_hits(self, &rays, stats);
+                    for (k, hit) in found.into_iter().enumerate() {
+                        deliver((row, start + k), rays[k], hit, stats);
+                    }
+                }
+            }
+            for column in packed..width {
+                let (origin, dir) = ray((row, column));
+                let hit = cast::nearest_hit(self, origin, dir, stats);
+                deliver((row, column), (origin, dir), hit, stats);
+            }
         }
-        stats.rays += width as u64;
+        stats.rays += (rows.len() * width) as u64;
         stats.hits += hits;
     }
 
@@ -338,7 +367,8 @@ impl Prepared {
 
     /// Renders rows `rows` in parallel (a band of `ROWS_PER_TASK`-row tasks).
     fn render_band(&self, rows: std::ops::Range<usize>, image: &mut Image) -> Stats {
-        const ROWS_PER_TASK: usize = 4;
+        // A task's rows are a tile's.
+        const ROWS_PER_TASK: usize = TILE_ROWS;
         let width = self.width;
         let span = rows.start * width..rows.end * width;
         image.pixels[span.clone()]
@@ -476,8 +506,9 @@ pub fn camera_ray(
     camera_ray_in(camera, basis.as_ref(), (width, height), row, column)
 }
 
-/// [`camera_ray`] with the pinhole's frame already made (`None` for the image plane).
-#[inline]
+/// [`camera_ray`] with the pinhole's frame already made (`None` for the image plane). Always
+/// inlined: the casters make a packet's rays in place.
+#[inline(always)]
 pub fn camera_ray_in(
     camera: &Camera,
     basis: Option<&Basis>,
@@ -490,7 +521,7 @@ pub fn camera_ray_in(
 
 /// The ray through the fractional pixel position (row, column), pixel centres at whole numbers
 /// (antialiasing's samples lie between them).
-#[inline]
+#[inline(always)]
 pub fn camera_ray_at(
     camera: &Camera,
     basis: Option<&Basis>,

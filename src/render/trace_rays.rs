@@ -112,18 +112,14 @@ impl<'a> Tracer<'a> {
     ) -> Stats {
         let width = self.prepared.width;
         let mut stats = Stats::default();
-        for (i, (pixels, covered)) in pixels
-            .chunks_mut(width)
-            .zip(covered.chunks_mut(width))
-            .enumerate()
-        {
-            let row = first + i;
-            let primary = self.prepared.cast_row(row, self.basis.as_ref(), &mut stats);
-            for (column, (ray, hit)) in primary.into_iter().enumerate() {
-                let colour = self.pixel((row, column), ray, hit, &mut stats);
-                pixels[column] = colour.map(|c| c as f32);
-                covered[column] = hit.is_some();
-            }
+        let rows = first..first + pixels.len() / width;
+        let primary = self
+            .prepared
+            .cast_rows(rows, self.basis.as_ref(), &mut stats);
+        for (at, (ray, hit)) in primary.into_iter().enumerate() {
+            let colour = self.pixel((first + at / width, at % width), ray, hit, &mut stats);
+            pixels[at] = colour.map(|c| c as f32);
+            covered[at] = hit.is_some();
         }
         stats
     }
