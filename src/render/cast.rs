@@ -1,6 +1,8 @@
 //! Casting one ray into a prepared scene: into each object's space, through its BVH, through the core's
 //! intersection method; the nearest hit wins. The common bugs the app shows are switched on here.
 
+mod parallelogram4;
+
 use serde::{Deserialize, Serialize};
 use strum::{EnumIter, IntoStaticStr};
 
@@ -309,6 +311,7 @@ pub fn nearest_hits<const P: usize>(
                 bvh
             }
             _ if lone_hits(prepared, index, rays, &mut best, stats) => continue,
+            _ if parallelogram_hits(prepared, index, rays, &mut best, stats) => continue,
             _ => {
                 for (best, (origin, dir)) in best.iter_mut().zip(rays) {
                     hit_object(prepared, index, *origin, *dir, best, stats);
@@ -373,6 +376,59 @@ fn lone_hits<const P: usize>(
                 hit &= hit - 1;
                 let values = [t[lane], beta[lane], gamma[lane]];
                 offer(&mut best[lane], Hit::of(index, primitive, values));
+            }
+        }
+    }
+    true
+}
+
+/// A parallelogram, without a bug that changes its test, four rays at a time with AVX2
+/// ([`parallelogram4`]: seed 001's solver in lanes, the same bits, so the same hits as
+/// [`hit_object`]); a ray whose t is beyond its nearest hit so far is dropped before its α and β are
+/// computed. Rays the kernel leaves to the one-ray solver go through [`test_parallelogram`]. False
+/// when the object, the bug or the processor does not allow it (then nothing was done).
+fn parallelogram_hits<const P: usize>(
+    prepared: &Prepared,
+    index: usize,
+    rays: &[(V3<f64>, V3<f64>); P],
+    best: &mut [Option<Hit>; P],
+    stats: &mut Stats,
+) -> bool {
+    let object = &prepared.objects[index];
+    let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
+        return false;
+    };
+    // Shadow acne is a bug of secondary rays' origins: the test itself is the correct one.
+    let bug = prepared.bug.filter(|&bug| bug != Bug::ShadowAcne);
+    if !P.is_multiple_of(4) || bug.is_some() {
+        return false;
+    }
+    let Some(solver) = parallelogram4::Parallelogram4::new([corner, e1, e2]) else {
+        return false;
+    };
+    for first in (0..P).step_by(4) {
+        let local: [(V3<f64>, V3<f64>); 4] = std::array::from_fn(|lane| {
+            let (o, d) = rays[first + lane];
+            to_object_space(object, o, d, None, stats)
+        });
+        let four = super::lone::Rays4 {
+            origin: std::array::from_fn(|k| local.map(|(o, _)| o[k])),
+            dir: std::array::from_fn(|k| local.map(|(_, d)| d[k])),
+        };
+        let best = &mut best[first..first + 4];
+        let t_max = std::array::from_fn(|lane| best[lane].map_or(f64::INFINITY, |b| b.t));
+        stats.parallelogram_tests += 4;
+        let found = solver.solve(&four, &t_max);
+        for (lane, best) in best.iter_mut().enumerate() {
+            let values = if found.rare & (1 << lane) != 0 {
+                let (o, d) = local[lane];
+                test_parallelogram([corner, e1, e2], None, o, d)
+            } else {
+                let hit = found.hit & (1 << lane) != 0;
+                hit.then(|| [found.t[lane], found.alpha[lane], found.beta[lane]])
+            };
+            if let Some(values) = values {
+                offer(best, Hit::of(index, 0, values));
             }
         }
     }
