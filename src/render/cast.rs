@@ -186,13 +186,15 @@ pub fn test_triangle(
 }
 
 /// Tests a parallelogram with the core's solver (seed 001, without its trace): (α, β, t) or a miss.
+/// A ray whose t is surely beyond `t_max` (a nearer hit, the end of a shadow ray) may be called a
+/// miss: the caller would drop its hit.
 fn test_parallelogram(
     [corner, e1, e2]: [&V3<f64>; 3],
     bug: Option<Bug>,
-    origin: V3<f64>,
-    dir: V3<f64>,
+    (origin, dir): (V3<f64>, V3<f64>),
+    t_max: f64,
 ) -> Option<[f64; 3]> {
-    if surely_outside([corner, e1, e2], &origin, &dir) {
+    if surely_outside([corner, e1, e2], &origin, &dir, t_max) {
         return None;
     }
     let inside = solve_inside([corner, e1, e2], &origin, &dir)?;
@@ -204,9 +206,15 @@ fn test_parallelogram(
 /// True when the ray's line meets the parallelogram's plane so far outside it (α or β beyond [0, 1]
 /// by a margin a million times the rounding error) that seed 001's solver must find it outside too:
 /// the solver is skipped (its answer would be a miss whatever the bug). Möller–Trumbore's (α, β)
-/// for the system o + t d = c + α e1 + β e2, only where the system is far from singular.
+/// for the system o + t d = c + α e1 + β e2, only where the system is far from singular. Also true
+/// when the plane's t is beyond `t_max` by the same kind of margin (the hit would be dropped).
 #[inline]
-fn surely_outside([corner, e1, e2]: [&V3<f64>; 3], origin: &V3<f64>, dir: &V3<f64>) -> bool {
+fn surely_outside(
+    [corner, e1, e2]: [&V3<f64>; 3],
+    origin: &V3<f64>,
+    dir: &V3<f64>,
+    t_max: f64,
+) -> bool {
     use crate::math::linalg::{cross, dot};
     let l1 = |v: &V3<f64>| v[0].abs() + v[1].abs() + v[2].abs();
     let p = cross(dir, e2);
@@ -218,10 +226,20 @@ fn surely_outside([corner, e1, e2]: [&V3<f64>; 3], origin: &V3<f64>, dir: &V3<f6
     let conditioned = det.abs() > 1e-6 * l1(dir) * l1(e1) * l1(e2);
     let margin = |a: &V3<f64>, b: &V3<f64>| 1e-6 * (1.0 + l1(a) * l1(b) / det.abs());
     let outside = |x: f64, m: f64| x < -m || x > 1.0 + m;
+    // Möller–Trumbore's t = e2·q / |M|; the solver's t is (e1 × e2)·(o − c) / |M| rounded
+    // otherwise: both within a few roundings of |e1| |e2| |o − c| / |M| (q = s × e1) from the
+    // true t, a million times less than the margin.
+    let beyond = || {
+        let t = dot(e2, &q) / det;
+        let margin = 1e-6 * (t.abs() + l1(e1) * l1(e2) * l1(&s) / det.abs()) + 1e-200;
+        t.is_finite() && t - margin > t_max
+    };
     conditioned
         && alpha.is_finite()
         && beta.is_finite()
-        && (outside(alpha, margin(&s, &p)) || outside(beta, margin(dir, &q)))
+        && (outside(alpha, margin(&s, &p))
+            || outside(beta, margin(dir, &q))
+            || (t_max < f64::INFINITY && beyond()))
 }
 
 /// True when an object's triangles take the crack-free test: the method is `watertight` (the default
@@ -421,8 +439,7 @@ fn parallelogram_hits<const P: usize>(
         let found = solver.solve(&four, &t_max);
         for (lane, best) in best.iter_mut().enumerate() {
             let values = if found.rare & (1 << lane) != 0 {
-                let (o, d) = local[lane];
-                test_parallelogram([corner, e1, e2], None, o, d)
+                test_parallelogram([corner, e1, e2], None, local[lane], t_max[lane])
             } else {
                 let hit = found.hit & (1 << lane) != 0;
                 hit.then(|| [found.t[lane], found.alpha[lane], found.beta[lane]])
@@ -536,8 +553,9 @@ fn hit_object(
             }
             Geometry::Parallelogram { corner, e1, e2, .. } => {
                 stats.parallelogram_tests += 1;
+                let t_max = best.map_or(f64::INFINITY, |b| b.t);
                 if let Some([t, alpha, beta]) =
-                    test_parallelogram([corner, e1, e2], prepared.bug, o, d)
+                    test_parallelogram([corner, e1, e2], prepared.bug, (o, d), t_max)
                 {
                     offer(
                         best,
@@ -649,7 +667,8 @@ fn object_hit_between(
         }
         Geometry::Parallelogram { corner, e1, e2, .. } => {
             stats.parallelogram_tests += 1;
-            let [t, alpha, beta] = test_parallelogram([corner, e1, e2], prepared.bug, o, d)?;
+            let [t, alpha, beta] =
+                test_parallelogram([corner, e1, e2], prepared.bug, (o, d), t_max)?;
             in_range(t).then_some(Hit::of(index, 0, [t, alpha, beta]))
         }
     }
@@ -754,7 +773,7 @@ mod tests {
                 origin,
                 dir,
             };
-            if !surely_outside([&corner, &e1, &e2], &origin, &dir) {
+            if !surely_outside([&corner, &e1, &e2], &origin, &dir, f64::INFINITY) {
                 continue;
             }
             skipped += 1;
@@ -767,6 +786,62 @@ mod tests {
             }
         }
         assert!(skipped > 10_000, "{skipped}");
+    }
+
+    /// The prefilter's cull by t never skips a ray whose hit would be kept (inside, t ≤ t_max): rays
+    /// near edges and corners, in front and behind, scaled far from 1, with t_max at the solver's
+    /// t, a few ulps either side, a relative 1e-9 either side, 1e-5 before, and anywhere; and it
+    /// does cull, also just before t.
+    #[test]
+    fn the_parallelogram_cull_skips_only_hits_beyond_t_max() {
+        use rand::Rng;
+        let mut random = rand_pcg::Pcg64::seed_from_u64(12);
+        let (mut culled, mut near_misses) = (0, 0);
+        for i in 0..200_000 {
+            let [corner, e1, e2, origin, mut dir] =
+                crate::geometry::parallelogram::lean::random_ray_near_edges(&mut random, 1e-12);
+            if i % 3 == 0 {
+                dir = dir.map(|x| -x);
+            }
+            let scale = [1e-150, 1e-20, 1e20, 1e150, 1.0, 1.0][i % 6];
+            let (corner, e1) = (corner.map(|x| x * scale), e1.map(|x| x * scale));
+            let (origin, dir) = (origin.map(|x| x * scale), dir.map(|x| x * scale));
+            let problem = RayParallelogram {
+                corner,
+                e1,
+                e2,
+                origin,
+                dir,
+            };
+            let Some([alpha, beta, t]) = solve(&problem).alpha_beta_t else {
+                continue;
+            };
+            let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
+            let t_max = match random.random_range(0..8) {
+                0 => t,
+                1 => t.next_up(),
+                2 => t.next_down(),
+                3 => t * (1.0 + 1e-9),
+                4 => t * (1.0 - 1e-9),
+                5 => t * (1.0 - 1e-5),
+                6 => random.random_range(0.0..1.0) * t.abs(),
+                _ => random.random_range(-1.0..1.0) * 10.0,
+            };
+            if !surely_outside([&corner, &e1, &e2], &origin, &dir, t_max) {
+                continue;
+            }
+            let kept = inside && t <= t_max;
+            assert!(
+                !kept,
+                "{problem:?}: culled at t_max {t_max}, but t {t} is kept"
+            );
+            culled += inside as usize;
+            near_misses += (inside && t_max >= t * (1.0 - 1e-5) && t > 0.0) as usize;
+        }
+        assert!(
+            culled > 5_000 && near_misses > 500,
+            "{culled} {near_misses}"
+        );
     }
 }
 

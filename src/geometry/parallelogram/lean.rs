@@ -82,6 +82,7 @@ pub fn solve_inside(
 /// depend on the ray (finite corner and edges, a finite normal, edges surely not parallel): then
 /// only the ray's checks remain for [`solve_inside`]. `None` when the solver could refuse every ray,
 /// or needs its norms to decide.
+#[inline]
 pub fn regular_normal([corner, e1, e2]: [&V3<f64>; 3]) -> Option<V3<f64>> {
     let normal = cross(e1, e2);
     let finite = [corner, e1, e2, &normal].iter().all(|v| all_finite(v));

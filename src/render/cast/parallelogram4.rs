@@ -42,6 +42,7 @@ pub struct Parallelogram4 {
 impl Parallelogram4 {
     /// `None` when the processor lacks AVX2 and FMA, or when the parallelogram itself takes one of
     /// the solver's rare paths (non-finite, or edges that may be parallel): then one ray at a time.
+    #[inline]
     pub fn new([corner, e1, e2]: [&V3<f64>; 3]) -> Option<Parallelogram4> {
         if !crate::render::lone::available() {
             return None;
