@@ -425,18 +425,14 @@ fn parallelogram_hits<const P: usize>(
         return false;
     };
     for first in (0..P).step_by(4) {
-        let local: [(V3<f64>, V3<f64>); 4] = std::array::from_fn(|lane| {
+        let local: parallelogram4::Rays4 = std::array::from_fn(|lane| {
             let (o, d) = rays[first + lane];
             to_object_space(object, o, d, None, stats)
         });
-        let four = super::lone::Rays4 {
-            origin: std::array::from_fn(|k| local.map(|(o, _)| o[k])),
-            dir: std::array::from_fn(|k| local.map(|(_, d)| d[k])),
-        };
         let best = &mut best[first..first + 4];
         let t_max = std::array::from_fn(|lane| best[lane].map_or(f64::INFINITY, |b| b.t));
         stats.parallelogram_tests += 4;
-        let found = solver.solve(&four, &t_max);
+        let found = solver.solve(&local, &t_max);
         for (lane, best) in best.iter_mut().enumerate() {
             let values = if found.rare & (1 << lane) != 0 {
                 test_parallelogram([corner, e1, e2], None, local[lane], t_max[lane])

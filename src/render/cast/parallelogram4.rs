@@ -13,7 +13,9 @@
 use std::arch::x86_64::*;
 
 use crate::math::linalg::V3;
-use crate::render::lone::Rays4;
+
+/// Four rays (origin, direction), one a lane.
+pub type Rays4 = [(V3<f64>, V3<f64>); 4];
 
 /// What four rays found: lanes are bits (lane i is bit i), values are `[lane]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -101,18 +103,29 @@ fn splat(v: &V3<f64>) -> Lanes3 {
     ]
 }
 
+/// Four numbers into lanes, read one by one: the caller has just written them one by one, and a
+/// 256-bit load of four scalar stores would wait for them (no store forwarding).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn load(rows: &[[f64; 4]; 3]) -> Lanes3 {
-    // SAFETY: each row is four f64s, read unaligned.
-    unsafe {
-        [
-            _mm256_loadu_pd(rows[0].as_ptr()),
-            _mm256_loadu_pd(rows[1].as_ptr()),
-            _mm256_loadu_pd(rows[2].as_ptr()),
-        ]
-    }
+fn gather(x: [f64; 4]) -> __m256d {
+    _mm256_set_pd(x[3], x[2], x[1], x[0])
+}
+
+/// The rays' origins (`which` 0) or directions (1) as `[axis]` lanes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn rays_lanes(rays: &Rays4, which: usize) -> Lanes3 {
+    let part = |lane: usize| {
+        if which == 0 {
+            &rays[lane].0
+        } else {
+            &rays[lane].1
+        }
+    };
+    let axis = |k: usize| [part(0)[k], part(1)[k], part(2)[k], part(3)[k]];
+    [gather(axis(0)), gather(axis(1)), gather(axis(2))]
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -206,21 +219,35 @@ fn minor(m: &[Lanes3; 3], row: usize, col: usize) -> [[__m256d; 2]; 2] {
     ]
 }
 
-/// Row i of the solver's M⁻¹ (o − c): ((0 + (adj[i][0] / |M|) y₀) + (adj[i][1] / |M|) y₁) +
-/// (adj[i][2] / |M|) y₂, with adj[i][j] = (−1)^(i+j) |minor(j, i)| as `adjugate3`.
+/// The adjugate as `adjugate3`: adj[i][j] = (−1)^(i+j) |minor(j, i)|.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn solved_row(m: &[Lanes3; 3], det: __m256d, y: &Lanes3, i: usize) -> __m256d {
-    let mut sum = _mm256_setzero_pd();
-    for (j, y) in y.iter().enumerate() {
+fn adjugate(m: &[Lanes3; 3]) -> [Lanes3; 3] {
+    let entry = |i: usize, j: usize| {
         let cofactor = det2(&minor(m, j, i));
-        let entry = if (i + j) % 2 == 1 {
+        if (i + j) % 2 == 1 {
             negate(cofactor)
         } else {
             cofactor
-        };
-        sum = _mm256_add_pd(sum, _mm256_mul_pd(_mm256_div_pd(entry, det), *y));
+        }
+    };
+    [
+        [entry(0, 0), entry(0, 1), entry(0, 2)],
+        [entry(1, 0), entry(1, 1), entry(1, 2)],
+        [entry(2, 0), entry(2, 1), entry(2, 2)],
+    ]
+}
+
+/// Row i of the solver's M⁻¹ (o − c): ((0 + (adj[i][0] / |M|) y₀) + (adj[i][1] / |M|) y₁) +
+/// (adj[i][2] / |M|) y₂, as `dot(&adjugate[i].map(|x| x / det), &y)`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn solved_row(adjugate_row: &Lanes3, det: __m256d, y: &Lanes3) -> __m256d {
+    let mut sum = _mm256_setzero_pd();
+    for (entry, y) in adjugate_row.iter().zip(y) {
+        sum = _mm256_add_pd(sum, _mm256_mul_pd(_mm256_div_pd(*entry, det), *y));
     }
     sum
 }
@@ -233,7 +260,7 @@ fn solved_row(m: &[Lanes3; 3], det: __m256d, y: &Lanes3, i: usize) -> __m256d {
 #[target_feature(enable = "avx2,fma")]
 #[inline]
 unsafe fn solve4(shape: &Parallelogram4, rays: &Rays4, t_max: &[f64; 4]) -> Found4 {
-    let (origin, dir) = (load(&rays.origin), load(&rays.dir));
+    let (origin, dir) = (rays_lanes(rays, 0), rays_lanes(rays, 1));
     let (e1, e2) = (splat(&shape.e1), splat(&shape.e2));
     let minus_d = [negate(dir[0]), negate(dir[1]), negate(dir[2])];
     // M = [e1 e2 −d] by columns; y = o − c.
@@ -281,24 +308,24 @@ unsafe fn solve4(shape: &Parallelogram4, rays: &Rays4, t_max: &[f64; 4]) -> Foun
         rare,
         ..Found4::default()
     };
-    // t first: a hit needs a finite t ≥ 0, and only t ≤ t_max can be kept.
-    let t = solved_row(&m, det, &y, 2);
-    // SAFETY: four f64s, read unaligned.
-    let t_max = unsafe { _mm256_loadu_pd(t_max.as_ptr()) };
+    let adj = adjugate(&m);
+    // t first: a hit needs a finite t ≥ 0, and only t ≤ t_max can be kept. (A division-free
+    // cull by N = adj · y against |M| with a margin, before this, measured no faster.)
+    let t = solved_row(&adj[2], det, &y);
     let near = _mm256_and_pd(
         _mm256_cmp_pd::<_CMP_GE_OQ>(t, zero),
-        _mm256_cmp_pd::<_CMP_LE_OQ>(t, t_max),
+        _mm256_cmp_pd::<_CMP_LE_OQ>(t, gather(*t_max)),
     );
     let mut keep = all3(usual, finite(t), near);
     if _mm256_movemask_pd(keep) == 0 {
         return found;
     }
-    let alpha = solved_row(&m, det, &y, 0);
+    let alpha = solved_row(&adj[0], det, &y);
     keep = _mm256_and_pd(keep, in_unit(alpha));
     if _mm256_movemask_pd(keep) == 0 {
         return found;
     }
-    let beta = solved_row(&m, det, &y, 1);
+    let beta = solved_row(&adj[1], det, &y);
     keep = _mm256_and_pd(keep, in_unit(beta));
     found.hit = _mm256_movemask_pd(keep) as u32;
     found.t = store(t);
@@ -395,11 +422,7 @@ mod tests {
             let Some(solver) = Parallelogram4::new(shape) else {
                 panic!("{shape:?}: a usual parallelogram left to the one-ray solver");
             };
-            let four = Rays4 {
-                origin: std::array::from_fn(|k| rays.map(|r| r[0][k])),
-                dir: std::array::from_fn(|k| rays.map(|r| r[1][k])),
-            };
-            let found = solver.solve(&four, &t_max);
+            let found = solver.solve(&rays.map(|[o, d]| (o, d)), &t_max);
             assert_eq!(found.hit & found.rare, 0);
             if scale == 1.0 {
                 assert_eq!(found.rare & !unusual, 0, "{i}: {rays:?} left to one ray");
