@@ -228,11 +228,12 @@ fn surely_outside(
     let outside = |x: f64, m: f64| x < -m || x > 1.0 + m;
     // Möller–Trumbore's t = e2·q / |M|; the solver's t is (e1 × e2)·(o − c) / |M| rounded
     // otherwise: both within a few roundings of |e1| |e2| |o − c| / |M| (q = s × e1) from the
-    // true t, a million times less than the margin.
+    // true t, a million times less than the margin. With |M| > 1e-200, underflow in the
+    // numerators (below 1e-321) moves t by less than 1e-100.
     let beyond = || {
         let t = dot(e2, &q) / det;
-        let margin = 1e-6 * (t.abs() + l1(e1) * l1(e2) * l1(&s) / det.abs()) + 1e-200;
-        t.is_finite() && t - margin > t_max
+        let margin = 1e-6 * (t.abs() + l1(e1) * l1(e2) * l1(&s) / det.abs()) + 1e-100;
+        det.abs() > 1e-200 && t.is_finite() && t - margin > t_max
     };
     conditioned
         && alpha.is_finite()
