@@ -1,6 +1,8 @@
 //! Casting one ray into a prepared scene: into each object's space, through its BVH, through the core's
 //! intersection method; the nearest hit wins. The common bugs the app shows are switched on here.
 
+mod parallelogram4;
+
 use serde::{Deserialize, Serialize};
 use strum::{EnumIter, IntoStaticStr};
 
@@ -184,13 +186,15 @@ pub fn test_triangle(
 }
 
 /// Tests a parallelogram with the core's solver (seed 001, without its trace): (α, β, t) or a miss.
+/// A ray whose t is surely beyond `t_max` (a nearer hit, the end of a shadow ray) may be called a
+/// miss: the caller would drop its hit.
 fn test_parallelogram(
     [corner, e1, e2]: [&V3<f64>; 3],
     bug: Option<Bug>,
-    origin: V3<f64>,
-    dir: V3<f64>,
+    (origin, dir): (V3<f64>, V3<f64>),
+    t_max: f64,
 ) -> Option<[f64; 3]> {
-    if surely_outside([corner, e1, e2], &origin, &dir) {
+    if surely_outside([corner, e1, e2], &origin, &dir, t_max) {
         return None;
     }
     let inside = solve_inside([corner, e1, e2], &origin, &dir)?;
@@ -202,9 +206,15 @@ fn test_parallelogram(
 /// True when the ray's line meets the parallelogram's plane so far outside it (α or β beyond [0, 1]
 /// by a margin a million times the rounding error) that seed 001's solver must find it outside too:
 /// the solver is skipped (its answer would be a miss whatever the bug). Möller–Trumbore's (α, β)
-/// for the system o + t d = c + α e1 + β e2, only where the system is far from singular.
+/// for the system o + t d = c + α e1 + β e2, only where the system is far from singular. Also true
+/// when the plane's t is beyond `t_max` by the same kind of margin (the hit would be dropped).
 #[inline]
-fn surely_outside([corner, e1, e2]: [&V3<f64>; 3], origin: &V3<f64>, dir: &V3<f64>) -> bool {
+fn surely_outside(
+    [corner, e1, e2]: [&V3<f64>; 3],
+    origin: &V3<f64>,
+    dir: &V3<f64>,
+    t_max: f64,
+) -> bool {
     use crate::math::linalg::{cross, dot};
     let l1 = |v: &V3<f64>| v[0].abs() + v[1].abs() + v[2].abs();
     let p = cross(dir, e2);
@@ -216,10 +226,21 @@ fn surely_outside([corner, e1, e2]: [&V3<f64>; 3], origin: &V3<f64>, dir: &V3<f6
     let conditioned = det.abs() > 1e-6 * l1(dir) * l1(e1) * l1(e2);
     let margin = |a: &V3<f64>, b: &V3<f64>| 1e-6 * (1.0 + l1(a) * l1(b) / det.abs());
     let outside = |x: f64, m: f64| x < -m || x > 1.0 + m;
+    // Möller–Trumbore's t = e2·q / |M|; the solver's t is (e1 × e2)·(o − c) / |M| rounded
+    // otherwise: both within a few roundings of |e1| |e2| |o − c| / |M| (q = s × e1) from the
+    // true t, a million times less than the margin. With |M| > 1e-200, underflow in the
+    // numerators (below 1e-321) moves t by less than 1e-100.
+    let beyond = || {
+        let t = dot(e2, &q) / det;
+        let margin = 1e-6 * (t.abs() + l1(e1) * l1(e2) * l1(&s) / det.abs()) + 1e-100;
+        det.abs() > 1e-200 && t.is_finite() && t - margin > t_max
+    };
     conditioned
         && alpha.is_finite()
         && beta.is_finite()
-        && (outside(alpha, margin(&s, &p)) || outside(beta, margin(dir, &q)))
+        && (outside(alpha, margin(&s, &p))
+            || outside(beta, margin(dir, &q))
+            || (t_max < f64::INFINITY && beyond()))
 }
 
 /// True when an object's triangles take the crack-free test: the method is `watertight` (the default
@@ -309,6 +330,7 @@ pub fn nearest_hits<const P: usize>(
                 bvh
             }
             _ if lone_hits(prepared, index, rays, &mut best, stats) => continue,
+            _ if parallelogram_hits(prepared, index, rays, &mut best, stats) => continue,
             _ => {
                 for (best, (origin, dir)) in best.iter_mut().zip(rays) {
                     hit_object(prepared, index, *origin, *dir, best, stats);
@@ -373,6 +395,62 @@ fn lone_hits<const P: usize>(
                 hit &= hit - 1;
                 let values = [t[lane], beta[lane], gamma[lane]];
                 offer(&mut best[lane], Hit::of(index, primitive, values));
+            }
+        }
+    }
+    true
+}
+
+/// A parallelogram, without a bug that changes its test, four rays at a time with AVX2
+/// ([`parallelogram4`]: seed 001's solver in lanes, the same bits, so the same hits as
+/// [`hit_object`]); a ray whose t is beyond its nearest hit so far is dropped before its α and β are
+/// computed. Rays the kernel leaves to the one-ray solver go through [`test_parallelogram`]. False
+/// when the object, the bug or the processor does not allow it (then nothing was done).
+fn parallelogram_hits<const P: usize>(
+    prepared: &Prepared,
+    index: usize,
+    rays: &[(V3<f64>, V3<f64>); P],
+    best: &mut [Option<Hit>; P],
+    stats: &mut Stats,
+) -> bool {
+    let object = &prepared.objects[index];
+    let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
+        return false;
+    };
+    // Shadow acne is a bug of secondary rays' origins: the test itself is the correct one.
+    let bug = prepared.bug.filter(|&bug| bug != Bug::ShadowAcne);
+    if !P.is_multiple_of(4) || bug.is_some() {
+        return false;
+    }
+    let Some(solver) = parallelogram4::Parallelogram4::new([corner, e1, e2]) else {
+        return false;
+    };
+    let (groups, _) = rays.as_chunks::<4>();
+    for (group, world) in groups.iter().enumerate() {
+        // Untransformed (a floor): the packet's own rays, written long before, so the kernel's
+        // loads need not wait for fresh copies' stores.
+        let moved: parallelogram4::Rays4;
+        let local = match object.object_from_world {
+            None => world,
+            Some(_) => {
+                moved = world.map(|(o, d)| to_object_space(object, o, d, None, stats));
+                &moved
+            }
+        };
+        let first = 4 * group;
+        let best = &mut best[first..first + 4];
+        let t_max = std::array::from_fn(|lane| best[lane].map_or(f64::INFINITY, |b| b.t));
+        stats.parallelogram_tests += 4;
+        let found = solver.solve(local, &t_max);
+        for (lane, best) in best.iter_mut().enumerate() {
+            let values = if found.rare & (1 << lane) != 0 {
+                test_parallelogram([corner, e1, e2], None, local[lane], t_max[lane])
+            } else {
+                let hit = found.hit & (1 << lane) != 0;
+                hit.then(|| [found.t[lane], found.alpha[lane], found.beta[lane]])
+            };
+            if let Some(values) = values {
+                offer(best, Hit::of(index, 0, values));
             }
         }
     }
@@ -480,8 +558,9 @@ fn hit_object(
             }
             Geometry::Parallelogram { corner, e1, e2, .. } => {
                 stats.parallelogram_tests += 1;
+                let t_max = best.map_or(f64::INFINITY, |b| b.t);
                 if let Some([t, alpha, beta]) =
-                    test_parallelogram([corner, e1, e2], prepared.bug, o, d)
+                    test_parallelogram([corner, e1, e2], prepared.bug, (o, d), t_max)
                 {
                     offer(
                         best,
@@ -593,7 +672,8 @@ fn object_hit_between(
         }
         Geometry::Parallelogram { corner, e1, e2, .. } => {
             stats.parallelogram_tests += 1;
-            let [t, alpha, beta] = test_parallelogram([corner, e1, e2], prepared.bug, o, d)?;
+            let [t, alpha, beta] =
+                test_parallelogram([corner, e1, e2], prepared.bug, (o, d), t_max)?;
             in_range(t).then_some(Hit::of(index, 0, [t, alpha, beta]))
         }
     }
@@ -698,7 +778,7 @@ mod tests {
                 origin,
                 dir,
             };
-            if !surely_outside([&corner, &e1, &e2], &origin, &dir) {
+            if !surely_outside([&corner, &e1, &e2], &origin, &dir, f64::INFINITY) {
                 continue;
             }
             skipped += 1;
@@ -711,6 +791,139 @@ mod tests {
             }
         }
         assert!(skipped > 10_000, "{skipped}");
+    }
+
+    /// The prefilter's cull by t never skips a ray whose hit would be kept (inside, t ≤ t_max): rays
+    /// near edges and corners, in front and behind, scaled far from 1, with t_max at the solver's
+    /// t, a few ulps either side, a relative 1e-9 either side, 1e-5 before, and anywhere; and it
+    /// does cull, also just before t.
+    #[test]
+    fn the_parallelogram_cull_skips_only_hits_beyond_t_max() {
+        use rand::Rng;
+        let mut random = rand_pcg::Pcg64::seed_from_u64(12);
+        let (mut culled, mut near_misses) = (0, 0);
+        for i in 0..200_000 {
+            let [corner, e1, e2, origin, mut dir] =
+                crate::geometry::parallelogram::lean::random_ray_near_edges(&mut random, 1e-12);
+            if i % 3 == 0 {
+                dir = dir.map(|x| -x);
+            }
+            let scale = [1e-150, 1e-20, 1e20, 1e150, 1.0, 1.0][i % 6];
+            let (corner, e1) = (corner.map(|x| x * scale), e1.map(|x| x * scale));
+            let (origin, dir) = (origin.map(|x| x * scale), dir.map(|x| x * scale));
+            let problem = RayParallelogram {
+                corner,
+                e1,
+                e2,
+                origin,
+                dir,
+            };
+            let Some([alpha, beta, t]) = solve(&problem).alpha_beta_t else {
+                continue;
+            };
+            let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
+            let t_max = match random.random_range(0..8) {
+                0 => t,
+                1 => t.next_up(),
+                2 => t.next_down(),
+                3 => t * (1.0 + 1e-9),
+                4 => t * (1.0 - 1e-9),
+                5 => t * (1.0 - 1e-5),
+                6 => random.random_range(0.0..1.0) * t.abs(),
+                _ => random.random_range(-1.0..1.0) * 10.0,
+            };
+            if !surely_outside([&corner, &e1, &e2], &origin, &dir, t_max) {
+                continue;
+            }
+            let kept = inside && t <= t_max;
+            assert!(
+                !kept,
+                "{problem:?}: culled at t_max {t_max}, but t {t} is kept"
+            );
+            culled += inside as usize;
+            near_misses += (inside && t_max >= t * (1.0 - 1e-5) && t > 0.0) as usize;
+        }
+        assert!(
+            culled > 5_000 && near_misses > 500,
+            "{culled} {near_misses}"
+        );
+    }
+}
+
+#[cfg(test)]
+mod packet_tests {
+    use super::*;
+    use crate::render::assets::Embedded;
+    use crate::scene::{Problem, Scene};
+
+    /// A mesh in front of two floors, one of them turned, stretched and moved (its rays go into its
+    /// space before the four-ray kernel), seen from above and from below the floors.
+    fn floors(camera_z: f64) -> Prepared {
+        let text = format!(
+            r#"(title: "t", note: "n", problem: Render((
+                width: 64, height: 48,
+                camera: Pinhole(position: (0.3, -5.0, {camera_z}), target: (0.0, 0.5, 0.3), fov_y: 50.0),
+                objects: [
+                    (shape: Mesh(obj: "meshes/octasphere.obj"),
+                     transform: (translate: (0.0, 0.8, 0.6), scale: (1.6, 0.6, 0.9))),
+                    (shape: Parallelogram(corner: (-3.0, -2.0, 0.0), e1: (6.0, 0.0, 0.0), e2: (0.0, 5.0, 0.0))),
+                    (shape: Parallelogram(corner: (-1.0, -1.0, 0.0), e1: (2.0, 0.0, 0.0), e2: (0.5, 2.0, 0.0)),
+                     transform: (translate: (0.5, 0.5, 0.4), rotate: (20.0, 0.0, 30.0), scale: (1.5, 0.7, 1.0))),
+                ],
+                effects: ["coverage"],
+            )))"#
+        );
+        let Problem::Render(scene) = Scene::from_ron(&text, "floors.ron").unwrap().problem else {
+            panic!("not a render scene");
+        };
+        Prepared::new(&scene, &Embedded).expect("the scene prepares")
+    }
+
+    /// Packets of 16 rays, whose parallelograms go four rays at a time through the AVX2 kernel, find
+    /// the very hits (bits included) and count the same work as one ray at a time.
+    #[test]
+    fn packets_hit_floors_as_one_ray_at_a_time() {
+        let (mut floor_hits, mut turned_hits) = (0, 0);
+        for camera_z in [2.0, -1.5] {
+            let prepared = floors(camera_z);
+            let (mut packet_stats, mut single_stats) = (Stats::default(), Stats::default());
+            for row in 0..prepared.height {
+                for start in (0..prepared.width).step_by(16) {
+                    let rays: [(V3<f64>, V3<f64>); 16] =
+                        std::array::from_fn(|k| prepared.ray(row, start + k));
+                    let packet = nearest_hits(&prepared, &rays, &mut packet_stats);
+                    for (k, (origin, dir)) in rays.iter().enumerate() {
+                        let single = nearest_hit(&prepared, *origin, *dir, &mut single_stats);
+                        let bits = |h: Option<Hit>| {
+                            h.map(|h| {
+                                (
+                                    h.object,
+                                    h.primitive,
+                                    [h.t, h.beta, h.gamma].map(f64::to_bits),
+                                )
+                            })
+                        };
+                        assert_eq!(
+                            bits(packet[k]),
+                            bits(single),
+                            "pixel ({row}, {})",
+                            start + k
+                        );
+                        floor_hits += usize::from(single.is_some_and(|h| h.object == 1));
+                        turned_hits += usize::from(single.is_some_and(|h| h.object == 2));
+                    }
+                }
+            }
+            assert_eq!(
+                packet_stats.parallelogram_tests,
+                single_stats.parallelogram_tests
+            );
+            assert_eq!(packet_stats.transforms, single_stats.transforms);
+        }
+        assert!(
+            floor_hits > 600 && turned_hits > 50,
+            "{floor_hits} {turned_hits}"
+        );
     }
 }
 

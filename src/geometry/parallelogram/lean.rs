@@ -78,6 +78,17 @@ pub fn solve_inside(
     })
 }
 
+/// The parallelogram's normal e1 × e2 when its own inputs pass the solver's refusals that do not
+/// depend on the ray (finite corner and edges, a finite normal, edges surely not parallel): then
+/// only the ray's checks remain for [`solve_inside`]. `None` when the solver could refuse every ray,
+/// or needs its norms to decide.
+#[inline]
+pub fn regular_normal([corner, e1, e2]: [&V3<f64>; 3]) -> Option<V3<f64>> {
+    let normal = cross(e1, e2);
+    let finite = [corner, e1, e2, &normal].iter().all(|v| all_finite(v));
+    (finite && surely_above(&normal, e1, e2)).then_some(normal)
+}
+
 /// True when |x| > TOLERANCE · |a| · |b| surely, without the norms' square roots: |x| ≥ max|xᵢ| and
 /// |a| |b| ≤ 3 max|aᵢ| max|bᵢ|, with a factor 2 for the norms' rounding. Then the solver's
 /// `negligible` check is false; otherwise the caller runs that check itself.
@@ -104,7 +115,20 @@ pub(crate) fn random_ray_near_edges(random: &mut rand_pcg::Pcg64, edge: f64) -> 
         vector(random, 2.0),
         vector(random, 2.0),
     );
-    let origin = vector(random, 8.0);
+    let [origin, dir] = random_ray_at(random, [&corner, &e1, &e2], edge);
+    [corner, e1, e2, origin, dir]
+}
+
+/// Tests: a ray's origin and a direction aimed at (α, β) of the parallelogram (c, e1, e2), within
+/// `edge` of 0 or 1 on half of the draws.
+#[cfg(test)]
+pub(crate) fn random_ray_at(
+    random: &mut rand_pcg::Pcg64,
+    [corner, e1, e2]: [&V3<f64>; 3],
+    edge: f64,
+) -> [V3<f64>; 2] {
+    use rand::Rng;
+    let origin: V3<f64> = std::array::from_fn(|_| random.random_range(-8.0..8.0));
     let mut near_edge = || match random.random_range(0..4) {
         0 => random.random_range(-edge..edge),
         1 => 1.0 + random.random_range(-edge..edge),
@@ -113,7 +137,7 @@ pub(crate) fn random_ray_near_edges(random: &mut rand_pcg::Pcg64, edge: f64) -> 
     let (a, b) = (near_edge(), near_edge());
     let target: V3<f64> = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k]);
     let dir = crate::math::linalg::sub(&target, &origin);
-    [corner, e1, e2, origin, dir]
+    [origin, dir]
 }
 
 #[cfg(test)]

@@ -1,0 +1,487 @@
+//! Four rays at once (AVX2, one f64 lane a ray) through seed 001's lean parallelogram solver,
+//! [`crate::geometry::parallelogram::lean::solve_inside`]: the same float operations in the same
+//! order (no fused multiply-add), so the same (α, β, t) and verdicts to the bit. A lane whose ray
+//! takes one of the solver's rare paths (a non-finite input, a zero direction, a direction nearly
+//! in the plane, whose check needs the norms) is marked for the one-ray solver. A lane whose t is
+//! negative, not finite or beyond the ray's nearest hit so far is dropped before its α and β are
+//! divided out: the solver's t is computed first, to the bit, so this cull needs no margin.
+
+// The AVX2 kernel: each unsafe block says in a SAFETY comment why it is sound.
+#![allow(unsafe_code)]
+
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::*;
+
+use crate::math::linalg::V3;
+
+/// Four rays (origin, direction), one a lane.
+pub type Rays4 = [(V3<f64>, V3<f64>); 4];
+
+/// What four rays found: lanes are bits (lane i is bit i), values are `[lane]`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Found4 {
+    /// The lanes the solver calls a hit (α, β in [0, 1], finite t ≥ 0) with t ≤ the lane's `t_max`.
+    pub hit: u32,
+    /// The lanes left to the one-ray solver: their `hit` bit is clear and their values mean nothing.
+    pub rare: u32,
+    /// The solver's t.
+    pub t: [f64; 4],
+    /// The solver's α.
+    pub alpha: [f64; 4],
+    /// The solver's β.
+    pub beta: [f64; 4],
+}
+
+/// The solver for one parallelogram, four rays at a time.
+pub struct Parallelogram4 {
+    corner: V3<f64>,
+    e1: V3<f64>,
+    e2: V3<f64>,
+    /// The largest |component| of e1 × e2 (for the solver's near-parallel check).
+    normal_largest: f64,
+}
+
+impl Parallelogram4 {
+    /// `None` when the processor lacks AVX2 and FMA, or when the parallelogram itself takes one of
+    /// the solver's rare paths (non-finite, or edges that may be parallel): then one ray at a time.
+    #[inline]
+    pub fn new([corner, e1, e2]: [&V3<f64>; 3]) -> Option<Parallelogram4> {
+        if !crate::render::lone::available() {
+            return None;
+        }
+        let normal = crate::geometry::parallelogram::lean::regular_normal([corner, e1, e2])?;
+        Some(Parallelogram4 {
+            corner: *corner,
+            e1: *e1,
+            e2: *e2,
+            normal_largest: largest(&normal),
+        })
+    }
+
+    /// The solver's answers for four rays (in the parallelogram's space), keeping only hits with
+    /// t ≤ `t_max` (per lane).
+    #[inline]
+    pub fn solve(&self, rays: &Rays4, t_max: &[f64; 4]) -> Found4 {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `new` made `self` only on a processor with AVX2 and FMA.
+        return unsafe { solve4(self, rays, t_max) };
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            // Never built: `new` needs AVX2.
+            let _ = (
+                rays,
+                t_max,
+                self.corner,
+                self.e1,
+                self.e2,
+                self.normal_largest,
+            );
+            Found4 {
+                rare: 0b1111,
+                ..Found4::default()
+            }
+        }
+    }
+}
+
+/// As the solver's `surely_above` takes it: the largest |component|.
+fn largest(v: &V3<f64>) -> f64 {
+    v[0].abs().max(v[1].abs()).max(v[2].abs())
+}
+
+#[cfg(target_arch = "x86_64")]
+type Lanes3 = [__m256d; 3];
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn splat(v: &V3<f64>) -> Lanes3 {
+    [
+        _mm256_set1_pd(v[0]),
+        _mm256_set1_pd(v[1]),
+        _mm256_set1_pd(v[2]),
+    ]
+}
+
+/// Four numbers into lanes, read one by one: the caller has just written them one by one, and a
+/// 256-bit load of four scalar stores would wait for them (no store forwarding).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn gather(x: [f64; 4]) -> __m256d {
+    _mm256_set_pd(x[3], x[2], x[1], x[0])
+}
+
+/// The rays' origins (`which` 0) or directions (1) as `[axis]` lanes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn rays_lanes(rays: &Rays4, which: usize) -> Lanes3 {
+    let part = |lane: usize| {
+        if which == 0 {
+            &rays[lane].0
+        } else {
+            &rays[lane].1
+        }
+    };
+    let axis = |k: usize| [part(0)[k], part(1)[k], part(2)[k], part(3)[k]];
+    [gather(axis(0)), gather(axis(1)), gather(axis(2))]
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn store(x: __m256d) -> [f64; 4] {
+    let mut out = [0.0; 4];
+    // SAFETY: four f64s into a four-f64 array.
+    unsafe { _mm256_storeu_pd(out.as_mut_ptr(), x) };
+    out
+}
+
+/// −x, as the solver's `neg`: the sign bit flipped.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn negate(x: __m256d) -> __m256d {
+    _mm256_xor_pd(x, _mm256_set1_pd(-0.0))
+}
+
+/// |x|.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn abs(x: __m256d) -> __m256d {
+    _mm256_andnot_pd(_mm256_set1_pd(-0.0), x)
+}
+
+/// All ones where x is finite (not NaN, not ±∞).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn finite(x: __m256d) -> __m256d {
+    _mm256_cmp_pd::<_CMP_LT_OQ>(abs(x), _mm256_set1_pd(f64::INFINITY))
+}
+
+/// a ∧ b ∧ c, lane by lane.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn all3(a: __m256d, b: __m256d, c: __m256d) -> __m256d {
+    _mm256_and_pd(_mm256_and_pd(a, b), c)
+}
+
+/// All ones where x = 0 (either sign).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn is_zero(x: __m256d) -> __m256d {
+    _mm256_cmp_pd::<_CMP_EQ_OQ>(x, _mm256_setzero_pd())
+}
+
+/// All ones where 0 ≤ x ≤ 1 (the solver's `in_unit`).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn in_unit(x: __m256d) -> __m256d {
+    _mm256_and_pd(
+        _mm256_cmp_pd::<_CMP_GE_OQ>(x, _mm256_setzero_pd()),
+        _mm256_cmp_pd::<_CMP_LE_OQ>(x, _mm256_set1_pd(1.0)),
+    )
+}
+
+/// The 2x2 determinant `ad − bc`, as `det2`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn det2(m: &[[__m256d; 2]; 2]) -> __m256d {
+    _mm256_sub_pd(
+        _mm256_mul_pd(m[0][0], m[1][1]),
+        _mm256_mul_pd(m[0][1], m[1][0]),
+    )
+}
+
+/// The minor of a 3x3 matrix without `row` and `col`, as `minor3`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn minor(m: &[Lanes3; 3], row: usize, col: usize) -> [[__m256d; 2]; 2] {
+    let keep = |skip: usize| -> [usize; 2] {
+        match skip {
+            0 => [1, 2],
+            1 => [0, 2],
+            _ => [0, 1],
+        }
+    };
+    let (rows, cols) = (keep(row), keep(col));
+    [
+        [m[rows[0]][cols[0]], m[rows[0]][cols[1]]],
+        [m[rows[1]][cols[0]], m[rows[1]][cols[1]]],
+    ]
+}
+
+/// The adjugate as `adjugate3`: adj[i][j] = (−1)^(i+j) |minor(j, i)|.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn adjugate(m: &[Lanes3; 3]) -> [Lanes3; 3] {
+    let entry = |i: usize, j: usize| {
+        let cofactor = det2(&minor(m, j, i));
+        if (i + j) % 2 == 1 {
+            negate(cofactor)
+        } else {
+            cofactor
+        }
+    };
+    [
+        [entry(0, 0), entry(0, 1), entry(0, 2)],
+        [entry(1, 0), entry(1, 1), entry(1, 2)],
+        [entry(2, 0), entry(2, 1), entry(2, 2)],
+    ]
+}
+
+/// Row i of the solver's M⁻¹ (o − c): ((0 + (adj[i][0] / |M|) y₀) + (adj[i][1] / |M|) y₁) +
+/// (adj[i][2] / |M|) y₂, as `dot(&adjugate[i].map(|x| x / det), &y)`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn solved_row(adjugate_row: &Lanes3, det: __m256d, y: &Lanes3) -> __m256d {
+    let mut sum = _mm256_setzero_pd();
+    for (entry, y) in adjugate_row.iter().zip(y) {
+        sum = _mm256_add_pd(sum, _mm256_mul_pd(_mm256_div_pd(*entry, det), *y));
+    }
+    sum
+}
+
+/// [`Parallelogram4::solve`] with AVX2.
+///
+/// # Safety
+/// Only call on a processor with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn solve4(shape: &Parallelogram4, rays: &Rays4, t_max: &[f64; 4]) -> Found4 {
+    let (origin, dir) = (rays_lanes(rays, 0), rays_lanes(rays, 1));
+    let (e1, e2) = (splat(&shape.e1), splat(&shape.e2));
+    let minus_d = [negate(dir[0]), negate(dir[1]), negate(dir[2])];
+    // M = [e1 e2 −d] by columns; y = o − c.
+    let m: [Lanes3; 3] = [
+        [e1[0], e2[0], minus_d[0]],
+        [e1[1], e2[1], minus_d[1]],
+        [e1[2], e2[2], minus_d[2]],
+    ];
+    let corner = splat(&shape.corner);
+    let y = [
+        _mm256_sub_pd(origin[0], corner[0]),
+        _mm256_sub_pd(origin[1], corner[1]),
+        _mm256_sub_pd(origin[2], corner[2]),
+    ];
+    // |M| = ((0 + m₀₀|A|) − m₀₁|B|) + m₀₂|C|, along the first row.
+    let mut det = _mm256_setzero_pd();
+    for col in 0..3 {
+        let product = _mm256_mul_pd(m[0][col], det2(&minor(&m, 0, col)));
+        det = if col == 1 {
+            _mm256_sub_pd(det, product)
+        } else {
+            _mm256_add_pd(det, product)
+        };
+    }
+    // The rays the kernel solves as the solver would: finite, a nonzero direction, a finite |M|
+    // surely not negligible (the solver's `surely_above(&[det, 0, 0], &normal, dir)`).
+    let zero = _mm256_setzero_pd();
+    let finite_ray = _mm256_and_pd(
+        all3(finite(origin[0]), finite(origin[1]), finite(origin[2])),
+        all3(finite(dir[0]), finite(dir[1]), finite(dir[2])),
+    );
+    let zero_dir = all3(is_zero(dir[0]), is_zero(dir[1]), is_zero(dir[2]));
+    let dir_largest = _mm256_max_pd(_mm256_max_pd(abs(dir[0]), abs(dir[1])), abs(dir[2]));
+    let product = _mm256_mul_pd(_mm256_set1_pd(shape.normal_largest), dir_largest);
+    let factor = <f64 as crate::math::real::Real>::TOLERANCE * 6.0;
+    let bound = _mm256_mul_pd(_mm256_set1_pd(factor), product);
+    let in_range = _mm256_and_pd(
+        finite(_mm256_mul_pd(product, _mm256_set1_pd(4.0))),
+        _mm256_cmp_pd::<_CMP_GT_OQ>(bound, _mm256_set1_pd(1e-280)),
+    );
+    let surely_above = _mm256_and_pd(in_range, _mm256_cmp_pd::<_CMP_GT_OQ>(abs(det), bound));
+    let usual = _mm256_andnot_pd(zero_dir, all3(finite_ray, finite(det), surely_above));
+    let rare = 0b1111 & !(_mm256_movemask_pd(usual) as u32);
+    let mut found = Found4 {
+        rare,
+        ..Found4::default()
+    };
+    let adj = adjugate(&m);
+    // t first: a hit needs a finite t ≥ 0, and only t ≤ t_max can be kept. (A division-free
+    // cull by N = adj · y against |M| with a margin, before this, measured no faster.)
+    let t = solved_row(&adj[2], det, &y);
+    let near = _mm256_and_pd(
+        _mm256_cmp_pd::<_CMP_GE_OQ>(t, zero),
+        _mm256_cmp_pd::<_CMP_LE_OQ>(t, gather(*t_max)),
+    );
+    let mut keep = all3(usual, finite(t), near);
+    if _mm256_movemask_pd(keep) == 0 {
+        return found;
+    }
+    let alpha = solved_row(&adj[0], det, &y);
+    keep = _mm256_and_pd(keep, in_unit(alpha));
+    if _mm256_movemask_pd(keep) == 0 {
+        return found;
+    }
+    let beta = solved_row(&adj[1], det, &y);
+    keep = _mm256_and_pd(keep, in_unit(beta));
+    found.hit = _mm256_movemask_pd(keep) as u32;
+    found.t = store(t);
+    found.alpha = store(alpha);
+    found.beta = store(beta);
+    found
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::parallelogram::lean::{
+        Inside, random_ray_at, random_ray_near_edges, solve_inside,
+    };
+    use crate::math::linalg::cross;
+    use rand::{Rng, SeedableRng};
+
+    /// What one ray at a time keeps: the solver's hit with t ≤ t_max, as (t, α, β).
+    fn one_at_a_time(
+        shape: [&V3<f64>; 3],
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        t_max: f64,
+    ) -> Option<[f64; 3]> {
+        let Inside {
+            alpha_beta_t: [alpha, beta, t],
+            hit,
+        } = solve_inside(shape, origin, dir)?;
+        (hit && t <= t_max).then_some([t, alpha, beta])
+    }
+
+    /// A ray made unusual on some draws: the solver's rare paths (zero, non-finite, nearly in the
+    /// plane, near its thresholds), behind, or left as it is.
+    fn vary(i: usize, [e1, e2]: [&V3<f64>; 2], origin: &mut V3<f64>, dir: &mut V3<f64>) {
+        let n = cross(e1, e2);
+        match i % 40 {
+            0 => *dir = std::array::from_fn(|k| e1[k] + 1e-17 * n[k]),
+            1 => *dir = [0.0; 3],
+            2 => dir[1] = f64::NAN,
+            3 => dir[2] = f64::INFINITY,
+            4 => origin[0] = f64::NEG_INFINITY,
+            5 => *dir = dir.map(|x| -x),
+            6 => *dir = std::array::from_fn(|k| e2[k] + 3e-15 * n[k] * (i % 7) as f64),
+            7 => *dir = dir.map(|x| x * 1e-300),
+            8 => *origin = std::array::from_fn(|k| origin[k] + 1e-3 * n[k] * (i % 3) as f64),
+            _ => {}
+        }
+    }
+
+    /// The t_max a lane is given: none, the solver's own t (a tie), just either side of it, or any.
+    fn t_max_for(random: &mut rand_pcg::Pcg64, t: Option<f64>) -> f64 {
+        let t = t.unwrap_or(1.0);
+        match random.random_range(0..6) {
+            0 => f64::INFINITY,
+            1 => t,
+            2 => t.next_down(),
+            3 => t.next_up(),
+            4 => 0.0,
+            _ => random.random_range(0.0..20.0),
+        }
+    }
+
+    /// Four lanes decide and compute as the one-ray solver does, to the bit: random parallelograms
+    /// (scaled far from 1 on some draws), four rays aimed near their edges and corners, rays on the
+    /// solver's rare paths, and t_max at, just before and just past the solver's t. A lane the kernel
+    /// leaves to the one-ray solver must be rare: only on the draws made unusual.
+    #[test]
+    fn four_lanes_solve_as_one_ray_at_a_time() {
+        if !crate::render::lone::available() {
+            return;
+        }
+        let mut random = rand_pcg::Pcg64::seed_from_u64(12);
+        let (mut hits, mut culled, mut rare) = (0, 0, 0);
+        for i in 0..40_000 {
+            let [corner, e1, e2, origin, dir] = random_ray_near_edges(&mut random, 1e-13);
+            let mut rays = [[origin, dir]; 4];
+            for ray in &mut rays[1..] {
+                *ray = random_ray_at(&mut random, [&corner, &e1, &e2], 1e-13);
+            }
+            let mut unusual = 0;
+            for (lane, [origin, dir]) in rays.iter_mut().enumerate() {
+                let draw = 4 * i + lane;
+                vary(draw, [&e1, &e2], origin, dir);
+                unusual |= u32::from(draw % 40 < 9) << lane;
+            }
+            let scale = [1e-150, 1e100, 1e153, 1.0, 1.0, 1.0][i % 6];
+            let (corner, e1) = (corner.map(|x| x * scale), e1.map(|x| x * scale));
+            let rays = rays.map(|ray| ray.map(|v| v.map(|x| x * scale)));
+            let shape = [&corner, &e1, &e2];
+            let t_max: [f64; 4] = std::array::from_fn(|lane| {
+                let t = solve_inside(shape, &rays[lane][0], &rays[lane][1]);
+                t_max_for(&mut random, t.map(|x| x.alpha_beta_t[2]))
+            });
+            let Some(solver) = Parallelogram4::new(shape) else {
+                panic!("{shape:?}: a usual parallelogram left to the one-ray solver");
+            };
+            let found = solver.solve(&rays.map(|[o, d]| (o, d)), &t_max);
+            assert_eq!(found.hit & found.rare, 0);
+            if scale == 1.0 {
+                assert_eq!(found.rare & !unusual, 0, "{i}: {rays:?} left to one ray");
+            }
+            rare += found.rare.count_ones();
+            for (lane, [origin, dir]) in rays.iter().enumerate() {
+                if found.rare & (1 << lane) != 0 {
+                    continue;
+                }
+                let expected = one_at_a_time(shape, origin, dir, t_max[lane]);
+                let got = (found.hit & (1 << lane) != 0)
+                    .then(|| [found.t[lane], found.alpha[lane], found.beta[lane]]);
+                let bits = |v: Option<[f64; 3]>| v.map(|v| v.map(f64::to_bits));
+                assert_eq!(
+                    bits(got),
+                    bits(expected),
+                    "{i} {lane}: {shape:?} {origin:?} {dir:?}"
+                );
+                hits += got.is_some() as usize;
+                culled += (expected.is_none()
+                    && one_at_a_time(shape, origin, dir, f64::INFINITY).is_some())
+                    as usize;
+            }
+        }
+        assert!(
+            hits > 8_000 && culled > 4_000 && rare > 30_000,
+            "{hits} {culled} {rare}"
+        );
+    }
+
+    /// A parallelogram that may take the solver's rare paths whatever the ray (edges parallel or
+    /// nearly so, a non-finite corner or edge, edges whose products overflow) is left to the one-ray
+    /// solver; a usual one is not.
+    #[test]
+    fn unusual_parallelograms_are_left_to_one_ray() {
+        if !crate::render::lone::available() {
+            return;
+        }
+        let mut random = rand_pcg::Pcg64::seed_from_u64(13);
+        for i in 0..1_000 {
+            let [corner, e1, e2, ..] = random_ray_near_edges(&mut random, 1e-13);
+            assert!(Parallelogram4::new([&corner, &e1, &e2]).is_some());
+            let unusual: [[V3<f64>; 3]; 5] = [
+                [corner, e2.map(|x| x * 3.0), e2],
+                [
+                    corner,
+                    std::array::from_fn(|k| 3.0 * e2[k] + 1e-16 * corner[k]),
+                    e2,
+                ],
+                [[f64::NAN, 0.0, 0.0], e1, e2],
+                [corner, e1.map(|x| x * f64::INFINITY), e2],
+                [corner, e1.map(|x| x * 1e200), e2.map(|x| x * 1e200)],
+            ];
+            for [c, a, b] in unusual {
+                assert!(
+                    Parallelogram4::new([&c, &a, &b]).is_none(),
+                    "{i}: {c:?} {a:?} {b:?}"
+                );
+            }
+        }
+    }
+}
