@@ -595,15 +595,20 @@ impl Bvh {
         if P == narrow::RAYS && self.narrow && !self.nodes.is_empty() {
             let packet = <&[(V3<f64>, V3<f64>); narrow::RAYS]>::try_from(rays.as_slice());
             let limits = <[f64; narrow::RAYS]>::try_from(t_max.as_slice());
-            let found = match (packet, limits) {
+            let mut best: [Nearest; P] = [None; P];
+            let found = match (
+                packet,
+                limits,
+                <&mut [Nearest; narrow::RAYS]>::try_from(&mut best[..]),
+            ) {
                 // SAFETY: this function is compiled with AVX2 and FMA and runs only where they are.
-                (Ok(packet), Ok(limits)) => unsafe {
-                    self.packet_narrow(packet, limits, box_tests, triangle_tests)
+                (Ok(packet), Ok(limits), Ok(out)) => unsafe {
+                    self.packet_narrow(packet, limits, box_tests, triangle_tests, out)
                 },
-                _ => None,
+                _ => false,
             };
-            if let Some(found) = found {
-                return std::array::from_fn(|r| found[r]);
+            if found {
+                return best;
             }
         }
         self.packet_inlined::<P, true>(rays, t_max, box_tests, triangle_tests)

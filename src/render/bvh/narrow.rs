@@ -209,13 +209,15 @@ impl Bvh {
         mut t_max: [f64; RAYS],
         box_tests: &mut u64,
         triangle_tests: &mut u64,
-    ) -> Option<[Nearest; RAYS]> {
+        best: &mut [Nearest; RAYS],
+    ) -> bool {
         use std::arch::x86_64::*;
         // SAFETY: the caller runs on a processor with AVX2 and FMA.
-        let mut lanes = unsafe { Lanes::new(rays, &t_max)? };
+        let Some(mut lanes) = (unsafe { Lanes::new(rays, &t_max) }) else {
+            return false;
+        };
         // Made when a ray first reaches a leaf (never `None` for rays in range: finite, d ≠ 0).
         let mut sheared: [Option<ShearedRay>; RAYS] = [None; RAYS];
-        let mut best: [Nearest; RAYS] = [None; RAYS];
         let shrink = _mm256_set1_ps(1.0 - RELATIVE);
         let relative = _mm256_set1_ps(RELATIVE);
         let zero = _mm256_setzero_ps();
@@ -376,7 +378,7 @@ impl Bvh {
                 }
             }
         });
-        Some(best)
+        true
     }
 }
 
