@@ -18,8 +18,9 @@ pub struct Rays4 {
     pub dir: [[f64; 4]; 3],
 }
 
+/// Three lanes of f64 (x86-64 only): a vector's components for four rays or triangles.
 #[cfg(target_arch = "x86_64")]
-type Lanes3 = [__m256d; 3];
+pub(super) type Lanes3 = [__m256d; 3];
 
 /// `a × b` as [`crate::math::linalg::cross`] computes it.
 #[cfg(target_arch = "x86_64")]
@@ -43,10 +44,11 @@ fn dot4(a: &Lanes3, b: &Lanes3) -> __m256d {
     sum
 }
 
+/// One vector in every lane.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn splat(v: &V3<f64>) -> Lanes3 {
+pub(super) fn splat(v: &V3<f64>) -> Lanes3 {
     // Written out: a closure passed to `map` may be left uninlined, outside this AVX2 function.
     [
         _mm256_set1_pd(v[0]),

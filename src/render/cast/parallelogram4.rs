@@ -13,6 +13,8 @@
 use std::arch::x86_64::*;
 
 use crate::math::linalg::V3;
+#[cfg(target_arch = "x86_64")]
+use crate::render::lone::{Lanes3, splat};
 
 /// Four rays (origin, direction), one a lane.
 pub type Rays4 = [(V3<f64>, V3<f64>); 4];
@@ -87,20 +89,6 @@ impl Parallelogram4 {
 /// As the solver's `surely_above` takes it: the largest |component|.
 fn largest(v: &V3<f64>) -> f64 {
     v[0].abs().max(v[1].abs()).max(v[2].abs())
-}
-
-#[cfg(target_arch = "x86_64")]
-type Lanes3 = [__m256d; 3];
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline]
-fn splat(v: &V3<f64>) -> Lanes3 {
-    [
-        _mm256_set1_pd(v[0]),
-        _mm256_set1_pd(v[1]),
-        _mm256_set1_pd(v[2]),
-    ]
 }
 
 /// Four numbers into lanes, read one by one: the caller has just written them one by one, and a
@@ -204,7 +192,7 @@ fn det2(m: &[[__m256d; 2]; 2]) -> __m256d {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn minor(m: &[Lanes3; 3], row: usize, col: usize) -> [[__m256d; 2]; 2] {
+fn minor3(m: &[Lanes3; 3], row: usize, col: usize) -> [[__m256d; 2]; 2] {
     let keep = |skip: usize| -> [usize; 2] {
         match skip {
             0 => [1, 2],
@@ -225,7 +213,7 @@ fn minor(m: &[Lanes3; 3], row: usize, col: usize) -> [[__m256d; 2]; 2] {
 #[inline]
 fn adjugate(m: &[Lanes3; 3]) -> [Lanes3; 3] {
     let entry = |i: usize, j: usize| {
-        let cofactor = det2(&minor(m, j, i));
+        let cofactor = det2(&minor3(m, j, i));
         if (i + j) % 2 == 1 {
             negate(cofactor)
         } else {
@@ -278,7 +266,7 @@ unsafe fn solve4(shape: &Parallelogram4, rays: &Rays4, t_max: &[f64; 4]) -> Foun
     // |M| = ((0 + m₀₀|A|) − m₀₁|B|) + m₀₂|C|, along the first row.
     let mut det = _mm256_setzero_pd();
     for col in 0..3 {
-        let product = _mm256_mul_pd(m[0][col], det2(&minor(&m, 0, col)));
+        let product = _mm256_mul_pd(m[0][col], det2(&minor3(&m, 0, col)));
         det = if col == 1 {
             _mm256_sub_pd(det, product)
         } else {
