@@ -82,10 +82,11 @@ fn load(rows: &[[f64; 4]; 3]) -> Lanes3 {
     }
 }
 
+/// Four lanes out to an array.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn store(x: __m256d) -> [f64; 4] {
+pub(super) fn store(x: __m256d) -> [f64; 4] {
     let mut out = [0.0; 4];
     // SAFETY: four f64s into a four-f64 array.
     unsafe { _mm256_storeu_pd(out.as_mut_ptr(), x) };

@@ -14,7 +14,7 @@ use std::arch::x86_64::*;
 
 use crate::math::linalg::V3;
 #[cfg(target_arch = "x86_64")]
-use crate::render::lone::{Lanes3, splat};
+use crate::render::lone::{Lanes3, splat, store};
 
 /// Four rays (origin, direction), one a lane.
 pub type Rays4 = [(V3<f64>, V3<f64>); 4];
@@ -114,16 +114,6 @@ fn rays_lanes(rays: &Rays4, which: usize) -> Lanes3 {
     };
     let axis = |k: usize| [part(0)[k], part(1)[k], part(2)[k], part(3)[k]];
     [gather(axis(0)), gather(axis(1)), gather(axis(2))]
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline]
-fn store(x: __m256d) -> [f64; 4] {
-    let mut out = [0.0; 4];
-    // SAFETY: four f64s into a four-f64 array.
-    unsafe { _mm256_storeu_pd(out.as_mut_ptr(), x) };
-    out
 }
 
 /// −x, as the solver's `neg`: the sign bit flipped.
