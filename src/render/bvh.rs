@@ -205,6 +205,34 @@ struct BoxRay {
     parallel: [bool; 3],
 }
 
+/// A query compiled twice: `$name` runs `$avx2` (the same body compiled with AVX2 and FMA) where
+/// the processor has them, else the baseline; both inline `$inlined::<AVX2>`.
+macro_rules! compiled_twice {
+    (
+        $(#[$doc:meta])*
+        pub fn $name:ident / $avx2:ident => $inlined:ident($($arg:ident: $ty:ty),* $(,)?) -> $out:ty
+    ) => {
+        $(#[$doc])*
+        pub fn $name(&self, $($arg: $ty),*) -> $out {
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+            {
+                // SAFETY: the processor has AVX2 and FMA, checked just above.
+                return unsafe { self.$avx2($($arg),*) };
+            }
+            self.$inlined::<false>($($arg),*)
+        }
+
+        #[doc = concat!("[`Bvh::", stringify!($name), "`] compiled with AVX2 and FMA (only called when the processor has them).")]
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2,fma")]
+        fn $avx2(&self, $($arg: $ty),*) -> $out {
+            self.$inlined::<true>($($arg),*)
+        }
+    };
+}
+
 impl Bvh {
     /// Builds the hierarchy over `triangles`.
     pub fn build(triangles: &[PreparedTriangle]) -> Bvh {
@@ -361,59 +389,21 @@ impl Bvh {
         });
     }
 
-    /// The nearest triangle the crack-free watertight test hits with `t_min < t ≤ t_max` (ties to
-    /// the lower triangle index): its index and (t, β, γ). Counts box and triangle tests.
-    ///
-    /// Compiled twice, as the batched path is: with AVX2 and FMA where the processor has them (the
-    /// same arithmetic, as Rust never fuses a multiply and an add on its own, so the same answers),
-    /// else for the baseline.
-    pub fn nearest_crack_free(
-        &self,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
-        t_min: f64,
-        t_max: f64,
-        box_tests: &mut u64,
-        triangle_tests: &mut u64,
-    ) -> Option<(usize, [f64; 3])> {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: the processor has AVX2 and FMA, checked just above.
-            return unsafe {
-                self.nearest_crack_free_avx2(origin, dir, t_min, t_max, box_tests, triangle_tests)
-            };
-        }
-        self.nearest_crack_free_inlined::<false>(
-            origin,
-            dir,
-            t_min,
-            t_max,
-            box_tests,
-            triangle_tests,
-        )
-    }
-
-    /// [`Bvh::nearest_crack_free`] compiled with AVX2 and FMA (only called when the processor has them).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn nearest_crack_free_avx2(
-        &self,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
-        t_min: f64,
-        t_max: f64,
-        box_tests: &mut u64,
-        triangle_tests: &mut u64,
-    ) -> Option<(usize, [f64; 3])> {
-        self.nearest_crack_free_inlined::<true>(
-            origin,
-            dir,
-            t_min,
-            t_max,
-            box_tests,
-            triangle_tests,
-        )
+    compiled_twice! {
+        /// The nearest triangle the crack-free watertight test hits with `t_min < t ≤ t_max` (ties
+        /// to the lower triangle index): its index and (t, β, γ). Counts box and triangle tests.
+        ///
+        /// Compiled twice, as the batched path is: with AVX2 and FMA where the processor has them
+        /// (the same arithmetic, as Rust never fuses a multiply and an add on its own, so the same
+        /// answers), else for the baseline.
+        pub fn nearest_crack_free / nearest_crack_free_avx2 => nearest_crack_free_inlined(
+            origin: &V3<f64>,
+            dir: &V3<f64>,
+            t_min: f64,
+            t_max: f64,
+            box_tests: &mut u64,
+            triangle_tests: &mut u64,
+        ) -> Option<(usize, [f64; 3])>
     }
 
     /// The traversal and tests themselves, inlined into each of the two builds above.
@@ -436,44 +426,20 @@ impl Bvh {
         best
     }
 
-    /// True when the crack-free test hits some triangle with `t_min < t < t_max` (an any-hit, or
-    /// shadow, query: the traversal stops at the first such hit, nearest boxes first). Counts box
-    /// and triangle tests. True exactly when [`Bvh::nearest_crack_free`] finds its nearest hit
-    /// before `t_max`. Compiled twice, as that is: AVX2 and FMA where the processor has them, else
-    /// the baseline.
-    pub fn occluded(
-        &self,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
-        t_min: f64,
-        t_max: f64,
-        box_tests: &mut u64,
-        triangle_tests: &mut u64,
-    ) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: the processor has AVX2 and FMA, checked just above.
-            return unsafe {
-                self.occluded_avx2(origin, dir, t_min, t_max, box_tests, triangle_tests)
-            };
-        }
-        self.occluded_inlined::<false>(origin, dir, t_min, t_max, box_tests, triangle_tests)
-    }
-
-    /// [`Bvh::occluded`] compiled with AVX2 and FMA (only called when the processor has them).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn occluded_avx2(
-        &self,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
-        t_min: f64,
-        t_max: f64,
-        box_tests: &mut u64,
-        triangle_tests: &mut u64,
-    ) -> bool {
-        self.occluded_inlined::<true>(origin, dir, t_min, t_max, box_tests, triangle_tests)
+    compiled_twice! {
+        /// True when the crack-free test hits some triangle with `t_min < t < t_max` (an any-hit,
+        /// or shadow, query: the traversal stops at the first such hit, nearest boxes first).
+        /// Counts box and triangle tests. True exactly when [`Bvh::nearest_crack_free`] finds its
+        /// nearest hit before `t_max`. Compiled twice, as that is: AVX2 and FMA where the
+        /// processor has them, else the baseline.
+        pub fn occluded / occluded_avx2 => occluded_inlined(
+            origin: &V3<f64>,
+            dir: &V3<f64>,
+            t_min: f64,
+            t_max: f64,
+            box_tests: &mut u64,
+            triangle_tests: &mut u64,
+        ) -> bool
     }
 
     /// The any-hit traversal itself, inlined into each of the two builds above.
