@@ -175,21 +175,25 @@ fn row(
 }
 
 /// raylab's any-hit queries on every camera ray of a one-mesh scene, in a pool of [`THREADS`]
-/// threads (rows in parallel): (median ms, occluded rays).
+/// threads (rows in parallel): (median ms, occluded rays). The rays are made before the clock
+/// starts, as the script's are.
 fn raylab_occluded(pool: &rayon::ThreadPool, prepared: &Prepared) -> Option<(f64, usize)> {
     use rayon::prelude::*;
     let Geometry::Triangles { bvh: Some(bvh), .. } = &prepared.objects.first()?.geometry else {
         return None;
     };
+    let rows: Vec<Vec<(V3<f64>, V3<f64>)>> = (0..prepared.height)
+        .map(|row| {
+            (0..prepared.width)
+                .map(|column| prepared.ray(row, column))
+                .collect()
+        })
+        .collect();
     let count = || {
-        (0..prepared.height)
-            .into_par_iter()
+        rows.par_iter()
             .map(|row| {
-                (0..prepared.width)
-                    .filter(|&column| {
-                        let (o, d) = prepared.ray(row, column);
-                        bvh.occluded(&o, &d, 0.0, f64::INFINITY, &mut 0, &mut 0)
-                    })
+                row.iter()
+                    .filter(|(o, d)| bvh.occluded(o, d, 0.0, f64::INFINITY, &mut 0, &mut 0))
                     .count()
             })
             .sum::<usize>()
