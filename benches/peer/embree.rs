@@ -82,6 +82,17 @@ fn embree(
     prepared: &Prepared,
     name: &str,
 ) -> Result<(f64, usize), String> {
+    run_script(script, triangles, prepared, &format!("render-{name}"))
+}
+
+/// Runs an Embree `script` on `triangles` (written to a temporary OBJ named after `tag`) with the
+/// scene's pinhole camera, image size, [`THREADS`] and [`repeats`]: its median ms and its count.
+fn run_script(
+    script: &str,
+    triangles: &[[V3<f64>; 3]],
+    prepared: &Prepared,
+    tag: &str,
+) -> Result<(f64, usize), String> {
     let Camera::Pinhole {
         position,
         target,
@@ -90,7 +101,7 @@ fn embree(
     else {
         return Err("the script takes pinhole cameras only".into());
     };
-    let path = std::env::temp_dir().join(format!("raylab-peer-{name}-{}.obj", std::process::id()));
+    let path = std::env::temp_dir().join(format!("raylab-peer-{tag}-{}.obj", std::process::id()));
     std::fs::write(&path, to_obj(triangles)).map_err(|e| format!("cannot write the OBJ: {e}"))?;
     let join = |v: &[f64; 3]| format!("{:?},{:?},{:?}", v[0], v[1], v[2]);
     let output = Command::new("python3")
@@ -222,33 +233,7 @@ fn embree_occluded(
         env!("CARGO_MANIFEST_DIR"),
         "/benches/peer/embree_occluded.py"
     );
-    let Camera::Pinhole {
-        position,
-        target,
-        fov_y,
-    } = &prepared.camera
-    else {
-        return Err("the script takes pinhole cameras only".into());
-    };
-    let path = std::env::temp_dir().join(format!(
-        "raylab-peer-shadow-{name}-{}.obj",
-        std::process::id()
-    ));
-    std::fs::write(&path, to_obj(triangles)).map_err(|e| format!("cannot write the OBJ: {e}"))?;
-    let join = |v: &[f64; 3]| format!("{:?},{:?},{:?}", v[0], v[1], v[2]);
-    let output = Command::new("python3")
-        .arg(script)
-        .arg("--obj")
-        .arg(&path)
-        .args(["--eye", &join(position), "--target", &join(target)])
-        .args(["--fov", &format!("{fov_y:?}")])
-        .args(["--size", &format!("{}x{}", prepared.width, prepared.height)])
-        .args(["--threads", &THREADS.to_string()])
-        .args(["--reps", &repeats().to_string()])
-        .output();
-    let _ = std::fs::remove_file(&path);
-    let output = output.map_err(|e| format!("cannot run python3: {e}"))?;
-    median_and_coverage(&output)
+    run_script(script, triangles, prepared, &format!("shadow-{name}"))
 }
 
 /// Shadow rays: both sides' any-hit queries on the generated meshes.
