@@ -246,9 +246,7 @@ fn surely_outside(
 /// True when an object's triangles take the crack-free test: the method is `watertight` (the default
 /// for meshes) and no bug is switched on. `watertight-exact` keeps the exact-deciding test.
 pub fn crack_free_applies(prepared: &Prepared, object: &PreparedObject) -> bool {
-    // Shadow acne is a bug of the secondary rays' origins, not of the triangle test.
-    matches!(prepared.bug, None | Some(Bug::ShadowAcne))
-        && prepared.method_for(object) == Method::Watertight
+    test_bug(prepared).is_none() && prepared.method_for(object) == Method::Watertight
 }
 
 /// The nearest hit of the crack-free test among `triangles` (through the BVH when there is one) with
@@ -357,9 +355,39 @@ pub fn nearest_hits<const P: usize>(
     best
 }
 
-/// Lone triangles (Möller–Trumbore) and parallelograms, without a bug, four rays at a time with
+/// The bug the primitive tests see: shadow acne moves secondary rays' origins, not a test.
+fn test_bug(prepared: &Prepared) -> Option<Bug> {
+    prepared.bug.filter(|&bug| bug != Bug::ShadowAcne)
+}
+
+/// Hands a packet's rays to `four`, four at a time, in `object`'s space, with their hits so far:
+/// what the four-lane kernels take. An untransformed object (a floor) gets the packet's own rays,
+/// written long before, so the kernel's loads need not wait for fresh copies' stores.
+#[inline(always)]
+fn each_four<const P: usize>(
+    object: &PreparedObject,
+    rays: &[(V3<f64>, V3<f64>); P],
+    best: &mut [Option<Hit>; P],
+    stats: &mut Stats,
+    mut four: impl FnMut(&[(V3<f64>, V3<f64>); 4], &mut [Option<Hit>], &mut Stats),
+) {
+    let (groups, _) = rays.as_chunks::<4>();
+    for (group, world) in groups.iter().enumerate() {
+        let moved: [(V3<f64>, V3<f64>); 4];
+        let local = match object.object_from_world {
+            None => world,
+            Some(_) => {
+                moved = world.map(|(o, d)| to_object_space(object, o, d, None, stats));
+                &moved
+            }
+        };
+        four(local, &mut best[4 * group..4 * group + 4], stats);
+    }
+}
+
+/// Lone triangles (Möller–Trumbore), without a bug that changes the test, four rays at a time with
 /// AVX2 ([`super::lone`]: the same arithmetic, so the same hits as [`hit_object`]). False when the
-/// object or the processor does not allow it (then nothing was done).
+/// object, the bug or the processor does not allow it (then nothing was done).
 fn lone_hits<const P: usize>(
     prepared: &Prepared,
     index: usize,
@@ -369,23 +397,24 @@ fn lone_hits<const P: usize>(
 ) -> bool {
     use super::lone::{self, Rays4};
     let object = &prepared.objects[index];
-    let lone_triangles = matches!(object.geometry, Geometry::Triangles { bvh: None, .. })
-        && prepared.method_for(object) == Method::MollerTrumbore;
-    if !P.is_multiple_of(4) || prepared.bug.is_some() || !lone_triangles || !lone::available() {
+    let Geometry::Triangles {
+        triangles,
+        bvh: None,
+    } = &object.geometry
+    else {
+        return false;
+    };
+    if !P.is_multiple_of(4)
+        || test_bug(prepared).is_some()
+        || prepared.method_for(object) != Method::MollerTrumbore
+        || !lone::available()
+    {
         return false;
     }
-    for first in (0..P).step_by(4) {
-        let local: [(V3<f64>, V3<f64>); 4] = std::array::from_fn(|lane| {
-            let (o, d) = rays[first + lane];
-            to_object_space(object, o, d, None, stats)
-        });
+    each_four(object, rays, best, stats, |local, best, stats| {
         let four = Rays4 {
             origin: std::array::from_fn(|k| local.map(|(o, _)| o[k])),
             dir: std::array::from_fn(|k| local.map(|(_, d)| d[k])),
-        };
-        let best = &mut best[first..first + 4];
-        let Geometry::Triangles { triangles, .. } = &object.geometry else {
-            return false;
         };
         for (primitive, triangle) in triangles.iter().enumerate() {
             stats.triangle_tests += 4;
@@ -397,7 +426,7 @@ fn lone_hits<const P: usize>(
                 offer(&mut best[lane], Hit::of(index, primitive, values));
             }
         }
-    }
+    });
     true
 }
 
@@ -417,28 +446,13 @@ fn parallelogram_hits<const P: usize>(
     let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
         return false;
     };
-    // Shadow acne is a bug of secondary rays' origins: the test itself is the correct one.
-    let bug = prepared.bug.filter(|&bug| bug != Bug::ShadowAcne);
-    if !P.is_multiple_of(4) || bug.is_some() {
+    if !P.is_multiple_of(4) || test_bug(prepared).is_some() {
         return false;
     }
     let Some(solver) = parallelogram4::Parallelogram4::new([corner, e1, e2]) else {
         return false;
     };
-    let (groups, _) = rays.as_chunks::<4>();
-    for (group, world) in groups.iter().enumerate() {
-        // Untransformed (a floor): the packet's own rays, written long before, so the kernel's
-        // loads need not wait for fresh copies' stores.
-        let moved: parallelogram4::Rays4;
-        let local = match object.object_from_world {
-            None => world,
-            Some(_) => {
-                moved = world.map(|(o, d)| to_object_space(object, o, d, None, stats));
-                &moved
-            }
-        };
-        let first = 4 * group;
-        let best = &mut best[first..first + 4];
+    each_four(object, rays, best, stats, |local, best, stats| {
         let t_max = std::array::from_fn(|lane| best[lane].map_or(f64::INFINITY, |b| b.t));
         stats.parallelogram_tests += 4;
         let found = solver.solve(local, &t_max);
@@ -453,7 +467,7 @@ fn parallelogram_hits<const P: usize>(
                 offer(best, Hit::of(index, 0, values));
             }
         }
-    }
+    });
     true
 }
 
