@@ -78,11 +78,13 @@ impl Shader {
             stats.shading += 1;
         }
         let normal = self.world_normal(object, hit, stats);
-        let facing = self.facing.then(|| -dot(&normal, dir) * inverse_length);
+        let facing = self
+            .facing
+            .then(|| facing_ratio(&normal, dir, inverse_length));
         let mut fade = 1.0;
         if self.depth {
             stats.depth_fades += 1;
-            fade = 1.0 / (1.0 + 0.1 * hit.t.abs() / inverse_length);
+            fade = 1.0 / depth_divisor(hit, inverse_length);
         }
         Surface {
             base,
@@ -109,15 +111,15 @@ impl Shader {
         if self.facing {
             stats.shading += 1;
             let normal = self.world_normal(object, hit, stats);
-            // Seed 003's facing ratio n̂ · (−ê), with ê the unit ray direction; back faces are black.
-            let ratio = -dot(&normal, dir) * inverse_length;
+            // Back faces are black.
+            let ratio = facing_ratio(&normal, dir, inverse_length);
             color = color.map(|c| c * ratio.max(0.0));
             facing = Some(ratio);
         }
         if self.depth {
             stats.depth_fades += 1;
-            let distance = hit.t.abs() / inverse_length;
-            color = color.map(|c| c / (1.0 + 0.1 * distance));
+            let divisor = depth_divisor(hit, inverse_length);
+            color = color.map(|c| c / divisor);
         }
         Shading {
             color: color.map(|c| c as f32),
@@ -191,4 +193,16 @@ impl Shader {
 /// Σ wᵢ vᵢ over the three vertices.
 fn interpolate<const N: usize>(weights: &[f64; 3], values: &[[f64; N]; 3]) -> [f64; N] {
     std::array::from_fn(|k| (0..3).map(|i| weights[i] * values[i][k]).sum())
+}
+
+/// Seed 003's facing ratio n̂ · (−ê), with ê the unit ray direction (`inverse_length` = 1/|dir|).
+#[inline(always)]
+fn facing_ratio(normal: &V3<f64>, dir: &V3<f64>, inverse_length: f64) -> f64 {
+    -dot(normal, dir) * inverse_length
+}
+
+/// The depth cue's divisor 1 + 0.1·distance, the distance along the ray being |t|·|dir|.
+#[inline(always)]
+fn depth_divisor(hit: &Hit, inverse_length: f64) -> f64 {
+    1.0 + 0.1 * (hit.t.abs() / inverse_length)
 }
