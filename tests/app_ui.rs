@@ -339,8 +339,8 @@ fn the_accuracy_view_runs_in_the_background_and_loads_hard_cases() {
     let mut harness = harness();
     common::start_study(&mut harness, [40, 40], 1, 0.0);
     // The UI keeps drawing frames while the named worker thread measures.
-    step_while(&mut harness, 20, "the study did not finish", |app| {
-        app.accuracy.is_running()
+    step_while(&mut harness, 20, "the study did not finish", |h| {
+        h.state().accuracy.is_running()
     });
     assert!(!harness.state().accuracy.records.is_empty());
     assert!(shows(
@@ -376,8 +376,8 @@ fn a_running_study_can_be_cancelled() {
     let mut harness = harness();
     common::start_study(&mut harness, [3000, 3000], 1, 0.05);
     harness.get_by_label("Cancel").click();
-    step_while(&mut harness, 20, "cancel did not stop the study", |app| {
-        app.accuracy.is_running()
+    step_while(&mut harness, 20, "cancel did not stop the study", |h| {
+        h.state().accuracy.is_running()
     });
     assert!(harness.state().accuracy.status.contains("cancelled"));
 }

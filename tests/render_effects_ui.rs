@@ -8,7 +8,7 @@
 #[allow(dead_code)] // the shared helpers these tests do not need
 mod common;
 
-use common::{app_at, click_image, shows_text_containing, wait_for_render};
+use common::{app_at, click_image, shows_text_containing, step_while, wait_for_render};
 use egui::Vec2;
 use egui_kittest::kittest::Queryable;
 use raylab::app::ViewKind;
@@ -144,13 +144,9 @@ fn a_mirror_pixel_shows_its_reflected_ray_and_each_effect_has_a_cost() {
 
     // Each effect's cost: the scene rendered with all on, then without each.
     click_label(&mut harness, "Measure the cost of each effect");
-    let started = std::time::Instant::now();
-    while !shows_text_containing(&harness, "without reflections") {
-        assert!(started.elapsed().as_secs() < 120, "no cost table");
-        std::thread::sleep(std::time::Duration::from_millis(20));
-        harness.step();
-    }
-    harness.run();
+    step_while(&mut harness, 20, "no cost table", |h| {
+        !shows_text_containing(h, "without reflections")
+    });
     assert!(shows_text_containing(&harness, "all effects on"));
     assert!(shows_text_containing(&harness, "without smooth-normals"));
 }

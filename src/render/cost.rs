@@ -126,6 +126,6 @@ mod tests {
         assert!(rays(0, RayKind::Shadow) > 0 && rays(0, RayKind::Sample) > 0);
         assert_eq!(rays(1, RayKind::Shadow), 0);
         assert_eq!(rays(2, RayKind::Sample), 0);
-        assert!(costs.iter().all(|c| c.stats.rays == 96 && c.seconds >= 0.0));
+        assert!(costs.iter().all(|c| c.stats.rays == 96));
     }
 }

@@ -37,21 +37,21 @@ pub fn app_at(preset: &str) -> Harness<'static, RaylabApp> {
 pub fn wait_for_render(harness: &mut Harness<'static, RaylabApp>) {
     harness.step();
     harness.step();
-    step_while(harness, 10, "the render did not finish", |app| {
-        app.state.render.is_rendering()
+    step_while(harness, 10, "the render did not finish", |h| {
+        h.state().state.render.is_rendering()
     });
 }
 
-/// Steps frames `pause_ms` apart while `busy` holds (work on a worker thread), then runs the app to
-/// rest; fails with `failure` after two minutes.
+/// Steps frames `pause_ms` apart while `busy` holds (work on a worker thread, or a text not shown
+/// yet), then runs the app to rest; fails with `failure` after two minutes.
 pub fn step_while(
     harness: &mut Harness<'static, RaylabApp>,
     pause_ms: u64,
     failure: &str,
-    busy: impl Fn(&RaylabApp) -> bool,
+    busy: impl Fn(&Harness<'static, RaylabApp>) -> bool,
 ) {
     let started = std::time::Instant::now();
-    while busy(harness.state()) {
+    while busy(harness) {
         assert!(started.elapsed().as_secs() < 120, "{failure}");
         std::thread::sleep(std::time::Duration::from_millis(pause_ms));
         harness.step();
