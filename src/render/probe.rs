@@ -24,7 +24,7 @@ pub struct Probe {
     pub triangle: Option<[V3<f64>; 3]>,
     /// n̂ · (−ê) at the hit, when the scene shades.
     pub facing: Option<f64>,
-    /// The pixel's colour.
+    /// The pixel's colour, as the render gives it.
     pub color: [f32; 3],
 }
 
@@ -33,6 +33,13 @@ pub fn probe(prepared: &Prepared, row: usize, column: usize) -> Probe {
     let (origin, dir) = prepared.ray(row, column);
     let mut stats = Stats::default();
     let hit = nearest_hit(prepared, origin, dir, &mut stats);
+    // Lit scenes and the effects past ray casting: the render's own pixel, lights, shadows, mirrors,
+    // glass, occlusion and antialiasing's mean included.
+    let traced = super::trace_rays::applies(prepared).then(|| {
+        super::trace_rays::Tracer::new(prepared)
+            .pixel((row, column), (origin, dir), hit, &mut stats)
+            .map(|c| c as f32)
+    });
     let shading = hit.map(|hit| {
         let inverse_length = 1.0 / crate::math::linalg::dot(&dir, &dir).sqrt();
         Shader::new(&prepared.effects).shade(
@@ -56,7 +63,7 @@ pub fn probe(prepared: &Prepared, row: usize, column: usize) -> Probe {
         nearest_miss,
         triangle: target.and_then(|(o, p)| world_triangle(&prepared.objects[o], p)),
         facing: shading.and_then(|s| s.facing),
-        color: shading.map_or([0.0; 3], |s| s.color),
+        color: traced.unwrap_or(shading.map_or([0.0; 3], |s| s.color)),
     }
 }
 

@@ -151,8 +151,7 @@ impl RenderView {
                     if let Some(facing) = probe.facing {
                         ui.label(format!("facing ratio n̂·(−ê) = {facing:.4}"));
                     }
-                    let colour = self.shown_colour(probe.pixel).unwrap_or(probe.color);
-                    let [r, g, b] = colour.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+                    let [r, g, b] = probe.color.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
                     ui.label(format!("colour ({r}, {g}, {b})"));
                     let (rect, _) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::hover());
                     ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
@@ -196,19 +195,6 @@ impl RenderView {
             return Some(loaded);
         }
         action
-    }
-
-    /// The pixel's colour in the image shown, when it was rendered under the current choices (lit,
-    /// with shadows, mirrors, glass and antialiasing's mean: more than the probe's one ray shades).
-    fn shown_colour(&self, (row, column): (usize, usize)) -> Option<[f32; 3]> {
-        let shown = self.runtime.correct.shown.as_ref()?;
-        let key = &shown.key;
-        let current =
-            key.scene == self.scene && key.effects == self.effects && key.method == self.method;
-        let image = &shown.rendered.image;
-        current
-            .then(|| image.pixels.get(row * image.width + column).copied())
-            .flatten()
     }
 
     pub(super) fn object_kind(&self, index: usize) -> &'static str {
