@@ -59,14 +59,15 @@ impl RenderView {
 
     /// Loads a ray of the tree into its view, and switches to that view on the next frame.
     pub(super) fn open_ray(&mut self, opened: tree::Opened) -> Action {
-        let view = match opened.problem {
-            Action::Parallelogram(_) => super::ViewKind::Parallelogram,
-            _ => super::ViewKind::Triangle,
-        };
-        self.runtime.probed_problem = Some(opened.problem.clone());
         self.runtime.opened = Some(opened.name);
-        self.runtime.pending = Some(Action::Open(view));
-        opened.problem
+        self.load_problem(opened.problem)
+    }
+
+    /// Loads a probed problem into its view, and switches to that view on the next frame.
+    fn load_problem(&mut self, problem: Action) -> Action {
+        self.runtime.probed_problem = Some(problem.clone());
+        self.runtime.pending = Some(Action::Open(view_of(&problem)));
+        problem
     }
 
     /// Probes a pixel; the hit (or nearest missed) primitive goes to its view.
@@ -188,11 +189,8 @@ impl RenderView {
             && let Ok(prepared) = self.prepared(None)
             && let Some(problem) = probed_problem(&prepared, probe)
         {
-            let name = "the primary ray".to_string();
             self.runtime.opened = None;
-            let loaded = self.open_ray(tree::Opened { problem, name });
-            self.runtime.opened = None;
-            return Some(loaded);
+            return Some(self.load_problem(problem));
         }
         action
     }
@@ -247,4 +245,13 @@ fn problem_of(prepared: &Prepared, (origin, dir): crate::render::Ray, hit: Hit) 
         origin,
         dir,
     }))
+}
+
+/// The view that shows a probed problem: the Parallelogram view for a parallelogram, else the
+/// Triangle view.
+pub(super) fn view_of(problem: &Action) -> super::ViewKind {
+    match problem {
+        Action::Parallelogram(_) => super::ViewKind::Parallelogram,
+        _ => super::ViewKind::Triangle,
+    }
 }

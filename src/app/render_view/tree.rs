@@ -166,10 +166,7 @@ impl RenderView {
         let Some(problem) = self.hit_problem(ray, hit) else {
             return;
         };
-        let view = match problem {
-            Action::Parallelogram(_) => ViewKind::Parallelogram,
-            _ => ViewKind::Triangle,
-        };
+        let view = super::probe::view_of(&problem);
         let label = format!("Open {name} in the {} view", view.label());
         let response = ui.button("Steps →").on_hover_text(format!(
             "{label}: the same ray and what it hit, with every step"
