@@ -29,16 +29,10 @@ fn render_scene(body: &str) -> RenderScene {
 }
 
 /// The effects past ray casting and the kind of ray each casts.
-const KINDS: [(Effect, RayKind); 5] = [
-    (Effect::Shadows, RayKind::Shadow),
-    (Effect::Reflections, RayKind::Reflection),
-    (Effect::Refraction, RayKind::Refraction),
-    (Effect::AmbientOcclusion, RayKind::Occlusion),
-    (Effect::Antialiasing, RayKind::Sample),
-];
-
-fn rays_of(stats: &Stats, kind: RayKind) -> u64 {
-    stats.secondary.rays(kind)
+fn kinds() -> impl Iterator<Item = (Effect, RayKind)> {
+    RayKind::ALL
+        .into_iter()
+        .filter_map(|kind| kind.effect().map(|effect| (effect, kind)))
 }
 
 #[test]
@@ -56,8 +50,8 @@ fn an_effect_not_declared_casts_no_ray_of_its_kind_in_any_shipped_scene() {
             let mut prepared = base.clone();
             prepared.effects = effects.clone();
             let (_, stats) = render(&prepared);
-            for (effect, kind) in KINDS {
-                let rays = rays_of(&stats, kind);
+            for (effect, kind) in kinds() {
+                let rays = stats.rays_of(kind);
                 if !effects.contains(&effect) {
                     assert_eq!(rays, 0, "{file} with {effects:?}: {kind:?} rays");
                 } else if i == 0 {
@@ -69,7 +63,7 @@ fn an_effect_not_declared_casts_no_ray_of_its_kind_in_any_shipped_scene() {
             if scene.lights.is_empty() {
                 assert_eq!(stats.secondary.light_evaluations, 0, "{file}");
             }
-            let traced = KINDS.iter().any(|(e, _)| effects.contains(e));
+            let traced = kinds().any(|(e, _)| effects.contains(&e));
             if !traced && (scene.lights.is_empty() || effects == [Effect::Coverage]) {
                 // Ray casting alone: nothing past it is done at all.
                 assert_eq!(
@@ -80,7 +74,7 @@ fn an_effect_not_declared_casts_no_ray_of_its_kind_in_any_shipped_scene() {
             }
         }
     }
-    for (effect, _) in KINDS {
+    for (effect, _) in kinds() {
         assert!(
             effects_seen.contains(&effect),
             "no shipped scene shows {effect:?}"

@@ -84,6 +84,22 @@ pub struct Stats {
 }
 
 impl Stats {
+    /// The rays of `kind` the render cast (the primary rays are [`Stats::rays`]).
+    pub fn rays_of(&self, kind: rays::RayKind) -> u64 {
+        match kind {
+            rays::RayKind::Primary => self.rays,
+            _ => self.secondary.rays(kind),
+        }
+    }
+
+    /// Every ray the render cast, of every kind.
+    pub fn all_rays(&self) -> u64 {
+        rays::RayKind::ALL
+            .iter()
+            .map(|&kind| self.rays_of(kind))
+            .sum()
+    }
+
     /// Each counter with its name, for printing.
     pub fn counters(&self) -> [(&'static str, u64); 11] {
         [

@@ -5,6 +5,8 @@
 
 use serde::Serialize;
 
+use crate::scene::render::Effect;
+
 /// What a ray is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum RayKind {
@@ -21,6 +23,42 @@ pub enum RayKind {
     Refraction,
     /// Over the hemisphere of a hit (`ambient-occlusion`).
     Occlusion,
+}
+
+impl RayKind {
+    /// Every kind, in the order they are shown.
+    pub const ALL: [RayKind; 6] = [
+        RayKind::Primary,
+        RayKind::Sample,
+        RayKind::Shadow,
+        RayKind::Reflection,
+        RayKind::Refraction,
+        RayKind::Occlusion,
+    ];
+
+    /// Its short name, as the Render view lists it.
+    pub fn name(self) -> &'static str {
+        match self {
+            RayKind::Primary => "primary",
+            RayKind::Sample => "samples",
+            RayKind::Shadow => "shadow",
+            RayKind::Reflection => "reflection",
+            RayKind::Refraction => "refraction",
+            RayKind::Occlusion => "occlusion",
+        }
+    }
+
+    /// The effect that casts rays of this kind (none for the primary ray).
+    pub fn effect(self) -> Option<Effect> {
+        match self {
+            RayKind::Primary => None,
+            RayKind::Sample => Some(Effect::Antialiasing),
+            RayKind::Shadow => Some(Effect::Shadows),
+            RayKind::Reflection => Some(Effect::Reflections),
+            RayKind::Refraction => Some(Effect::Refraction),
+            RayKind::Occlusion => Some(Effect::AmbientOcclusion),
+        }
+    }
 }
 
 /// The work of the effects past ray casting.

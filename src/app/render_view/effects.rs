@@ -3,7 +3,6 @@
 //! effect off in turn, in the background).
 
 use super::*;
-use crate::render::Stats;
 use crate::render::cost::{CostJob, EffectCost};
 use crate::render::rays::RayKind;
 
@@ -87,41 +86,6 @@ pub(super) fn effect_hint(effect: Effect, scene: &RenderScene) -> String {
     format!("{what}\nCost: {cost}")
 }
 
-/// The effect that casts rays of `kind`, if any.
-fn effect_of(kind: RayKind) -> Option<Effect> {
-    match kind {
-        RayKind::Primary => None,
-        RayKind::Sample => Some(Effect::Antialiasing),
-        RayKind::Shadow => Some(Effect::Shadows),
-        RayKind::Reflection => Some(Effect::Reflections),
-        RayKind::Refraction => Some(Effect::Refraction),
-        RayKind::Occlusion => Some(Effect::AmbientOcclusion),
-    }
-}
-
-/// The kinds of ray, in the order they are shown, with their names.
-pub(super) const KINDS: [(RayKind, &str); 6] = [
-    (RayKind::Primary, "primary"),
-    (RayKind::Sample, "samples"),
-    (RayKind::Shadow, "shadow"),
-    (RayKind::Reflection, "reflection"),
-    (RayKind::Refraction, "refraction"),
-    (RayKind::Occlusion, "occlusion"),
-];
-
-/// The rays of `kind` a render cast.
-pub(super) fn rays(stats: &Stats, kind: RayKind) -> u64 {
-    match kind {
-        RayKind::Primary => stats.rays,
-        _ => stats.secondary.rays(kind),
-    }
-}
-
-/// Every ray a render cast.
-fn all_rays(stats: &Stats) -> u64 {
-    KINDS.iter().map(|(kind, _)| rays(stats, *kind)).sum()
-}
-
 /// 1234567 as "1 234 567": big counts read at a glance from the back of a room.
 pub fn grouped(n: u64) -> String {
     let digits = n.to_string();
@@ -153,23 +117,26 @@ impl RenderView {
             return;
         };
         let stats = &shown.rendered.stats;
-        let rows: Vec<(String, String, String)> = KINDS
+        let rows: Vec<(String, String, String)> = RayKind::ALL
             .iter()
-            .map(|(kind, name)| {
-                let off = effect_of(*kind).is_some_and(|e| !shown.key.effects.contains(&e));
+            .map(|kind| {
+                let name = kind.name();
+                let off = kind
+                    .effect()
+                    .is_some_and(|e| !shown.key.effects.contains(&e));
                 let shown_name = if off {
                     format!("{name} (off)")
                 } else {
                     name.to_string()
                 };
-                let value = grouped(rays(stats, *kind));
+                let value = grouped(stats.rays_of(*kind));
                 let info = format!("{name} rays: {value}");
                 (shown_name, value, info)
             })
             .chain(std::iter::once((
                 "all".to_string(),
-                grouped(all_rays(stats)),
-                format!("all rays: {}", grouped(all_rays(stats))),
+                grouped(stats.all_rays()),
+                format!("all rays: {}", grouped(stats.all_rays())),
             )))
             .collect();
         let heading = "Every ray the last render cast, by what it was for: an effect that is off \
@@ -324,15 +291,13 @@ fn cost_table(ui: &mut Ui, result: &[EffectCost]) {
                     None => "all effects on".to_string(),
                     Some(effect) => format!("without {}", effect.name()),
                 };
-                let by_kind: Vec<String> = KINDS
+                let by_kind: Vec<String> = RayKind::ALL
                     .iter()
-                    .map(|(kind, kind_name)| {
-                        format!("{kind_name} {}", grouped(rays(&row.stats, *kind)))
-                    })
+                    .map(|kind| format!("{} {}", kind.name(), grouped(row.stats.rays_of(*kind))))
                     .collect();
                 ui.label(name).on_hover_text(format!(
                     "{} rays: {}",
-                    grouped(all_rays(&row.stats)),
+                    grouped(row.stats.all_rays()),
                     by_kind.join(", ")
                 ));
                 ui.label(RichText::new(millis(row.seconds)).monospace().strong());
