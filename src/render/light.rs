@@ -44,6 +44,19 @@ pub struct Incoming {
     pub irradiance: V3<f64>,
 }
 
+impl Incoming {
+    /// The direction to the light from `from`, a start moved off `point` (the shadow ray's origin):
+    /// for a point light the light stays at t = 1 (light − from = point + toward − from); a
+    /// direction stays what it is.
+    pub fn toward_from(&self, point: &V3<f64>, from: &V3<f64>) -> V3<f64> {
+        if self.t_max.is_finite() {
+            std::array::from_fn(|k| point[k] + self.toward[k] - from[k])
+        } else {
+            self.toward
+        }
+    }
+}
+
 /// How `light` reaches `point`.
 pub fn incoming(light: &Light, point: &V3<f64>) -> Incoming {
     match light {

@@ -305,14 +305,8 @@ impl<'a> Tracer<'a> {
                 rec.light(index, LightTest::Untested);
             } else {
                 let from = self.off_surface(point, front, 1.0);
-                let toward: V3<f64> = std::array::from_fn(|k| point[k] + seen.toward[k] - from[k]);
                 let t_max = seen.t_max;
-                let toward = if t_max.is_finite() {
-                    toward
-                } else {
-                    seen.toward
-                };
-                let ray = (from, toward);
+                let ray = (from, seen.toward_from(point, &from));
                 if self.blocked(ray, t_max, RayKind::Shadow, stats) {
                     rec.light(index, LightTest::Blocked(ray, t_max));
                     continue;
