@@ -156,6 +156,20 @@ fn assets(folder: Option<&str>) -> OnDisk {
     OnDisk(folders)
 }
 
+/// The space between the correct image and the buggy one.
+const IMAGE_GAP: f32 = 12.0;
+
+/// What the images' layout is worked out from ([`RenderView::image_grid`]).
+struct ImageGrid {
+    /// The image's size in pixels (at least 1).
+    width: f32,
+    height: f32,
+    /// Images side by side: 2 with a bug, else 1.
+    panes: f32,
+    /// The caption's height above each image.
+    caption: f32,
+}
+
 impl RenderView {
     /// Loads a scene whose file is in `folder` (`None` for a preset), or says why it cannot be
     /// rendered (the current scene and folder are then kept).
@@ -311,27 +325,32 @@ impl RenderView {
 
     /// How much the images are enlarged when they fit in `room` (below their caption).
     fn fit_scale(&self, ui: &Ui, room: Vec2) -> f32 {
-        let (width, height) = match &self.runtime.correct.shown {
-            Some(shown) => (shown.rendered.image.width, shown.rendered.image.height),
-            None => (self.scene.width, self.scene.height),
-        };
-        let panes = if self.bug.is_some() { 2.0 } else { 1.0 };
-        let caption = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
-        let across = (room.x - 12.0 * (panes - 1.0)) / panes / width.max(1) as f32;
-        across.min((room.y - caption) / height.max(1) as f32)
+        let grid = self.image_grid(ui);
+        let across = (room.x - IMAGE_GAP * (grid.panes - 1.0)) / grid.panes / grid.width;
+        across.min((room.y - grid.caption) / grid.height)
     }
 
     /// The width the images take when they fill the height left (the side column goes beside them
     /// when there is room).
     fn images_width(&self, ui: &Ui) -> f32 {
+        let grid = self.image_grid(ui);
+        let scale = ((ui.available_height() - grid.caption).max(120.0) / grid.height).max(0.05);
+        grid.width * scale * grid.panes + IMAGE_GAP * (grid.panes - 1.0)
+    }
+
+    /// The images' layout numbers: the image's size (the one shown, else the scene's), the panes
+    /// (two beside a bug) and the caption above each.
+    fn image_grid(&self, ui: &Ui) -> ImageGrid {
         let (width, height) = match &self.runtime.correct.shown {
             Some(shown) => (shown.rendered.image.width, shown.rendered.image.height),
             None => (self.scene.width, self.scene.height),
         };
-        let panes = if self.bug.is_some() { 2.0 } else { 1.0 };
-        let caption = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
-        let scale = ((ui.available_height() - caption).max(120.0) / height.max(1) as f32).max(0.05);
-        width as f32 * scale * panes + 12.0 * (panes - 1.0)
+        ImageGrid {
+            width: width.max(1) as f32,
+            height: height.max(1) as f32,
+            panes: if self.bug.is_some() { 2.0 } else { 1.0 },
+            caption: ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y,
+        }
     }
 
     fn controls_ui(&mut self, ui: &mut Ui) {
@@ -485,20 +504,18 @@ impl RenderView {
             return;
         };
         let (width, height) = (shown.rendered.image.width, shown.rendered.image.height);
-        let panes = if self.bug.is_some() { 2.0 } else { 1.0 };
-        let gap = 12.0;
+        let grid = self.image_grid(ui);
         // `room` holds the caption above and the image, but never a thumbnail.
-        let caption = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
-        let available = room - Vec2::new(0.0, caption);
+        let available = room - Vec2::new(0.0, grid.caption);
         let available = Vec2::new(available.x, available.y.max(120.0));
-        let scale = ((available.x - gap * (panes - 1.0)) / panes / width as f32)
-            .min(available.y / height as f32)
+        let scale = ((available.x - IMAGE_GAP * (grid.panes - 1.0)) / grid.panes / grid.width)
+            .min(available.y / grid.height)
             .max(0.05);
-        let size = Vec2::new(width as f32, height as f32) * scale;
+        let size = Vec2::new(grid.width, grid.height) * scale;
         let probed = self.probed;
         let mut clicked = None;
         ui.horizontal_top(|ui| {
-            ui.spacing_mut().item_spacing.x = gap;
+            ui.spacing_mut().item_spacing.x = IMAGE_GAP;
             for (slot, title) in [
                 (&self.runtime.correct, "Correct".to_string()),
                 (
