@@ -134,8 +134,12 @@ pub fn controls_below(ui: &mut egui::Ui, id: &str, mut draw: impl FnMut(&mut egu
         .resizable(false)
         .max_size(controls_height)
         .show(ui, |ui| {
+            // The strip starts at the panel's last height, and a scroll area fits the room it is
+            // given: its smallest scrolled height lets it ask for its content (up to the cap), or
+            // the strip would never grow past its first height and cut the controls off.
             egui::ScrollArea::vertical()
                 .auto_shrink([false, true])
+                .min_scrolled_height(controls_height)
                 .show(ui, |ui| draw(ui, Part::Controls))
         });
     egui::CentralPanel::default().show(ui, |ui| draw(ui, Part::Drawing));
