@@ -137,9 +137,8 @@ impl RenderView {
                     };
                     ui.label(
                         RichText::new(format!(
-                            "hit object {} ({kind}), triangle {}: t = {:.6}, {} = {:.6}, {} = {:.6}",
-                            hit.object + 1,
-                            hit.primitive,
+                            "hit {}: t = {:.6}, {} = {:.6}, {} = {:.6}",
+                            self.hit_object_text(&hit),
                             hit.t,
                             names.0,
                             hit.beta,
@@ -155,7 +154,8 @@ impl RenderView {
                     let [r, g, b] = colour.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
                     ui.label(format!("colour ({r}, {g}, {b})"));
                     let (rect, _) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::hover());
-                    ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
+                    ui.painter()
+                        .rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
                 }
                 None => {
                     let text = match probe.nearest_miss {
