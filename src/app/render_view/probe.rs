@@ -39,13 +39,13 @@ impl RenderView {
         self.runtime.opened = None;
     }
 
-    /// The pixel's ray last loaded into the Triangle (or Parallelogram) view: "Pixel (3, 4)", or
-    /// "Pixel (3, 4): the shadow ray to light 1 from the primary ray".
+    /// The pixel's ray last loaded into the Triangle (or Parallelogram) view: "Pixel (row 3,
+    /// column 4)", or "Pixel (row 3, column 4): the shadow ray to light 1 from the primary ray".
     pub fn probed_ray_name(&self) -> String {
-        let (row, column) = self.probed.unwrap_or_default();
+        let pixel = pixel_name(self.probed.unwrap_or_default());
         match &self.runtime.opened {
-            Some(name) => format!("Pixel ({row}, {column}): {name}"),
-            None => format!("Pixel ({row}, {column})"),
+            Some(name) => format!("{pixel}: {name}"),
+            None => pixel,
         }
     }
 
@@ -119,7 +119,7 @@ impl RenderView {
             );
         }
         ui.horizontal_wrapped(|ui| {
-            ui.label(RichText::new(format!("Pixel ({row}, {column})")).strong());
+            ui.label(RichText::new(pixel_name(probe.pixel)).strong());
             ui.label(format!(
                 "O = {}  D = {}",
                 vector(&probe.origin),
@@ -219,6 +219,11 @@ impl RenderView {
             None => "?",
         }
     }
+}
+
+/// "Pixel (row 3, column 4)": a bare "(3, 4)" reads as x and y, and the pixel is (row, column).
+fn pixel_name((row, column): (usize, usize)) -> String {
+    format!("Pixel (row {row}, column {column})")
 }
 
 /// The problem a probe loads into a view: the ray with the triangle it hit or came nearest to, or the
