@@ -370,3 +370,101 @@ fn a_long_note_takes_at_most_two_rows_at_200_percent() {
         title.height()
     );
 }
+
+/// The controls strip below a lecture view's drawing is as tall as its controls (up to 45% of the
+/// view): every slider shows whole, not cut at the strip's bottom (the strip kept its first height,
+/// a row or so, and the sliders scrolled out of sight).
+#[test]
+fn the_lecture_views_show_their_sliders_whole_below_the_drawing() {
+    let views = [
+        (
+            "Seed 000: the lecture triangle",
+            "Solve",
+            &["β", "γ", "t"][..],
+        ),
+        (
+            "Seed 001: ray and parallelogram",
+            "Solve",
+            &["α", "β", "t"][..],
+        ),
+        (
+            "Seed 000: segments that cross",
+            "Go to intersection",
+            &["t", "s"][..],
+        ),
+    ];
+    let mut problems = Vec::new();
+    for zoom in [1.0, 1.5, 2.0] {
+        for (preset, button, sliders) in views {
+            let mut harness = projector(1280.0, 800.0, zoom);
+            common::load_preset(&mut harness, preset);
+            harness.remove_cursor();
+            harness.run();
+            let strip = painted_texts(&harness)
+                .into_iter()
+                .find(|t| t.text == button)
+                .unwrap_or_else(|| panic!("{preset}: no “{button}” at {zoom}x"))
+                .clip;
+            for name in sliders {
+                let slider = harness.get_by_role_and_label(egui::accesskit::Role::Slider, name);
+                let rect = slider.rect();
+                if rect.max.y > strip.max.y + 1.0 {
+                    problems.push(format!(
+                        "{preset} at {zoom}x: slider {name} at {rect:?} is cut by the strip {strip:?}"
+                    ));
+                }
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// A canvas's verdict is painted over the drawing: a whole line (segment B's, running off the top of
+/// the plot) passes under its text, not through it.
+#[test]
+fn the_verdict_reads_over_the_drawing() {
+    let mut harness = projector(1280.0, 800.0, 1.0);
+    common::load_preset(&mut harness, "Seed 000: segments that cross");
+    harness.remove_cursor();
+    harness.run();
+    let shapes: Vec<(usize, Shape)> = harness
+        .output()
+        .shapes
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (i, s.shape.clone()))
+        .collect();
+    let mut flat = Vec::new();
+    fn flatten(shape: Shape, out: &mut Vec<Shape>) {
+        match shape {
+            Shape::Vec(shapes) => shapes.into_iter().for_each(|s| flatten(s, out)),
+            shape => out.push(shape),
+        }
+    }
+    for (_, shape) in shapes {
+        flatten(shape, &mut flat);
+    }
+    let (at, verdict) = flat
+        .iter()
+        .enumerate()
+        .find_map(|(i, s)| match s {
+            Shape::Text(t) if t.galley.text().starts_with("the segments cross") => {
+                Some((i, t.visual_bounding_rect()))
+            }
+            _ => None,
+        })
+        .expect("the verdict is drawn");
+    let over: Vec<&Shape> = flat[at + 1..]
+        .iter()
+        .filter(|s| s.visual_bounding_rect().intersects(verdict))
+        .collect();
+    assert!(over.is_empty(), "drawn over the verdict: {over:?}");
+    // The whole line does cross the verdict's box: the check above is not empty by chance.
+    assert!(
+        flat[..at]
+            .iter()
+            .any(|s| matches!(s, Shape::LineSegment { .. } | Shape::Path(_))
+                && s.visual_bounding_rect().intersects(verdict)),
+        "no line under the verdict"
+    );
+}

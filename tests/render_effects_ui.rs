@@ -74,6 +74,23 @@ fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
         &harness,
         "blocked by object 2 (triangle)"
     ));
+    // The probe names the floor as the parallelogram it is, with no triangle index (a parallelogram
+    // has no triangles; only a mesh's hit names one).
+    assert!(shows_text_containing(
+        &harness,
+        "hit object 1 (parallelogram): t ="
+    ));
+    assert!(!shows_text_containing(&harness, "), triangle"));
+    // The pixel says which number is its row (a bare "(74, 100)" reads as x and y).
+    let (row, column) = harness.state().state.render.probed.unwrap();
+    assert!(
+        column > row,
+        "the image is wider than tall, clicked at its centre"
+    );
+    assert!(shows_text_containing(
+        &harness,
+        &format!("Pixel (row {row}, column {column})")
+    ));
 
     // Its steps: the shadow ray against the triangle that blocks it, in the Triangle view.
     click_label(

@@ -267,10 +267,9 @@ impl ParallelogramView {
             projector: &projector,
         };
         let mut labels = LabelLayer::new(response.rect);
-        if let Some(verdict) =
-            super::widgets::verdict_overlay(ui, &painter, response.rect, &solved.trace)
-        {
-            labels.avoid(verdict);
+        let verdict = super::widgets::verdict_overlay(ui, &painter, response.rect, &solved.trace);
+        if let Some(verdict) = &verdict {
+            labels.avoid(verdict.rect);
         }
         let text = ui.visuals().text_color();
         canvas.axes_labelled(&[c, c_e1, c_e2, o], &mut labels);
@@ -344,6 +343,9 @@ impl ParallelogramView {
                     12.0,
                 );
             }
+        }
+        if let Some(verdict) = verdict {
+            verdict.paint(&painter);
         }
         self.labels = labels.paint(ui, &painter, ui.scope_id().with("parallelogram-labels"));
         self.projector = Some(projector);

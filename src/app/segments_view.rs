@@ -476,10 +476,9 @@ impl SegmentsView {
     ) -> Vec<PlacedLabel> {
         let text = ui.visuals().text_color();
         let mut labels = LabelLayer::new(frame.rect);
-        if let Some(verdict) =
-            super::widgets::verdict_overlay(ui, painter, frame.rect, &solved.trace)
-        {
-            labels.avoid(verdict);
+        let verdict = super::widgets::verdict_overlay(ui, painter, frame.rect, &solved.trace);
+        if let Some(verdict) = &verdict {
+            labels.avoid(verdict.rect);
         }
         draw_grid(ui, painter, frame, &mut labels);
         self.draw_highlights(painter, frame, solved);
@@ -558,6 +557,9 @@ impl SegmentsView {
                 Priority::Key,
                 10.0,
             );
+        }
+        if let Some(verdict) = verdict {
+            verdict.paint(painter);
         }
         labels.paint(ui, painter, ui.scope_id().with("segments-labels"))
     }

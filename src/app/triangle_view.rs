@@ -517,13 +517,14 @@ impl TriangleView {
     ) -> Vec<super::widgets::labels::PlacedLabel> {
         let text = ui.visuals().text_color();
         let mut labels = LabelLayer::new(canvas.projector.rect);
-        if let Some(verdict) = super::widgets::verdict_overlay(
+        let verdict = super::widgets::verdict_overlay(
             ui,
             canvas.painter,
             canvas.projector.rect,
             &solved.trace,
-        ) {
-            labels.avoid(verdict);
+        );
+        if let Some(verdict) = &verdict {
+            labels.avoid(verdict.rect);
         }
         let [a, b, c, l, d] = self.scene.vectors();
         canvas.axes_labelled(&[a, b, c, l], &mut labels);
@@ -609,6 +610,9 @@ impl TriangleView {
             canvas.place_label(&mut labels, on_ray, "L + tD", palette::RAY, Priority::Key);
         }
         self.draw_solution(canvas, solved, [a, b, c, l], &mut labels);
+        if let Some(verdict) = verdict {
+            verdict.paint(canvas.painter);
+        }
         labels.paint(ui, canvas.painter, ui.scope_id().with("triangle-labels"))
     }
 

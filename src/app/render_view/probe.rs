@@ -39,13 +39,13 @@ impl RenderView {
         self.runtime.opened = None;
     }
 
-    /// The pixel's ray last loaded into the Triangle (or Parallelogram) view: "Pixel (3, 4)", or
-    /// "Pixel (3, 4): the shadow ray to light 1 from the primary ray".
+    /// The pixel's ray last loaded into the Triangle (or Parallelogram) view: "Pixel (row 3,
+    /// column 4)", or "Pixel (row 3, column 4): the shadow ray to light 1 from the primary ray".
     pub fn probed_ray_name(&self) -> String {
-        let (row, column) = self.probed.unwrap_or_default();
+        let pixel = pixel_name(self.probed.unwrap_or_default());
         match &self.runtime.opened {
-            Some(name) => format!("Pixel ({row}, {column}): {name}"),
-            None => format!("Pixel ({row}, {column})"),
+            Some(name) => format!("{pixel}: {name}"),
+            None => pixel,
         }
     }
 
@@ -120,7 +120,7 @@ impl RenderView {
             );
         }
         ui.horizontal_wrapped(|ui| {
-            ui.label(RichText::new(format!("Pixel ({row}, {column})")).strong());
+            ui.label(RichText::new(pixel_name(probe.pixel)).strong());
             ui.label(format!(
                 "O = {}  D = {}",
                 vector(&probe.origin),
@@ -138,9 +138,8 @@ impl RenderView {
                     };
                     ui.label(
                         RichText::new(format!(
-                            "hit object {} ({kind}), triangle {}: t = {:.6}, {} = {:.6}, {} = {:.6}",
-                            hit.object + 1,
-                            hit.primitive,
+                            "hit {}: t = {:.6}, {} = {:.6}, {} = {:.6}",
+                            self.hit_object_text(&hit),
                             hit.t,
                             names.0,
                             hit.beta,
@@ -155,7 +154,8 @@ impl RenderView {
                     let [r, g, b] = probe.color.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
                     ui.label(format!("colour ({r}, {g}, {b})"));
                     let (rect, _) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::hover());
-                    ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
+                    ui.painter()
+                        .rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
                 }
                 None => {
                     let text = match probe.nearest_miss {
@@ -203,6 +203,11 @@ impl RenderView {
             None => "?",
         }
     }
+}
+
+/// "Pixel (row 3, column 4)": a bare "(3, 4)" reads as x and y, and the pixel is (row, column).
+fn pixel_name((row, column): (usize, usize)) -> String {
+    format!("Pixel (row {row}, column {column})")
 }
 
 /// The problem a probe loads into a view: the ray with the triangle it hit or came nearest to, or the

@@ -44,17 +44,18 @@ fn capitalised(text: &str) -> String {
 impl RenderView {
     /// "object 13 (mesh), triangle 200 at t = 0.531200".
     fn hit_text(&self, hit: &Hit) -> String {
+        format!("{} at t = {:.6}", self.hit_object_text(hit), hit.t)
+    }
+
+    /// "object 13 (mesh), triangle 200": the triangle only where the object has more than one.
+    pub(super) fn hit_object_text(&self, hit: &Hit) -> String {
         let kind = self.object_kind(hit.object);
-        let part = if kind == "parallelogram" {
-            String::new()
-        } else {
+        let part = if kind == "mesh" {
             format!(", triangle {}", hit.primitive)
+        } else {
+            String::new()
         };
-        format!(
-            "object {} ({kind}){part} at t = {:.6}",
-            hit.object + 1,
-            hit.t
-        )
+        format!("object {} ({kind}){part}", hit.object + 1)
     }
 
     /// The probed pixel's ray tree; a ray's "Steps →" button asks for it to open in its view.

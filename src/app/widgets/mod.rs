@@ -47,13 +47,14 @@ pub fn vector_editor<const N: usize>(
 }
 
 /// The verdict in the top-left corner of a canvas, on a backing so it reads over the drawing, wrapped
-/// to the canvas width. Returns the box it covers, for labels to keep clear of.
+/// to the canvas width. Its `rect` is the box it covers, for labels to keep clear of; `paint` it after
+/// the drawing, so no line or point of the drawing crosses its text.
 pub fn verdict_overlay(
     ui: &Ui,
     painter: &egui::Painter,
     rect: egui::Rect,
     trace: &crate::trace::Trace,
-) -> Option<egui::Rect> {
+) -> Option<VerdictOverlay> {
     if answers_hidden(ui.ctx()) {
         return None;
     }
@@ -69,11 +70,30 @@ pub fn verdict_overlay(
         (rect.width() - 24.0).max(50.0),
     );
     let at = rect.left_top() + egui::vec2(8.0, 6.0);
-    let backing = egui::Rect::from_min_size(at, galley.size()).expand(4.0);
-    let fill = ui.visuals().extreme_bg_color.gamma_multiply(0.85);
-    painter.rect_filled(backing, 4.0, fill);
-    painter.galley(at, galley, color);
-    Some(backing)
+    Some(VerdictOverlay {
+        rect: egui::Rect::from_min_size(at, galley.size()).expand(4.0),
+        fill: ui.visuals().extreme_bg_color.gamma_multiply(0.85),
+        galley,
+        color,
+    })
+}
+
+/// A canvas's verdict, laid out, to be painted over the drawing.
+pub struct VerdictOverlay {
+    /// The box it covers (its backing).
+    pub rect: egui::Rect,
+    fill: egui::Color32,
+    galley: std::sync::Arc<egui::Galley>,
+    color: egui::Color32,
+}
+
+impl VerdictOverlay {
+    /// Paints the backing and the text.
+    pub fn paint(self, painter: &egui::Painter) {
+        painter.rect_filled(self.rect, 4.0, self.fill);
+        let at = self.rect.min + egui::vec2(4.0, 4.0);
+        painter.galley(at, self.galley, self.color);
+    }
 }
 
 /// While a practice problem is unanswered the views keep their verdict to themselves: set for the
@@ -134,8 +154,12 @@ pub fn controls_below(ui: &mut egui::Ui, id: &str, mut draw: impl FnMut(&mut egu
         .resizable(false)
         .max_size(controls_height)
         .show(ui, |ui| {
+            // The strip starts at the panel's last height, and a scroll area fits the room it is
+            // given: its smallest scrolled height lets it ask for its content (up to the cap), or
+            // the strip would never grow past its first height and cut the controls off.
             egui::ScrollArea::vertical()
                 .auto_shrink([false, true])
+                .min_scrolled_height(controls_height)
                 .show(ui, |ui| draw(ui, Part::Controls))
         });
     egui::CentralPanel::default().show(ui, |ui| draw(ui, Part::Drawing));
