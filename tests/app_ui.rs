@@ -214,7 +214,11 @@ fn bad_inputs_never_panic() {
             harness.state_mut().state.view = view;
             for precision in <raylab::geometry::Precision as strum::IntoEnumIterator>::iter() {
                 harness.state_mut().state.precision = precision;
-                harness.run();
+                // A render this starts runs on a worker: wait for it, not for a number of frames.
+                harness.step();
+                step_while(&mut harness, 5, "the render did not finish", |h| {
+                    h.state().state.render.is_rendering()
+                });
             }
         }
     }
