@@ -151,7 +151,9 @@ impl RenderView {
                     if let Some(facing) = probe.facing {
                         ui.label(format!("facing ratio n̂·(−ê) = {facing:.4}"));
                     }
-                    let [r, g, b] = probe.color.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+                    let [r, g, b] = probe
+                        .color
+                        .map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
                     ui.label(format!("colour ({r}, {g}, {b})"));
                     let (rect, _) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::hover());
                     ui.painter()
