@@ -276,16 +276,24 @@ unsafe fn settle_exactly(
             operands,
             and(fits(p[0], q[1], e.left), fits(p[1], q[0], e.right)),
         );
-        // (left + le) − (right + re) as four nonoverlapping terms, largest first; its sign is its
-        // largest nonzero term's.
-        let (j, k, x0) = two_one_diff(e.left, le, re);
-        let (x3, x2, x1) = two_one_diff(j, k, e.right);
-        let lead = _mm256_blendv_pd(
-            x3,
-            _mm256_blendv_pd(x2, _mm256_blendv_pd(x1, x0, is_zero(x1)), is_zero(x2)),
-            is_zero(x3),
-        );
-        let sign_of = _mm256_blendv_pd(lead, e.value, e.clear);
+        // Where the products' errors are equal the exact value is left − right, whose rounded
+        // difference has its sign: the float value's sign is exact. On rays through the grid
+        // box's vertices nearly every edge function near zero is such a one.
+        let float_exact = or(e.clear, and(fit, _mm256_cmp_pd::<_CMP_EQ_OQ>(le, re)));
+        let sign_of = if _mm256_movemask_pd(float_exact) as u32 & lanes == lanes {
+            e.value
+        } else {
+            // (left + le) − (right + re) as four nonoverlapping terms, largest first; its sign is
+            // its largest nonzero term's.
+            let (j, k, x0) = two_one_diff(e.left, le, re);
+            let (x3, x2, x1) = two_one_diff(j, k, e.right);
+            let lead = _mm256_blendv_pd(
+                x3,
+                _mm256_blendv_pd(x2, _mm256_blendv_pd(x1, x0, is_zero(x1)), is_zero(x2)),
+                is_zero(x3),
+            );
+            _mm256_blendv_pd(lead, e.value, float_exact)
+        };
         let known = or(e.clear, fit);
         (
             and(known, above(sign_of)),
