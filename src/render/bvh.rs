@@ -1,5 +1,6 @@
 //! A bounding volume hierarchy over a mesh's triangles: built by binned SAH (the surface area
-//! heuristic), collapsed to 4-wide nodes whose four child boxes are tested together, traversed
+//! heuristic) over references to the triangles, a long thin triangle split into several
+//! ([`split`]), collapsed to 4-wide nodes whose four child boxes are tested together, traversed
 //! nearest child first with an early exit past the nearest hit so far.
 //!
 //! Boxes are stored in f32, rounded outward from padded f64 boxes, and tested in f64 with the slab
@@ -23,6 +24,7 @@ use std::cell::RefCell;
 use super::crack_free::ShearedRay;
 
 mod narrow;
+mod split;
 #[cfg_attr(
     not(target_arch = "x86_64"),
     allow(dead_code, unused_imports, reason = "used by the x86-64 kernels only")
@@ -58,8 +60,8 @@ impl Bounds {
 
     fn grow(self, p: &V3<f64>) -> Bounds {
         Bounds {
-            min: std::array::from_fn(|k| self.min[k].min(p[k])),
-            max: std::array::from_fn(|k| self.max[k].max(p[k])),
+            min: std::array::from_fn(|k| lesser(self.min[k], p[k])),
+            max: std::array::from_fn(|k| greater(self.max[k], p[k])),
         }
     }
 
@@ -69,8 +71,16 @@ impl Bounds {
 
     fn union(self, other: Bounds) -> Bounds {
         Bounds {
-            min: std::array::from_fn(|k| self.min[k].min(other.min[k])),
-            max: std::array::from_fn(|k| self.max[k].max(other.max[k])),
+            min: std::array::from_fn(|k| lesser(self.min[k], other.min[k])),
+            max: std::array::from_fn(|k| greater(self.max[k], other.max[k])),
+        }
+    }
+
+    /// The part of this box within `other`.
+    fn and_within(self, other: Bounds) -> Bounds {
+        Bounds {
+            min: std::array::from_fn(|k| self.min[k].max(other.min[k])),
+            max: std::array::from_fn(|k| self.max[k].min(other.max[k])),
         }
     }
 
@@ -104,6 +114,19 @@ impl Bounds {
     }
 }
 
+/// The lesser of two numbers that are not NaN (the build's boxes are finite or ±∞): one
+/// instruction, where `f64::min` also orders NaN (the build spends most of its time in these).
+#[inline(always)]
+fn lesser(a: f64, b: f64) -> f64 {
+    if b < a { b } else { a }
+}
+
+/// The greater of two numbers that are not NaN.
+#[inline(always)]
+fn greater(a: f64, b: f64) -> f64 {
+    if b > a { b } else { a }
+}
+
 /// The largest f32 not above x.
 fn round_down(x: f64) -> f32 {
     let f = x as f32;
@@ -118,6 +141,7 @@ fn round_up(x: f64) -> f32 {
 
 /// The binary build's triangle order, and the triangles, for laying out the leaves.
 struct Leaves<'a> {
+    /// Slot → triangle (a triangle split in pieces may have several slots).
     order: &'a [u32],
     triangles: &'a [PreparedTriangle],
 }
@@ -236,33 +260,37 @@ macro_rules! compiled_twice {
 impl Bvh {
     /// Builds the hierarchy over `triangles`.
     pub fn build(triangles: &[PreparedTriangle]) -> Bvh {
-        let mut order: Vec<u32> = (0..triangles.len() as u32)
+        let finite: Vec<u32> = (0..triangles.len() as u32)
             .filter(|&i| {
                 let v = &triangles[i as usize].vertices;
                 v.iter().flatten().all(|c| c.is_finite())
             })
             .collect();
-        let bounds: Vec<Bounds> = triangles.iter().map(|t| Bounds::of(&t.vertices)).collect();
-        let centroids: Vec<V3<f64>> = bounds
-            .iter()
-            .map(|b| std::array::from_fn(|k| b.min[k] * 0.5 + b.max[k] * 0.5))
-            .collect();
-        let mut binary = Vec::with_capacity(2 * order.len());
-        if !order.is_empty() {
-            let mut builder = Builder {
-                bounds: &bounds,
-                centroids: &centroids,
-                nodes: &mut binary,
-            };
-            let len = order.len();
-            builder.split(&mut order, 0, len, 0);
+        // The builder's references: each a triangle, or a piece of a long thin one.
+        let mut references = Vec::with_capacity(finite.len());
+        let mut boxes = Vec::new();
+        for &triangle in &finite {
+            boxes.clear();
+            split::pieces(&triangles[triangle as usize].vertices, &mut boxes);
+            references.extend(boxes.iter().map(|&bounds| Reference {
+                bounds,
+                centroid: std::array::from_fn(|k| bounds.min[k] * 0.5 + bounds.max[k] * 0.5),
+                triangle,
+            }));
         }
+        let mut binary = Vec::with_capacity(2 * references.len());
+        if !references.is_empty() {
+            let mut builder = Builder { nodes: &mut binary };
+            builder.split(&mut references, 0, 0);
+        }
+        // Slot → triangle, in the order the build left the references.
+        let order: Vec<u32> = references.iter().map(|r| r.triangle).collect();
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(binary.len() / 2 + 1),
             order: Vec::with_capacity(order.len() + order.len() / 2),
             vertices: Vec::with_capacity(order.len() + order.len() / 2),
             quads: Vec::new(),
-            triangles: order.len(),
+            triangles: finite.len(),
             narrow: true,
         };
         if !binary.is_empty() {
@@ -283,17 +311,21 @@ impl Bvh {
 
     /// Appends a leaf's triangles (binary slots `first..first + count`) at the next multiple of four
     /// and returns its first slot.
-    fn append_leaf(&mut self, leaves: &Leaves, first: usize, count: usize) -> u32 {
+    fn append_leaf(&mut self, leaves: &Leaves, first: usize, count: usize) -> (u32, u32) {
         let start = self.order.len();
         for &i in &leaves.order[first..first + count] {
-            self.order.push(i);
-            self.vertices.push(leaves.triangles[i as usize].vertices);
+            // Two pieces of one triangle in one leaf: test it once.
+            if !self.order[start..].contains(&i) {
+                self.order.push(i);
+                self.vertices.push(leaves.triangles[i as usize].vertices);
+            }
         }
+        let held = (self.order.len() - start) as u32;
         while !self.order.len().is_multiple_of(4) {
             self.order.push(self.order[start]);
             self.vertices.push(self.vertices[start]);
         }
-        start as u32
+        (start as u32, held)
     }
 
     /// Puts binary node `index` into lane `lane` of `node`: its box, and its slots or its wide node.
@@ -313,8 +345,9 @@ impl Bvh {
             node.max[k][lane] = max[k];
         }
         if binary[index].count > 0 {
-            node.child[lane] = self.append_leaf(leaves, binary[index].first, binary[index].count);
-            node.count[lane] = binary[index].count as u32;
+            let (first, held) = self.append_leaf(leaves, binary[index].first, binary[index].count);
+            node.child[lane] = first;
+            node.count[lane] = held;
         } else {
             let inner = self.collapse(binary, leaves, index);
             self.nodes.push(inner);
@@ -888,19 +921,30 @@ impl Node {
 }
 
 /// The binary binned-SAH build over `order`'s slots.
+/// What the build sorts: a triangle, or a piece of one, with its box and the box's centre. Kept by
+/// value, so each pass over a run of them reads memory in order.
+#[derive(Clone, Copy)]
+struct Reference {
+    bounds: Bounds,
+    centroid: V3<f64>,
+    triangle: u32,
+}
+
 struct Builder<'a> {
-    bounds: &'a [Bounds],
-    centroids: &'a [V3<f64>],
     nodes: &'a mut Vec<BinaryNode>,
+}
+
+/// Whether a run is worth building on another thread (below this, the join costs more than it
+/// saves).
+fn run_len_is_large(len: usize) -> bool {
+    len >= 16_384
 }
 
 impl Builder<'_> {
     /// Adds the node for `order[start..end]` and, below it, its children; returns its index.
-    fn split(&mut self, order: &mut [u32], start: usize, end: usize, depth: usize) -> usize {
-        let run = &order[start..end];
-        let bounds = run
-            .iter()
-            .fold(Bounds::EMPTY, |b, &i| b.union(self.bounds[i as usize]));
+    fn split(&mut self, run: &mut [Reference], start: usize, depth: usize) -> usize {
+        let end = start + run.len();
+        let bounds = run.iter().fold(Bounds::EMPTY, |b, r| b.union(r.bounds));
         let index = self.nodes.len();
         self.nodes.push(BinaryNode {
             bounds,
@@ -911,12 +955,22 @@ impl Builder<'_> {
         if end - start == 1 {
             return index;
         }
-        let middle = match self.choose_split(&mut order[start..end], &bounds, depth) {
-            Some(middle) => start + middle,
+        let middle = match self.choose_split(run, &bounds, depth) {
+            Some(middle) => middle,
             None => return index,
         };
-        let left = self.split(order, start, middle, depth + 1);
-        let right = self.split(order, middle, end, depth + 1);
+        let (left_run, right_run) = run.split_at_mut(middle);
+        let (left, right) = if run_len_is_large(end - start) {
+            // Large runs build their two halves on two threads, each into its own list.
+            let (left_nodes, right_nodes) = rayon::join(
+                || Builder::subtree(left_run, start, depth + 1),
+                || Builder::subtree(right_run, start + middle, depth + 1),
+            );
+            (self.append(left_nodes), self.append(right_nodes))
+        } else {
+            let left = self.split(left_run, start, depth + 1);
+            (left, self.split(right_run, start + middle, depth + 1))
+        };
         let node = &mut self.nodes[index];
         node.first = left;
         node.count = 0;
@@ -924,12 +978,31 @@ impl Builder<'_> {
         index
     }
 
+    /// The nodes of the subtree over `run` (whose first slot is `start`), its root first.
+    fn subtree(run: &mut [Reference], start: usize, depth: usize) -> Vec<BinaryNode> {
+        let mut nodes = Vec::with_capacity(2 * run.len());
+        Builder { nodes: &mut nodes }.split(run, start, depth);
+        nodes
+    }
+
+    /// Appends a subtree's nodes (their child indices moved past the nodes already here) and
+    /// returns its root's index.
+    fn append(&mut self, subtree: Vec<BinaryNode>) -> usize {
+        let offset = self.nodes.len();
+        self.nodes.extend(subtree.into_iter().map(|mut node| {
+            if node.count == 0 {
+                node.first += offset;
+                node.right += offset;
+            }
+            node
+        }));
+        offset
+    }
+
     /// Partitions `run` and returns where its right part starts, or `None` to make it a leaf.
-    fn choose_split(&self, run: &mut [u32], bounds: &Bounds, depth: usize) -> Option<usize> {
+    fn choose_split(&self, run: &mut [Reference], bounds: &Bounds, depth: usize) -> Option<usize> {
         let n = run.len();
-        let spread = run
-            .iter()
-            .fold(Bounds::EMPTY, |b, &i| b.grow(&self.centroids[i as usize]));
+        let spread = run.iter().fold(Bounds::EMPTY, |b, r| b.grow(&r.centroid));
         let axis = (0..3)
             .max_by(|&a, &b| {
                 let extent = |k: usize| spread.max[k] - spread.min[k];
@@ -944,8 +1017,8 @@ impl Builder<'_> {
             }
             let middle = n / 2;
             if !flat {
-                run.select_nth_unstable_by(middle, |&a, &b| {
-                    self.centroids[a as usize][axis].total_cmp(&self.centroids[b as usize][axis])
+                run.select_nth_unstable_by(middle, |a, b| {
+                    a.centroid[axis].total_cmp(&b.centroid[axis])
                 });
             }
             return Some(middle);
@@ -958,11 +1031,10 @@ impl Builder<'_> {
         }
         let low = spread.min[axis];
         let scale = BINS as f64 / (spread.max[axis] - low);
-        let bin_of =
-            |i: u32| (((self.centroids[i as usize][axis] - low) * scale) as usize).min(BINS - 1);
+        let bin_of = |r: &Reference| (((r.centroid[axis] - low) * scale) as usize).min(BINS - 1);
         let mut middle = 0;
         for k in 0..n {
-            if bin_of(run[k]) <= bin {
+            if bin_of(&run[k]) <= bin {
                 run.swap(k, middle);
                 middle += 1;
             }
@@ -974,7 +1046,7 @@ impl Builder<'_> {
     }
 
     /// The best SAH split over every axis's bins: (axis, last bin of the left part, cost).
-    fn best_bins(&self, run: &[u32], spread: &Bounds, parent: f64) -> (usize, usize, f64) {
+    fn best_bins(&self, run: &[Reference], spread: &Bounds, parent: f64) -> (usize, usize, f64) {
         let parent = parent.max(f64::MIN_POSITIVE);
         let mut best = (0, 0, f64::INFINITY);
         for axis in 0..3 {
@@ -986,10 +1058,9 @@ impl Builder<'_> {
             let scale = BINS as f64 / extent;
             let mut boxes = [Bounds::EMPTY; BINS];
             let mut counts = [0usize; BINS];
-            for &i in run {
-                let bin =
-                    (((self.centroids[i as usize][axis] - low) * scale) as usize).min(BINS - 1);
-                boxes[bin] = boxes[bin].union(self.bounds[i as usize]);
+            for r in run {
+                let bin = (((r.centroid[axis] - low) * scale) as usize).min(BINS - 1);
+                boxes[bin] = boxes[bin].union(r.bounds);
                 counts[bin] += 1;
             }
             // Areas and counts of every prefix and suffix of bins.
@@ -1178,9 +1249,29 @@ mod tests {
         }
     }
 
-    /// Every triangle of a large random soup is in exactly one leaf.
+    /// How many leaves hold each triangle (a leaf holds a triangle at most once).
+    fn leaves_holding(bvh: &Bvh, triangles: usize) -> Vec<usize> {
+        let mut seen = vec![0; triangles];
+        for node in &bvh.nodes {
+            for lane in 0..4 {
+                let (c, n) = (node.child[lane] as usize, node.count[lane] as usize);
+                if n == 0 {
+                    continue;
+                }
+                let leaf = &bvh.order[c..c + n];
+                for (k, &i) in leaf.iter().enumerate() {
+                    assert!(!leaf[..k].contains(&i), "a leaf holds {i} twice");
+                    seen[i as usize] += 1;
+                }
+            }
+        }
+        seen
+    }
+
+    /// Every triangle of a large random soup is in a leaf (in one, or in several where it was
+    /// split, but in no leaf twice).
     #[test]
-    fn every_finite_triangle_is_in_one_leaf() {
+    fn every_finite_triangle_is_in_a_leaf() {
         use rand::{Rng, SeedableRng};
         let mut random = rand_pcg::Pcg64::seed_from_u64(5);
         let triangles: Vec<PreparedTriangle> = (0..5000)
@@ -1192,16 +1283,84 @@ mod tests {
             })
             .collect();
         let bvh = Bvh::build(&triangles);
-        let mut seen = vec![0; triangles.len()];
-        for node in &bvh.nodes {
-            for lane in 0..4 {
-                let (c, n) = (node.child[lane] as usize, node.count[lane] as usize);
-                for slot in c..c + n {
-                    seen[bvh.order[slot] as usize] += 1;
+        let seen = leaves_holding(&bvh, triangles.len());
+        assert!(seen.iter().all(|s| (1..=4).contains(s)));
+        assert!(seen.iter().filter(|s| **s == 1).count() > 2500);
+        assert_eq!(bvh.len(), triangles.len());
+    }
+
+    /// A closed hedgehog: a sphere whose vertices are pushed out to radii between 1 and 12 (each
+    /// vertex the same way in every triangle that has it), so its triangles are long spikes that
+    /// the build splits. Rays from outside towards its vertices, its edges' midpoints and points
+    /// inside its triangles all hit it (no ray slips through a seam), and the hierarchy's hits,
+    /// one ray at a time and in packets, are a brute-force loop's.
+    #[test]
+    fn split_spikes_lose_no_hit() {
+        use crate::render::generate::irregular_sphere;
+        let spike = |v: V3<f64>| {
+            let bits = v.iter().fold(0u64, |h, c| {
+                (h ^ c.to_bits()).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            });
+            let radius = 1.0 + 11.0 * ((bits >> 11) as f64 / (1u64 << 53) as f64);
+            v.map(|c| c * radius)
+        };
+        let mesh: Vec<PreparedTriangle> = irregular_sphere(2, 7)
+            .into_iter()
+            .map(|t| PreparedTriangle::new(t.map(spike)))
+            .collect();
+        let bvh = Bvh::build(&mesh);
+        let split_up = mesh
+            .iter()
+            .filter(|t| {
+                let mut boxes = Vec::new();
+                split::pieces(&t.vertices, &mut boxes);
+                boxes.len() > 1
+            })
+            .count();
+        let seen = leaves_holding(&bvh, mesh.len());
+        let in_several = seen.iter().filter(|s| **s > 1).count();
+        assert!(split_up > 40 && in_several > 40, "{split_up} {in_several}");
+        let brute = |origin: V3<f64>, dir: V3<f64>| {
+            let ray = ShearedRay::new(&origin, &dir)?;
+            let mut best: Option<(usize, [f64; 3])> = None;
+            for (i, t) in mesh.iter().enumerate() {
+                if let Some(hit) = ray.intersect(&t.vertices, 0.0)
+                    && best.is_none_or(|(_, b)| hit[0] < b[0])
+                {
+                    best = Some((i, hit));
+                }
+            }
+            best
+        };
+        let mut targets: Vec<V3<f64>> = Vec::new();
+        for t in &mesh {
+            let v = t.vertices;
+            targets.push(v[0]);
+            targets.push(std::array::from_fn(|k| v[0][k] * 0.5 + v[1][k] * 0.5));
+            targets.push(std::array::from_fn(|k| (v[0][k] + v[1][k] + v[2][k]) / 3.0));
+        }
+        // From outside, and from the centre: the hedgehog is star-shaped about its centre (its
+        // vertices moved along their radii), so a ray from there leaves it once, at the target.
+        for origin in [[0.3, -9.0, 0.5], [0.0; 3]] {
+            let rays: Vec<(V3<f64>, V3<f64>)> = targets
+                .iter()
+                .map(|p| (origin, std::array::from_fn(|k| p[k] - origin[k])))
+                .collect();
+            for packet in rays.chunks_exact(16) {
+                let packet: &[(V3<f64>, V3<f64>); 16] = packet.try_into().unwrap();
+                let found =
+                    bvh.nearest_crack_free_packet(packet, [f64::INFINITY; 16], &mut 0, &mut 0);
+                for (r, (o, d)) in packet.iter().enumerate() {
+                    let alone = bvh.nearest_crack_free(o, d, 0.0, f64::INFINITY, &mut 0, &mut 0);
+                    assert_eq!(found[r], alone, "{o:?} {d:?}");
+                    assert_eq!(alone, brute(*o, *d), "{o:?} {d:?}");
+                    if origin == [0.0; 3] {
+                        let t = alone.map(|(_, hit)| hit[0]);
+                        assert!(t.is_some_and(|t| (t - 1.0).abs() < 1e-9), "{d:?} {t:?}");
+                    }
                 }
             }
         }
-        assert!(seen.iter().all(|s| *s == 1));
     }
 
     /// Packets of sixteen rays (across whose rays the f32 box test runs where their numbers allow
