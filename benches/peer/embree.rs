@@ -1,6 +1,8 @@
 //! **Meshes** against Intel Embree 4 (robust mode) through `../shared/peers/embree_render.py` (needs
 //! python3 with `embreex` and `numpy`): coverage only, the same pinhole rays, 2 threads each (raylab in
-//! a rayon pool of 2, the script with `--threads 2`), the median of 21 renders each, in one run.
+//! a rayon pool of 2, the script with `--threads 2`), the median of 21 renders each, in one run. Each
+//! side is measured in three alternating rounds (one for the 1.3-million-triangle sphere), and the
+//! row shows the median round of each and every round's ratio.
 //!
 //! Scenes: each shipped scene with a mesh (its objects written to a temporary OBJ in world space, with
 //! their transforms applied; a parallelogram as its two triangles), an 81 920-triangle irregular sphere,
@@ -160,7 +162,21 @@ fn raylab(pool: &rayon::ThreadPool, prepared: &Prepared) -> (f64, usize) {
     })
 }
 
-/// One row of the table: both sides on one scene.
+/// How many rounds each side is measured in, alternating (Embree, raylab, Embree, …), on a scene
+/// of `triangles`: three, so that a slow spell of the shared machine weighs on both sides alike;
+/// one for the largest meshes, whose OBJ alone takes the script seconds to read.
+fn rounds(triangles: usize) -> usize {
+    if triangles > 1_000_000 { 1 } else { 3 }
+}
+
+/// The median of some numbers (the upper one of an even count).
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+/// One row of the table: both sides on one scene, in alternating rounds; the medians of the
+/// rounds' medians, and each round's ratio.
 fn row(
     pool: &rayon::ThreadPool,
     script: &str,
@@ -168,14 +184,29 @@ fn row(
     prepared: &Prepared,
     triangles: &[[V3<f64>; 3]],
 ) -> Result<(), String> {
-    let (peer_ms, peer_pixels) = embree(script, triangles, prepared, name)?;
-    let (ours_ms, our_pixels) = raylab(pool, prepared);
+    let (mut peer, mut ours) = (Vec::new(), Vec::new());
+    let (mut peer_pixels, mut our_pixels) = (0, 0);
+    for _ in 0..rounds(triangles.len()) {
+        let (peer_ms, pixels) = embree(script, triangles, prepared, name)?;
+        peer.push(peer_ms);
+        peer_pixels = pixels;
+        let (ours_ms, pixels) = raylab(pool, prepared);
+        ours.push(ours_ms);
+        our_pixels = pixels;
+    }
+    let each_round: Vec<String> = peer
+        .iter()
+        .zip(&ours)
+        .map(|(p, o)| format!("{:.2}", p / o))
+        .collect();
+    let (peer_ms, ours_ms) = (median(peer), median(ours));
     println!(
         "{name:>24} {:>9} {:>9}   Embree {peer_ms:8.3} ms   raylab {ours_ms:8.3} ms   raylab/Embree speed \
-         {:5.2}x   covered: Embree {peer_pixels}, raylab {our_pixels}{}",
+         {:5.2}x (rounds {})   covered: Embree {peer_pixels}, raylab {our_pixels}{}",
         triangles.len(),
         format!("{}x{}", prepared.width, prepared.height),
         peer_ms / ours_ms,
+        each_round.join(" "),
         if peer_pixels == our_pixels {
             " (equal)"
         } else {
@@ -297,7 +328,8 @@ pub fn compare() {
         .build()
         .expect("a pool of 2 threads");
     println!(
-        "\nmeshes against Embree 4 (robust), coverage only, {THREADS} threads each, median of {} renders",
+        "\nmeshes against Embree 4 (robust), coverage only, {THREADS} threads each, median of {} renders, \
+         alternating rounds",
         repeats()
     );
     println!("{:>24} {:>9} {:>9}", "scene", "triangles", "image");
