@@ -571,13 +571,29 @@ impl Bvh {
         box_tests: &mut u64,
         triangle_tests: &mut u64,
     ) -> [Option<(usize, [f64; 3])>; P] {
+        let mut best = [None; P];
+        self.nearest_crack_free_packet_into(rays, t_max, box_tests, triangle_tests, &mut best);
+        best
+    }
+
+    /// [`Bvh::nearest_crack_free_packet`], the hits written into `best` (the renderer's packets
+    /// pass their own, so a packet's hits are not copied on the way out).
+    pub fn nearest_crack_free_packet_into<const P: usize>(
+        &self,
+        rays: &[(V3<f64>, V3<f64>); P],
+        t_max: [f64; P],
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+        best: &mut [Option<(usize, [f64; 3])>; P],
+    ) {
+        *best = [None; P];
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
         {
             // SAFETY: the processor has AVX2 and FMA, checked just above.
-            return unsafe { self.packet_avx2(rays, t_max, box_tests, triangle_tests) };
+            return unsafe { self.packet_avx2(rays, t_max, box_tests, triangle_tests, best) };
         }
-        self.packet_inlined::<P, false>(rays, t_max, box_tests, triangle_tests)
+        self.packet_inlined::<P, false>(rays, t_max, box_tests, triangle_tests, best)
     }
 
     /// The packet traversal compiled with AVX2 and FMA (only called when the processor has them):
@@ -590,11 +606,11 @@ impl Bvh {
         t_max: [f64; P],
         box_tests: &mut u64,
         triangle_tests: &mut u64,
-    ) -> [Option<(usize, [f64; 3])>; P] {
+        best: &mut [Nearest; P],
+    ) {
         if P == narrow::RAYS && self.narrow && !self.nodes.is_empty() {
             let packet = <&[(V3<f64>, V3<f64>); narrow::RAYS]>::try_from(rays.as_slice());
             let limits = <[f64; narrow::RAYS]>::try_from(t_max.as_slice());
-            let mut best: [Nearest; P] = [None; P];
             let found = match (
                 packet,
                 limits,
@@ -607,10 +623,10 @@ impl Bvh {
                 _ => false,
             };
             if found {
-                return best;
+                return;
             }
         }
-        self.packet_inlined::<P, true>(rays, t_max, box_tests, triangle_tests)
+        self.packet_inlined::<P, true>(rays, t_max, box_tests, triangle_tests, best)
     }
 
     /// The packet traversal itself, inlined into each of the two builds above.
@@ -621,8 +637,8 @@ impl Bvh {
         mut t_max: [f64; P],
         box_tests: &mut u64,
         triangle_tests: &mut u64,
-    ) -> [Option<(usize, [f64; 3])>; P] {
-        let mut best: [Option<(usize, [f64; 3])>; P] = [None; P];
+        best: &mut [Nearest; P],
+    ) {
         let sheared: [Option<ShearedRay>; P] =
             std::array::from_fn(|r| ShearedRay::new(&rays[r].0, &rays[r].1));
         let box_rays: [BoxRay; P] = std::array::from_fn(|r| {
@@ -641,7 +657,7 @@ impl Bvh {
             }
         }
         if self.nodes.is_empty() || all == 0 {
-            return best;
+            return;
         }
         let children = |node: &Node| node.child.iter().filter(|c| **c != EMPTY).count() as u64;
         PACKET_STACK.with_borrow_mut(|stack| {
@@ -733,7 +749,6 @@ impl Bvh {
                 }
             }
         });
-        best
     }
 
     /// The traversal: `leaf(slots, t_max)` tests a leaf's slots and returns the new t_max. `AVX2`:

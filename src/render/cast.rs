@@ -321,14 +321,28 @@ pub fn nearest_hits<const P: usize>(
     rays: &[(V3<f64>, V3<f64>); P],
     stats: &mut Stats,
 ) -> [Option<Hit>; P] {
-    let mut best: [Option<Hit>; P] = [None; P];
+    let mut best = [None; P];
+    nearest_hits_into(prepared, rays, stats, &mut best);
+    best
+}
+
+/// [`nearest_hits`], written into `best` (the renderer's packets pass their own, so the hits are
+/// not copied on the way out).
+#[inline]
+pub fn nearest_hits_into<const P: usize>(
+    prepared: &Prepared,
+    rays: &[(V3<f64>, V3<f64>); P],
+    stats: &mut Stats,
+    best: &mut [Option<Hit>; P],
+) {
+    *best = [None; P];
     for (index, object) in prepared.objects.iter().enumerate() {
         let bvh = match &object.geometry {
             Geometry::Triangles { bvh: Some(bvh), .. } if crack_free_applies(prepared, object) => {
                 bvh
             }
-            _ if lone_hits(prepared, index, rays, &mut best, stats) => continue,
-            _ if parallelogram_hits(prepared, index, rays, &mut best, stats) => continue,
+            _ if lone_hits(prepared, index, rays, best, stats) => continue,
+            _ if parallelogram_hits(prepared, index, rays, best, stats) => continue,
             _ => {
                 for (best, (origin, dir)) in best.iter_mut().zip(rays) {
                     hit_object(prepared, index, *origin, *dir, best, stats);
@@ -336,23 +350,32 @@ pub fn nearest_hits<const P: usize>(
                 continue;
             }
         };
-        let local: [(V3<f64>, V3<f64>); P] = std::array::from_fn(|i| {
-            to_object_space(object, rays[i].0, rays[i].1, prepared.bug, stats)
-        });
+        // An untransformed mesh takes the packet's own rays, not a copy.
+        let moved: [(V3<f64>, V3<f64>); P];
+        let local = match object.object_from_world {
+            None => rays,
+            Some(_) => {
+                moved = std::array::from_fn(|i| {
+                    to_object_space(object, rays[i].0, rays[i].1, prepared.bug, stats)
+                });
+                &moved
+            }
+        };
         let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
-        let hits = bvh.nearest_crack_free_packet(
-            &local,
+        let mut hits = [None; P];
+        bvh.nearest_crack_free_packet_into(
+            local,
             t_max,
             &mut stats.box_tests,
             &mut stats.triangle_tests,
+            &mut hits,
         );
-        for (best, hit) in best.iter_mut().zip(hits) {
-            if let Some((primitive, [t, beta, gamma])) = hit {
+        for (best, hit) in best.iter_mut().zip(&hits) {
+            if let Some((primitive, [t, beta, gamma])) = *hit {
                 offer(best, Hit::of(index, primitive, [t, beta, gamma]));
             }
         }
     }
-    best
 }
 
 /// The bug the primitive tests see: shadow acne moves secondary rays' origins, not a test.

@@ -332,14 +332,16 @@ impl Prepared {
             (true, true) => (true, width / TILE_COLUMNS * TILE_COLUMNS),
             (true, false) => (false, width / PACKET * PACKET),
         };
+        // Each packet's hits, written in place.
+        let mut found = [None; PACKET];
         if tiles {
             for start in (0..packed).step_by(TILE_COLUMNS) {
                 let pixel = |k| (rows.start + k / TILE_COLUMNS, start + k % TILE_COLUMNS);
                 // The rays made in place (`from_fn`, inlined), not mapped from the pixels.
                 let rays: [Ray; PACKET] = std::array::from_fn(|k| ray(pixel(k)));
-                let found = cast::nearest_hits(self, &rays, stats);
-                for (k, hit) in found.into_iter().enumerate() {
-                    deliver(pixel(k), rays[k], hit, stats);
+                cast::nearest_hits_into(self, &rays, stats, &mut found);
+                for (k, hit) in found.iter().enumerate() {
+                    deliver(pixel(k), rays[k], *hit, stats);
                 }
             }
         }
@@ -347,9 +349,9 @@ impl Prepared {
             if !tiles {
                 for start in (0..packed).step_by(PACKET) {
                     let rays: [Ray; PACKET] = std::array::from_fn(|k| ray((row, start + k)));
-                    let found = cast::nearest_hits(self, &rays, stats);
-                    for (k, hit) in found.into_iter().enumerate() {
-                        deliver((row, start + k), rays[k], hit, stats);
+                    cast::nearest_hits_into(self, &rays, stats, &mut found);
+                    for (k, hit) in found.iter().enumerate() {
+                        deliver((row, start + k), rays[k], *hit, stats);
                     }
                 }
             }
