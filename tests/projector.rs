@@ -468,3 +468,29 @@ fn the_verdict_reads_over_the_drawing() {
         "no line under the verdict"
     );
 }
+
+/// On a 1280x800 projector at 150% and 200% the Render view's image takes the height below its
+/// controls (the class looks at the image; the summary, the rays by kind and the probe scroll below
+/// it): over half the screen at 150%, over a third at 200% where the menus and controls take half.
+/// Before, the summary and room for the details came first and the image had a fifth to a quarter.
+/// At 100% the summary stays above the image.
+#[test]
+fn the_render_image_fills_the_height_on_a_zoomed_projector() {
+    for (zoom, share) in [(1.0, 0.6), (1.5, 0.5), (2.0, 0.3)] {
+        let mut harness = projector(1280.0, 800.0, zoom);
+        let screen_height = 800.0 / zoom;
+        common::load_preset(&mut harness, "Render: a closed mesh");
+        let image = harness.get_by_label("Correct render").rect();
+        assert!(
+            image.height() >= share * screen_height,
+            "at {zoom}x the image is {:.0} of {screen_height:.0} points tall",
+            image.height()
+        );
+        let summary = harness.get_by_label_contains("pixels hit").rect();
+        if zoom == 1.0 {
+            assert!(summary.max.y <= image.min.y, "{summary:?} above {image:?}");
+        } else {
+            assert!(summary.min.y >= image.max.y, "{summary:?} below {image:?}");
+        }
+    }
+}

@@ -244,27 +244,35 @@ impl RenderView {
                 // The image comes first: on a zoomed projector the text beside or below it
                 // scrolls, the image keeps its place.
                 self.loading_ui(ui);
-                self.status_ui(ui);
                 // Beside the image when there is room for a column 18 lines wide and an image 10
                 // lines wide (the image gives up width for it, a bug's pair of images does not);
                 // below it on a narrow screen or under a wide image.
-                // When even the image has too little height (200% on a projector), the image and
-                // everything below it scroll together.
+                // When the image would be small (150% and 200% on a projector), the image and
+                // everything below it, the render's summary too, scroll together: the image takes
+                // the whole height, as a class needs it.
                 let body = ui.text_style_height(&egui::TextStyle::Body);
                 let side = 18.0 * body;
                 // Below the image: room for the rays by kind, the cost button and a probed pixel.
                 let below = 8.5 * body;
-                let available = ui.available_size();
-                if available.y < 14.0 * body {
+                // Room for the summary (three lines), an image of 14 lines and what goes below it;
+                // with less (150% and 200% on a projector), the image takes the whole height and
+                // the rest scrolls under it.
+                if ui.available_height() < 3.0 * body + 14.0 * body + below {
+                    let available = ui.available_size();
                     egui::ScrollArea::vertical()
                         .id_salt("render-tight")
                         .auto_shrink([false, false])
                         .show(ui, |ui| {
-                            let room = Vec2::new(available.x, available.y - 2.0 * body);
+                            let room = Vec2::new(available.x, available.y - body);
                             self.images_ui(ui, &mut action, room);
+                            self.status_ui(ui);
                             self.details_ui(ui, &mut action, true, false);
                         });
-                } else if available.x >= side + 10.0 * body
+                    return self.finish_ui(ui, action, pending);
+                }
+                self.status_ui(ui);
+                let available = ui.available_size();
+                if available.x >= side + 10.0 * body
                     // Two images side by side keep their full size: the column goes below them.
                     && (self.bug.is_none() || self.images_width(ui) + side <= available.x)
                     // One image goes where it is larger, unless the column beside it would shrink
@@ -289,6 +297,16 @@ impl RenderView {
             }
             Mode::Spaces => self.spaces_ui(ui),
         }
+        self.finish_ui(ui, action, pending)
+    }
+
+    /// The frame's action: the one taken, else a ray of the tree loaded last frame.
+    fn finish_ui(
+        &self,
+        ui: &Ui,
+        action: Option<Action>,
+        pending: Option<Action>,
+    ) -> Option<Action> {
         if self.runtime.pending.is_some() {
             ui.ctx().request_repaint();
         }
@@ -371,9 +389,28 @@ impl RenderView {
                 }
             }
             ui.separator();
-            let label = ui.label("Method:");
-            let shown = self.method.map_or("scene's", Method::name);
-            egui::ComboBox::from_id_salt("render-method")
+            self.method_ui(ui);
+        });
+        ui.horizontal_wrapped(|ui| {
+            self.bug_ui(ui);
+            ui.separator();
+            ui.selectable_value(&mut self.mode, Mode::Image, "Image")
+                .on_hover_text("The rendered image; click a pixel to probe its ray");
+            ui.selectable_value(&mut self.mode, Mode::Spaces, "World vs object space")
+                .on_hover_text(
+                    "The probed ray and object in world space and in the object's own space",
+                );
+        });
+        if let Some(bug) = self.bug {
+            ui.label(RichText::new(bug.sentence()).color(palette::OUTSIDE.readable(ui)));
+        }
+    }
+
+    /// "Method:" and its box: the scene's, or a float method.
+    fn method_ui(&mut self, ui: &mut Ui) {
+        let label = ui.label("Method:");
+        let shown = self.method.map_or("scene's", Method::name);
+        egui::ComboBox::from_id_salt("render-method")
                 .selected_text(shown)
                 .show_ui(ui, |ui| {
                     ui.selectable_value(&mut self.method, None, "scene's")
@@ -405,34 +442,23 @@ impl RenderView {
                 .response
                 .labelled_by(label.id)
                 .on_hover_text("The ray–triangle test every pixel uses");
-        });
-        ui.horizontal_wrapped(|ui| {
-            let label = ui.label("Compare with a bug:");
-            egui::ComboBox::from_id_salt("render-bug")
-                .selected_text(self.bug.map_or("none", Bug::name))
-                .show_ui(ui, |ui| {
-                    ui.selectable_value(&mut self.bug, None, "none");
-                    for bug in <Bug as strum::IntoEnumIterator>::iter() {
-                        ui.selectable_value(&mut self.bug, Some(bug), bug.name())
-                            .on_hover_text(bug.sentence());
-                    }
-                })
-                .response
-                .labelled_by(label.id)
-                .on_hover_text(
-                    "Render the same scene with a common mistake, beside the correct image",
-                );
-            ui.separator();
-            ui.selectable_value(&mut self.mode, Mode::Image, "Image")
-                .on_hover_text("The rendered image; click a pixel to probe its ray");
-            ui.selectable_value(&mut self.mode, Mode::Spaces, "World vs object space")
-                .on_hover_text(
-                    "The probed ray and object in world space and in the object's own space",
-                );
-        });
-        if let Some(bug) = self.bug {
-            ui.label(RichText::new(bug.sentence()).color(palette::OUTSIDE.readable(ui)));
-        }
+    }
+
+    /// "Compare with a bug:" and its box.
+    fn bug_ui(&mut self, ui: &mut Ui) {
+        let label = ui.label("Compare with a bug:");
+        egui::ComboBox::from_id_salt("render-bug")
+            .selected_text(self.bug.map_or("none", Bug::name))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut self.bug, None, "none");
+                for bug in <Bug as strum::IntoEnumIterator>::iter() {
+                    ui.selectable_value(&mut self.bug, Some(bug), bug.name())
+                        .on_hover_text(bug.sentence());
+                }
+            })
+            .response
+            .labelled_by(label.id)
+            .on_hover_text("Render the same scene with a common mistake, beside the correct image");
     }
 
     fn status_ui(&self, ui: &mut Ui) {
