@@ -494,3 +494,26 @@ fn the_render_image_fills_the_height_on_a_zoomed_projector() {
         }
     }
 }
+
+/// The Render view's "Method:" label and its box share a row at every zoom: where the row has no
+/// room for both, both go to the next one (before, the label ended the row and its box started the
+/// next at 150% and 200%).
+#[test]
+fn the_method_label_keeps_its_box_on_its_row() {
+    for zoom in [1.0, 1.5, 2.0] {
+        for preset in ["Render: common bugs", "Render: a closed mesh"] {
+            let mut harness = projector(1280.0, 800.0, zoom);
+            common::load_preset(&mut harness, preset);
+            let label = harness
+                .get_by_role_and_label(egui::accesskit::Role::Label, "Method:")
+                .rect();
+            let chooser = harness
+                .get_by_role_and_label(egui::accesskit::Role::ComboBox, "Method:")
+                .rect();
+            assert!(
+                chooser.min.y < label.max.y && label.min.y < chooser.max.y,
+                "{preset} at {zoom}x: “Method:” at {label:?}, its box at {chooser:?}"
+            );
+        }
+    }
+}

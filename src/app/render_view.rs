@@ -388,7 +388,6 @@ impl RenderView {
                     }
                 }
             }
-            ui.separator();
             self.method_ui(ui);
         });
         ui.horizontal_wrapped(|ui| {
@@ -408,8 +407,13 @@ impl RenderView {
 
     /// "Method:" and its box: the scene's, or a float method.
     fn method_ui(&mut self, ui: &mut Ui) {
-        let label = ui.label("Method:");
         let shown = self.method.map_or("scene's", Method::name);
+        if label_with_box_fits(ui, "Method:", shown) {
+            ui.separator();
+        } else {
+            ui.end_row();
+        }
+        let label = ui.label("Method:");
         egui::ComboBox::from_id_salt("render-method")
                 .selected_text(shown)
                 .show_ui(ui, |ui| {
@@ -606,6 +610,30 @@ impl RenderView {
 
 /// Where an image is being rendered and none is right to show yet: an empty frame that says so (the
 /// progress bar above counts the rows; nothing here animates, so an idle app draws no frames).
+/// In a wrapping row: whether a separator, `label` and a combo box showing `choice` fit in what is
+/// left of this one (else the caller starts the next row, so that a label never ends a row with its
+/// box alone on the next).
+fn label_with_box_fits(ui: &Ui, label: &str, choice: &str) -> bool {
+    let width = |text: &str| {
+        egui::WidgetText::from(text)
+            .into_galley(
+                ui,
+                Some(egui::TextWrapMode::Extend),
+                f32::INFINITY,
+                egui::TextStyle::Button,
+            )
+            .size()
+            .x
+    };
+    let spacing = ui.spacing();
+    let choice = width(choice) + spacing.icon_width + spacing.icon_spacing;
+    let combo = spacing.combo_width.max(choice) + 2.0 * spacing.button_padding.x;
+    // What is left of this row (a wrapping row's available width is the whole row's).
+    let left = ui.max_rect().max.x - ui.cursor().min.x;
+    let separator = 2.0 * spacing.item_spacing.x + 1.0;
+    left >= separator + width(label) + spacing.item_spacing.x + combo
+}
+
 fn rendering_placeholder(ui: &mut Ui, size: Vec2) {
     let (rect, _) = ui.allocate_exact_size(size, Sense::hover());
     let painter = ui.painter_at(rect);
