@@ -38,17 +38,30 @@ fn raylab(repeats: u32) -> (f64, usize) {
         panic!("seed003-facing.ron is a render scene");
     };
     let prepared = Prepared::new(&scene, &Embedded).expect("the shipped scene prepares");
-    render(&prepared); // warm the thread pool
-    let mut times = Vec::new();
-    let mut covered = 0;
-    for _ in 0..repeats {
-        let clock = Stopwatch::start();
-        let (image, _) = render(&prepared);
-        times.push(clock.seconds() * 1e3);
-        covered = image.covered_pixels();
-    }
-    times.sort_by(f64::total_cmp);
-    (times[times.len() / 2], covered)
+    let covered = render(&prepared).0.covered_pixels(); // also warms the thread pool
+    let ms = median_ms(repeats as usize, || {
+        std::hint::black_box(render(&prepared));
+    });
+    (ms, covered)
+}
+
+/// The median of some numbers (the upper one of an even count).
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+/// The median wall-clock milliseconds of `runs` calls of `once`.
+fn median_ms(runs: usize, mut once: impl FnMut()) -> f64 {
+    median(
+        (0..runs)
+            .map(|_| {
+                let clock = Stopwatch::start();
+                once();
+                clock.seconds() * 1e3
+            })
+            .collect(),
+    )
 }
 
 fn main() {

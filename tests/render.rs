@@ -1071,7 +1071,8 @@ fn packets_of_rays_hit_what_single_rays_hit() {
             for start in (0..prepared.width.saturating_sub(7)).step_by(8) {
                 let rays: [(V3<f64>, V3<f64>); 8] =
                     std::array::from_fn(|k| prepared.ray(row, start + k));
-                let packet = nearest_hits(prepared, &rays, &mut Stats::default());
+                let mut packet = [None; 8];
+                nearest_hits(prepared, &rays, &mut Stats::default(), &mut packet);
                 for (k, (origin, dir)) in rays.iter().enumerate() {
                     let single = nearest_hit(prepared, *origin, *dir, &mut Stats::default());
                     assert_eq!(packet[k], single, "pixel ({row}, {})", start + k);

@@ -16,7 +16,6 @@
 use std::process::Command;
 
 use raylab::math::linalg::V3;
-use raylab::platform::Stopwatch;
 use raylab::render::generate::{grid_box, irregular_sphere, mesh_scene, to_obj};
 use raylab::render::objects::Geometry;
 use raylab::render::{Prepared, assets::Embedded, render, world_triangle};
@@ -150,15 +149,10 @@ pub fn median_and_coverage(output: &std::process::Output) -> Result<(f64, usize)
 fn raylab(pool: &rayon::ThreadPool, prepared: &Prepared) -> (f64, usize) {
     pool.install(|| {
         let covered = render(prepared).0.covered_pixels(); // also warms the pool
-        let mut times: Vec<f64> = (0..repeats())
-            .map(|_| {
-                let clock = Stopwatch::start();
-                std::hint::black_box(render(prepared));
-                clock.seconds() * 1e3
-            })
-            .collect();
-        times.sort_by(f64::total_cmp);
-        (times[times.len() / 2], covered)
+        let ms = super::median_ms(repeats(), || {
+            std::hint::black_box(render(prepared));
+        });
+        (ms, covered)
     })
 }
 
@@ -167,12 +161,6 @@ fn raylab(pool: &rayon::ThreadPool, prepared: &Prepared) -> (f64, usize) {
 /// one for the largest meshes, whose OBJ alone takes the script seconds to read.
 fn rounds(triangles: usize) -> usize {
     if triangles > 1_000_000 { 1 } else { 3 }
-}
-
-/// The median of some numbers (the upper one of an even count).
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
 }
 
 /// One row of the table: both sides on one scene, in alternating rounds: each side's median round,
@@ -198,8 +186,8 @@ fn row(
     // rounds' ratios, not of the two sides' medians, which may come from different rounds.
     let ratios: Vec<f64> = peer.iter().zip(&ours).map(|(p, o)| p / o).collect();
     let each_round: Vec<String> = ratios.iter().map(|r| format!("{r:.2}")).collect();
-    let ratio = median(ratios);
-    let (peer_ms, ours_ms) = (median(peer), median(ours));
+    let ratio = super::median(ratios);
+    let (peer_ms, ours_ms) = (super::median(peer), super::median(ours));
     println!(
         "{name:>24} {:>9} {:>9}   Embree {peer_ms:8.3} ms   raylab {ours_ms:8.3} ms   raylab/Embree speed \
          {:5.2}x (rounds {})   covered: Embree {peer_pixels}, raylab {our_pixels}{}",
@@ -242,15 +230,10 @@ fn raylab_occluded(pool: &rayon::ThreadPool, prepared: &Prepared) -> Option<(f64
     };
     Some(pool.install(|| {
         let occluded = count();
-        let mut times: Vec<f64> = (0..repeats())
-            .map(|_| {
-                let clock = Stopwatch::start();
-                std::hint::black_box(count());
-                clock.seconds() * 1e3
-            })
-            .collect();
-        times.sort_by(f64::total_cmp);
-        (times[times.len() / 2], occluded)
+        let ms = super::median_ms(repeats(), || {
+            std::hint::black_box(count());
+        });
+        (ms, occluded)
     }))
 }
 

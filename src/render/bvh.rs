@@ -561,24 +561,11 @@ impl Bvh {
     }
 
     /// [`Bvh::nearest_crack_free`] for `P` rays at once (neighbouring pixels), each with its own
-    /// t_max: the same answers, one traversal. A node's boxes are tested for every ray still in
-    /// play; a child is visited when any of them meets its box, with those rays only. Box and
-    /// triangle tests are counted per ray, as if each ray had made them alone.
+    /// t_max: the same answers, one traversal, written into `best` (the renderer's packets pass
+    /// their own, so the hits are not copied on the way out). A node's boxes are tested for every
+    /// ray still in play; a child is visited when any of them meets its box, with those rays only.
+    /// Box and triangle tests are counted per ray, as if each ray had made them alone.
     pub fn nearest_crack_free_packet<const P: usize>(
-        &self,
-        rays: &[(V3<f64>, V3<f64>); P],
-        t_max: [f64; P],
-        box_tests: &mut u64,
-        triangle_tests: &mut u64,
-    ) -> [Option<(usize, [f64; 3])>; P] {
-        let mut best = [None; P];
-        self.nearest_crack_free_packet_into(rays, t_max, box_tests, triangle_tests, &mut best);
-        best
-    }
-
-    /// [`Bvh::nearest_crack_free_packet`], the hits written into `best` (the renderer's packets
-    /// pass their own, so a packet's hits are not copied on the way out).
-    pub fn nearest_crack_free_packet_into<const P: usize>(
         &self,
         rays: &[(V3<f64>, V3<f64>); P],
         t_max: [f64; P],
@@ -1363,8 +1350,14 @@ mod tests {
                 .collect();
             for packet in rays.chunks_exact(16) {
                 let packet: &[(V3<f64>, V3<f64>); 16] = packet.try_into().unwrap();
-                let found =
-                    bvh.nearest_crack_free_packet(packet, [f64::INFINITY; 16], &mut 0, &mut 0);
+                let mut found = [None; 16];
+                bvh.nearest_crack_free_packet(
+                    packet,
+                    [f64::INFINITY; 16],
+                    &mut 0,
+                    &mut 0,
+                    &mut found,
+                );
                 for (r, (o, d)) in packet.iter().enumerate() {
                     let alone = bvh.nearest_crack_free(o, d, 0.0, f64::INFINITY, &mut 0, &mut 0);
                     assert_eq!(found[r], alone, "{o:?} {d:?}");
@@ -1424,7 +1417,8 @@ mod tests {
             });
             let t_max: [f64; 16] =
                 std::array::from_fn(|r| if r % 5 == 0 { 2.9 } else { f64::INFINITY });
-            let packet = bvh.nearest_crack_free_packet(&rays, t_max, &mut 0, &mut 0);
+            let mut packet = [None; 16];
+            bvh.nearest_crack_free_packet(&rays, t_max, &mut 0, &mut 0, &mut packet);
             for (r, (o, d)) in rays.iter().enumerate() {
                 let alone = bvh.nearest_crack_free(o, d, 0.0, t_max[r], &mut 0, &mut 0);
                 assert_eq!(packet[r], alone, "packet {p}, ray {r}: {o:?} {d:?}");

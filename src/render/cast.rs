@@ -313,23 +313,12 @@ fn better(hit: &Hit, best: &Option<Hit>) -> bool {
     })
 }
 
-/// The nearest hits of `P` rays at once (neighbouring pixels): the same hits as [`nearest_hit`] for
-/// each. Meshes taking the crack-free test are traversed by the packet together; other objects one
-/// ray at a time.
-pub fn nearest_hits<const P: usize>(
-    prepared: &Prepared,
-    rays: &[(V3<f64>, V3<f64>); P],
-    stats: &mut Stats,
-) -> [Option<Hit>; P] {
-    let mut best = [None; P];
-    nearest_hits_into(prepared, rays, stats, &mut best);
-    best
-}
-
-/// [`nearest_hits`], written into `best` (the renderer's packets pass their own, so the hits are
-/// not copied on the way out).
+/// The nearest hits of `P` rays at once (neighbouring pixels), written into `best` (the caller's, so
+/// a packet's hits are not copied on the way out): the same hits as [`nearest_hit`] for each.
+/// Meshes taking the crack-free test are traversed by the packet together; other objects one ray at
+/// a time.
 #[inline]
-pub fn nearest_hits_into<const P: usize>(
+pub fn nearest_hits<const P: usize>(
     prepared: &Prepared,
     rays: &[(V3<f64>, V3<f64>); P],
     stats: &mut Stats,
@@ -363,7 +352,7 @@ pub fn nearest_hits_into<const P: usize>(
         };
         let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
         let mut hits = [None; P];
-        bvh.nearest_crack_free_packet_into(
+        bvh.nearest_crack_free_packet(
             local,
             t_max,
             &mut stats.box_tests,
@@ -928,7 +917,8 @@ mod packet_tests {
                 for start in (0..prepared.width).step_by(16) {
                     let rays: [(V3<f64>, V3<f64>); 16] =
                         std::array::from_fn(|k| prepared.ray(row, start + k));
-                    let packet = nearest_hits(&prepared, &rays, &mut packet_stats);
+                    let mut packet = [None; 16];
+                    nearest_hits(&prepared, &rays, &mut packet_stats, &mut packet);
                     for (k, (origin, dir)) in rays.iter().enumerate() {
                         let single = nearest_hit(&prepared, *origin, *dir, &mut single_stats);
                         let bits = |h: Option<Hit>| {

@@ -339,7 +339,7 @@ impl Prepared {
                 let pixel = |k| (rows.start + k / TILE_COLUMNS, start + k % TILE_COLUMNS);
                 // The rays made in place (`from_fn`, inlined), not mapped from the pixels.
                 let rays: [Ray; PACKET] = std::array::from_fn(|k| ray(pixel(k)));
-                cast::nearest_hits_into(self, &rays, stats, &mut found);
+                cast::nearest_hits(self, &rays, stats, &mut found);
                 for (k, hit) in found.iter().enumerate() {
                     deliver(pixel(k), rays[k], *hit, stats);
                 }
@@ -349,7 +349,7 @@ impl Prepared {
             if !tiles {
                 for start in (0..packed).step_by(PACKET) {
                     let rays: [Ray; PACKET] = std::array::from_fn(|k| ray((row, start + k)));
-                    cast::nearest_hits_into(self, &rays, stats, &mut found);
+                    cast::nearest_hits(self, &rays, stats, &mut found);
                     for (k, hit) in found.iter().enumerate() {
                         deliver((row, start + k), rays[k], *hit, stats);
                     }
