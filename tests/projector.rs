@@ -471,7 +471,8 @@ fn the_verdict_reads_over_the_drawing() {
 
 /// On a 1280x800 projector at 150% and 200% the Render view's image takes the height below its
 /// controls (the class looks at the image; the summary, the rays by kind and the probe scroll below
-/// it): over half the screen at 150%, over a third at 200% where the menus and controls take half.
+/// it): over half the screen at 150%, over a third at 200% where the menus and controls take half;
+/// the summary's first line shows whole below it.
 /// Before, the summary and room for the details came first and the image had a fifth to a quarter.
 /// At 100% the summary stays above the image.
 #[test]
@@ -491,6 +492,18 @@ fn the_render_image_fills_the_height_on_a_zoomed_projector() {
             assert!(summary.max.y <= image.min.y, "{summary:?} above {image:?}");
         } else {
             assert!(summary.min.y >= image.max.y, "{summary:?} below {image:?}");
+            // Its first line whole, not cut by the scroll area's edge.
+            let texts = painted_texts(&harness);
+            let painted = texts
+                .iter()
+                .find(|t| t.text.contains("pixels hit"))
+                .unwrap_or_else(|| panic!("no summary painted at {zoom}x"));
+            assert!(
+                painted.rect.max.y <= painted.clip.max.y,
+                "at {zoom}x the summary {:?} is cut by {:?}",
+                painted.rect,
+                painted.clip
+            );
         }
     }
 }

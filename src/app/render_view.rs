@@ -263,7 +263,10 @@ impl RenderView {
                         .id_salt("render-tight")
                         .auto_shrink([false, false])
                         .show(ui, |ui| {
-                            let room = Vec2::new(available.x, available.y - body);
+                            // The summary's first line shows whole under the image: the rest
+                            // is a scroll away.
+                            let line = body + 2.0 * ui.spacing().item_spacing.y;
+                            let room = Vec2::new(available.x, available.y - line);
                             self.images_ui(ui, &mut action, room);
                             self.status_ui(ui);
                             self.details_ui(ui, &mut action, true, false);
