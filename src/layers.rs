@@ -21,6 +21,8 @@ pub const LAYERS: &[&[&str]] = &[
     &["scene"],
     // What is built on scenes: the renderer, the accuracy study, lessons.
     &["render", "accuracy", "lesson"],
+    // The live class: its protocol, the exact judging of answers, and (desktop) its server.
+    &["class"],
     // The window and the command line (which opens the window).
     &["app", "cli"],
 ];

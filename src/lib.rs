@@ -2,7 +2,7 @@
 //!
 //! Imports go one way, bottom to top (see [`layers`], which a test enforces): `platform` and `files`;
 //! `math`; `trace`; `geometry`; `intersect`, `symbolic`, `exercise`; `scene`; `render`, `accuracy`,
-//! `lesson`; `app` and `cli`. Everything below `app` and `cli` is the pure core: it builds without egui,
+//! `lesson`; `class` (the live class); `app` and `cli`. Everything below `app` and `cli` is the pure core: it builds without egui,
 //! eframe or clap (`cargo build --lib --no-default-features`). The same app runs in a web page (wasm32):
 //! what differs between a desktop and a browser lives in `platform`, and the command line is
 //! desktop-only.
@@ -13,6 +13,7 @@
 pub mod accuracy;
 #[cfg(feature = "app")]
 pub mod app;
+pub mod class;
 #[cfg(all(feature = "app", not(target_arch = "wasm32")))]
 pub mod cli;
 pub mod exercise;

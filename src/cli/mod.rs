@@ -26,6 +26,9 @@ macro_rules! err {
     }};
 }
 
+// After the macros above, which it uses.
+pub mod class;
+
 use std::io::Write;
 
 /// A value as indented JSON.
@@ -74,6 +77,9 @@ pub enum Command {
     Render(RenderArgs),
     /// Write a printable worksheet, its answer key (LaTeX) and the problems (JSON) from a seed.
     Worksheet(worksheet::WorksheetArgs),
+    /// Run a live class: students answer on their phones, the teacher's app sees every answer.
+    /// Prints the join address and code; `raylab class export CODE --csv` writes the answers.
+    Class(class::ClassArgs),
 }
 
 /// `raylab render`.
@@ -313,6 +319,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Bench(args)) => run_bench(args),
         Some(Command::Render(args)) => run_render(args),
         Some(Command::Worksheet(args)) => worksheet::run(args),
+        Some(Command::Class(args)) => class::run(args),
         None if cli
             .lesson
             .as_deref()
