@@ -6,6 +6,7 @@
 #[macro_use]
 pub mod view;
 pub mod accuracy_view;
+pub mod class_view;
 pub mod highlight;
 pub mod launch;
 pub mod lesson_view;
@@ -98,6 +99,12 @@ pub struct RaylabApp {
     pub practice: Option<practice_view::PracticeRun>,
     /// The seed of the last practice problem (each new one takes the next).
     pub practice_seed: u64,
+    /// The live class being taught, if any.
+    pub class: Option<class_view::ClassRun>,
+    /// The Class → Start / Join dialog while it is open.
+    class_dialog: Option<class_view::ClassDialog>,
+    /// The saved class was resumed (or there was none) at start.
+    class_resumed: bool,
 }
 
 impl RaylabApp {
@@ -119,6 +126,9 @@ impl RaylabApp {
             symbolic: None,
             practice: None,
             practice_seed: 0,
+            class: None,
+            class_dialog: None,
+            class_resumed: false,
         }
     }
 
@@ -309,13 +319,23 @@ impl eframe::App for RaylabApp {
         }
         let before = self.fingerprint();
         let solved = self.solve();
+        self.class_frame(ui.ctx());
+        // A live class's open question: the view keeps its answer to itself until the reveal.
+        let class_hides = self.class_hides_answer();
+        if class_hides {
+            widgets::hide_answers(ui.ctx(), true);
+        }
         match self.presentation {
             _ if self.lesson.is_some() => self.lesson_ui(ui, &solved),
             _ if self.practice.is_some() => self.practice_ui(ui, &solved),
             Some(index) => self.presentation_ui(ui, &solved, index),
             None => self.workbench_ui(ui, &solved),
         }
+        if class_hides {
+            widgets::hide_answers(ui.ctx(), false);
+        }
         self.dialog_ui(&ui.ctx().clone());
+        self.class_dialog_ui(&ui.ctx().clone());
         // The step panel was drawn before this frame's drags: draw once more so it catches up.
         if self.fingerprint() != before {
             ui.ctx().request_repaint();
@@ -332,7 +352,16 @@ impl RaylabApp {
     fn workbench_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve) {
         self.set_highlight(Vec::new());
         egui::Panel::top("top-bar").show(ui, |ui| self.top_bar(ui));
-        if self.state.show_steps {
+        if self.class.is_some() {
+            // A live class: its panel takes the steps' place (the steps would give the answer away).
+            let full = ui.available_width();
+            let width = (full * 0.3).clamp(240.0, 380.0).min(full * 0.45);
+            egui::Panel::right("class")
+                .resizable(true)
+                .default_size(width)
+                .size_range(width.min(240.0)..=full * 0.45)
+                .show(ui, |ui| self.class_panel_ui(ui));
+        } else if self.state.show_steps {
             // About 40% of the window, never more than half: the view keeps at least half the width.
             let full = ui.available_width();
             let width = (full * 0.4).clamp(240.0, 420.0).min(full * 0.5);

@@ -558,6 +558,7 @@ impl SegmentsView {
                 10.0,
             );
         }
+        self.draw_class_cloud(painter, frame);
         if let Some(verdict) = verdict {
             verdict.paint(painter);
         }
@@ -565,6 +566,29 @@ impl SegmentsView {
     }
 
     /// Emphasises what the step on screen is about: a wide glow under each highlighted element.
+    /// A live class's predictions: each student's A(t) on segment A and B(s) on segment B.
+    fn draw_class_cloud(&self, painter: &egui::Painter, frame: &Frame2d) {
+        let problem = crate::scene::Problem::Segments(self.scene.clone());
+        let ctx = painter.ctx();
+        let Some(cloud) = super::class_view::cloud_for(ctx, &problem) else {
+            super::class_view::note_drawn(ctx, 0);
+            return;
+        };
+        let [a1, a2, b1, b2] = self.scene.points();
+        let mut drawn = 0;
+        for (i, [t, s]) in cloud.points.iter().enumerate() {
+            let right = cloud.right.as_ref().and_then(|r| r.get(i).copied());
+            for (value, p1, p2) in [(t, a1, a2), (s, b1, b2)] {
+                if let Some(value) = value {
+                    let at = frame.screen_from_world(p1 + *value * (p2 - p1));
+                    super::class_view::paint_prediction(painter, at, right);
+                    drawn += 1;
+                }
+            }
+        }
+        super::class_view::note_drawn(ctx, drawn);
+    }
+
     fn draw_highlights(&self, painter: &egui::Painter, frame: &Frame2d, solved: &Solved) {
         let [a1, a2, b1, b2] = self.scene.points().map(|p| frame.screen_from_world(p));
         let glow = |color: egui::Color32| Stroke::new(12.0, faded(color, 90));

@@ -97,6 +97,8 @@ pub struct AppState {
     pub scene_path: String,
     /// Each view's scene as it was loaded, to tell when its inputs have been edited.
     pub loaded: [Option<Problem>; 4],
+    /// The live class being taught, to resume it after a restart.
+    pub class: Option<super::class_view::ClassLink>,
 }
 
 impl Default for AppState {
@@ -126,6 +128,7 @@ impl Default for AppState {
                     .find(|s| view_of(&s.problem) == kind)
                     .map(|s| s.problem.clone())
             }),
+            class: None,
         }
     }
 }

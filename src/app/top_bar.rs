@@ -24,6 +24,11 @@ impl RaylabApp {
                 .on_hover_text(
                     "Predict, then check: a generated problem, a hint when wrong, a score",
                 );
+            ui.menu_button("Class", |ui| self.class_menu(ui))
+                .response
+                .on_hover_text(
+                    "A live class: students answer on their phones, you see every answer",
+                );
             ui.menu_button("File", |ui| self.file_menu(ui));
             ui.menu_button("View", |ui| self.view_menu(ui))
                 .response
@@ -41,7 +46,15 @@ impl RaylabApp {
         let (title, note) = &heading(&self.state);
         ui.horizontal_wrapped(|ui| {
             ui.label(RichText::new(title).strong());
-            if self.edited() {
+            if self.class_hides_answer() {
+                // The note often states the answer (β = γ = 1/3): not while the class answers.
+                ui.label(
+                    RichText::new("(the note shows after the reveal)")
+                        .weak()
+                        .italics(),
+                )
+                .on_hover_text("A live class is answering a question about this scene");
+            } else if self.edited() {
                 ui.label(
                     RichText::new("(edited)")
                         .color(widgets::palette::RHS.readable(ui))

@@ -293,6 +293,10 @@ impl TriangleView {
                 .on_hover_text("Zero only at the solution (β*, γ*, t*); press Solve to get there");
             }
         });
+        // The solution's t and distance: not while a class (or a practice problem) is answering.
+        if super::widgets::answers_hidden(ui.ctx()) {
+            return;
+        }
         status_line(ui, |ui| {
             if let Some(s) = exact {
                 // A distance is never negative: behind L, say so and give how far back.
@@ -610,10 +614,36 @@ impl TriangleView {
             canvas.place_label(&mut labels, on_ray, "L + tD", palette::RAY, Priority::Key);
         }
         self.draw_solution(canvas, solved, [a, b, c, l], &mut labels);
+        self.draw_class_cloud(canvas, [a, b, c]);
         if let Some(verdict) = verdict {
             verdict.paint(canvas.painter);
         }
         labels.paint(ui, canvas.painter, ui.scope_id().with("triangle-labels"))
+    }
+
+    /// A live class's predictions of P(β, γ), one point each, on this scene's triangle.
+    fn draw_class_cloud(&self, canvas: &Canvas, [a, b, c]: [DVec3; 3]) {
+        let problem = crate::scene::Problem::Triangle(self.scene.clone());
+        let ctx = canvas.painter.ctx();
+        let Some(cloud) = super::class_view::cloud_for(ctx, &problem) else {
+            super::class_view::note_drawn(ctx, 0);
+            return;
+        };
+        let mut drawn = 0;
+        for (i, point) in cloud.points.iter().enumerate() {
+            let [Some(beta), Some(gamma)] = *point else {
+                continue;
+            };
+            let right = cloud.right.as_ref().and_then(|r| r.get(i).copied());
+            if let Some(at) = canvas
+                .projector
+                .screen_from_world(a + beta * (b - a) + gamma * (c - a))
+            {
+                super::class_view::paint_prediction(canvas.painter, at, right);
+                drawn += 1;
+            }
+        }
+        super::class_view::note_drawn(ctx, drawn);
     }
 
     /// Emphasises what the step on screen is about: a wide glow under each highlighted vector,

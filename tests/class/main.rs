@@ -7,3 +7,4 @@
 mod client;
 mod hostile;
 mod protocol;
+mod teacher;

@@ -1,0 +1,167 @@
+//! The teacher's side in the real app (egui_kittest): the app joins a running `raylab class` with the
+//! code and key, asks about the scene on screen by clicking, the students' answers arrive over the
+//! network, the panel counts them and the Triangle view draws each prediction in the cloud; the answer
+//! stays hidden until Reveal is clicked.
+//!
+//! `RAYLAB_SCREENSHOTS=1 cargo test --test class teacher` also writes
+//! `assets/screenshots/class-projector.png`.
+
+use egui::Vec2;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use raylab::app::RaylabApp;
+use raylab::class::protocol::{QuestionState, ToClient};
+use serde_json::json;
+
+use super::client::{Client, Server, TempDir};
+
+/// Steps the app until `done` holds (the network answers on its own threads), at most 20 s.
+fn step_until(
+    harness: &mut Harness<'static, RaylabApp>,
+    what: &str,
+    done: impl Fn(&Harness<'static, RaylabApp>) -> bool,
+) {
+    let start = std::time::Instant::now();
+    while !done(harness) {
+        assert!(
+            start.elapsed().as_secs() < 20,
+            "the app never showed {what}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        harness.step();
+    }
+    harness.run();
+}
+
+fn shows(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
+    harness.query_by_label_contains(text).is_some()
+}
+
+#[test]
+fn the_teachers_view_counts_answers_and_draws_their_cloud() {
+    let folder = TempDir::new("class-teacher");
+    let server = Server::start(&folder.join("class.sqlite3"), &[]);
+    let mut harness = Harness::builder()
+        .with_size(Vec2::new(1280.0, 800.0))
+        .with_max_steps(200)
+        .build_eframe(|cc| {
+            raylab::app::set_style(&cc.egui_ctx);
+            RaylabApp::new()
+        });
+    let preset = raylab::scene::preset("seed000-triangle").unwrap();
+    harness.state_mut().load_scene(&preset).unwrap();
+    let ctx = harness.ctx.clone();
+    let (address, code, key) = (
+        server.address.clone(),
+        server.code.clone(),
+        server.key.clone(),
+    );
+    harness.state_mut().join_class(
+        &ctx,
+        &format!("http://{address}"),
+        &code.to_lowercase(),
+        &key,
+    );
+    step_until(&mut harness, "the class code", |h| {
+        h.state().class.as_ref().is_some_and(|c| c.connected)
+    });
+    assert!(
+        shows(&harness, &format!("Code {code}")),
+        "the projector shows the code"
+    );
+
+    // The students join; the teacher asks about the scene on screen by clicking.
+    let mut students: Vec<Client> = (0..12)
+        .map(|_| Client::student(&address, &code, None, None).0)
+        .collect();
+    harness.get_by_label("Ask about this scene").click();
+    step_until(&mut harness, "the question", |h| {
+        h.state()
+            .class
+            .as_ref()
+            .is_some_and(|c| c.question.is_some())
+    });
+    assert!(
+        harness.state().class_hides_answer(),
+        "the answer is hidden while the question is open"
+    );
+
+    // Twelve predictions of P(β, γ) around the true 1/3, 1/3, one "behind"; each acknowledged.
+    let question =
+        match students[0].recv_until("the question", |m| matches!(m, ToClient::Question { .. })) {
+            ToClient::Question { question } => question.id,
+            _ => unreachable!(),
+        };
+    for (i, student) in students.iter_mut().enumerate() {
+        if i > 0 {
+            student.recv_until("the question", |m| matches!(m, ToClient::Question { .. }));
+        }
+        // A scatter around the answer, as a class's guesses are (a fixed sequence, not random).
+        let angle = i as f64 * 2.4;
+        let radius = 0.04 + 0.012 * i as f64;
+        let (beta, gamma) = (0.3 + radius * angle.cos(), 0.3 + radius * angle.sin());
+        let outcome = if i == 7 { "behind" } else { "hit" };
+        student.send(
+            json!({"type": "answer", "question": question, "outcome": outcome,
+                            "values": [format!("{beta:.3}"), format!("{gamma:.3}"), null]}),
+        );
+        student.recv_until("the ack", |m| matches!(m, ToClient::Ack { .. }));
+    }
+    step_until(&mut harness, "12 answered", |h| shows(h, "12 answered"));
+    assert_eq!(
+        raylab::app::class_view::cloud_drawn(&harness.ctx),
+        12,
+        "every prediction is a point of the cloud in the Triangle view"
+    );
+    let tally = harness.state().class.as_ref().unwrap().tally.clone();
+    let hits = tally.outcomes.iter().find(|(o, _)| o == "hit").unwrap().1;
+    assert_eq!(hits, 11);
+    assert!(
+        !shows(&harness, "Answer: hit"),
+        "no answer before the reveal"
+    );
+
+    let write = std::env::var_os("RAYLAB_SCREENSHOTS").is_some();
+    if write {
+        harness.hover_at(egui::pos2(2.0, 790.0));
+        harness.run();
+        let image = harness.render().expect("the CPU renderer draws");
+        image
+            .save(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/assets/screenshots/class-projector.png"
+            ))
+            .unwrap();
+    }
+
+    // Lock, then Reveal: the true answer shows on the projector and every student learns it.
+    harness.get_by_label("Lock").click();
+    step_until(&mut harness, "the lock", |h| {
+        h.state()
+            .class
+            .as_ref()
+            .and_then(|c| c.question.as_ref())
+            .is_some_and(|q| q.state == QuestionState::Locked)
+    });
+    harness.get_by_label("Reveal").click();
+    step_until(&mut harness, "the reveal", |h| {
+        shows(h, "Answer: hit; β = 1/3, γ = 1/3, t = 1")
+    });
+    assert!(!harness.state().class_hides_answer());
+    for student in &mut students {
+        let revealed = student.recv_until("the reveal", |m| matches!(m, ToClient::Revealed { .. }));
+        assert!(
+            matches!(revealed, ToClient::Revealed { ref reveal, .. } if reveal.answer.outcome == "hit")
+        );
+    }
+    if write {
+        harness.run();
+        let image = harness.render().expect("the CPU renderer draws");
+        image
+            .save(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/assets/screenshots/class-reveal.png"
+            ))
+            .unwrap();
+    }
+}
