@@ -717,6 +717,78 @@ impl RaylabApp {
     }
 }
 
+impl RaylabApp {
+    /// The class in one strip under a lesson, presentation or practice: the code, the count, the
+    /// outcomes so far, and Ask, Lock and Reveal, so the teacher drives the class from any mode.
+    pub(super) fn class_strip_ui(&mut self, ui: &mut Ui) {
+        let Some(run) = &mut self.class else {
+            return;
+        };
+        let mut ask = false;
+        ui.horizontal_wrapped(|ui| {
+            ui.label(
+                RichText::new(format!("Class {}", run.link.code))
+                    .strong()
+                    .size(20.0),
+            )
+            .on_hover_text(format!("Students open {}", run.link.join_url));
+            ui.label(format!("{} joined", run.tally.joined));
+            if let Some(question) = &run.question {
+                let mut counts = format!("Q{}: {} answered", question.number, run.tally.answered);
+                for (outcome, count) in run.tally.outcomes.iter().filter(|(_, n)| *n > 0) {
+                    counts.push_str(&format!(" · {outcome} {count}"));
+                }
+                ui.label(RichText::new(counts).strong());
+                if let Some(reveal) = &run.reveal {
+                    ui.label(format!(
+                        "{} of {} right",
+                        reveal.right_count, reveal.answered
+                    ));
+                }
+            }
+            if let Some(error) = &run.error {
+                ui.label(RichText::new(error).color(palette::OUTSIDE.readable(ui)));
+            }
+            ask = ui
+                .button("Ask about this scene")
+                .on_hover_text("Send the scene on screen to every student")
+                .clicked();
+            let state = run.question.as_ref().map(|q| q.state);
+            if ui
+                .add_enabled(
+                    state == Some(QuestionState::Open),
+                    egui::Button::new("Lock"),
+                )
+                .clicked()
+            {
+                run.send(&ToServer::Lock {});
+            }
+            if ui
+                .add_enabled(
+                    matches!(state, Some(QuestionState::Open | QuestionState::Locked)),
+                    egui::Button::new("Reveal"),
+                )
+                .clicked()
+            {
+                run.send(&ToServer::Reveal {});
+            }
+        });
+        if ask {
+            self.ask_class(None);
+        }
+    }
+
+    /// A lesson's "Show the answer" with a class live: lock and reveal to every device too.
+    pub(super) fn reveal_to_class(&mut self) {
+        if let Some(run) = &mut self.class
+            && run.answer_hidden()
+        {
+            run.send(&ToServer::Lock {});
+            run.send(&ToServer::Reveal {});
+        }
+    }
+}
+
 /// The QR code, drawn square by square (about 180 points wide), dark on white whatever the theme.
 fn qr_ui(ui: &mut Ui, dark: &[bool], width: usize) {
     let quiet = 2;

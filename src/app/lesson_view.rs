@@ -83,6 +83,12 @@ impl RaylabApp {
                     self.notice = Some(Notice::error(format!("Slide {}: {error}", index + 1)));
                 }
                 self.state.view = view_of(&scene.problem);
+                // A live class gets the slide's question on every device.
+                if let Some(question) = &slide.question
+                    && self.class.is_some()
+                {
+                    self.ask_class(Some(&question.ask));
+                }
                 if let Some(camera) = slide.camera {
                     let (yaw, pitch) = (camera.yaw.to_radians(), camera.pitch.to_radians());
                     // The views frame the scene from this direction on their next frame.
@@ -219,6 +225,9 @@ impl RaylabApp {
                 step_panel::step_ui(ui, index + 1, step, None);
             }
         });
+        if answer_shown && self.lesson.as_ref().is_some_and(|run| !run.answer_shown) {
+            self.reveal_to_class();
+        }
         if let Some(run) = &mut self.lesson {
             run.answer_shown = answer_shown;
         }

@@ -325,6 +325,11 @@ impl eframe::App for RaylabApp {
         if class_hides {
             widgets::hide_answers(ui.ctx(), true);
         }
+        let workbench =
+            self.lesson.is_none() && self.practice.is_none() && self.presentation.is_none();
+        if self.class.is_some() && !workbench {
+            egui::Panel::bottom("class-strip").show(ui, |ui| self.class_strip_ui(ui));
+        }
         match self.presentation {
             _ if self.lesson.is_some() => self.lesson_ui(ui, &solved),
             _ if self.practice.is_some() => self.practice_ui(ui, &solved),

@@ -377,6 +377,12 @@ impl Drop for Running {
 
 /// Opens the database, takes (or makes) the session and binds the port; what the caller prints.
 fn prepare(options: &Options) -> Result<(Arc<Hub>, std::net::TcpListener, Started), ClassError> {
+    // The port first: a start that cannot listen makes no session.
+    let listener =
+        std::net::TcpListener::bind(options.listen).map_err(|error| ClassError::Listen {
+            address: options.listen,
+            error,
+        })?;
     let store = Store::open(&options.db)?;
     let open = store.call_blocking(sql::open_sessions)?;
     let (session, resumed) = match open.last() {
@@ -394,11 +400,6 @@ fn prepare(options: &Options) -> Result<(Arc<Hub>, std::net::TcpListener, Starte
         let live = Live::load(&store, row)?;
         sessions.insert(live.code.clone(), Arc::new(live));
     }
-    let listener =
-        std::net::TcpListener::bind(options.listen).map_err(|error| ClassError::Listen {
-            address: options.listen,
-            error,
-        })?;
     listener.set_nonblocking(true).map_err(ClassError::Start)?;
     let address = listener.local_addr().map_err(ClassError::Start)?;
     let base = options

@@ -165,3 +165,60 @@ fn the_teachers_view_counts_answers_and_draws_their_cloud() {
             .unwrap();
     }
 }
+
+/// The app as a teacher restarts it: its saved state holds the class (address, code, key).
+fn app_with(state: Option<raylab::app::AppState>) -> Harness<'static, RaylabApp> {
+    Harness::builder()
+        .with_size(Vec2::new(1280.0, 800.0))
+        .with_max_steps(200)
+        .build_eframe(move |cc| {
+            raylab::app::set_style(&cc.egui_ctx);
+            let mut app = RaylabApp::new();
+            if let Some(state) = state {
+                app.state = state;
+            }
+            app
+        })
+}
+
+#[test]
+fn a_restarted_app_resumes_its_class() {
+    let folder = TempDir::new("class-resume");
+    let server = Server::start(&folder.join("class.sqlite3"), &[]);
+    let mut harness = app_with(None);
+    let preset = raylab::scene::preset("seed000-segments-cross").unwrap();
+    harness.state_mut().load_scene(&preset).unwrap();
+    let ctx = harness.ctx.clone();
+    harness
+        .state_mut()
+        .join_class(&ctx, &server.address, &server.code, &server.key);
+    step_until(&mut harness, "the link", |h| {
+        h.state().class.as_ref().is_some_and(|c| c.connected)
+    });
+    harness.get_by_label("Ask about this scene").click();
+    step_until(&mut harness, "the question", |h| {
+        h.state()
+            .class
+            .as_ref()
+            .is_some_and(|c| c.question.is_some())
+    });
+    let (mut student, _) = Client::student(&server.address, &server.code, None, Some("Kim"));
+    student.send(json!({"type": "answer", "question": harness.state().class.as_ref().unwrap().question.as_ref().unwrap().id,
+                        "outcome": "hit", "values": ["0.75", "0.9"]}));
+    student.recv_until("the ack", |m| matches!(m, ToClient::Ack { .. }));
+
+    // The app closes (its state saved) and starts again: it comes back to the same class and question,
+    // and draws the answer that arrived before it closed in the Segments view's cloud.
+    let saved = harness.state().state.clone();
+    drop(harness);
+    let mut harness = app_with(Some(saved));
+    step_until(&mut harness, "1 answered after the restart", |h| {
+        shows(h, "1 answered")
+    });
+    assert!(shows(&harness, &format!("Code {}", server.code)));
+    assert_eq!(
+        raylab::app::class_view::cloud_drawn(&harness.ctx),
+        2,
+        "A(t) and B(s) of the one prediction"
+    );
+}
