@@ -525,3 +525,79 @@ fn exact_values_beyond_the_float_range_read_from_the_exact_value() {
         "{latex}"
     );
 }
+
+/// Runs `raylab args…` with standard error on a pipe whose reader has gone (as
+/// `../shared/tools/closed_stderr.py` does) and standard output discarded; returns the exit code.
+fn exit_with_stderr_closed(args: &[&str]) -> Option<i32> {
+    use std::os::fd::{FromRawFd, OwnedFd};
+    let mut ends = [0; 2];
+    #[allow(unsafe_code)]
+    // SAFETY: pipe() fills two new file descriptors, which are owned from here on.
+    let (reader, writer) = unsafe {
+        assert_eq!(libc::pipe(ends.as_mut_ptr()), 0);
+        (OwnedFd::from_raw_fd(ends[0]), OwnedFd::from_raw_fd(ends[1]))
+    };
+    drop(reader);
+    Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::from(writer))
+        .status()
+        .expect("the binary runs")
+        .code()
+}
+
+#[test]
+fn every_subcommand_exits_cleanly_with_standard_error_closed() {
+    let folder = std::env::temp_dir().join(format!("raylab-closed-stderr-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&folder);
+    std::fs::create_dir_all(&folder).unwrap();
+    let out = |name: &str| folder.join(name).display().to_string();
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/seed003-facing.ron"
+    );
+    let (png, sheets, db) = (out("facing.png"), out("sheets"), out("class.sqlite3"));
+    // (arguments, the exit code a user gets with standard error open)
+    let cases: [(Vec<&str>, i32); 11] = [
+        (
+            vec![
+                "solve", "segments", "--a1", "0,0", "--a2", "4,4", "--b1", "0,4", "--b2", "4,0",
+            ],
+            0,
+        ),
+        (vec!["solve", "segments", "--a1", "0,0"], 2),
+        (vec!["render", scene, "-o", &png, "--stats"], 0),
+        (vec!["render", "no-such-scene.ron", "-o", &png], 1),
+        (vec!["render", scene, "-o", "facing.jpg"], 2),
+        (
+            vec!["worksheet", "--seed", "1", "--count", "2", "-o", &sheets],
+            0,
+        ),
+        (
+            vec![
+                "worksheet",
+                "--seed",
+                "1",
+                "--count",
+                "2",
+                "-o",
+                "/proc/no-such",
+            ],
+            1,
+        ),
+        (vec!["bench", "--hard-cases"], 0),
+        (vec!["bench", "--out", scene], 2),
+        (vec!["class", "export", "NOSUCH", "--db", &db], 1),
+        (vec!["class", "--listen", "not-an-address"], 2),
+    ];
+    for (args, expected) in cases {
+        assert_eq!(
+            exit_with_stderr_closed(&args),
+            Some(expected),
+            "raylab {}",
+            args.join(" ")
+        );
+    }
+    let _ = std::fs::remove_dir_all(&folder);
+}

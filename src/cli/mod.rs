@@ -452,7 +452,7 @@ fn run_render(args: RenderArgs) -> i32 {
     use crate::scene::{Problem, Scene};
     let name = args.scene.display().to_string();
     if let Err(message) = check_png_name(&args.output) {
-        eprintln!("raylab: {message}");
+        err!("raylab: {message}");
         return 2;
     }
     let scene = match Scene::load(&args.scene) {
@@ -574,7 +574,7 @@ fn run_bench(args: BenchArgs) -> i32 {
     if let Some(dir) = &args.out
         && out_is_a_file(dir)
     {
-        eprintln!(
+        err!(
             "raylab: --out {}: is a file, not a folder (bench writes results.json and results.csv \
              into a folder)",
             dir.display()

@@ -1,5 +1,6 @@
 //! `raylab worksheet`: a printable worksheet, its answer key and the problems as JSON, from a seed.
 
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -63,14 +64,16 @@ pub enum WorksheetError {
 pub fn run(args: WorksheetArgs) -> i32 {
     match write(&args) {
         Ok(()) => {
-            eprintln!(
+            // A closed or failing standard error must not turn success into a panic.
+            let _ = writeln!(
+                std::io::stderr(),
                 "wrote {0}/worksheet.tex, {0}/key.tex and {0}/problems.json",
                 args.output.display()
             );
             0
         }
         Err(message) => {
-            eprintln!("raylab: {message}");
+            let _ = writeln!(std::io::stderr(), "raylab: {message}");
             1
         }
     }
