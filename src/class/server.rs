@@ -21,7 +21,7 @@ use std::time::Duration;
 
 use axum::Router;
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
-use axum::extract::{ConnectInfo, Query, State};
+use axum::extract::{Query, State};
 use axum::http::{HeaderMap, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
@@ -505,8 +505,7 @@ pub fn start(options: &Options) -> Result<Running, ClassError> {
         .spawn(move || {
             runtime.block_on(async move {
                 if let Ok(listener) = tokio::net::TcpListener::from_std(listener) {
-                    let service = router(hub).into_make_service_with_connect_info::<SocketAddr>();
-                    let _ = axum::serve(listener, service)
+                    let _ = axum::serve(listener, router(hub))
                         .with_graceful_shutdown(async {
                             let _ = stopped.await;
                         })
@@ -530,8 +529,7 @@ pub fn serve(options: &Options, on_start: impl FnOnce(&Started)) -> Result<(), C
     let runtime = runtime()?;
     runtime.block_on(async move {
         let listener = tokio::net::TcpListener::from_std(listener).map_err(ClassError::Start)?;
-        let service = router(hub).into_make_service_with_connect_info::<SocketAddr>();
-        axum::serve(listener, service)
+        axum::serve(listener, router(hub))
             .with_graceful_shutdown(async {
                 let _ = tokio::signal::ctrl_c().await;
             })
@@ -644,11 +642,7 @@ impl Drop for Place {
     }
 }
 
-async fn upgrade(
-    State(hub): State<Arc<Hub>>,
-    ConnectInfo(peer): ConnectInfo<SocketAddr>,
-    ws: WebSocketUpgrade,
-) -> Response {
+async fn upgrade(State(hub): State<Arc<Hub>>, ws: WebSocketUpgrade) -> Response {
     if hub.connections.fetch_add(1, Ordering::SeqCst) >= MAX_CONNECTIONS {
         hub.connections.fetch_sub(1, Ordering::SeqCst);
         return (
@@ -661,7 +655,7 @@ async fn upgrade(
     ws.max_message_size(MAX_MESSAGE_BYTES)
         .max_frame_size(MAX_MESSAGE_BYTES)
         .on_upgrade(move |socket| async move {
-            Connection::new(hub, peer).run(socket).await;
+            Connection::new(hub).run(socket).await;
             drop(place);
         })
 }
@@ -690,7 +684,7 @@ enum Next {
 }
 
 impl Connection {
-    fn new(hub: Arc<Hub>, _peer: SocketAddr) -> Connection {
+    fn new(hub: Arc<Hub>) -> Connection {
         Connection {
             hub,
             who: Who::Nobody,
