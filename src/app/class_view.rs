@@ -354,6 +354,7 @@ impl RaylabApp {
             db: crate::class::server::default_db_path(),
             new_session: false,
             public_url: None,
+            site: None,
         };
         let running = crate::class::server::start(&options).map_err(|e| e.to_string())?;
         let started = &running.started;

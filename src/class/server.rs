@@ -27,7 +27,7 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use tokio::sync::{broadcast, watch};
 
-use super::page::Page;
+use super::page::{Page, Site};
 use super::protocol::{
     Given, MAX_MESSAGE_BYTES, Prediction, QuestionSpec, QuestionState, Reveal, Role, Tally,
     ToClient, ToServer, clean_nickname, normalise_code, read_message,
@@ -93,6 +93,8 @@ pub struct Options {
     pub new_session: bool,
     /// The address students type, when the listening one is not it (behind a proxy, or a name).
     pub public_url: Option<String>,
+    /// The whole app's web build to serve at `/app/` (none: not served).
+    pub site: Option<PathBuf>,
 }
 
 /// A started server: where it listens and the session it runs.
@@ -110,6 +112,8 @@ pub struct Started {
     pub join_url: String,
     /// The WebSocket address the app connects to.
     pub ws_url: String,
+    /// The whole app in a browser (`…/app/`), when its web build is served.
+    pub app_url: Option<String>,
 }
 
 /// The user's data folder's class database: `$XDG_DATA_HOME/raylab/class.sqlite3` (or
@@ -175,6 +179,7 @@ struct Hub {
     sessions: Mutex<HashMap<String, Arc<Live>>>,
     connections: AtomicUsize,
     page: Page,
+    site: Site,
 }
 
 /// One session in memory.
@@ -410,6 +415,7 @@ fn prepare(options: &Options) -> Result<(Arc<Hub>, std::net::TcpListener, Starte
     let ws_base = base
         .replacen("https://", "wss://", 1)
         .replacen("http://", "ws://", 1);
+    let site = Site::new(options.site.clone());
     let started = Started {
         address,
         code: session.code.clone(),
@@ -417,12 +423,14 @@ fn prepare(options: &Options) -> Result<(Arc<Hub>, std::net::TcpListener, Starte
         resumed,
         join_url: format!("{base}/?code={}", session.code),
         ws_url: format!("{ws_base}/ws"),
+        app_url: site.is_built().then(|| format!("{base}/app/")),
     };
     let hub = Arc::new(Hub {
         store,
         sessions: Mutex::new(sessions),
         connections: AtomicUsize::new(0),
         page: Page::new(),
+        site,
     });
     Ok((hub, listener, started))
 }
@@ -480,6 +488,12 @@ fn local_interfaces() -> Vec<IpAddr> {
 fn router(hub: Arc<Hub>) -> Router {
     Router::new()
         .route("/", get(page))
+        .route(
+            "/app",
+            get(|| async { axum::response::Redirect::permanent("/app/") }),
+        )
+        .route("/app/", get(site_file))
+        .route("/app/{name}", get(site_file))
         .route("/ws", get(upgrade))
         .route("/export.csv", get(export_http))
         .route("/healthz", get(|| async { "ok" }))
@@ -601,12 +615,29 @@ pub fn write_csv(rows: &[ExportRow], out: impl std::io::Write) -> Result<(), Cla
     writer.flush().map_err(|e| ClassError::Write(e.to_string()))
 }
 
-async fn page(State(hub): State<Arc<Hub>>, headers: HeaderMap) -> Response {
-    let gzip = headers
+/// Whether the browser takes gzip.
+fn takes_gzip(headers: &HeaderMap) -> bool {
+    headers
         .get(header::ACCEPT_ENCODING)
         .and_then(|v| v.to_str().ok())
-        .is_some_and(|v| v.contains("gzip"));
-    hub.page.response(gzip)
+        .is_some_and(|v| v.contains("gzip"))
+}
+
+async fn page(State(hub): State<Arc<Hub>>, headers: HeaderMap) -> Response {
+    hub.page.response(takes_gzip(&headers))
+}
+
+async fn site_file(
+    State(hub): State<Arc<Hub>>,
+    name: Option<axum::extract::Path<String>>,
+    headers: HeaderMap,
+) -> Response {
+    let name = name.map(|n| n.0).unwrap_or_default();
+    let gzip = takes_gzip(&headers);
+    // Reading and compressing a file (the app's 8 MB of wasm) is blocking work.
+    tokio::task::spawn_blocking(move || hub.site.response(&name, gzip))
+        .await
+        .unwrap_or_else(|_| StatusCode::INTERNAL_SERVER_ERROR.into_response())
 }
 
 #[derive(serde::Deserialize)]

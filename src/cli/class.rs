@@ -30,6 +30,10 @@ pub struct ClassArgs {
     /// The address students type, when it is not the one listened on (a name, or a proxy's URL).
     #[arg(long, value_name = "URL")]
     pub public_url: Option<String>,
+    /// The whole app's web build, served at /app/ (default: target/site when
+    /// assets/web/build-web.sh has built it there).
+    #[arg(long, value_name = "DIR")]
+    pub site: Option<PathBuf>,
 }
 
 /// `raylab class export`.
@@ -68,6 +72,7 @@ fn serve(args: ClassArgs) -> i32 {
         db: args.db.unwrap_or_else(server::default_db_path),
         new_session: args.new,
         public_url: args.public_url,
+        site: Some(args.site.unwrap_or_else(|| PathBuf::from("target/site"))),
     };
     let db = options.db.display().to_string();
     let result = server::serve(&options, |started| {

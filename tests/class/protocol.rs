@@ -269,3 +269,92 @@ fn a_class_survives_reconnects_forgery_and_a_killed_server() {
     assert_eq!(unknown.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&unknown.stderr).contains("no class session with code NOSUCH"));
 }
+
+/// A plain HTTP/1.1 GET: the status code, the headers (lower-case names) and the body.
+fn http_get(address: &str, path: &str, gzip: bool) -> (u16, String, Vec<u8>) {
+    use std::io::{Read, Write};
+    let mut stream = std::net::TcpStream::connect(address).unwrap();
+    stream
+        .set_read_timeout(Some(super::client::PATIENCE))
+        .unwrap();
+    let encoding = if gzip {
+        "Accept-Encoding: gzip, deflate\r\n"
+    } else {
+        ""
+    };
+    write!(
+        stream,
+        "GET {path} HTTP/1.1\r\nHost: {address}\r\n{encoding}Connection: close\r\n\r\n"
+    )
+    .unwrap();
+    let mut response = Vec::new();
+    stream.read_to_end(&mut response).unwrap();
+    let split = response
+        .windows(4)
+        .position(|w| w == b"\r\n\r\n")
+        .expect("a header");
+    let head = String::from_utf8_lossy(&response[..split]).to_lowercase();
+    let status = head.split_whitespace().nth(1).unwrap().parse().unwrap();
+    (status, head, response[split + 4..].to_vec())
+}
+
+#[test]
+fn the_phone_page_is_small_and_gzipped_and_the_web_build_is_served_without_escaping_its_folder() {
+    let folder = TempDir::new("class-pages");
+    let site = folder.join("site");
+    std::fs::create_dir_all(&site).unwrap();
+    std::fs::write(
+        site.join("index.html"),
+        "<!doctype html><title>raylab</title>".repeat(50),
+    )
+    .unwrap();
+    std::fs::write(folder.join("secret.txt"), "not for the web").unwrap();
+    let server = Server::start(
+        &folder.join("class.sqlite3"),
+        &["--site", site.to_str().unwrap()],
+    );
+
+    // The page a student needs, as a phone gets it: gzipped, well under 1.5 MB.
+    let (status, head, body) = http_get(&server.address, "/?code=ABC", true);
+    assert_eq!(status, 200);
+    assert!(head.contains("content-encoding: gzip"), "{head}");
+    assert!(
+        body.len() < 1_500_000 / 100,
+        "the page is {} bytes gzipped",
+        body.len()
+    );
+    let mut page = String::new();
+    std::io::Read::read_to_string(&mut flate2::read::GzDecoder::new(&body[..]), &mut page).unwrap();
+    assert!(page.contains("Join the class"));
+    let (_, head, plain) = http_get(&server.address, "/", false);
+    assert!(!head.contains("content-encoding"), "{head}");
+    assert_eq!(plain, page.as_bytes());
+
+    // The whole app's web build at /app/, and nothing outside its folder.
+    let (status, _, body) = http_get(&server.address, "/app/", false);
+    assert_eq!(status, 200);
+    assert!(String::from_utf8_lossy(&body).starts_with("<!doctype html>"));
+    for path in [
+        "/app/..%2Fsecret.txt",
+        "/app/../secret.txt",
+        "/app/.%2e/secret.txt",
+        "/app/%2E%2E",
+        "/app/nothing.js",
+    ] {
+        let (status, _, body) = http_get(&server.address, path, false);
+        assert!(status == 404 || status == 400, "{path}: {status}");
+        assert!(
+            !String::from_utf8_lossy(&body).contains("not for the web"),
+            "{path}"
+        );
+    }
+    // Without a web build, /app/ says how to make one.
+    drop(server);
+    let bare = Server::start(
+        &folder.join("other.sqlite3"),
+        &["--site", folder.join("none").to_str().unwrap()],
+    );
+    let (status, _, body) = http_get(&bare.address, "/app/", false);
+    assert_eq!(status, 404);
+    assert!(String::from_utf8_lossy(&body).contains("build-web.sh"));
+}
