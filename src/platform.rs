@@ -85,6 +85,15 @@ impl Inbox {
     }
 }
 
+/// The address of the web page the app runs in (`http://host:port`), or none on the desktop: a
+/// teacher's app opened from a class server joins that server by default.
+pub fn page_origin() -> Option<String> {
+    #[cfg(target_arch = "wasm32")]
+    return web_sys::window().and_then(|window| window.location().origin().ok());
+    #[cfg(not(target_arch = "wasm32"))]
+    None
+}
+
 /// Offers `text` to the user as a file download named `file_name` (web only: the desktop saves to a
 /// typed path).
 pub fn download(file_name: &str, text: &str) -> Result<(), PlatformError> {

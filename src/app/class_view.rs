@@ -92,7 +92,7 @@ impl ClassDialog {
             start,
             room: true,
             port: crate::class::DEFAULT_PORT.to_string(),
-            address: String::new(),
+            address: crate::platform::page_origin().unwrap_or_default(),
             code: String::new(),
             key: String::new(),
         }
