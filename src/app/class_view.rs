@@ -493,30 +493,15 @@ impl RaylabApp {
             }
             return;
         };
-        let open = run.question.as_ref().map(|q| q.state);
-        let mut ask = false;
-        ask |= ui
-            .button("Ask the class about this scene")
-            .on_hover_text("Every student gets this scene and predicts the outcome and the values")
-            .clicked();
-        if ui
-            .add_enabled(
-                open == Some(QuestionState::Open),
-                egui::Button::new("Lock answers"),
-            )
-            .clicked()
-        {
-            run.send(&ToServer::Lock {});
-        }
-        if ui
-            .add_enabled(
-                matches!(open, Some(QuestionState::Open | QuestionState::Locked)),
-                egui::Button::new("Reveal the answer"),
-            )
-            .clicked()
-        {
-            run.send(&ToServer::Reveal {});
-        }
+        let ask = question_buttons_ui(
+            ui,
+            run,
+            [
+                "Ask the class about this scene",
+                "Lock answers",
+                "Reveal the answer",
+            ],
+        );
         let mut names = run.show_names;
         if ui
             .checkbox(&mut names, "Show students' names")
@@ -685,31 +670,7 @@ impl RaylabApp {
                 }
             }
             ui.horizontal_wrapped(|ui| {
-                ask = ui
-                    .button("Ask about this scene")
-                    .on_hover_text("Send the scene on screen to every student")
-                    .clicked();
-                let state = run.question.as_ref().map(|q| q.state);
-                if ui
-                    .add_enabled(
-                        state == Some(QuestionState::Open),
-                        egui::Button::new("Lock"),
-                    )
-                    .on_hover_text("No more answers")
-                    .clicked()
-                {
-                    run.send(&ToServer::Lock {});
-                }
-                if ui
-                    .add_enabled(
-                        matches!(state, Some(QuestionState::Open | QuestionState::Locked)),
-                        egui::Button::new("Reveal"),
-                    )
-                    .on_hover_text("Show the true answer here and on every device")
-                    .clicked()
-                {
-                    run.send(&ToServer::Reveal {});
-                }
+                ask = question_buttons_ui(ui, run, ["Ask about this scene", "Lock", "Reveal"]);
             });
         });
         if ask {
@@ -750,29 +711,7 @@ impl RaylabApp {
             if let Some(error) = &run.error {
                 ui.label(RichText::new(error).color(palette::OUTSIDE.readable(ui)));
             }
-            ask = ui
-                .button("Ask about this scene")
-                .on_hover_text("Send the scene on screen to every student")
-                .clicked();
-            let state = run.question.as_ref().map(|q| q.state);
-            if ui
-                .add_enabled(
-                    state == Some(QuestionState::Open),
-                    egui::Button::new("Lock"),
-                )
-                .clicked()
-            {
-                run.send(&ToServer::Lock {});
-            }
-            if ui
-                .add_enabled(
-                    matches!(state, Some(QuestionState::Open | QuestionState::Locked)),
-                    egui::Button::new("Reveal"),
-                )
-                .clicked()
-            {
-                run.send(&ToServer::Reveal {});
-            }
+            ask = question_buttons_ui(ui, run, ["Ask about this scene", "Lock", "Reveal"]);
         });
         if ask {
             self.ask_class(None);
@@ -788,6 +727,60 @@ impl RaylabApp {
             run.send(&ToServer::Reveal {});
         }
     }
+}
+
+/// The Ask, Lock and Reveal buttons (with these labels), Lock enabled while answers are open and
+/// Reveal until the answer is shown; true when Ask was clicked (the caller asks, with the app's scene).
+fn question_buttons_ui(ui: &mut Ui, run: &mut ClassRun, [ask, lock, reveal]: [&str; 3]) -> bool {
+    let asked = ui
+        .button(ask)
+        .on_hover_text(
+            "Send the scene on screen to every student: each predicts the outcome and the values",
+        )
+        .clicked();
+    let state = run.question.as_ref().map(|q| q.state);
+    if ui
+        .add_enabled(state == Some(QuestionState::Open), egui::Button::new(lock))
+        .on_hover_text("No more answers")
+        .clicked()
+    {
+        run.send(&ToServer::Lock {});
+    }
+    if ui
+        .add_enabled(
+            matches!(state, Some(QuestionState::Open | QuestionState::Locked)),
+            egui::Button::new(reveal),
+        )
+        .on_hover_text("Show the true answer here and on every device")
+        .clicked()
+    {
+        run.send(&ToServer::Reveal {});
+    }
+    asked
+}
+
+/// Draws the class's predictions on the view of `problem` (only when the class's question is about
+/// it); `at` gives the screen points of one prediction's two values (none where not given or off
+/// screen). Notes the count drawn for tests.
+pub fn draw_cloud(
+    painter: &egui::Painter,
+    problem: &scene::Problem,
+    at: impl Fn([Option<f64>; 2]) -> Vec<egui::Pos2>,
+) {
+    let ctx = painter.ctx();
+    let Some(cloud) = cloud_for(ctx, problem) else {
+        note_drawn(ctx, 0);
+        return;
+    };
+    let mut drawn = 0;
+    for (i, values) in cloud.points.iter().enumerate() {
+        let right = cloud.right.as_ref().and_then(|r| r.get(i).copied());
+        for point in at(*values) {
+            paint_prediction(painter, point, right);
+            drawn += 1;
+        }
+    }
+    note_drawn(ctx, drawn);
 }
 
 /// The QR code, drawn square by square (about 180 points wide), dark on white whatever the theme.

@@ -356,27 +356,15 @@ impl ParallelogramView {
     /// A live class's predictions of P(α, β) = c + α e1 + β e2, one point each.
     fn draw_class_cloud(&self, canvas: &Canvas) {
         let problem = crate::scene::Problem::Parallelogram(self.scene.clone());
-        let ctx = canvas.painter.ctx();
-        let Some(cloud) = super::class_view::cloud_for(ctx, &problem) else {
-            super::class_view::note_drawn(ctx, 0);
-            return;
-        };
         let [c, e1, e2, ..] = self.scene.vectors();
-        let mut drawn = 0;
-        for (i, point) in cloud.points.iter().enumerate() {
-            let [Some(alpha), Some(beta)] = *point else {
-                continue;
-            };
-            let right = cloud.right.as_ref().and_then(|r| r.get(i).copied());
-            if let Some(at) = canvas
+        super::class_view::draw_cloud(canvas.painter, &problem, |values| match values {
+            [Some(alpha), Some(beta)] => canvas
                 .projector
                 .screen_from_world(c + alpha * e1 + beta * e2)
-            {
-                super::class_view::paint_prediction(canvas.painter, at, right);
-                drawn += 1;
-            }
-        }
-        super::class_view::note_drawn(ctx, drawn);
+                .into_iter()
+                .collect(),
+            _ => Vec::new(),
+        });
     }
 
     fn draw_highlights(

@@ -569,24 +569,15 @@ impl SegmentsView {
     /// A live class's predictions: each student's A(t) on segment A and B(s) on segment B.
     fn draw_class_cloud(&self, painter: &egui::Painter, frame: &Frame2d) {
         let problem = crate::scene::Problem::Segments(self.scene.clone());
-        let ctx = painter.ctx();
-        let Some(cloud) = super::class_view::cloud_for(ctx, &problem) else {
-            super::class_view::note_drawn(ctx, 0);
-            return;
-        };
         let [a1, a2, b1, b2] = self.scene.points();
-        let mut drawn = 0;
-        for (i, [t, s]) in cloud.points.iter().enumerate() {
-            let right = cloud.right.as_ref().and_then(|r| r.get(i).copied());
-            for (value, p1, p2) in [(t, a1, a2), (s, b1, b2)] {
-                if let Some(value) = value {
-                    let at = frame.screen_from_world(p1 + *value * (p2 - p1));
-                    super::class_view::paint_prediction(painter, at, right);
-                    drawn += 1;
-                }
-            }
-        }
-        super::class_view::note_drawn(ctx, drawn);
+        super::class_view::draw_cloud(painter, &problem, |[t, s]| {
+            [(t, a1, a2), (s, b1, b2)]
+                .into_iter()
+                .filter_map(|(value, p1, p2)| {
+                    value.map(|value| frame.screen_from_world(p1 + value * (p2 - p1)))
+                })
+                .collect()
+        });
     }
 
     fn draw_highlights(&self, painter: &egui::Painter, frame: &Frame2d, solved: &Solved) {

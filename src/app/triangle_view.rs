@@ -624,26 +624,14 @@ impl TriangleView {
     /// A live class's predictions of P(β, γ), one point each, on this scene's triangle.
     fn draw_class_cloud(&self, canvas: &Canvas, [a, b, c]: [DVec3; 3]) {
         let problem = crate::scene::Problem::Triangle(self.scene.clone());
-        let ctx = canvas.painter.ctx();
-        let Some(cloud) = super::class_view::cloud_for(ctx, &problem) else {
-            super::class_view::note_drawn(ctx, 0);
-            return;
-        };
-        let mut drawn = 0;
-        for (i, point) in cloud.points.iter().enumerate() {
-            let [Some(beta), Some(gamma)] = *point else {
-                continue;
-            };
-            let right = cloud.right.as_ref().and_then(|r| r.get(i).copied());
-            if let Some(at) = canvas
+        super::class_view::draw_cloud(canvas.painter, &problem, |values| match values {
+            [Some(beta), Some(gamma)] => canvas
                 .projector
                 .screen_from_world(a + beta * (b - a) + gamma * (c - a))
-            {
-                super::class_view::paint_prediction(canvas.painter, at, right);
-                drawn += 1;
-            }
-        }
-        super::class_view::note_drawn(ctx, drawn);
+                .into_iter()
+                .collect(),
+            _ => Vec::new(),
+        });
     }
 
     /// Emphasises what the step on screen is about: a wide glow under each highlighted vector,

@@ -33,6 +33,34 @@ fn step_until(
     harness.run();
 }
 
+/// Loads a preset and joins the class as its teacher, as Class → Join does.
+fn join(
+    harness: &mut Harness<'static, RaylabApp>,
+    preset: &str,
+    address: &str,
+    code: &str,
+    key: &str,
+) {
+    let preset = raylab::scene::preset(preset).unwrap();
+    harness.state_mut().load_scene(&preset).unwrap();
+    let ctx = harness.ctx.clone();
+    harness.state_mut().join_class(&ctx, address, code, key);
+    step_until(harness, "the link to the class", |h| {
+        h.state().class.as_ref().is_some_and(|c| c.connected)
+    });
+}
+
+/// Clicks Ask about this scene and waits for the question to come back.
+fn ask(harness: &mut Harness<'static, RaylabApp>) {
+    harness.get_by_label("Ask about this scene").click();
+    step_until(harness, "the question", |h| {
+        h.state()
+            .class
+            .as_ref()
+            .is_some_and(|c| c.question.is_some())
+    });
+}
+
 fn shows(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
     harness.query_by_label_contains(text).is_some()
 }
@@ -41,30 +69,16 @@ fn shows(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
 fn the_teachers_view_counts_answers_and_draws_their_cloud() {
     let folder = TempDir::new("class-teacher");
     let server = Server::start(&folder.join("class.sqlite3"), &[]);
-    let mut harness = Harness::builder()
-        .with_size(Vec2::new(1280.0, 800.0))
-        .with_max_steps(200)
-        .build_eframe(|cc| {
-            raylab::app::set_style(&cc.egui_ctx);
-            RaylabApp::new()
-        });
-    let preset = raylab::scene::preset("seed000-triangle").unwrap();
-    harness.state_mut().load_scene(&preset).unwrap();
-    let ctx = harness.ctx.clone();
-    let (address, code, key) = (
-        server.address.clone(),
-        server.code.clone(),
-        server.key.clone(),
-    );
-    harness.state_mut().join_class(
-        &ctx,
+    let mut harness = app_with(None);
+    let (address, code) = (server.address.clone(), server.code.clone());
+    // As a teacher types them: the address with its scheme, the code in lower case.
+    join(
+        &mut harness,
+        "seed000-triangle",
         &format!("http://{address}"),
         &code.to_lowercase(),
-        &key,
+        &server.key,
     );
-    step_until(&mut harness, "the class code", |h| {
-        h.state().class.as_ref().is_some_and(|c| c.connected)
-    });
     assert!(
         shows(&harness, &format!("Code {code}")),
         "the projector shows the code"
@@ -74,13 +88,7 @@ fn the_teachers_view_counts_answers_and_draws_their_cloud() {
     let mut students: Vec<Client> = (0..12)
         .map(|_| Client::student(&address, &code, None, None).0)
         .collect();
-    harness.get_by_label("Ask about this scene").click();
-    step_until(&mut harness, "the question", |h| {
-        h.state()
-            .class
-            .as_ref()
-            .is_some_and(|c| c.question.is_some())
-    });
+    ask(&mut harness);
     assert!(
         harness.state().class_hides_answer(),
         "the answer is hidden while the question is open"
@@ -186,22 +194,14 @@ fn a_restarted_app_resumes_its_class() {
     let folder = TempDir::new("class-resume");
     let server = Server::start(&folder.join("class.sqlite3"), &[]);
     let mut harness = app_with(None);
-    let preset = raylab::scene::preset("seed000-segments-cross").unwrap();
-    harness.state_mut().load_scene(&preset).unwrap();
-    let ctx = harness.ctx.clone();
-    harness
-        .state_mut()
-        .join_class(&ctx, &server.address, &server.code, &server.key);
-    step_until(&mut harness, "the link", |h| {
-        h.state().class.as_ref().is_some_and(|c| c.connected)
-    });
-    harness.get_by_label("Ask about this scene").click();
-    step_until(&mut harness, "the question", |h| {
-        h.state()
-            .class
-            .as_ref()
-            .is_some_and(|c| c.question.is_some())
-    });
+    join(
+        &mut harness,
+        "seed000-segments-cross",
+        &server.address,
+        &server.code,
+        &server.key,
+    );
+    ask(&mut harness);
     let (mut student, _) = Client::student(&server.address, &server.code, None, Some("Kim"));
     student.send(json!({"type": "answer", "question": harness.state().class.as_ref().unwrap().question.as_ref().unwrap().id,
                         "outcome": "hit", "values": ["0.75", "0.9"]}));
