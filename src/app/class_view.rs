@@ -458,6 +458,16 @@ impl RaylabApp {
             return;
         };
         run.poll(ctx);
+        if run.ended {
+            let code = run.link.code.clone();
+            self.class = None;
+            self.state.class = None;
+            self.notice = Some(Notice::info(format!(
+                "The class {code} has ended; `raylab class export {code} --csv` writes its answers"
+            )));
+            ctx.data_mut(|d| d.remove::<Arc<Cloud>>(cloud_id()));
+            return;
+        }
         match run.cloud() {
             Some(cloud) => {
                 ctx.data_mut(|d| d.insert_temp(cloud_id(), Arc::new(cloud)));
@@ -517,9 +527,9 @@ impl RaylabApp {
             .on_hover_text("Students are told the class has ended; the answers stay in the database for `raylab class export`")
             .clicked()
         {
+            // The class is let go once the server says it has ended (this app's own server must
+            // not stop before it has stored the end).
             run.send(&ToServer::End {});
-            self.class = None;
-            self.state.class = None;
         } else if ui
             .button("Leave (the class keeps running)")
             .on_hover_text("Stop teaching from this app; Join brings you back with the code and key")

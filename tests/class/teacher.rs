@@ -221,4 +221,22 @@ fn a_restarted_app_resumes_its_class() {
         2,
         "A(t) and B(s) of the one prediction"
     );
+
+    // Class → End the class: the student is told, the code stops working, the app lets the class go.
+    harness.get_by_label("Class").click();
+    harness.run();
+    harness.get_by_label("End the class").click();
+    step_until(&mut harness, "the end of the class", |h| {
+        h.state().class.is_none()
+    });
+    assert!(
+        harness.state().state.class.is_none(),
+        "an ended class is not resumed"
+    );
+    student.recv_until("the end", |m| matches!(m, ToClient::Ended));
+    let (_, refused) = Client::student(&server.address, &server.code, None, None);
+    assert!(
+        matches!(refused, ToClient::Error { ref message } if message.contains("has ended")),
+        "{refused:?}"
+    );
 }
