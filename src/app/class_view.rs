@@ -66,6 +66,8 @@ pub struct ClassRun {
     pub show_names: bool,
     /// The teacher ended the class.
     pub ended: bool,
+    /// The panel shows the address and the QR code (until the first question, or on request).
+    pub show_join: bool,
     qr: Option<(String, Vec<bool>, usize)>,
 }
 
@@ -170,6 +172,7 @@ impl ClassRun {
             error: None,
             show_names: false,
             ended: false,
+            show_join: true,
             qr: None,
         }
     }
@@ -255,12 +258,15 @@ impl ClassRun {
                 self.connected = true;
                 self.retries = 0;
                 self.error = None;
+                self.show_join &= question.is_none();
                 self.question = question.map(|q| *q);
                 self.reveal = reveal.map(|r| *r);
             }
             ToClient::Question { question } => {
                 if self.question.as_ref().is_none_or(|q| q.id != question.id) {
                     self.reveal = None;
+                    // A question asked: the answers need the panel's room more than the QR code.
+                    self.show_join = false;
                 }
                 self.question = Some(*question);
             }
@@ -616,14 +622,26 @@ impl RaylabApp {
                 ui.label("The class has ended.");
                 return;
             }
-            ui.label(
-                RichText::new(format!("Code {}", run.link.code))
-                    .size(34.0)
-                    .strong(),
-            );
-            ui.label(RichText::new(&run.link.join_url).size(18.0).monospace());
-            if let Some((_, dark, width)) = run.qr() {
-                qr_ui(ui, dark, *width);
+            // How to join, large, until the first question; then folded to the code (a latecomer
+            // still reads it) so the answers have the room, and unfolded on request.
+            let code = RichText::new(format!("Code {}", run.link.code)).strong();
+            if run.show_join {
+                ui.label(code.size(34.0));
+                ui.label(RichText::new(&run.link.join_url).size(18.0).monospace());
+                if let Some((_, dark, width)) = run.qr() {
+                    qr_ui(ui, dark, *width);
+                }
+            } else {
+                ui.label(code.size(24.0))
+                    .on_hover_text(format!("Students open {}", run.link.join_url));
+            }
+            let fold = if run.show_join {
+                "Hide the address and QR code"
+            } else {
+                "Show the address and QR code"
+            };
+            if ui.button(fold).clicked() {
+                run.show_join = !run.show_join;
             }
             let students = format!(
                 "{} joined · {} connected",
@@ -635,6 +653,10 @@ impl RaylabApp {
             } else if !run.connected {
                 ui.label("Connecting…");
             }
+            // The teacher's buttons before the answers: on a zoomed projector they stay on screen.
+            ui.horizontal_wrapped(|ui| {
+                ask = question_buttons_ui(ui, run, ["Ask about this scene", "Lock", "Reveal"]);
+            });
             ui.separator();
             match &run.question {
                 None => {
@@ -679,9 +701,6 @@ impl RaylabApp {
                     }
                 }
             }
-            ui.horizontal_wrapped(|ui| {
-                ask = question_buttons_ui(ui, run, ["Ask about this scene", "Lock", "Reveal"]);
-            });
         });
         if ask {
             self.ask_class(None);

@@ -121,6 +121,39 @@ fn the_teachers_view_counts_answers_and_draws_their_cloud() {
         12,
         "every prediction is a point of the cloud in the Triangle view"
     );
+    // On the projector at 200% (1280x800 pixels: 640x400 points) the count, the bars and the buttons
+    // are on screen without scrolling: the address and QR code fold away once a question is asked.
+    let mut zoomed = Harness::builder()
+        .with_size(Vec2::new(640.0, 400.0))
+        .with_pixels_per_point(2.0)
+        .with_max_steps(200)
+        .build_eframe(|cc| {
+            raylab::app::set_style(&cc.egui_ctx);
+            RaylabApp::new()
+        });
+    join(
+        &mut zoomed,
+        "seed000-triangle",
+        &address,
+        &code,
+        &server.key,
+    );
+    step_until(&mut zoomed, "12 answered at 200%", |h| {
+        shows(h, "12 answered")
+    });
+    for text in [
+        "12 answered",
+        "Ask about this scene",
+        "Reveal",
+        &format!("Code {code}"),
+    ] {
+        let rect = zoomed.get_by_label_contains(text).rect();
+        assert!(
+            rect.max.y <= 400.0 && rect.min.y >= 0.0,
+            "at 200% '{text}' is off screen at {rect:?}"
+        );
+    }
+    drop(zoomed);
     let tally = harness.state().class.as_ref().unwrap().tally.clone();
     let hits = tally.outcomes.iter().find(|(o, _)| o == "hit").unwrap().1;
     assert_eq!(hits, 11);
