@@ -125,6 +125,31 @@ fn a_class_survives_reconnects_forgery_and_a_killed_server() {
     );
     // Right: hit with β, γ within 0.05 of 1/3 (students 0 after its change, 1 and 2).
     assert_eq!(tally.right, 3);
+    // Names only when the teacher asks for them; anonymous students stay anonymous.
+    teacher.send(json!({"type": "show_names", "show": true}));
+    let named = teacher.recv_until("a tally with names", |m| {
+        tally_of(m).is_some_and(|t| t.predictions.iter().any(|p| p.name.is_some()))
+    });
+    let names: Vec<Option<String>> = tally_of(&named)
+        .unwrap()
+        .predictions
+        .iter()
+        .map(|p| p.name.clone())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            Some("Ada".to_string()),
+            None,
+            Some("Grace".to_string()),
+            None,
+            Some("Alan".to_string())
+        ]
+    );
+    teacher.send(json!({"type": "show_names", "show": false}));
+    teacher.recv_until("a tally without names", |m| {
+        tally_of(m).is_some_and(|t| t.predictions.iter().all(|p| p.name.is_none()))
+    });
 
     // A student cannot drive the class, or answer for another.
     students[1].0.send(json!({"type": "reveal"}));
