@@ -26,7 +26,7 @@ const PHONE: (u32, u32) = (390, 844);
 /// Device pixels per CSS pixel.
 const SCALE: u32 = 2;
 
-/// Where the finger drags P to, as (β, γ): inside the triangle and far from the start (1/3, 1/3).
+/// Where the finger drags P to, as (β, γ): inside the triangle and far from the start (0.15, 0.15).
 const DRAG_TO: (f64, f64) = (0.5, 0.3);
 
 /// The browser to drive.
@@ -474,7 +474,7 @@ fn a_phone_joins_drags_answers_reloads_and_sees_the_reveal() {
         tallest * 100.0
     );
     let start = (value_of(&mut cdp, "v0"), value_of(&mut cdp, "v1"));
-    assert_eq!(start, (0.3333, 0.3333), "P starts in the middle");
+    assert_eq!(start, (0.15, 0.15), "P starts near A, not at an answer");
 
     // A finger that slides off the figure keeps the handle, at the figure's edge, and lets go of it
     // there: a later swipe across the figure, away from the handle, does not move it.
@@ -561,7 +561,7 @@ fn a_phone_joins_drags_answers_reloads_and_sees_the_reveal() {
         (values[0] - dragged.0).abs() < 1e-12 && (values[1] - dragged.1).abs() < 1e-12,
         "the teacher got {values:?}, the page shows {dragged:?}"
     );
-    assert!(values.iter().all(|v| (v - 0.3333).abs() > 1e-6));
+    assert!(values.iter().all(|v| (v - 0.15).abs() > 1e-6));
     assert_eq!(prediction.values.get(2), Some(&None), "t was not given");
 
     // A reload: the page remembers the code; the person taps Join and is the same student, with
@@ -659,6 +659,44 @@ fn a_phone_joins_drags_answers_reloads_and_sees_the_reveal() {
         std::fs::write(&path, &png).unwrap();
         println!("wrote {}", path.display());
     }
+
+    // The next question is about two segments (they cross at t = s = 1/2): the reveal clears, the
+    // phone drags A(t) along segment A, taps "hit", and the teacher's tally holds the dragged t.
+    let segments = raylab::class::protocol::QuestionSpec {
+        kind: "segments".into(),
+        prompt: "Where do the segments cross?".into(),
+        inputs: [["0", "0"], ["4", "4"], ["0", "4"], ["4", "0"]]
+            .iter()
+            .map(|p| p.iter().map(|c| c.to_string()).collect())
+            .collect(),
+    };
+    teacher.send(json!({"type": "ask", "question": segments}));
+    cdp.wait_for(
+        "the segments question",
+        "document.getElementById('prompt').textContent.includes('segments cross') \
+         && document.getElementById('revealCard').classList.contains('hidden') \
+         && document.querySelectorAll('#figure circle.handle').length === 2",
+    );
+    let handle = "#figure circle.handle[aria-label='A(t)']";
+    let from = cdp.centre(handle);
+    cdp.drag(from, (from.0 + 30.0, from.1 - 30.0));
+    let t = value_of(&mut cdp, "v0");
+    assert!(
+        (t - 0.5).abs() > 0.01,
+        "A(t) moved along its segment (t = {t})"
+    );
+    assert_eq!(value_of(&mut cdp, "v1"), 0.8, "B(s) stayed");
+    cdp.tap("#outcomes button:nth-child(1)");
+    cdp.wait_for_text("status", "Saved ✓");
+    let tally = teacher.recv_until("the segments answer", |m| {
+        tally_of(m).is_some_and(|t| t.answered == 1 && t.outcomes.len() == 5)
+    });
+    let prediction = &tally_of(&tally).unwrap().predictions[0];
+    assert_eq!(
+        prediction.values[0],
+        Some(t),
+        "the tally holds the dragged t"
+    );
     drop(cdp);
     drop(browser);
 }
