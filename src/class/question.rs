@@ -112,18 +112,12 @@ pub fn spec_of_scene(problem: &scene::Problem, prompt: &str) -> Option<QuestionS
     })
 }
 
-/// The default wording of a question about a scene of this kind.
+/// The default wording of a question about a scene of this kind (the phone says how to answer).
 pub fn default_prompt(kind: &str) -> &'static str {
     match kind {
-        "segments" => {
-            "Where do the segments meet? Drag A(t) and B(s) to the crossing, then pick the outcome."
-        }
-        "parallelogram" => {
-            "Where does the ray meet the parallelogram? Drag P(α, β), then pick the outcome."
-        }
-        _ => {
-            "Where does the ray meet the triangle? Drag P(β, γ) to the hit point, then pick the outcome."
-        }
+        "segments" => "Where do the segments cross?",
+        "parallelogram" => "Where does the ray meet the parallelogram?",
+        _ => "Where does the ray meet the triangle?",
     }
 }
 

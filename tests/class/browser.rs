@@ -18,7 +18,8 @@ use serde_json::{Value, json};
 use tungstenite::stream::MaybeTlsStream;
 use tungstenite::{Message, WebSocket};
 
-use super::client::{Client, PATIENCE, Server, TempDir, seed000_triangle};
+use super::client::{Client, PATIENCE, Server, TempDir};
+use super::teacher;
 
 /// The phone: an iPhone 12-14's viewport in CSS pixels.
 const PHONE: (u32, u32) = (390, 844);
@@ -415,11 +416,18 @@ fn a_phone_joins_drags_answers_reloads_and_sees_the_reveal() {
     }
     let folder = TempDir::new("class-browser");
     let server = Server::start(&folder.join("class.sqlite3"), &[]);
+    // The teacher's app (egui_kittest) on the projector asks about the lecture triangle by clicking;
+    // a second teacher connection reads the tallies, locks and reveals.
+    let mut app = teacher::app_with(None);
+    teacher::join(
+        &mut app,
+        "seed000-triangle",
+        &server.address,
+        &server.code,
+        &server.key,
+    );
+    teacher::ask(&mut app);
     let (mut teacher, _) = Client::teacher(&server.address, &server.code, &server.key);
-    teacher.send(json!({"type": "ask", "question": seed000_triangle()}));
-    teacher.recv_until("the asked question", |m| {
-        matches!(m, ToClient::Question { .. })
-    });
 
     let mut browser = Browser::launch();
     let port = browser.devtools_port();
@@ -455,7 +463,12 @@ fn a_phone_joins_drags_answers_reloads_and_sees_the_reveal() {
          && document.getElementById('prompt').textContent.startsWith('Q1.') \
          && document.getElementById('prompt').textContent",
     );
-    assert_eq!(prompt, "Q1. Where does the ray meet the triangle?");
+    assert!(
+        prompt
+            .as_str()
+            .is_some_and(|p| p.starts_with("Q1. Where does the ray meet the triangle?")),
+        "{prompt}"
+    );
     assert!(
         cdp.text("who").contains("you are Ada"),
         "{}",
@@ -541,6 +554,12 @@ fn a_phone_joins_drags_answers_reloads_and_sees_the_reveal() {
         "hit"
     );
     cdp.wait_for_text("status", "Saved ✓");
+
+    // The teacher's app counts the phone's answer and draws it in the Triangle view's cloud.
+    teacher::step_until(&mut app, "the phone's answer counted", |h| {
+        teacher::shows(h, "1 answered")
+    });
+    assert_eq!(raylab::app::class_view::cloud_drawn(&app.ctx), 1);
 
     // The teacher's tally has the answer with the dragged values.
     let message = teacher.recv_until("a tally with the phone's answer", |m| {

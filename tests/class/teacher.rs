@@ -16,7 +16,7 @@ use serde_json::json;
 use super::client::{Client, Server, TempDir};
 
 /// Steps the app until `done` holds (the network answers on its own threads), at most 20 s.
-fn step_until(
+pub fn step_until(
     harness: &mut Harness<'static, RaylabApp>,
     what: &str,
     done: impl Fn(&Harness<'static, RaylabApp>) -> bool,
@@ -34,7 +34,7 @@ fn step_until(
 }
 
 /// Loads a preset and joins the class as its teacher, as Class → Join does.
-fn join(
+pub fn join(
     harness: &mut Harness<'static, RaylabApp>,
     preset: &str,
     address: &str,
@@ -51,7 +51,7 @@ fn join(
 }
 
 /// Clicks Ask about this scene and waits for the question to come back.
-fn ask(harness: &mut Harness<'static, RaylabApp>) {
+pub fn ask(harness: &mut Harness<'static, RaylabApp>) {
     harness.get_by_label("Ask about this scene").click();
     step_until(harness, "the question", |h| {
         h.state()
@@ -61,7 +61,7 @@ fn ask(harness: &mut Harness<'static, RaylabApp>) {
     });
 }
 
-fn shows(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
+pub fn shows(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
     harness.query_by_label_contains(text).is_some()
 }
 
@@ -208,7 +208,7 @@ fn the_teachers_view_counts_answers_and_draws_their_cloud() {
 }
 
 /// The app as a teacher restarts it: its saved state holds the class (address, code, key).
-fn app_with(state: Option<raylab::app::AppState>) -> Harness<'static, RaylabApp> {
+pub fn app_with(state: Option<raylab::app::AppState>) -> Harness<'static, RaylabApp> {
     Harness::builder()
         .with_size(Vec2::new(1280.0, 800.0))
         .with_max_steps(200)
