@@ -592,7 +592,8 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
     let mut harness = harness();
     click(&mut harness, &["Practice", "Triangle: find β, γ and t"]);
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
-    assert!(shows(&harness, "Score: 0 right of 1 tried"));
+    // Nothing is tried before an answer is given.
+    assert!(shows(&harness, "Score: 0 right of 0 tried"));
     // The view keeps the verdict to itself until the answer is right.
     assert!(!painted(&harness, "the ray hits the triangle"));
     let answer = |harness: &mut Harness<'static, RaylabApp>, text: &str| {
@@ -610,6 +611,7 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
         &harness,
         "Not yet (1 wrong so far). Look again at"
     ));
+    assert!(shows(&harness, "Score: 0 right of 1 tried"));
     // The right answer, read from the exact solver's own values (β, γ, t).
     let values: Vec<String> = practice_answer(&harness)
         .values
@@ -631,7 +633,7 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
     assert!(shows_text_containing(&harness, "the ray hits the triangle"));
     assert!(!shows(&harness, "Reveal the answer"));
     click(&mut harness, &["New problem"]);
-    assert!(shows(&harness, "Score: 1 right of 2 tried"));
+    assert!(shows(&harness, "Score: 1 right of 1 tried"));
     // F5 does not present an unanswered problem (the steps would give it away).
     harness.key_press(egui::Key::F5);
     harness.run();

@@ -29,8 +29,10 @@ pub struct PracticeRun {
     pub revealed: bool,
     /// Problems answered right this session.
     pub right: usize,
-    /// Problems tried this session.
+    /// Problems tried this session: answered (readably) or revealed at least once.
     pub tried: usize,
+    /// This problem counts in `tried` already.
+    pub attempted: bool,
 }
 
 impl RaylabApp {
@@ -68,7 +70,8 @@ impl RaylabApp {
                     verdict: None,
                     revealed: false,
                     right,
-                    tried: tried + 1,
+                    tried,
+                    attempted: false,
                 });
             }
             Err(error) => {
@@ -198,6 +201,11 @@ fn problem_ui(ui: &mut Ui, run: &mut PracticeRun, solved: &ActiveSolve) {
     });
     if check && !run.answer.trim().is_empty() {
         let verdict = run.practice.check(&run.answer);
+        // A problem counts as tried once an answer is read (not when it is shown).
+        if !matches!(verdict, Verdict::Unreadable { .. }) && !run.attempted {
+            run.attempted = true;
+            run.tried += 1;
+        }
         if matches!(verdict, Verdict::Right { .. }) && !run.revealed {
             run.right += 1;
             run.revealed = true;
@@ -244,6 +252,10 @@ fn problem_ui(ui: &mut Ui, run: &mut PracticeRun, solved: &ActiveSolve) {
             .clicked()
     {
         run.revealed = true;
+        if !run.attempted {
+            run.attempted = true;
+            run.tried += 1;
+        }
     }
     if run.revealed {
         ui.separator();
