@@ -601,3 +601,49 @@ fn every_subcommand_exits_cleanly_with_standard_error_closed() {
     }
     let _ = std::fs::remove_dir_all(&folder);
 }
+
+/// A report that cannot be written (a full disk: `/dev/full`) is a failure with a message, in every
+/// format, never a silent success.
+#[test]
+fn a_report_that_cannot_be_written_fails() {
+    let full = std::path::Path::new("/dev/full");
+    if !full.exists() {
+        println!("skipped: no /dev/full on this system");
+        return;
+    }
+    let segments = [
+        "solve", "segments", "--a1", "0,0", "--a2", "4,4", "--b1", "0,4", "--b2", "4,0",
+    ];
+    let symbolic = [
+        "solve",
+        "triangle",
+        "--a",
+        "1,0,0",
+        "--b",
+        "0,1,0",
+        "--c",
+        "0,0,1",
+        "--origin",
+        "0,0,0",
+        "--dir",
+        "1,1,1",
+        "--precision",
+        "symbolic",
+    ];
+    for args in [&segments[..], &symbolic[..]] {
+        for format in ["text", "json", "latex"] {
+            let output = Command::new(env!("CARGO_BIN_EXE_raylab"))
+                .args(args)
+                .args(["--format", format])
+                .stdout(std::fs::OpenOptions::new().write(true).open(full).unwrap())
+                .output()
+                .unwrap();
+            assert_eq!(output.status.code(), Some(1), "{args:?} --format {format}");
+            assert!(
+                stderr(&output).contains("cannot write the output: No space left on device"),
+                "{}",
+                stderr(&output)
+            );
+        }
+    }
+}

@@ -661,8 +661,7 @@ fn run_symbolic(problem: &Problem, format: Format) -> i32 {
         Format::Json => format!("{}\n", pretty_json(&trace)),
         Format::Latex => trace::to_latex(&trace),
     };
-    let _ = std::io::stdout().lock().write_all(output.as_bytes());
-    0
+    write_stdout(&output).unwrap_or(0)
 }
 
 fn run_solve(args: SolveArgs) -> i32 {
@@ -740,8 +739,23 @@ fn run_solve(args: SolveArgs) -> i32 {
         Format::Json => format!("{}\n", pretty_json(&report.to_json(!args.no_trace))),
         Format::Latex => trace::to_latex(&report.trace),
     };
+    write_stdout(&output).unwrap_or(0)
+}
+
+/// Writes a report to standard output and flushes it; on failure, the exit code (1). A full disk or a
+/// closed stream is said on standard error (a closed pipe, as `| head` leaves, silently: the reader
+/// chose to stop), never a panic and never a success.
+fn write_stdout(output: &str) -> Option<i32> {
     let mut stdout = std::io::stdout().lock();
-    // A closed pipe (e.g. `| head`) is not an error worth a panic.
-    let _ = stdout.write_all(output.as_bytes());
-    0
+    match stdout
+        .write_all(output.as_bytes())
+        .and_then(|()| stdout.flush())
+    {
+        Ok(()) => None,
+        Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => Some(1),
+        Err(error) => {
+            err!("raylab: cannot write the output: {error}");
+            Some(1)
+        }
+    }
 }
