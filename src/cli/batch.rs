@@ -574,6 +574,12 @@ pub fn run_batch(
         number += 1;
         let start = out.len();
         let solved = line_text(&line, &lines.buf).and_then(|text| {
+            // A byte-order mark (as some Windows editors write) opens the first line, not its JSON.
+            let text = if number == 1 {
+                text.strip_prefix('\u{feff}').unwrap_or(text)
+            } else {
+                text
+            };
             if text.trim().is_empty() {
                 return Ok(());
             }
@@ -598,6 +604,23 @@ pub fn run_batch(
 mod tests {
     use super::*;
     use serde_json::Value;
+
+    #[test]
+    fn a_byte_order_mark_before_the_first_line_is_not_part_of_it() {
+        let line = r#"{"kind":"segments","a1":"0,0","a2":"4,4","b1":"0,4","b2":"4,0"}"#;
+        let input = format!("\u{feff}{line}\n{line}\n");
+        let (mut out, mut errors) = (Vec::new(), Vec::new());
+        let bad = run_batch(
+            input.as_bytes(),
+            &mut out,
+            &mut errors,
+            Precision::F64,
+            false,
+        )
+        .unwrap();
+        assert_eq!(bad, 0, "{}", String::from_utf8_lossy(&errors));
+        assert_eq!(String::from_utf8(out).unwrap().lines().count(), 2);
+    }
 
     #[test]
     fn accepts_strings_arrays_and_fractions() {

@@ -183,6 +183,8 @@ impl std::error::Error for SceneError {
 impl Scene {
     /// Parses RON text; `file` names it in errors.
     pub fn from_ron(text: &str, file: &str) -> Result<Scene, SceneError> {
+        // A byte-order mark (as some Windows editors write) is not part of the scene.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let scene: Scene = ron::from_str(text).map_err(|e| SceneError {
             file: file.into(),
             line: Some(e.span.start.line),
@@ -443,6 +445,13 @@ pub(crate) fn assert_lists_the_folder(files: &[(&str, &str)], folder: &str) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_byte_order_mark_does_not_break_a_scene() {
+        let scene = &built_in()[0];
+        let marked = format!("\u{feff}{}", scene.to_ron());
+        assert_eq!(&Scene::from_ron(&marked, "marked.ron").unwrap(), scene);
+    }
 
     #[test]
     fn every_built_in_scene_parses_and_round_trips() {
