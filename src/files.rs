@@ -175,9 +175,76 @@ pub fn write_atomically(
     result
 }
 
+/// Writes several files together, whole or not at all: each goes to a temporary file beside it, and
+/// only once every one is complete on disk are they renamed into place. A failure (a full disk, a
+/// folder that cannot be written) leaves every old file as it was and no temporary file behind; the
+/// error names the file that failed.
+pub fn write_all_or_none(files: &[(&Path, &[u8])]) -> Result<(), (PathBuf, std::io::Error)> {
+    let mut written: Vec<(PathBuf, PathBuf)> = Vec::with_capacity(files.len());
+    let clean = |written: &[(PathBuf, PathBuf)]| {
+        for (temporary, _) in written {
+            let _ = std::fs::remove_file(temporary);
+        }
+    };
+    for (path, bytes) in files {
+        let target = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        let temporary = temporary_beside(&target);
+        let result = (|| {
+            if target.is_dir() {
+                return Err(std::io::Error::other("it is a directory"));
+            }
+            let mut file = std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&temporary)?;
+            if let Ok(old) = std::fs::metadata(&target) {
+                file.set_permissions(old.permissions())?;
+            }
+            file.write_all(bytes)?;
+            file.sync_all()
+        })();
+        if let Err(error) = result {
+            let _ = std::fs::remove_file(&temporary);
+            clean(&written);
+            return Err((path.to_path_buf(), error));
+        }
+        written.push((temporary, target));
+    }
+    for (i, (temporary, target)) in written.iter().enumerate() {
+        if let Err(error) = std::fs::rename(temporary, target) {
+            clean(&written[i..]);
+            return Err((target.clone(), error));
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn files_written_together_are_written_all_or_none() {
+        let dir = scratch("together");
+        let (a, b) = (dir.join("a.txt"), dir.join("b.txt"));
+        std::fs::write(&a, "old a").unwrap();
+        std::fs::write(&b, "old b").unwrap();
+        // The second target is a folder: nothing is replaced, nothing is left behind.
+        let folder = dir.join("c");
+        std::fs::create_dir_all(&folder).unwrap();
+        let failed = write_all_or_none(&[(&a, b"new a"), (&folder, b"new c")]).unwrap_err();
+        assert_eq!(failed.0, folder);
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "old a");
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names.len(), 3, "{names:?}");
+        write_all_or_none(&[(&a, b"new a"), (&b, b"new b")]).unwrap();
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "new a");
+        assert_eq!(std::fs::read_to_string(&b).unwrap(), "new b");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     fn scratch(name: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("raylab-files-{name}-{}", std::process::id()));

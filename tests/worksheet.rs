@@ -302,3 +302,67 @@ fn bad_arguments_get_one_line() {
     );
     let _ = std::fs::remove_file(&dir);
 }
+
+#[test]
+fn a_worksheet_is_replaced_only_when_asked_and_written_all_or_none() {
+    let dir = scratch("replace");
+    write_sheet(&dir, "3", "4", None);
+    let before: Vec<String> = ["worksheet.tex", "key.tex", "problems.json"]
+        .iter()
+        .map(|name| read(&dir, name))
+        .collect();
+    let dir_text = dir.to_str().unwrap();
+    // Without --force a worksheet already there is kept, and the message says what to do.
+    let again = raylab(&["worksheet", "--seed", "4", "--count", "4", "-o", dir_text]);
+    assert_eq!(again.status.code(), Some(1));
+    let says = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        says.contains("worksheet.tex: exists (pass --force"),
+        "{says}"
+    );
+    assert_eq!(read(&dir, "worksheet.tex"), before[0]);
+    // With --force, but problems.json cannot be written (a folder stands in its place): the two
+    // other files are not replaced either, and no temporary file is left.
+    std::fs::remove_file(dir.join("problems.json")).unwrap();
+    std::fs::create_dir(dir.join("problems.json")).unwrap();
+    let failed = raylab(&[
+        "worksheet",
+        "--seed",
+        "4",
+        "--count",
+        "4",
+        "-o",
+        dir_text,
+        "--force",
+    ]);
+    assert_eq!(failed.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&failed.stderr).contains("problems.json"));
+    assert_eq!(read(&dir, "worksheet.tex"), before[0]);
+    assert_eq!(read(&dir, "key.tex"), before[1]);
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["key.tex", "problems.json", "worksheet.tex"]);
+    // With --force and room to write, all three are the new seed's.
+    std::fs::remove_dir(dir.join("problems.json")).unwrap();
+    let replaced = raylab(&[
+        "worksheet",
+        "--seed",
+        "4",
+        "--count",
+        "4",
+        "-o",
+        dir_text,
+        "--force",
+    ]);
+    assert!(
+        replaced.status.success(),
+        "{}",
+        String::from_utf8_lossy(&replaced.stderr)
+    );
+    assert_ne!(read(&dir, "worksheet.tex"), before[0]);
+    assert!(read(&dir, "problems.json").contains("\"seed\": 4"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

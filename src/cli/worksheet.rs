@@ -10,8 +10,9 @@ use crate::exercise::{self, Level, MAX_COUNT};
 /// `raylab worksheet`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Writes DIR/worksheet.tex, DIR/key.tex (pdflatex) and DIR/problems.json; the same \
-                  seed gives the same files."
+    after_help = "Writes DIR/worksheet.tex, DIR/key.tex (pdflatex) and DIR/problems.json, all three \
+                  or none; a worksheet already there is replaced only with --force. The same seed \
+                  gives the same files."
 )]
 pub struct WorksheetArgs {
     /// The seed: the same seed gives the same problems.
@@ -27,6 +28,10 @@ pub struct WorksheetArgs {
     /// The folder to write into (made if missing).
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
+    /// Replace a worksheet already in the folder (without it, raylab refuses and says which file is
+    /// there).
+    #[arg(long)]
+    pub force: bool,
 }
 
 fn parse_level(text: &str) -> Result<Level, crate::exercise::UnknownLevel> {
@@ -55,6 +60,9 @@ pub enum WorksheetError {
         /// Why.
         source: std::io::Error,
     },
+    /// A file of the worksheet is there already and `--force` was not given.
+    #[error("{}: exists (pass --force to replace the worksheet, or choose another -o)", .0.display())]
+    Exists(PathBuf),
     /// No problems (a bad count, or none readable).
     #[error(transparent)]
     Generate(#[from] exercise::GenerateError),
@@ -90,18 +98,26 @@ fn write(args: &WorksheetArgs) -> Result<(), WorksheetError> {
         source,
     })?;
     let json = super::pretty_json(&exercise::problems_json(args.seed, &problems));
-    save(
-        dir,
-        "worksheet.tex",
-        &exercise::worksheet_latex(args.seed, &problems),
-    )?;
-    save(dir, "key.tex", &exercise::key_latex(args.seed, &problems))?;
-    save(dir, "problems.json", &format!("{json}\n"))
-}
-
-fn save(dir: &Path, name: &str, text: &str) -> Result<(), WorksheetError> {
-    let path = dir.join(name);
-    // Whole or not at all: a full disk leaves the old file as it was.
-    crate::files::write_atomically(&path, |out| out.write_all(text.as_bytes()))
-        .map_err(|source| WorksheetError::Write { path, source })
+    let texts = [
+        (
+            "worksheet.tex",
+            exercise::worksheet_latex(args.seed, &problems),
+        ),
+        ("key.tex", exercise::key_latex(args.seed, &problems)),
+        ("problems.json", format!("{json}\n")),
+    ];
+    let paths: Vec<PathBuf> = texts.iter().map(|(name, _)| dir.join(name)).collect();
+    if !args.force
+        && let Some(there) = paths.iter().find(|path| path.exists())
+    {
+        return Err(WorksheetError::Exists(there.clone()));
+    }
+    // The three together, whole or not at all: a full disk leaves every old file as it was.
+    let files: Vec<(&Path, &[u8])> = paths
+        .iter()
+        .zip(&texts)
+        .map(|(path, (_, text))| (path.as_path(), text.as_bytes()))
+        .collect();
+    crate::files::write_all_or_none(&files)
+        .map_err(|(path, source)| WorksheetError::Write { path, source })
 }
