@@ -611,7 +611,6 @@ fn run_bench(args: BenchArgs) -> i32 {
         clock.seconds()
     );
     if let Some(dir) = args.out {
-        use crate::files::write_atomically;
         let json = pretty_json(&records);
         let csv = match study::csv(&records) {
             Ok(csv) => csv,
@@ -620,15 +619,21 @@ fn run_bench(args: BenchArgs) -> i32 {
                 return 1;
             }
         };
-        let written = std::fs::create_dir_all(&dir)
-            .and_then(|()| {
-                write_atomically(&dir.join("results.json"), |o| o.write_all(json.as_bytes()))
-            })
-            .and_then(|()| {
-                write_atomically(&dir.join("results.csv"), |o| o.write_all(csv.as_bytes()))
-            });
-        if let Err(error) = written {
+        let (json_path, csv_path) = (dir.join("results.json"), dir.join("results.csv"));
+        if let Err(error) = std::fs::create_dir_all(&dir) {
             err!("raylab: could not write to {}: {error}", dir.display());
+            return 1;
+        }
+        // Both or neither: results.json must not be new while results.csv is old or missing.
+        let files = [
+            (json_path.as_path(), json.as_bytes()),
+            (csv_path.as_path(), csv.as_bytes()),
+        ];
+        if let Err((path, error)) = crate::files::write_all_or_none(&files) {
+            err!(
+                "raylab: could not write {} (neither file was written): {error}",
+                path.display()
+            );
             return 1;
         }
         err!("wrote {0}/results.json and {0}/results.csv", dir.display());
