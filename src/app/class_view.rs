@@ -20,8 +20,9 @@ use crate::class::protocol::{
 use crate::class::question::{default_prompt, spec_of_scene};
 use crate::scene;
 
-/// The colour of the class's predictions in the views.
-pub const CLOUD: Color32 = Color32::from_rgb(0xc0, 0x2f, 0x9c);
+/// The colour of the class's predictions in the views (a violet apart from every colour of the
+/// palette, for each colour-vision deficiency too).
+pub const CLOUD: Color32 = Color32::from_rgb(0x5e, 0x3c, 0x99);
 
 /// Where the app's class is, saved with the app's state.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

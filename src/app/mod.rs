@@ -471,6 +471,37 @@ impl RaylabApp {
 mod tests {
     use super::*;
 
+    /// The pairs a student must tell apart (A and B, inside and outside, hit and miss, the columns
+    /// A−B, A−C, D and Y) stay apart as a student with protanopia, deuteranopia or tritanopia sees them
+    /// (Machado et al.'s simulation): ΔE at least 15, drawn as lines (the palette's colours) and as
+    /// text in both themes (the colours darkened or lightened to read). Red against green, as raylab
+    /// drew segments A and B and inside and outside, falls to 6 and 5 for deuteranopia as dark-theme text.
+    #[test]
+    fn the_pairs_that_matter_stay_apart_for_colour_blind_students_in_both_themes() {
+        use widgets::palette::ink;
+        use widgets::palette::vision::{Deficiency, MIN_DIFFERENCE, PAIRS, delta_e, simulate};
+        let ctx = egui::Context::default();
+        set_style(&ctx);
+        let mut failures = Vec::new();
+        for theme in [egui::Theme::Light, egui::Theme::Dark] {
+            let visuals = ctx.style_of(theme).visuals.clone();
+            for (first, a, second, b) in PAIRS {
+                for (drawn, a, b) in [("line", a, b), ("text", ink(a, &visuals), ink(b, &visuals))]
+                {
+                    for deficiency in Deficiency::ALL {
+                        let difference = delta_e(simulate(a, deficiency), simulate(b, deficiency));
+                        if difference < MIN_DIFFERENCE {
+                            failures.push(format!(
+                                "{theme:?} {drawn}: {first} and {second} under {deficiency:?}: ΔE {difference:.1}"
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
     /// Every text colour of both themes, as set_style leaves them, against the backgrounds it is drawn
     /// on: at least 4.5:1 (WCAG AA), so a student at the back of a room can read it.
     #[test]

@@ -312,12 +312,12 @@ impl ParallelogramView {
         if explored.gap > 0.0 {
             canvas.dashed(p, on_ray, Stroke::new(1.0, faded(text, 140)));
         }
-        for (at, radius, dot_color) in [
-            (p, 7.0, color),
-            (o, 6.0, palette::RAY),
-            (on_ray, 6.0, palette::RAY),
+        for (at, radius, dot_color, inside) in [
+            (p, 7.0, color, explored.inside),
+            (o, 6.0, palette::RAY, true),
+            (on_ray, 6.0, palette::RAY, true),
         ] {
-            if let Some(screen) = canvas.dot(at, radius, dot_color) {
+            if let Some(screen) = canvas.inside_mark(at, radius, dot_color, inside) {
                 labels.avoid_point(screen, radius + 1.0);
             }
         }

@@ -593,8 +593,11 @@ impl TriangleView {
         };
         self.draw_ray(canvas, solved, [l, d], &mut labels);
         let on_ray = DVec3::from(explored.ray_point);
-        for (p, radius, color) in [(on_ray, 6.0, palette::RAY), (point, 7.0, p_color)] {
-            if let Some(at) = canvas.dot(p, radius, color) {
+        for (p, radius, color, inside) in [
+            (on_ray, 6.0, palette::RAY, true),
+            (point, 7.0, p_color, inside || degenerate),
+        ] {
+            if let Some(at) = canvas.inside_mark(p, radius, color, inside) {
                 labels.avoid_point(at, radius + 1.0);
             }
         }

@@ -333,6 +333,22 @@ impl Canvas<'_> {
         Some(at)
     }
 
+    /// A point inside (a filled disc) or outside (a ring with a cross): the shape says it as well as
+    /// the colour, for a student who cannot tell the colours apart.
+    pub fn inside_mark(&self, p: DVec3, radius: f32, color: Color32, inside: bool) -> Option<Pos2> {
+        if inside {
+            return self.dot(p, radius, color);
+        }
+        let at = self.ring(p, radius, Stroke::new(2.5, color))?;
+        let d = radius * 0.6;
+        let stroke = Stroke::new(2.0, color);
+        self.painter
+            .line_segment([at + egui::vec2(-d, -d), at + egui::vec2(d, d)], stroke);
+        self.painter
+            .line_segment([at + egui::vec2(-d, d), at + egui::vec2(d, -d)], stroke);
+        Some(at)
+    }
+
     /// A hollow ring (a ghost point).
     pub fn ring(&self, p: DVec3, radius: f32, stroke: impl Into<Stroke>) -> Option<Pos2> {
         let at = self.projector.screen_from_world(p)?;
