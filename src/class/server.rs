@@ -177,6 +177,8 @@ fn same_secret(a: &str, b: &str) -> bool {
 struct Hub {
     store: Store,
     sessions: Mutex<HashMap<String, Arc<Live>>>,
+    /// Codes of sessions ended before this start.
+    ended: std::collections::HashSet<String>,
     connections: AtomicUsize,
     page: Page,
     site: Site,
@@ -425,9 +427,11 @@ fn prepare(options: &Options) -> Result<(Arc<Hub>, std::net::TcpListener, Starte
         ws_url: format!("{ws_base}/ws"),
         app_url: site.is_built().then(|| format!("{base}/app/")),
     };
+    let ended = store.call_blocking(sql::ended_codes)?.into_iter().collect();
     let hub = Arc::new(Hub {
         store,
         sessions: Mutex::new(sessions),
+        ended,
         connections: AtomicUsize::new(0),
         page: Page::new(),
         site,
@@ -890,6 +894,9 @@ impl Connection {
                 "the class {code} has ended: ask your teacher for the new code"
             )),
             Some(live) => Ok(live),
+            None if self.hub.ended.contains(&code) => Err(format!(
+                "the class {code} has ended: ask your teacher for the new code"
+            )),
             None => Err(format!(
                 "no class with code {}: check the code on the projector",
                 code.chars().take(12).collect::<String>()

@@ -303,6 +303,12 @@ pub mod sql {
         statement.query_map([], session_of)?.collect()
     }
 
+    /// The codes of every ended session (so that a student typing one hears it has ended).
+    pub fn ended_codes(c: &Connection) -> rusqlite::Result<Vec<String>> {
+        let mut statement = c.prepare("SELECT code FROM sessions WHERE ended_ms IS NOT NULL")?;
+        statement.query_map([], |row| row.get(0))?.collect()
+    }
+
     /// The session with this code, ended or not.
     pub fn session_by_code(c: &Connection, code: &str) -> rusqlite::Result<Option<SessionRow>> {
         c.query_row(

@@ -272,4 +272,15 @@ fn a_restarted_app_resumes_its_class() {
         matches!(refused, ToClient::Error { ref message } if message.contains("has ended")),
         "{refused:?}"
     );
+    // After a restart the ended class is not resumed (a new one starts), and its old code still
+    // says it has ended.
+    let ended = server.code.clone();
+    drop(server);
+    let restarted = Server::start(&folder.join("class.sqlite3"), &[]);
+    assert_ne!(restarted.code, ended);
+    let (_, refused) = Client::student(&restarted.address, &ended, None, None);
+    assert!(
+        matches!(refused, ToClient::Error { ref message } if message.contains(&format!("{ended} has ended"))),
+        "{refused:?}"
+    );
 }
