@@ -370,20 +370,17 @@ fn main() {
         "  {:<40} {:>9} {:>9} {:>9}",
         "latency (ms)", "p50", "p99", "max"
     );
-    println!(
-        "  {:<40} {:>9.1} {:>9.1} {:>9.1}",
-        "answer sent → in the teacher's tally",
-        p(&latencies, 0.5),
-        p(&latencies, 0.99),
-        p(&latencies, 1.0)
-    );
-    println!(
-        "  {:<40} {:>9.1} {:>9.1} {:>9.1}",
-        "answer sent → ack (committed)",
-        p(&ack_latencies, 0.5),
-        p(&ack_latencies, 0.99),
-        p(&ack_latencies, 1.0)
-    );
+    for (what, sample) in [
+        ("answer sent → in the teacher's tally", &latencies),
+        ("answer sent → ack (committed)", &ack_latencies),
+    ] {
+        println!(
+            "  {what:<40} {:>9.1} {:>9.1} {:>9.1}",
+            p(sample, 0.5),
+            p(sample, 0.99),
+            p(sample, 1.0)
+        );
+    }
     println!(
         "  answers: {acked} acknowledged, {} in the teacher's tally (its count {last_answered}), \
          {stored} stored after SIGKILL, {kept} of {RECONNECTS} back after a reconnect; lost {lost}",

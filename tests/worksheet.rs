@@ -325,7 +325,7 @@ fn a_worksheet_is_replaced_only_when_asked_and_written_all_or_none() {
     // other files are not replaced either, and no temporary file is left.
     std::fs::remove_file(dir.join("problems.json")).unwrap();
     std::fs::create_dir(dir.join("problems.json")).unwrap();
-    let failed = raylab(&[
+    let forced = [
         "worksheet",
         "--seed",
         "4",
@@ -334,7 +334,8 @@ fn a_worksheet_is_replaced_only_when_asked_and_written_all_or_none() {
         "-o",
         dir_text,
         "--force",
-    ]);
+    ];
+    let failed = raylab(&forced);
     assert_eq!(failed.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&failed.stderr).contains("problems.json"));
     assert_eq!(read(&dir, "worksheet.tex"), before[0]);
@@ -347,16 +348,7 @@ fn a_worksheet_is_replaced_only_when_asked_and_written_all_or_none() {
     assert_eq!(names, ["key.tex", "problems.json", "worksheet.tex"]);
     // With --force and room to write, all three are the new seed's.
     std::fs::remove_dir(dir.join("problems.json")).unwrap();
-    let replaced = raylab(&[
-        "worksheet",
-        "--seed",
-        "4",
-        "--count",
-        "4",
-        "-o",
-        dir_text,
-        "--force",
-    ]);
+    let replaced = raylab(&forced);
     assert!(
         replaced.status.success(),
         "{}",
