@@ -9,9 +9,10 @@ use crate::exercise::{Inputs, Kind, Level, Problem};
 use crate::math::exact::{Exact, shortest_decimal};
 use crate::scene;
 
-/// A predicted value counts as right within this share of the true one (at least this much absolute):
-/// a prediction dragged on a phone is a guess of where, not a computation, so 0.27 for β = 1/4 is right.
-pub const PREDICTION_TOLERANCE: f64 = 0.05;
+/// A predicted value counts as right within 1/20 of the true one (at least 1/20 absolute), judged in
+/// exact arithmetic: a prediction dragged on a phone is a guess of where, not a computation, so 0.27
+/// for β = 1/4 is right. As numerator and denominator.
+pub const PREDICTION_TOLERANCE: (i64, i64) = (1, 20);
 
 /// The longest number text read in a question or an answer.
 const MAX_NUMBER_CHARS: usize = 40;
@@ -78,30 +79,21 @@ fn kind_of(name: &str) -> Result<Kind, QuestionError> {
         .ok_or_else(|| QuestionError::UnknownKind(name.chars().take(40).collect()))
 }
 
-/// The spec of a lecture scene's problem, asked with `prompt`; `None` for a render scene.
+/// The spec of a lecture scene's problem, asked with `prompt`; `None` for a render scene. Each
+/// coordinate is written as the shortest decimal that reads back as the float, so 0.1 stays 0.1.
 pub fn spec_of_scene(problem: &scene::Problem, prompt: &str) -> Option<QuestionSpec> {
-    let number = |x: &f64| shortest_decimal(*x);
-    let (kind, inputs): (Kind, Vec<Vec<String>>) = match problem {
-        scene::Problem::Segments(s) => (
-            Kind::Segments,
-            [s.a1, s.a2, s.b1, s.b2]
-                .iter()
-                .map(|p| p.iter().map(number).collect())
-                .collect(),
-        ),
-        scene::Problem::Triangle(t) => (
-            Kind::Triangle,
-            [t.a, t.b, t.c, t.origin, t.dir]
-                .iter()
-                .map(|p| p.iter().map(number).collect())
-                .collect(),
-        ),
+    fn texts<const N: usize>(points: &[[f64; N]]) -> Vec<Vec<String>> {
+        points
+            .iter()
+            .map(|p| p.iter().map(|x| shortest_decimal(*x)).collect())
+            .collect()
+    }
+    let (kind, inputs) = match problem {
+        scene::Problem::Segments(s) => (Kind::Segments, texts(&s.points().map(|p| p.to_array()))),
+        scene::Problem::Triangle(t) => (Kind::Triangle, texts(&t.vectors().map(|v| v.to_array()))),
         scene::Problem::Parallelogram(p) => (
             Kind::Parallelogram,
-            [p.corner, p.e1, p.e2, p.origin, p.dir]
-                .iter()
-                .map(|v| v.iter().map(number).collect())
-                .collect(),
+            texts(&p.vectors().map(|v| v.to_array())),
         ),
         scene::Problem::Render(_) => return None,
     };
@@ -242,7 +234,7 @@ impl Asked {
     }
 
     /// Whether an answer is right: its outcome (when given) is the true one and each value given is
-    /// within [`PREDICTION_TOLERANCE`] of the exact value. An answer of values alone is right when the
+    /// within 1/20 of the exact value (at least 1/20). An answer of values alone is right when the
     /// outcome is a hit and the values are.
     pub fn is_right(&self, given: &Given) -> bool {
         let answer = &self.problem.answer;
@@ -250,16 +242,17 @@ impl Asked {
             Some(outcome) => *outcome == answer.outcome.text(),
             None => answer.outcome.level() == Level::Hit,
         };
+        // Judged exactly: |value − truth| ≤ 1/20 · max(1, |truth|).
+        let (numerator, denominator) = PREDICTION_TOLERANCE;
+        let tolerance = Exact::ratio(numerator, denominator).unwrap_or_default();
+        let one = Exact::from_int(1);
         let values_right = given.values.iter().enumerate().all(|(i, value)| {
             let Some(value) = value else { return true };
-            let Some(truth) = answer.values.get(i) else {
+            let (Some(truth), Ok(value)) = (answer.values.get(i), read_number(value)) else {
                 return false;
             };
-            let Ok(value) = read_number(value) else {
-                return false;
-            };
-            let truth = truth.value.to_f64();
-            (value.to_f64() - truth).abs() <= PREDICTION_TOLERANCE * truth.abs().max(1.0)
+            let scale = truth.value.abs().max(one.clone());
+            (value - truth.value.clone()).abs() <= tolerance.clone() * scale
         });
         outcome_right && values_right
     }
@@ -396,6 +389,9 @@ mod tests {
         assert!(asked.is_right(&given(Some("hit"), &["0.35", "0.3"])));
         assert!(asked.is_right(&given(None, &["1/3", "1/3", "1/3"])));
         assert!(!asked.is_right(&given(Some("hit"), &["0.5", "0.3"])));
+        // The bound is exact: 1/3 + 1/20 = 23/60 is right, a hair past it is not (f64 rounds them equal).
+        assert!(asked.is_right(&given(Some("hit"), &["23/60", "1/3"])));
+        assert!(!asked.is_right(&given(Some("hit"), &["0.38333333333333333333334", "1/3"])));
         assert!(!asked.is_right(&given(Some("behind"), &[])));
         assert!(asked.check_given(given(Some("inside"), &[])).is_err());
         assert!(asked.check_given(given(Some("hit"), &["1e99999"])).is_err());

@@ -32,7 +32,7 @@ use super::protocol::{
     Given, MAX_MESSAGE_BYTES, Prediction, QuestionSpec, QuestionState, Reveal, Role, Tally,
     ToClient, ToServer, clean_nickname, normalise_code, read_message,
 };
-use super::question::{Asked, numbers_of};
+use super::question::{Asked, numbers_of, outcomes};
 use super::store::{ExportRow, SessionRow, Store, StoreError, sql};
 
 /// The most connections held at once; past it the upgrade is answered 503 (try again).
@@ -77,6 +77,9 @@ pub enum ClassError {
     /// No such session to export.
     #[error("no class session with code {0} in {1}")]
     UnknownSession(String, String),
+    /// The operating system gave no random bytes for codes, keys and tokens.
+    #[error("no random source for the class's codes and keys: {0}")]
+    Random(String),
     /// The export could not be written.
     #[error("cannot write the export: {0}")]
     Write(String),
@@ -137,35 +140,30 @@ pub fn default_db_path() -> PathBuf {
         .join("class.sqlite3")
 }
 
-/// Random bytes from the operating system, as lowercase hex.
-fn random_hex(bytes: usize) -> String {
-    let mut buffer = vec![0u8; bytes];
-    if getrandom::fill(&mut buffer).is_err() {
-        // No OS randomness (never seen on a desktop): the clock and the process id, which still
-        // differ between sessions but are guessable, so say so.
-        use std::io::Write as _;
-        let _ = writeln!(
-            std::io::stderr(),
-            "raylab class: no random source; tokens are weaker than they should be"
-        );
-        let seed = super::store::now_ms() as u64 ^ u64::from(std::process::id()) << 32;
-        for (i, byte) in buffer.iter_mut().enumerate() {
-            *byte = (seed.rotate_left(i as u32 * 7) >> 3) as u8 ^ i as u8;
-        }
-    }
-    buffer.iter().map(|b| format!("{b:02x}")).collect()
+/// Random bytes from the operating system. Without them (never seen on a desktop) the server refuses
+/// rather than make guessable codes, keys and tokens.
+fn random_bytes<const N: usize>() -> Result<[u8; N], ClassError> {
+    let mut buffer = [0u8; N];
+    getrandom::fill(&mut buffer).map_err(|e| ClassError::Random(e.to_string()))?;
+    Ok(buffer)
 }
 
-/// A six-letter join code from letters and digits that cannot be mistaken for each other.
-fn new_code() -> String {
-    const ALPHABET: &[u8] = b"ABCDEFGHJKLMNPQRSTUVWXYZ23456789";
-    let mut buffer = [0u8; 6];
-    let hex = random_hex(6);
-    for (i, byte) in buffer.iter_mut().enumerate() {
-        let value = u8::from_str_radix(&hex[i * 2..i * 2 + 2], 16).unwrap_or(0);
-        *byte = ALPHABET[value as usize % ALPHABET.len()];
-    }
-    String::from_utf8_lossy(&buffer).into_owned()
+/// `N` random bytes as lowercase hex (keys and tokens).
+fn random_hex<const N: usize>() -> Result<String, ClassError> {
+    Ok(random_bytes::<N>()?
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect())
+}
+
+/// A six-letter join code from 32 letters and digits that cannot be mistaken for each other (32
+/// divides 256, so each is equally likely).
+fn new_code() -> Result<String, ClassError> {
+    const ALPHABET: &[u8; 32] = b"ABCDEFGHJKLMNPQRSTUVWXYZ23456789";
+    Ok(random_bytes::<6>()?
+        .iter()
+        .map(|b| char::from(ALPHABET[usize::from(*b) % ALPHABET.len()]))
+        .collect())
 }
 
 /// Compares two secrets in time that does not depend on where they differ.
@@ -325,8 +323,8 @@ impl Live {
         };
         tally.question = Some(current.id);
         tally.answered = current.answers.len();
-        let outcomes = current.asked.view(0, 0, current.state).outcomes;
-        tally.outcomes = outcomes.into_iter().map(|o| (o, 0)).collect();
+        let kind = current.asked.problem.kind();
+        tally.outcomes = outcomes(kind).into_iter().map(|o| (o, 0)).collect();
         for (student_id, answered) in &current.answers {
             if let Some(outcome) = &answered.given.outcome
                 && let Some(bar) = tally.outcomes.iter_mut().find(|(o, _)| o == outcome)
@@ -395,7 +393,7 @@ fn prepare(options: &Options) -> Result<(Arc<Hub>, std::net::TcpListener, Starte
     let (session, resumed) = match open.last() {
         Some(last) if !options.new_session => (last.clone(), true),
         _ => {
-            let (code, key) = (new_code(), random_hex(16));
+            let (code, key) = (new_code()?, random_hex::<16>()?);
             (
                 store.call_blocking(move |c| sql::create_session(c, &code, &key))?,
                 false,
@@ -936,7 +934,11 @@ impl Connection {
                 if lock(&live.state).students.len() >= MAX_STUDENTS {
                     return Err(format!("the class is full ({MAX_STUDENTS} students)"));
                 }
-                let (session, token, name) = (live.id, random_hex(16), nickname.clone());
+                let (session, token, name) = (
+                    live.id,
+                    random_hex::<16>().map_err(|e| e.to_string())?,
+                    nickname.clone(),
+                );
                 let row = self
                     .hub
                     .store
