@@ -39,9 +39,6 @@ pub struct ClassLink {
     /// on resume).
     #[serde(default)]
     pub serve: Option<String>,
-    /// The last question asked, to draw its cloud on the right scene after a restart.
-    #[serde(default)]
-    pub asked: Option<QuestionSpec>,
 }
 
 /// A class in progress.
@@ -296,8 +293,8 @@ impl ClassRun {
 
     /// The cloud of the current question's predictions.
     fn cloud(&self) -> Option<Cloud> {
-        let spec = self.link.asked.clone()?;
         let question = self.question.as_ref()?;
+        let spec = question.spec.clone();
         if self.tally.question != Some(question.id) {
             return None;
         }
@@ -374,7 +371,6 @@ impl RaylabApp {
             code: started.code.clone(),
             key: started.key.clone(),
             serve: Some(listen.to_string()),
-            asked: self.state.class.as_ref().and_then(|l| l.asked.clone()),
         };
         let mut run = ClassRun::new(link.clone());
         run.server = Some(running);
@@ -401,7 +397,6 @@ impl RaylabApp {
             code,
             key: key.trim().to_string(),
             serve: None,
-            asked: None,
         };
         let mut run = ClassRun::new(link.clone());
         run.connect(ctx);
@@ -450,11 +445,7 @@ impl RaylabApp {
         let Some(run) = &mut self.class else {
             return;
         };
-        run.send(&ToServer::Ask {
-            question: spec.clone(),
-        });
-        run.link.asked = Some(spec);
-        self.state.class = Some(run.link.clone());
+        run.send(&ToServer::Ask { question: spec });
     }
 
     /// Reads the class's news and hands the views its cloud; call once a frame.
@@ -842,10 +833,16 @@ fn bars_ui(ui: &mut Ui, tally: &Tally) {
         .unwrap_or(0)
         .max(1);
     let text = ui.visuals().text_color();
+    // The rows fit the panel's width (a fixed width pushed the panel wider than its room at 200%,
+    // and its left edge was cut): the label takes up to 110 points, the count 36, the bar the rest.
+    let width = ui.available_width();
+    let label = 110.0_f32.min(width * 0.45);
+    let bar_width = (width - label - 36.0 - 2.0 * ui.spacing().item_spacing.x).max(24.0);
     for (outcome, count) in &tally.outcomes {
         ui.horizontal(|ui| {
-            ui.add_sized([110.0, 22.0], egui::Label::new(outcome.as_str()));
-            let (rect, _) = ui.allocate_exact_size(egui::vec2(140.0, 18.0), egui::Sense::hover());
+            ui.add_sized([label, 22.0], egui::Label::new(outcome.as_str()));
+            let (rect, _) =
+                ui.allocate_exact_size(egui::vec2(bar_width, 18.0), egui::Sense::hover());
             let share = *count as f32 / most as f32;
             let bar = egui::Rect::from_min_size(
                 rect.min,

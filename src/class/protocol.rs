@@ -138,6 +138,9 @@ pub struct QuestionView {
     pub number: i64,
     /// `segments`, `triangle` or `parallelogram`.
     pub kind: String,
+    /// The question as the teacher asked it (its exact inputs): a teacher's app that joins later or
+    /// restarts draws the class's cloud on the same scene.
+    pub spec: QuestionSpec,
     /// What is asked.
     pub prompt: String,
     /// The unknowns to predict, as the lecture writes them (`β`, `γ`, `t`; `t`, `s`).

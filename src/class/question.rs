@@ -166,6 +166,7 @@ impl Asked {
             id,
             number,
             kind: kind.name().into(),
+            spec: self.spec.clone(),
             prompt: self.spec.prompt.trim().into(),
             unknowns: kind.unknowns().iter().map(|u| u.1.to_string()).collect(),
             outcomes: outcomes(kind),

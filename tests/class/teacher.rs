@@ -153,6 +153,9 @@ fn the_teachers_view_counts_answers_and_draws_their_cloud() {
             "at 200% '{text}' is off screen at {rect:?}"
         );
     }
+    // This second app joined after the question was asked: it draws the same cloud (the question
+    // brings its scene's exact inputs).
+    assert_eq!(raylab::app::class_view::cloud_drawn(&zoomed.ctx), 12);
     drop(zoomed);
     let tally = harness.state().class.as_ref().unwrap().tally.clone();
     let hits = tally.outcomes.iter().find(|(o, _)| o == "hit").unwrap().1;
