@@ -9,10 +9,10 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{DVec2, DVec3};
-use raylab::geometry::Real;
 use raylab::geometry::parallelogram::{self, RayParallelogram};
 use raylab::geometry::segments::{self, SegmentPair};
 use raylab::geometry::triangle::{self, RayTriangle};
+use raylab::geometry::{Lecture, Real, TriangleLecture};
 use raylab::intersect::Case;
 use raylab::math::exact::Exact;
 
@@ -44,16 +44,16 @@ fn bench_precision<R: Real>(c: &mut Criterion) {
     let seg = seed000_segments::<R>();
     let par = square::<R>();
     c.bench_function(&format!("triangle/{name}"), |b| {
-        b.iter(|| triangle::solve(black_box(&tri)))
+        b.iter(|| triangle::solve(black_box(&tri), &mut ()))
     });
     c.bench_function(&format!("triangle/{name}/traced"), |b| {
-        b.iter(|| triangle::solve_traced(black_box(&tri)))
+        b.iter(|| TriangleLecture::traced(black_box(&tri)))
     });
     c.bench_function(&format!("segments/{name}"), |b| {
-        b.iter(|| segments::solve(black_box(&seg)))
+        b.iter(|| segments::solve(black_box(&seg), &mut ()))
     });
     c.bench_function(&format!("parallelogram/{name}"), |b| {
-        b.iter(|| parallelogram::solve(black_box(&par)))
+        b.iter(|| parallelogram::solve(black_box(&par), &mut ()))
     });
 }
 

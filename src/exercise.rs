@@ -17,9 +17,10 @@ use std::str::FromStr;
 
 use serde::Serialize;
 
-use crate::geometry::parallelogram::{self, ParallelogramOutcome, RayParallelogram, Side};
-use crate::geometry::segments::{self, SegmentPair, SegmentsOutcome};
-use crate::geometry::triangle::{self, RayTriangle, TriangleMiss, TriangleOutcome};
+use crate::geometry::parallelogram::{ParallelogramOutcome, RayParallelogram, Side};
+use crate::geometry::segments::{SegmentPair, SegmentsOutcome};
+use crate::geometry::triangle::{RayTriangle, TriangleMiss, TriangleOutcome};
+use crate::geometry::{Lecture, ParallelogramLecture, SegmentsLecture, TriangleLecture};
 use crate::math::exact::Exact;
 use crate::trace::Trace;
 
@@ -285,7 +286,7 @@ fn solve_segments([a1, a2, b1, b2]: &[[Exact; 2]; 4]) -> (Option<Outcome>, Vec<E
         b1: b1.clone(),
         b2: b2.clone(),
     };
-    let (solved, trace) = segments::solve_traced(&pair);
+    let (solved, trace) = SegmentsLecture::traced(&pair);
     let outcome = match solved.outcome {
         SegmentsOutcome::Crossing => Some(Outcome::Hit),
         SegmentsOutcome::LinesCrossOutside {
@@ -313,7 +314,7 @@ fn solve_triangle(
         dir: dir.clone(),
         t_min: Exact::from_int(0),
     };
-    let (solved, trace) = triangle::solve_traced(&problem);
+    let (solved, trace) = TriangleLecture::traced(&problem);
     let outcome = match solved.outcome {
         TriangleOutcome::Hit => Some(Outcome::Hit),
         TriangleOutcome::Miss(TriangleMiss::Outside { edges }) if edges.len() == 1 => {
@@ -343,7 +344,7 @@ fn solve_parallelogram(
         origin: origin.clone(),
         dir: dir.clone(),
     };
-    let (solved, trace) = parallelogram::solve_traced(&problem);
+    let (solved, trace) = ParallelogramLecture::traced(&problem);
     let outcome = match solved.outcome {
         ParallelogramOutcome::Hit => Some(Outcome::Hit),
         ParallelogramOutcome::Outside { sides } if sides.len() == 1 => Some(Outcome::Outside {

@@ -6,7 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::geometry::{Precision, Reading, traced};
+use crate::geometry::{Precision, Reading};
 use crate::scene::{self, Problem};
 use crate::trace::Trace;
 
@@ -189,8 +189,7 @@ impl Lesson {
 /// The exact solve of a scene's problem, as the step panel shows it (inputs read as written);
 /// `None` for a render scene.
 pub fn trace_of(problem: &Problem) -> Option<Trace> {
-    let inputs = problem.inputs()?;
-    Some(traced(inputs, Reading::AsWritten, Precision::Exact))
+    problem.trace(Reading::AsWritten, Precision::Exact)
 }
 
 /// Every built-in lesson, in menu order.

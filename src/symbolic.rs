@@ -435,7 +435,8 @@ fn step(id: &str, title: &str, explanation: &str, lines: Vec<String>, latex: Str
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::triangle::{self, RayTriangle};
+    use crate::geometry::triangle::RayTriangle;
+    use crate::geometry::{Lecture, TriangleLecture};
     use rand::{Rng, SeedableRng};
 
     fn random_scene(rng: &mut rand_pcg::Pcg64) -> [[Exact; 3]; 5] {
@@ -468,7 +469,7 @@ mod tests {
                 dir: scene[4].clone(),
                 t_min: Exact::from_int(0),
             };
-            let (_, trace) = triangle::solve_traced(&problem);
+            let (_, trace) = TriangleLecture::traced(&problem);
             for (poly, id) in dets.iter().zip(["det_M", "det_M1", "det_M2", "det_M3"]) {
                 let Some(step) = trace.step(id) else {
                     continue; // a degenerate or parallel draw stops before |M1|

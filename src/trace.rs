@@ -612,58 +612,30 @@ impl StepSink for () {
 
 impl StepSink for Recorder {
     fn is_recording(&self) -> bool {
-        Recorder::is_recording(self)
+        true
     }
+    #[inline(always)]
     fn push(&mut self, build: impl FnOnce() -> Step) {
-        Recorder::push(self, build)
+        self.trace.steps.push(build());
     }
 }
 
-/// Collects steps when a trace was asked for, and costs nothing (not even formatting) when not.
+/// Keeps every step of a solve. Not recording is `()`, the other [`StepSink`].
 #[derive(Debug)]
 pub struct Recorder {
-    solver: &'static str,
-    precision: Precision,
-    trace: Option<Trace>,
+    trace: Trace,
 }
 
 impl Recorder {
-    /// Records when `enabled`.
-    pub fn new(enabled: bool, solver: &'static str, precision: Precision) -> Recorder {
+    /// A recorder for `solver`'s steps in `precision`.
+    pub fn new(solver: &str, precision: Precision) -> Recorder {
         Recorder {
-            solver,
-            precision,
-            trace: enabled.then(|| Trace::new(solver, precision)),
+            trace: Trace::new(solver, precision),
         }
     }
 
-    /// Runs `solve` with a recorder that keeps every step: its answer, and the trace it recorded.
-    pub fn traced<A>(
-        solver: &'static str,
-        precision: Precision,
-        solve: impl FnOnce(&mut Recorder) -> A,
-    ) -> (A, Trace) {
-        let mut rec = Recorder::new(true, solver, precision);
-        let answer = solve(&mut rec);
-        (answer, rec.into_trace())
-    }
-
-    /// True if steps are being recorded.
-    pub fn is_recording(&self) -> bool {
-        self.trace.is_some()
-    }
-
-    /// Adds a step; `build` runs only when recording, so a solve without a trace formats nothing.
-    #[inline(always)]
-    pub fn push(&mut self, build: impl FnOnce() -> Step) {
-        if let Some(trace) = &mut self.trace {
-            trace.steps.push(build());
-        }
-    }
-
-    /// The recorded trace (with no steps if recording was off).
+    /// The recorded trace.
     pub fn into_trace(self) -> Trace {
         self.trace
-            .unwrap_or_else(|| Trace::new(self.solver, self.precision))
     }
 }

@@ -5,10 +5,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{DVec2, DVec3};
-use raylab::geometry::Real;
 use raylab::geometry::parallelogram::{self, ParallelogramOutcome, RayParallelogram};
 use raylab::geometry::segments::{self, SegmentPair, SegmentsOutcome};
-use raylab::geometry::triangle::{self, RayTriangle, TriangleOutcome};
+use raylab::geometry::triangle::{RayTriangle, TriangleOutcome};
+use raylab::geometry::{Lecture, ParallelogramLecture, Real, SegmentsLecture, TriangleLecture};
 use raylab::math::exact::Exact;
 use raylab::trace::{Trace, to_latex, to_text};
 
@@ -28,7 +28,7 @@ fn triangle_status<R: Real>(v: [[f64; 3]; 5], t_min: f64) -> (&'static str, Stri
         // Only the exact type refuses to convert NaN and ∞; that is the invalid-input path too.
         Err(bad) => return ("invalid-input", bad.to_string()),
     };
-    let (solved, trace) = triangle::solve_traced(&problem);
+    let (solved, trace) = TriangleLecture::traced(&problem);
     render_all(&trace);
     (
         solved.outcome.status().word(),
@@ -161,7 +161,7 @@ fn f32_overflow_is_named_not_nonsense() {
 fn segments_status<R: Real>(points: [[f64; 2]; 4]) -> segments::SegmentsSolution<R> {
     match SegmentPair::<R>::from_f64(points.map(DVec2::from_array)) {
         Ok(pair) => {
-            let (solved, trace) = segments::solve_traced(&pair);
+            let (solved, trace) = SegmentsLecture::traced(&pair);
             render_all(&trace);
             solved
         }
@@ -268,11 +268,11 @@ fn segments_bad_input() {
 
 fn parallelogram_outcome(v: [[f64; 3]; 5]) -> ParallelogramOutcome {
     let exact = RayParallelogram::<Exact>::from_f64(v.map(DVec3::from_array)).unwrap();
-    let (solved, trace) = parallelogram::solve_traced(&exact);
+    let (solved, trace) = ParallelogramLecture::traced(&exact);
     render_all(&trace);
     let float = RayParallelogram::<f64>::from_f64(v.map(DVec3::from_array)).unwrap();
     assert_eq!(
-        parallelogram::solve(&float).outcome.status(),
+        parallelogram::solve(&float, &mut ()).outcome.status(),
         solved.outcome.status()
     );
     solved.outcome

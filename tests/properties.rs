@@ -94,7 +94,7 @@ fn check_triangle<R: Real>(v: [[f64; 3]; 5], eps: f64) -> Result<bool, TestCaseE
         dir: to_exact(&v[4]),
         t_min: Exact::from_int(0),
     };
-    let exact = triangle::solve(&problem_exact);
+    let exact = triangle::solve(&problem_exact, &mut ());
     let Some(x) = exact.solution else {
         return Ok(false);
     };
@@ -111,7 +111,7 @@ fn check_triangle<R: Real>(v: [[f64; 3]; 5], eps: f64) -> Result<bool, TestCaseE
         return Ok(false);
     }
     let problem = RayTriangle::<R>::from_f64(v.map(glam::DVec3::from_array), 0.0).unwrap();
-    let float = triangle::solve(&problem);
+    let float = triangle::solve(&problem, &mut ());
     let Some(xf) = float.solution else {
         return Err(TestCaseError::fail(format!(
             "float found no solution for {v:?}"
@@ -165,7 +165,7 @@ proptest! {
             a1: to_exact(&points[0]), a2: to_exact(&points[1]),
             b1: to_exact(&points[2]), b2: to_exact(&points[3]),
         };
-        let exact = segments::solve(&pair_exact);
+        let exact = segments::solve(&pair_exact, &mut ());
         let (Some(t), Some(s)) = (exact.t, exact.s) else { return Ok(()); };
         let p = &pair_exact;
         let (d_a, b1_b2, y) = (sub(&p.a2, &p.a1), sub(&p.b1, &p.b2), sub(&p.b1, &p.a1));
@@ -177,7 +177,7 @@ proptest! {
             return Ok(());
         }
         let pair = SegmentPair::<f64>::from_f64(points.map(glam::DVec2::from_array)).unwrap();
-        let float = segments::solve(&pair);
+        let float = segments::solve(&pair, &mut ());
         let (tf, sf) = (float.t.unwrap(), float.s.unwrap());
         let mut bounds = [0.0; 2];
         for (i, (exact_value, float_value)) in [(t.to_f64(), tf), (s.to_f64(), sf)].into_iter().enumerate() {

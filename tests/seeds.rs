@@ -4,10 +4,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{DVec2, DVec3};
-use raylab::geometry::Real;
-use raylab::geometry::parallelogram::{self, ParallelogramOutcome, RayParallelogram};
+use raylab::geometry::parallelogram::{ParallelogramOutcome, RayParallelogram};
 use raylab::geometry::segments::{self, SegmentPair, SegmentsOutcome};
 use raylab::geometry::triangle::{self, Edge, RayTriangle, TriangleMiss, TriangleOutcome};
+use raylab::geometry::{Lecture, ParallelogramLecture, Real, SegmentsLecture, TriangleLecture};
 use raylab::intersect::Case;
 use raylab::math::exact::Exact;
 use raylab::trace::Trace;
@@ -18,12 +18,12 @@ fn q(text: &str) -> Exact {
 
 fn exact_segments(points: [[f64; 2]; 4]) -> (segments::SegmentsSolution<Exact>, Trace) {
     let pair = SegmentPair::from_f64(points.map(DVec2::from_array)).unwrap();
-    segments::solve_traced(&pair)
+    SegmentsLecture::traced(&pair)
 }
 
 fn triangle_in<R: Real>(v: [[f64; 3]; 5]) -> (triangle::TriangleSolution<R>, Trace) {
     let problem = RayTriangle::<R>::from_f64(v.map(DVec3::from_array), 0.0).unwrap();
-    triangle::solve_traced(&problem)
+    TriangleLecture::traced(&problem)
 }
 
 /// The lecture's triangle (3,0,0), (0,3,0), (0,0,3) and a ray from the origin along `dir`.
@@ -142,7 +142,7 @@ fn seed003_ray_hits_at_its_printed_point() {
         dir: [tenth.clone(), tenth, q("1")],
         t_min: q("0"),
     };
-    let exact = triangle::solve(&problem).solution.unwrap();
+    let exact = triangle::solve(&problem, &mut ()).solution.unwrap();
     assert_eq!(exact.point, [q("9/76"), q("9/76"), q("45/38")]);
     assert_eq!(exact.t, q("45/38"));
 }
@@ -160,7 +160,7 @@ fn seed001_parallelogram_by_inverse() {
         .map(DVec3::from_array),
     )
     .unwrap();
-    let (solved, trace) = parallelogram::solve_traced(&problem);
+    let (solved, trace) = ParallelogramLecture::traced(&problem);
     assert_eq!(solved.outcome, ParallelogramOutcome::Hit);
     assert_eq!(solved.alpha_beta_t, Some([q("1/4"), q("1/2"), q("1")]));
     for id in ["system", "det_M", "adj_M", "inverse", "product", "check_t"] {

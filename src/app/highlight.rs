@@ -179,18 +179,17 @@ mod tests {
 
     #[test]
     fn every_step_of_the_lecture_triangle_highlights_something() {
-        let (_, trace) = crate::geometry::triangle::solve_inputs_traced::<crate::math::exact::Exact>(
-            crate::geometry::Reading::AsWritten,
-            [
-                [3.0, 0.0, 0.0],
-                [0.0, 3.0, 0.0],
-                [0.0, 0.0, 3.0],
-                [0.0; 3],
-                [1.0; 3],
-            ]
-            .map(glam::DVec3::from),
-            0.0,
-        );
+        use crate::geometry::{Lecture, Precision, Reading, TriangleLecture};
+        let vectors = [
+            [3.0, 0.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [0.0, 0.0, 3.0],
+            [0.0; 3],
+            [1.0; 3],
+        ]
+        .map(glam::DVec3::from);
+        let trace =
+            TriangleLecture::trace_floats((vectors, 0.0), Reading::AsWritten, Precision::Exact);
         for step in &trace.steps {
             assert!(
                 !of_step(&trace.solver, &step.id).is_empty(),

@@ -439,7 +439,7 @@ fn write_report<R: Real>(posed: &Posed<R>, line: usize, with_trace: bool, out: &
         let trace = solve_posed_traced(posed, &mut fields);
         fields.put("trace", &trace);
     } else {
-        solve_posed(posed, &mut fields);
+        solve_posed(posed, &mut fields, &mut ());
     }
     fields.put("line", line);
     fields.out.extend_from_slice(b"}\n");

@@ -5,13 +5,13 @@ use serde_json::{Map, Value, json};
 
 use super::input::{Coords, InputError, Literal};
 use crate::geometry::parallelogram::{self, ParallelogramSolution, RayParallelogram};
-use crate::geometry::segments::{SegmentPair, SegmentsOutcome, SegmentsSolution};
+use crate::geometry::segments::{self, SegmentPair, SegmentsOutcome, SegmentsSolution};
 use crate::geometry::triangle::{
     self, RayTriangle, TriangleMiss, TriangleOutcome, TriangleSolution,
 };
-use crate::geometry::{Precision, Real, Solver};
+use crate::geometry::{Precision, Real};
 use crate::math::{InPrecision, in_precision};
-use crate::trace::{Status, Trace};
+use crate::trace::{Recorder, Status, StepSink, Trace};
 
 /// One problem to solve, with its inputs as the user wrote them.
 #[derive(Clone, Debug, PartialEq)]
@@ -177,39 +177,29 @@ fn pose<R: Real>(case: &Case) -> Posed<R> {
     }
 }
 
-/// Solves a posed problem without recording a step (a solve without a trace formats no steps at all):
-/// the report's fields.
-pub fn solve_posed<R: Real>(posed: &Posed<R>, fields: &mut impl FieldSink) {
+/// Solves a posed problem into the report's fields, recording every step into `steps` (`()` records
+/// none: a solve without a trace formats no step at all).
+pub fn solve_posed<R: Real>(
+    posed: &Posed<R>,
+    fields: &mut impl FieldSink,
+    steps: &mut impl StepSink,
+) {
     fields.put("kind", posed.kind());
     fields.put("precision", R::PRECISION.name());
     match posed {
-        Posed::Segments(pair) => segments_report(&pair.solve(), fields),
-        Posed::Triangle(problem) => triangle_report(&problem.solve(), fields),
-        Posed::Parallelogram(problem) => parallelogram_report(&problem.solve(), fields),
+        Posed::Segments(pair) => segments_report(&segments::solve(pair, steps), fields),
+        Posed::Triangle(problem) => triangle_report(&triangle::solve(problem, steps), fields),
+        Posed::Parallelogram(problem) => {
+            parallelogram_report(&parallelogram::solve(problem, steps), fields)
+        }
     }
 }
 
-/// Solves a posed problem with every step: the report's fields, and the trace.
+/// [`solve_posed`] with every step: the trace.
 pub fn solve_posed_traced<R: Real>(posed: &Posed<R>, fields: &mut impl FieldSink) -> Trace {
-    fields.put("kind", posed.kind());
-    fields.put("precision", R::PRECISION.name());
-    match posed {
-        Posed::Segments(pair) => {
-            let (solution, trace) = pair.solve_traced();
-            segments_report(&solution, fields);
-            trace
-        }
-        Posed::Triangle(problem) => {
-            let (solution, trace) = problem.solve_traced();
-            triangle_report(&solution, fields);
-            trace
-        }
-        Posed::Parallelogram(problem) => {
-            let (solution, trace) = problem.solve_traced();
-            parallelogram_report(&solution, fields);
-            trace
-        }
-    }
+    let mut steps = Recorder::new(posed.kind(), R::PRECISION);
+    solve_posed(posed, fields, &mut steps);
+    steps.into_trace()
 }
 
 fn convert<R: Real, const N: usize>(c: &Coords<N>) -> [R; N] {
@@ -517,7 +507,7 @@ fn unsolved_status<F: crate::intersect::Float>(case: &crate::intersect::Case<F>)
     let Some(problem) = crate::intersect::exact_problem(case) else {
         return Status::InvalidInput;
     };
-    match triangle::solve(&problem).outcome {
+    match triangle::solve(&problem, &mut ()).outcome {
         TriangleOutcome::Miss(TriangleMiss::DegenerateTriangle) => Status::DegenerateTriangle,
         TriangleOutcome::Miss(TriangleMiss::ZeroDirection | TriangleMiss::InvalidInput(_)) => {
             Status::InvalidInput

@@ -6,85 +6,76 @@ pub mod triangle;
 
 pub use crate::math::{Precision, Real};
 
-use glam::{DVec2, DVec3};
+use std::marker::PhantomData;
 
 use crate::math::{InPrecision, in_precision};
-use crate::trace::{Payload, Recorder, Status, Step, Trace, Verdict};
+use crate::trace::{Payload, Recorder, Status, Step, StepSink, Trace, Verdict};
 
-/// A lecture problem in one precision, and its solver: the answer alone (no step is even formatted),
-/// or the answer with every step.
-pub trait Solver {
-    /// What the solver decides and computes.
-    type Answer;
-    /// The answer.
-    fn solve(&self) -> Self::Answer;
-    /// The answer and every step that led to it.
-    fn solve_traced(&self) -> (Self::Answer, Trace);
-}
-
-/// Each lecture module's problem answers through that module's own `solve` and `solve_traced`.
-macro_rules! solver_in_module {
-    ($($module:ident: $problem:ident -> $answer:ident),* $(,)?) => {$(
-        impl<R: Real> Solver for $module::$problem<R> {
-            type Answer = $module::$answer<R>;
-            fn solve(&self) -> Self::Answer {
-                $module::solve(self)
-            }
-            fn solve_traced(&self) -> (Self::Answer, Trace) {
-                $module::solve_traced(self)
-            }
-        }
-    )*};
-}
-
-solver_in_module! {
-    segments: SegmentPair -> SegmentsSolution,
-    triangle: RayTriangle -> TriangleSolution,
-    parallelogram: RayParallelogram -> ParallelogramSolution,
-}
-
-/// A lecture problem as the app holds it: f64 inputs, read into a precision when solved.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Inputs {
-    /// A1, A2, B1, B2.
-    Segments([DVec2; 4]),
-    /// A, B, C, L, D and t_min.
-    Triangle([DVec3; 5], f64),
-    /// c, e1, e2, o, d.
-    Parallelogram([DVec3; 5]),
-}
-
-/// The steps of solving `inputs`, read as `reading`, in `precision`.
-pub fn traced(inputs: Inputs, reading: Reading, precision: Precision) -> Trace {
-    struct Traced(Inputs, Reading);
-    impl InPrecision for Traced {
-        type Output = Trace;
-        fn run<R: Real>(self) -> Trace {
-            let Traced(inputs, reading) = self;
-            match inputs {
-                Inputs::Segments(points) => segments::solve_inputs_traced::<R>(reading, points).1,
-                Inputs::Triangle(vectors, t_min) => {
-                    triangle::solve_inputs_traced::<R>(reading, vectors, t_min).1
-                }
-                Inputs::Parallelogram(vectors) => {
-                    parallelogram::solve_inputs_traced::<R>(reading, vectors).1
-                }
-            }
-        }
-    }
-    in_precision(precision, Traced(inputs, reading))
-}
-
-/// One of the lecture's problems, as a type: its float inputs and its answer in any precision.
+/// One of the lecture's problems, as a type: how its float inputs are read, and its solver.
+///
+/// A solver computes every value first, as the slide does, and records the steps afterwards into a
+/// [`StepSink`]: a [`Recorder`] keeps them, `()` drops them at no cost. The command line, the lessons,
+/// the exercises and the views all solve through this trait.
 pub trait Lecture {
+    /// The solver's name in a trace: `segments`, `triangle` or `parallelogram`.
+    const NAME: &'static str;
     /// The inputs as floats (points and vectors as the app and scene files hold them).
     type Floats: Copy;
+    /// The problem in precision `R`.
+    type Problem<R: Real>;
     /// The answer in precision `R`.
     type Answer<R: Real>;
-    /// Reads the inputs as `reading` says and solves in precision `R`.
-    fn answer<R: Real>(floats: Self::Floats, reading: Reading) -> Self::Answer<R>;
-    /// The inputs as [`traced`] takes them.
-    fn inputs(floats: Self::Floats) -> Inputs;
+
+    /// Reads float inputs as `reading` says, naming the first one precision `R` cannot hold.
+    fn read<R: Real>(
+        floats: Self::Floats,
+        reading: Reading,
+    ) -> Result<Self::Problem<R>, InvalidInput>;
+
+    /// Solves `problem`, recording every step into `steps`.
+    fn solve<R: Real>(problem: &Self::Problem<R>, steps: &mut impl StepSink) -> Self::Answer<R>;
+
+    /// The answer to inputs that could not be read, its one step recorded into `steps`.
+    fn refuse<R: Real>(bad: InvalidInput, steps: &mut impl StepSink) -> Self::Answer<R>;
+
+    /// The answer and every step that led to it.
+    fn traced<R: Real>(problem: &Self::Problem<R>) -> (Self::Answer<R>, Trace) {
+        let mut steps = Recorder::new(Self::NAME, R::PRECISION);
+        let answer = Self::solve(problem, &mut steps);
+        (answer, steps.into_trace())
+    }
+
+    /// Reads float inputs and solves them (an input that cannot be read is refused).
+    fn solve_floats<R: Real>(
+        floats: Self::Floats,
+        reading: Reading,
+        steps: &mut impl StepSink,
+    ) -> Self::Answer<R> {
+        match Self::read(floats, reading) {
+            Ok(problem) => Self::solve(&problem, steps),
+            Err(bad) => Self::refuse(bad, steps),
+        }
+    }
+
+    /// The steps of solving float inputs in `precision`, chosen at run time.
+    fn trace_floats(floats: Self::Floats, reading: Reading, precision: Precision) -> Trace
+    where
+        Self: Sized,
+    {
+        in_precision(precision, TraceFloats::<Self>(floats, reading, PhantomData))
+    }
+}
+
+/// [`Lecture::trace_floats`] in the precision [`in_precision`] picks.
+struct TraceFloats<L: Lecture>(L::Floats, Reading, PhantomData<L>);
+
+impl<L: Lecture> InPrecision for TraceFloats<L> {
+    type Output = Trace;
+    fn run<R: Real>(self) -> Trace {
+        let mut steps = Recorder::new(L::NAME, R::PRECISION);
+        L::solve_floats::<R>(self.0, self.1, &mut steps);
+        steps.into_trace()
+    }
 }
 
 /// Two segments (seed 000).
@@ -93,32 +84,6 @@ pub enum SegmentsLecture {}
 pub enum TriangleLecture {}
 /// A ray and a parallelogram (seed 001).
 pub enum ParallelogramLecture {}
-
-/// Each lecture type reads its floats through its module's `solve_inputs`, and hands them to
-/// [`traced`] as its `Inputs` variant: `|floats pattern| (arguments) => variant`.
-macro_rules! lecture_of_module {
-    ($($lecture:ident: $module:ident::$answer:ident, $floats:ty,
-        |$pattern:pat_param| ($($arg:ident),*) => $variant:ident;)*) => {$(
-        impl Lecture for $lecture {
-            type Floats = $floats;
-            type Answer<R: Real> = $module::$answer<R>;
-            fn answer<R: Real>($pattern: $floats, reading: Reading) -> Self::Answer<R> {
-                $module::solve_inputs(reading, $($arg),*)
-            }
-            fn inputs($pattern: $floats) -> Inputs {
-                Inputs::$variant($($arg),*)
-            }
-        }
-    )*};
-}
-
-lecture_of_module! {
-    SegmentsLecture: segments::SegmentsSolution, [DVec2; 4], |points| (points) => Segments;
-    TriangleLecture: triangle::TriangleSolution, ([DVec3; 5], f64),
-        |(vectors, t_min)| (vectors, t_min) => Triangle;
-    ParallelogramLecture: parallelogram::ParallelogramSolution, [DVec3; 5],
-        |vectors| (vectors) => Parallelogram;
-}
 
 /// A problem solved for a view: in f64 (to draw), exactly (to show fractions), and traced in the
 /// precision the step panel shows.
@@ -135,15 +100,15 @@ impl<L: Lecture> Shown<L> {
     /// Solves `floats`, read as `reading`, for a view whose step panel shows `precision`.
     pub fn new(floats: L::Floats, reading: Reading, precision: Precision) -> Shown<L> {
         Shown {
-            float: L::answer(floats, reading),
-            exact: L::answer(floats, reading),
-            trace: traced(L::inputs(floats), reading, precision),
+            float: L::solve_floats(floats, reading, &mut ()),
+            exact: L::solve_floats(floats, reading, &mut ()),
+            trace: L::trace_floats(floats, reading, precision),
         }
     }
 }
 
 /// Records the verdict on an input that cannot be used (the whole trace of such a solve).
-fn record_refusal(rec: &mut Recorder, status: Status, message: impl FnOnce() -> String) {
+fn record_refusal(rec: &mut impl StepSink, status: Status, message: impl FnOnce() -> String) {
     rec.push(|| {
         Step::new("verdict", "Verdict", "An input cannot be used.", {
             Payload::Verdict(Verdict {

@@ -12,15 +12,17 @@ pub mod lean;
 
 use glam::DVec3;
 
-use super::{InvalidInput, Reading, check_finite, negligible, read_vec};
+use super::{
+    InvalidInput, Lecture, ParallelogramLecture, Reading, check_finite, negligible, read_vec,
+};
 use crate::math::linalg::{
-    V3, adjugate3, all_finite, cofactor_terms3, cross, from_columns, is_zero_vector, mul_vec, neg,
-    norm_f64, scale, sub, sum_terms,
+    CofactorTerm, M3, V3, add, adjugate3, all_finite, cofactor_terms3, cross, from_columns,
+    is_zero_vector, mul_vec, neg, norm_f64, scale, sub, sum_terms,
 };
 use crate::math::real::Real;
 use crate::trace::{
-    Check, Column, Determinant, Formula, Matrix, Number, Payload, Recorder, Scalar, Status, Step,
-    Trace, Vector, Verdict,
+    Check, Column, Determinant, Formula, Matrix, Number, Payload, Scalar, Status, Step, StepSink,
+    Vector, Verdict,
 };
 
 /// A ray and a parallelogram, in seed 001's names.
@@ -160,224 +162,274 @@ impl<R> ParallelogramSolution<R> {
 
 const LABELS: [Column; 3] = [Column::E1, Column::E2, Column::MinusD];
 
-/// Solves by the inverse matrix.
-pub fn solve<R: Real>(p: &RayParallelogram<R>) -> ParallelogramSolution<R> {
-    solve_with(p, &mut Recorder::new(false, "parallelogram", R::PRECISION))
-}
+impl Lecture for ParallelogramLecture {
+    const NAME: &'static str = "parallelogram";
+    type Floats = [DVec3; 5];
+    type Problem<R: Real> = RayParallelogram<R>;
+    type Answer<R: Real> = ParallelogramSolution<R>;
 
-/// Solves by the inverse matrix, with every step.
-pub fn solve_traced<R: Real>(p: &RayParallelogram<R>) -> (ParallelogramSolution<R>, Trace) {
-    Recorder::traced("parallelogram", R::PRECISION, |rec| solve_with(p, rec))
-}
-
-fn solve_with<R: Real>(p: &RayParallelogram<R>, rec: &mut Recorder) -> ParallelogramSolution<R> {
-    let (outcome, alpha_beta_t) = solve_recorded(p, rec);
-    let point = alpha_beta_t
-        .as_ref()
-        .map(|x| crate::math::linalg::add(&p.origin, &scale(&x[2], &p.dir)));
-    rec.push(|| {
-        Step::new("verdict", "Verdict", "What the checks decide.", {
-            Payload::Verdict(Verdict {
-                status: outcome.status(),
-                message: verdict_message(&outcome),
-            })
-        })
-    });
-    if let Some(point) = &point {
-        let title = if outcome.is_hit() {
-            "Hit point o + t d"
-        } else {
-            "Where the ray's line meets the plane, o + t d"
-        };
-        rec.push(|| {
-            Step::new("point", title, "Knowing t gives the point.", {
-                Payload::Vector(Vector::of("P", "P", point))
-            })
-        });
+    fn read<R: Real>(
+        vectors: [DVec3; 5],
+        reading: Reading,
+    ) -> Result<RayParallelogram<R>, InvalidInput> {
+        RayParallelogram::read(reading, vectors)
     }
-    ParallelogramSolution {
-        outcome,
-        alpha_beta_t,
-        point,
+
+    fn solve<R: Real>(
+        problem: &RayParallelogram<R>,
+        steps: &mut impl StepSink,
+    ) -> ParallelogramSolution<R> {
+        solve(problem, steps)
     }
-}
 
-/// Converts float inputs and solves; inputs the precision cannot hold (NaN for exact numbers) give an
-/// `invalid-input` solution.
-pub fn solve_inputs<R: Real>(reading: Reading, vectors: [DVec3; 5]) -> ParallelogramSolution<R> {
-    let mut rec = Recorder::new(false, "parallelogram", R::PRECISION);
-    solve_inputs_with(reading, vectors, &mut rec)
-}
-
-/// [`solve_inputs`] with every step (a one-step trace for an input that cannot be used).
-pub fn solve_inputs_traced<R: Real>(
-    reading: Reading,
-    vectors: [DVec3; 5],
-) -> (ParallelogramSolution<R>, Trace) {
-    Recorder::traced("parallelogram", R::PRECISION, |rec| {
-        solve_inputs_with(reading, vectors, rec)
-    })
-}
-
-fn solve_inputs_with<R: Real>(
-    reading: Reading,
-    vectors: [DVec3; 5],
-    rec: &mut Recorder,
-) -> ParallelogramSolution<R> {
-    match RayParallelogram::read(reading, vectors) {
-        Ok(problem) => solve_with(&problem, rec),
-        Err(bad) => {
-            let outcome = ParallelogramOutcome::InvalidInput(bad);
-            super::record_refusal(rec, outcome.status(), || verdict_message(&outcome));
-            ParallelogramSolution {
-                outcome,
-                alpha_beta_t: None,
-                point: None,
-            }
+    fn refuse<R: Real>(bad: InvalidInput, steps: &mut impl StepSink) -> ParallelogramSolution<R> {
+        let outcome = ParallelogramOutcome::InvalidInput(bad);
+        super::record_refusal(steps, outcome.status(), || verdict_message(&outcome));
+        ParallelogramSolution {
+            outcome,
+            alpha_beta_t: None,
+            point: None,
         }
     }
 }
 
+/// Solves by the inverse matrix, recording every step into `steps` (`()` records nothing: the
+/// arithmetic is the same either way).
+pub fn solve<R: Real>(
+    p: &RayParallelogram<R>,
+    steps: &mut impl StepSink,
+) -> ParallelogramSolution<R> {
+    let values = values(p);
+    record(&values, steps);
+    values.solution
+}
+
+/// Every value the lecture's solve computes, in the slide's order. A solve stops at the first check
+/// that fails, so a stage after it is `None`.
+struct Values<R> {
+    /// The answer.
+    solution: ParallelogramSolution<R>,
+    /// M = [e1 | e2 | −d] and o − c.
+    system: Option<(M3<R>, V3<R>)>,
+    /// |e1 × e2| and whether it counts as zero.
+    area: Option<(f64, bool)>,
+    /// |M| expanded along its first row.
+    det: Option<([CofactorTerm<R>; 3], R)>,
+    /// Whether |M| counts as zero (unset when |M| overflowed).
+    parallel: Option<bool>,
+    /// adj(M) and M⁻¹ = adj(M) / |M|.
+    inverse: Option<(M3<R>, M3<R>)>,
+    /// The sides (α, β) breaks, and whether t ≥ 0.
+    checks: Option<(Vec<Side>, bool)>,
+}
+
+/// The arithmetic of the slide: M (α, β, t)ᵀ = o − c, the area and |M| checks, the inverse by the
+/// adjugate, then the three interval checks. Records nothing.
 #[allow(
     clippy::expect_used,
     reason = "a division by |M| runs only after |M| was checked to be nonzero"
 )]
-fn solve_recorded<R: Real>(
-    p: &RayParallelogram<R>,
-    rec: &mut Recorder,
-) -> (ParallelogramOutcome, Option<V3<R>>) {
-    let fields = [
+fn values<R: Real>(p: &RayParallelogram<R>) -> Values<R> {
+    let mut v = Values::stopped_at(ParallelogramOutcome::Hit);
+    let stop = |mut v: Values<R>, outcome| {
+        v.solution.outcome = outcome;
+        v
+    };
+    let inputs = [
         ("c", &p.corner),
         ("e1", &p.e1),
         ("e2", &p.e2),
         ("o", &p.origin),
         ("d", &p.dir),
     ];
-    if let Err(bad) = check_finite(&fields) {
-        return (ParallelogramOutcome::InvalidInput(bad), None);
+    if let Err(bad) = check_finite(&inputs) {
+        return stop(v, ParallelogramOutcome::InvalidInput(bad));
     }
     if is_zero_vector(&p.dir) {
-        return (ParallelogramOutcome::ZeroDirection, None);
+        return stop(v, ParallelogramOutcome::ZeroDirection);
     }
 
-    let minus_d = neg(&p.dir);
-    let m = from_columns([&p.e1, &p.e2, &minus_d]);
-    let y = sub(&p.origin, &p.corner);
-    rec.push(|| Step::new("system", "The system M (α, β, t)ᵀ = o − c", "Set o + t d = c + α e1 + β e2 and move the unknowns left: α e1 + β e2 − t d = o − c (seed 001 prints c − o, a sign slip).", Payload::System {
-            matrix: Matrix::of3("M", "M", &m, LABELS),
-            unknowns: vec!["α".into(), "β".into(), "t".into()],
-            unknowns_latex: vec!["\\alpha".into(), "\\beta".into(), "t".into()],
-            rhs: Vector::of("o − c", "o - c", &y),
-        }));
+    // The system M (α, β, t)ᵀ = o − c.
+    let m = from_columns([&p.e1, &p.e2, &neg(&p.dir)]);
+    let (m, y) = v.system.insert((m, sub(&p.origin, &p.corner)));
 
+    // A flat parallelogram: e1 × e2 = 0.
     let normal = cross(&p.e1, &p.e2);
     if !all_finite(&normal) {
-        return (overflow::<R>(), None);
+        return stop(v, overflow::<R>());
     }
-    let degenerate = negligible::<R>(
-        norm_f64(&normal),
-        norm_f64(&p.e1) * norm_f64(&p.e2),
-        is_zero_vector(&normal),
-    );
-    rec.push(|| {
-        Step::new(
-            "check_area",
-            "The parallelogram has an area",
-            "Its area is |e1 × e2|; seed 001 requires e1 and e2 not parallel and not zero.",
-            {
-                Payload::Check(Check {
-                    inequality: "|e1 × e2| > 0".into(),
-                    latex: "|e_1 \\times e_2| > 0".into(),
-                    value: Number::float(norm_f64(&normal), R::PRECISION),
-                    passed: !degenerate,
-                    meaning: "e1 and e2 are parallel or zero: the parallelogram is flat".into(),
-                })
-            },
-        )
-    });
+    let area_scale = norm_f64(&p.e1) * norm_f64(&p.e2);
+    let degenerate = negligible::<R>(norm_f64(&normal), area_scale, is_zero_vector(&normal));
+    v.area = Some((norm_f64(&normal), degenerate));
     if degenerate {
-        return (ParallelogramOutcome::Degenerate, None);
+        return stop(v, ParallelogramOutcome::Degenerate);
     }
 
-    let terms = cofactor_terms3(&m);
-    let det = sum_terms(&terms);
-    rec.push(|| {
-        Step::new(
-            "det_M",
-            "|M|",
-            "The determinant of M, expanded along the first row.",
-            Payload::Determinant(Determinant::of3("M", "M", &terms, &det)),
-        )
-    });
+    // |M|: zero when the ray is parallel to the plane.
+    let terms = cofactor_terms3(m);
+    let value = sum_terms(&terms);
+    let det = &v.det.insert((terms, value)).1;
     if !det.is_finite() {
-        return (overflow::<R>(), None);
+        return stop(v, overflow::<R>());
     }
     let parallel = negligible::<R>(
         det.to_f64().abs(),
         norm_f64(&normal) * norm_f64(&p.dir),
         det.is_zero(),
     );
-    rec.push(|| Step::new("check_det", "|M| is not zero", "M is invertible only if d is not in the plane of e1 and e2 (for floats: |M| > 16ε·|e1×e2|·|d|).", {
-            Payload::Check(Check {
-                inequality: "|M| ≠ 0".into(),
-                latex: "|M| \\neq 0".into(),
-                value: Number::of(&det),
-                passed: !parallel,
-                meaning: "the ray is parallel to the parallelogram's plane".into(),
-            })
-        }));
+    v.parallel = Some(parallel);
     if parallel {
-        return (ParallelogramOutcome::Parallel, None);
+        return stop(v, ParallelogramOutcome::Parallel);
     }
 
-    let adjugate = adjugate3(&m);
-    rec.push(|| {
-        Step::new(
-            "adj_M",
-            "adj(M), the adjugate",
-            "The transposed matrix of cofactors: M · adj(M) = |M| I.",
-            {
-                Payload::Matrix(Matrix::of3(
-                    "adj(M)",
-                    "\\operatorname{adj}(M)",
-                    &adjugate,
-                    [Column::Unnamed; 3],
-                ))
-            },
-        )
-    });
+    // (α, β, t)ᵀ = M⁻¹ (o − c), with M⁻¹ = adj(M) / |M|.
+    let adjugate = adjugate3(m);
     let inverse = adjugate
         .clone()
-        .map(|row| row.map(|x| x.checked_div(&det).expect("|M| was checked to be nonzero")));
-    rec.push(|| {
+        .map(|row| row.map(|x| x.checked_div(det).expect("|M| was checked to be nonzero")));
+    let x = mul_vec(&inverse, y);
+    v.inverse = Some((adjugate, inverse));
+    if x.iter().any(|v| !v.is_finite()) {
+        return stop(v, overflow::<R>());
+    }
+
+    // On the parallelogram when 0 ≤ α ≤ 1 and 0 ≤ β ≤ 1; on the ray when t ≥ 0.
+    let sides: Vec<Side> = [0, 1]
+        .into_iter()
+        .filter_map(|i| side_broken(i, &x[i]))
+        .collect();
+    let in_front = x[2] >= R::zero();
+    let outcome = if !sides.is_empty() {
+        ParallelogramOutcome::Outside {
+            sides: sides.clone(),
+        }
+    } else if !in_front {
+        ParallelogramOutcome::Behind
+    } else {
+        ParallelogramOutcome::Hit
+    };
+    v.checks = Some((sides, in_front));
+    v.solution = ParallelogramSolution {
+        outcome,
+        point: Some(add(&p.origin, &scale(&x[2], &p.dir))),
+        alpha_beta_t: Some(x),
+    };
+    v
+}
+
+impl<R> Values<R> {
+    fn stopped_at(outcome: ParallelogramOutcome) -> Values<R> {
+        Values {
+            solution: ParallelogramSolution {
+                outcome,
+                alpha_beta_t: None,
+                point: None,
+            },
+            system: None,
+            area: None,
+            det: None,
+            parallel: None,
+            inverse: None,
+            checks: None,
+        }
+    }
+}
+
+/// The side of [0, 1] that α (`i` = 0) or β (`i` = 1) breaks, if any.
+fn side_broken<R: Real>(i: usize, value: &R) -> Option<Side> {
+    let [below, above] = [
+        [Side::AlphaBelow, Side::AlphaAbove],
+        [Side::BetaBelow, Side::BetaAbove],
+    ][i];
+    if value < &R::zero() {
+        Some(below)
+    } else if value > &R::one() {
+        Some(above)
+    } else {
+        None
+    }
+}
+
+fn overflow<R: Real>() -> ParallelogramOutcome {
+    ParallelogramOutcome::InvalidInput(InvalidInput {
+        field: "input".into(),
+        problem: format!(
+            "the computation overflows {}: the coordinates are too large for this precision",
+            R::PRECISION.name()
+        ),
+    })
+}
+
+/// Records what [`values`] computed, step by step, and the verdict.
+fn record<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
+    if !steps.is_recording() {
+        return;
+    }
+    record_stages(v, steps);
+    let solution = &v.solution;
+    steps.push(|| {
+        Step::new("verdict", "Verdict", "What the checks decide.", {
+            Payload::Verdict(Verdict {
+                status: solution.outcome.status(),
+                message: verdict_message(&solution.outcome),
+            })
+        })
+    });
+    if let Some(point) = &solution.point {
+        let title = if solution.outcome.is_hit() {
+            "Hit point o + t d"
+        } else {
+            "Where the ray's line meets the plane, o + t d"
+        };
+        steps.push(|| {
+            Step::new("point", title, "Knowing t gives the point.", {
+                Payload::Vector(Vector::of("P", "P", point))
+            })
+        });
+    }
+}
+
+/// The steps before the verdict, as far as the solve went.
+fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
+    let Some((m, y)) = &v.system else { return };
+    steps.push(|| system_step(m, y));
+    let Some((normal_length, degenerate)) = v.area else {
+        return;
+    };
+    steps.push(|| area_check::<R>(normal_length, degenerate));
+    let Some((terms, det)) = &v.det else { return };
+    steps.push(|| {
         Step::new(
-            "inverse",
-            "M⁻¹ = adj(M) / |M|",
-            "Each entry of the adjugate divided by the determinant.",
-            Payload::Matrix(Matrix::of3("M⁻¹", "M^{-1}", &inverse, [Column::Unnamed; 3])),
+            "det_M",
+            "|M|",
+            "The determinant of M, expanded along the first row.",
+            Payload::Determinant(Determinant::of3("M", "M", terms, det)),
         )
     });
-    let x = mul_vec(&inverse, &y);
-    if x.iter().any(|v| !v.is_finite()) {
-        return (overflow::<R>(), None);
-    }
-    rec.push(|| {
+    let Some(parallel) = v.parallel else { return };
+    steps.push(|| det_check(det, parallel));
+    let Some((adjugate, inverse)) = &v.inverse else {
+        return;
+    };
+    record_inverse(steps, adjugate, inverse);
+    let (Some(x), Some((_, in_front))) = (&v.solution.alpha_beta_t, &v.checks) else {
+        return;
+    };
+    steps.push(|| {
         Step::new(
             "product",
             "(α, β, t)ᵀ = M⁻¹ (o − c)",
             "Multiply the inverse by the right-hand side.",
-            Payload::Vector(Vector::of("(α, β, t)", "(\\alpha, \\beta, t)", &x)),
+            Payload::Vector(Vector::of("(α, β, t)", "(\\alpha, \\beta, t)", x)),
         )
     });
-    for (i, (id, symbol, latex)) in [
+    let unknowns = [
         ("alpha", "α", "\\alpha"),
         ("beta", "β", "\\beta"),
         ("t", "t", "t"),
-    ]
-    .into_iter()
-    .enumerate()
-    {
-        rec.push(|| {
+    ];
+    for (i, (id, symbol, latex)) in unknowns.into_iter().enumerate() {
+        steps.push(|| {
             Step::new(id, symbol, "Read off the product.", {
                 Payload::Scalar(Scalar {
                     symbol: symbol.into(),
@@ -392,82 +444,113 @@ fn solve_recorded<R: Real>(
             })
         });
     }
-    (classify(rec, &x), Some(x))
+    record_checks(steps, x, *in_front);
 }
 
-fn overflow<R: Real>() -> ParallelogramOutcome {
-    ParallelogramOutcome::InvalidInput(InvalidInput {
-        field: "input".into(),
-        problem: format!(
-            "the computation overflows {}: the coordinates are too large for this precision",
-            R::PRECISION.name()
-        ),
-    })
+fn system_step<R: Real>(m: &M3<R>, y: &V3<R>) -> Step {
+    Step::new(
+        "system",
+        "The system M (α, β, t)ᵀ = o − c",
+        "Set o + t d = c + α e1 + β e2 and move the unknowns left: α e1 + β e2 − t d = o − c (seed 001 prints c − o, a sign slip).",
+        Payload::System {
+            matrix: Matrix::of3("M", "M", m, LABELS),
+            unknowns: vec!["α".into(), "β".into(), "t".into()],
+            unknowns_latex: vec!["\\alpha".into(), "\\beta".into(), "t".into()],
+            rhs: Vector::of("o − c", "o - c", y),
+        },
+    )
 }
 
-fn classify<R: Real>(rec: &mut Recorder, x: &V3<R>) -> ParallelogramOutcome {
-    let (zero, one) = (R::zero(), R::one());
-    let mut sides = Vec::new();
-    for (i, (symbol, latex, below, above)) in [
-        ("α", "\\alpha", Side::AlphaBelow, Side::AlphaAbove),
-        ("β", "\\beta", Side::BetaBelow, Side::BetaAbove),
-    ]
-    .into_iter()
-    .enumerate()
-    {
-        let value = &x[i];
-        let broken = if value < &zero {
-            Some(below)
-        } else if value > &one {
-            Some(above)
-        } else {
-            None
-        };
-        sides.extend(broken);
-        rec.push(|| {
+fn area_check<R: Real>(normal_length: f64, degenerate: bool) -> Step {
+    Step::new(
+        "check_area",
+        "The parallelogram has an area",
+        "Its area is |e1 × e2|; seed 001 requires e1 and e2 not parallel and not zero.",
+        Payload::Check(Check {
+            inequality: "|e1 × e2| > 0".into(),
+            latex: "|e_1 \\times e_2| > 0".into(),
+            value: Number::float(normal_length, R::PRECISION),
+            passed: !degenerate,
+            meaning: "e1 and e2 are parallel or zero: the parallelogram is flat".into(),
+        }),
+    )
+}
+
+fn det_check<R: Real>(det: &R, parallel: bool) -> Step {
+    Step::new(
+        "check_det",
+        "|M| is not zero",
+        "M is invertible only if d is not in the plane of e1 and e2 (for floats: |M| > 16ε·|e1×e2|·|d|).",
+        Payload::Check(Check {
+            inequality: "|M| ≠ 0".into(),
+            latex: "|M| \\neq 0".into(),
+            value: Number::of(det),
+            passed: !parallel,
+            meaning: "the ray is parallel to the parallelogram's plane".into(),
+        }),
+    )
+}
+
+fn record_inverse<R: Real>(steps: &mut impl StepSink, adjugate: &M3<R>, inverse: &M3<R>) {
+    steps.push(|| {
+        Step::new(
+            "adj_M",
+            "adj(M), the adjugate",
+            "The transposed matrix of cofactors: M · adj(M) = |M| I.",
+            Payload::Matrix(Matrix::of3(
+                "adj(M)",
+                "\\operatorname{adj}(M)",
+                adjugate,
+                [Column::Unnamed; 3],
+            )),
+        )
+    });
+    steps.push(|| {
+        Step::new(
+            "inverse",
+            "M⁻¹ = adj(M) / |M|",
+            "Each entry of the adjugate divided by the determinant.",
+            Payload::Matrix(Matrix::of3("M⁻¹", "M^{-1}", inverse, [Column::Unnamed; 3])),
+        )
+    });
+}
+
+/// Records the checks 0 ≤ α ≤ 1, 0 ≤ β ≤ 1 and t ≥ 0.
+fn record_checks<R: Real>(steps: &mut impl StepSink, x: &V3<R>, in_front: bool) {
+    for (i, (symbol, latex)) in [("α", "\\alpha"), ("β", "\\beta")].into_iter().enumerate() {
+        let broken = side_broken(i, &x[i]);
+        steps.push(|| {
             Step::new(
                 format!("check_{}", if i == 0 { "alpha" } else { "beta" }),
                 format!("Check 0 ≤ {symbol} ≤ 1"),
                 "The point is on the parallelogram only if α and β are both in [0, 1].",
-                {
-                    Payload::Check(Check {
-                        inequality: format!("0 ≤ {symbol} ≤ 1"),
-                        latex: format!("0 \\le {latex} \\le 1"),
-                        value: Number::of(value),
-                        passed: broken.is_none(),
-                        meaning: format!(
-                            "the point breaks {}",
-                            broken.map(Side::inequality).unwrap_or_default()
-                        ),
-                    })
-                },
+                Payload::Check(Check {
+                    inequality: format!("0 ≤ {symbol} ≤ 1"),
+                    latex: format!("0 \\le {latex} \\le 1"),
+                    value: Number::of(&x[i]),
+                    passed: broken.is_none(),
+                    meaning: format!(
+                        "the point breaks {}",
+                        broken.map(Side::inequality).unwrap_or_default()
+                    ),
+                }),
             )
         });
     }
-    let in_front = x[2] >= zero;
-    rec.push(|| {
+    steps.push(|| {
         Step::new(
             "check_t",
             "Check t ≥ 0",
             "Seed 001 takes the ray for t in [0, ∞): t = 0 counts.",
-            {
-                Payload::Check(Check {
-                    inequality: "t ≥ 0".into(),
-                    latex: "t \\ge 0".into(),
-                    value: Number::of(&x[2]),
-                    passed: in_front,
-                    meaning: "the plane is behind the ray's origin".into(),
-                })
-            },
+            Payload::Check(Check {
+                inequality: "t ≥ 0".into(),
+                latex: "t \\ge 0".into(),
+                value: Number::of(&x[2]),
+                passed: in_front,
+                meaning: "the plane is behind the ray's origin".into(),
+            }),
         )
     });
-    if !sides.is_empty() {
-        ParallelogramOutcome::Outside { sides }
-    } else if !in_front {
-        ParallelogramOutcome::Behind
-    } else {
-        ParallelogramOutcome::Hit
-    }
 }
 
 fn verdict_message(outcome: &ParallelogramOutcome) -> String {
@@ -509,14 +592,14 @@ pub struct Exploration<R> {
 
 /// The parametric form p(α, β) = c + α e1 + β e2: any point of the parallelogram's plane.
 pub fn point_at<R: Real>(p: &RayParallelogram<R>, alpha: &R, beta: &R) -> V3<R> {
-    let along = crate::math::linalg::add(&scale(alpha, &p.e1), &scale(beta, &p.e2));
-    crate::math::linalg::add(&p.corner, &along)
+    let along = add(&scale(alpha, &p.e1), &scale(beta, &p.e2));
+    add(&p.corner, &along)
 }
 
 /// Evaluates both parametric forms.
 pub fn explore<R: Real>(p: &RayParallelogram<R>, alpha: &R, beta: &R, t: &R) -> Exploration<R> {
     let plane_point = point_at(p, alpha, beta);
-    let ray_point = crate::math::linalg::add(&p.origin, &scale(t, &p.dir));
+    let ray_point = add(&p.origin, &scale(t, &p.dir));
     let gap = norm_f64(&sub(&plane_point, &ray_point));
     let unit = |x: &R| x >= &R::zero() && x <= &R::one();
     Exploration {

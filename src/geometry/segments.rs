@@ -6,14 +6,14 @@
 
 use glam::DVec2;
 
-use super::{InvalidInput, Reading, check_finite, negligible, read_vec};
+use super::{InvalidInput, Lecture, Reading, SegmentsLecture, check_finite, negligible, read_vec};
 use crate::math::linalg::{
-    V2, cross2, dot, from_columns, is_zero_vector, norm_f64, scale, sub, with_column,
+    M2, V2, add, cross2, det2, dot, from_columns, is_zero_vector, norm_f64, scale, sub, with_column,
 };
 use crate::math::real::Real;
 use crate::trace::{
-    Check, Column, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder, Scalar,
-    Status, Step, Trace, Vector, Verdict,
+    Check, Column, Determinant, Formula, Matrix, Number, Operand, Payload, Scalar, Status, Step,
+    StepSink, Vector, Verdict,
 };
 
 /// Two segments, in the lecture's names.
@@ -159,202 +159,120 @@ impl<R: Real> SegmentsSolution<R> {
 
 const LABELS: [Column; 2] = [Column::A2MinusA1, Column::B1MinusB2];
 
-/// Solves the 2x2 system by Cramer's rule and classifies.
-pub fn solve<R: Real>(pair: &SegmentPair<R>) -> SegmentsSolution<R> {
-    solve_with(pair, &mut Recorder::new(false, "segments", R::PRECISION))
-}
+impl Lecture for SegmentsLecture {
+    const NAME: &'static str = "segments";
+    type Floats = [DVec2; 4];
+    type Problem<R: Real> = SegmentPair<R>;
+    type Answer<R: Real> = SegmentsSolution<R>;
 
-/// Solves the 2x2 system by Cramer's rule and classifies, with every step.
-pub fn solve_traced<R: Real>(pair: &SegmentPair<R>) -> (SegmentsSolution<R>, Trace) {
-    Recorder::traced("segments", R::PRECISION, |rec| solve_with(pair, rec))
-}
+    fn read<R: Real>(points: [DVec2; 4], reading: Reading) -> Result<SegmentPair<R>, InvalidInput> {
+        SegmentPair::read(reading, points)
+    }
 
-fn solve_with<R: Real>(pair: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSolution<R> {
-    let solution = solve_recorded(pair, rec);
-    rec.push(|| {
-        Step::new(
-            "verdict",
-            "Verdict",
-            "What the numbers say about the two segments.",
-            {
-                Payload::Verdict(Verdict {
-                    status: solution.outcome.status(),
-                    message: verdict_message(&solution),
-                })
-            },
-        )
-    });
-    if let Some(point) = &solution.point {
-        rec.push(|| {
-            Step::new(
-                "point",
-                "Where the lines cross: A(t) = B(s)",
-                "Substituting t into A(t) gives the same point as s in B(s).",
-                Payload::Vector(Vector::of("P", "P", point)),
-            )
+    fn solve<R: Real>(pair: &SegmentPair<R>, steps: &mut impl StepSink) -> SegmentsSolution<R> {
+        solve(pair, steps)
+    }
+
+    fn refuse<R: Real>(bad: InvalidInput, steps: &mut impl StepSink) -> SegmentsSolution<R> {
+        let solution = SegmentsSolution::new(SegmentsOutcome::InvalidInput(bad));
+        super::record_refusal(steps, solution.outcome.status(), || {
+            verdict_message(&solution)
         });
-    }
-    solution
-}
-
-/// Converts float inputs and solves; inputs the precision cannot hold (NaN for exact numbers) give an
-/// `invalid-input` solution.
-pub fn solve_inputs<R: Real>(reading: Reading, points: [DVec2; 4]) -> SegmentsSolution<R> {
-    solve_inputs_with(
-        reading,
-        points,
-        &mut Recorder::new(false, "segments", R::PRECISION),
-    )
-}
-
-/// [`solve_inputs`] with every step (a one-step trace for an input that cannot be used).
-pub fn solve_inputs_traced<R: Real>(
-    reading: Reading,
-    points: [DVec2; 4],
-) -> (SegmentsSolution<R>, Trace) {
-    Recorder::traced("segments", R::PRECISION, |rec| {
-        solve_inputs_with(reading, points, rec)
-    })
-}
-
-fn solve_inputs_with<R: Real>(
-    reading: Reading,
-    points: [DVec2; 4],
-    rec: &mut Recorder,
-) -> SegmentsSolution<R> {
-    match SegmentPair::read(reading, points) {
-        Ok(pair) => solve_with(&pair, rec),
-        Err(bad) => {
-            let solution = SegmentsSolution::new(SegmentsOutcome::InvalidInput(bad));
-            super::record_refusal(rec, solution.outcome.status(), || {
-                verdict_message(&solution)
-            });
-            solution
-        }
+        solution
     }
 }
 
+/// Solves the 2x2 system by Cramer's rule and classifies, recording every step into `steps` (`()`
+/// records nothing: the arithmetic is the same either way).
+pub fn solve<R: Real>(pair: &SegmentPair<R>, steps: &mut impl StepSink) -> SegmentsSolution<R> {
+    let values = values(pair);
+    record(&values, steps);
+    values.solution
+}
+
+/// Every value the lecture's solve computes, in the slide's order. A solve stops at the first check
+/// that fails, so a stage after it is `None`.
+struct Values<R> {
+    /// The answer.
+    solution: SegmentsSolution<R>,
+    /// M = [A2−A1 | B1−B2] and Y = B1 − A1.
+    system: Option<(M2<R>, V2<R>)>,
+    /// The shorter segment's length, and which segments have none.
+    lengths: Option<(f64, [bool; 2])>,
+    /// M1, M2: M with column i replaced by Y.
+    replaced: Option<[M2<R>; 2]>,
+    /// |M|.
+    det: Option<R>,
+    /// Whether |M| counts as zero (unset when |M| overflowed).
+    parallel: Option<bool>,
+    /// For parallel lines: (A2−A1) × (B1−A1), whether it counts as zero, and then t(B1), t(B2).
+    collinear: Option<(R, bool)>,
+    /// |M1|, |M2|.
+    dets: Option<[R; 2]>,
+    /// Whether t and s are in [0, 1].
+    inside: Option<[bool; 2]>,
+}
+
+/// The arithmetic of the slide: M X = Y, the length and |M| checks, Cramer's rule, the two
+/// interval checks; for parallel lines, whether they are one line and where B's ends sit on it.
+/// Records nothing.
 #[allow(
     clippy::expect_used,
     reason = "a division by |M| runs only after |M| was checked to be nonzero"
 )]
-fn solve_recorded<R: Real>(p: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSolution<R> {
-    let fields = [("A1", &p.a1), ("A2", &p.a2), ("B1", &p.b1), ("B2", &p.b2)];
-    if let Err(bad) = check_finite(&fields) {
-        return SegmentsSolution::new(SegmentsOutcome::InvalidInput(bad));
+fn values<R: Real>(p: &SegmentPair<R>) -> Values<R> {
+    let mut v = Values::stopped_at(SegmentsOutcome::Crossing);
+    let stop = |mut v: Values<R>, outcome| {
+        v.solution.outcome = outcome;
+        v
+    };
+    let inputs = [("A1", &p.a1), ("A2", &p.a2), ("B1", &p.b1), ("B2", &p.b2)];
+    if let Err(bad) = check_finite(&inputs) {
+        return stop(v, SegmentsOutcome::InvalidInput(bad));
     }
 
     // The system M X = Y.
-    let d_a = sub(&p.a2, &p.a1);
-    let b1_minus_b2 = sub(&p.b1, &p.b2);
+    let (d_a, b1_minus_b2) = (sub(&p.a2, &p.a1), sub(&p.b1, &p.b2));
     let y = sub(&p.b1, &p.a1);
-    let m = from_columns([&d_a, &b1_minus_b2]);
-    record_system(rec, &m, &y);
+    let (m, y) = v.system.insert((from_columns([&d_a, &b1_minus_b2]), y));
 
+    // Both segments need a length.
     let (a_degenerate, b_degenerate) = (is_zero_vector(&d_a), is_zero_vector(&b1_minus_b2));
-    rec.push(|| {
-        Step::new(
-            "check_lengths",
-            "Both segments have a length",
-            "A segment whose endpoints coincide is a single point, with no direction to follow.",
-            {
-                Payload::Check(Check {
-                    inequality: "min(|A2−A1|, |B2−B1|) > 0".into(),
-                    latex: "\\min(|A_2-A_1|, |B_2-B_1|) > 0".into(),
-                    value: Number::float(norm_f64(&d_a).min(norm_f64(&b1_minus_b2)), R::PRECISION),
-                    passed: !(a_degenerate || b_degenerate),
-                    meaning: "a segment has zero length".into(),
-                })
-            },
-        )
-    });
+    let shorter = norm_f64(&d_a).min(norm_f64(&b1_minus_b2));
+    v.lengths = Some((shorter, [a_degenerate, b_degenerate]));
     if a_degenerate || b_degenerate {
-        return SegmentsSolution::new(SegmentsOutcome::DegenerateSegment {
-            a: a_degenerate,
-            b: b_degenerate,
-        });
+        let (a, b) = (a_degenerate, b_degenerate);
+        return stop(v, SegmentsOutcome::DegenerateSegment { a, b });
     }
 
-    let m1 = with_column(&m, 0, &y);
-    let m2 = with_column(&m, 1, &y);
-    for (i, mi) in [&m1, &m2].into_iter().enumerate() {
-        rec.push(|| {
-            let name = format!("M{}", i + 1);
-            Step::new(
-                &name,
-                format!("{name}: M with column {} replaced by Y", i + 1),
-                "Cramer's rule: replace one column of M by the right-hand side Y.",
-                {
-                    Payload::Matrix(
-                        Matrix::of2(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
-                    )
-                },
-            )
-        });
-    }
-
-    let det_m = record_det(rec, &m, "M", "M");
+    // Cramer's matrices, and |M|: zero when the lines are parallel.
+    let mi = v
+        .replaced
+        .insert([with_column(m, 0, y), with_column(m, 1, y)]);
+    let det_m = &*v.det.insert(det2(m));
     if !det_m.is_finite() {
-        return overflow();
+        return stop(v, overflow::<R>());
     }
     let scale_of_m = norm_f64(&d_a) * norm_f64(&b1_minus_b2);
     let parallel = negligible::<R>(det_m.to_f64().abs(), scale_of_m, det_m.is_zero());
-    rec.push(|| {
-        Step::new(
-            "check_det",
-            "|M| is not zero",
-            parallel_explanation::<R>(),
-            {
-                Payload::Check(Check {
-                    inequality: "|M| ≠ 0".into(),
-                    latex: "|M| \\neq 0".into(),
-                    value: Number::of(&det_m),
-                    passed: !parallel,
-                    meaning: "the lines are parallel: no single crossing point".into(),
-                })
-            },
-        )
-    });
+    v.parallel = Some(parallel);
     if parallel {
-        return parallel_case(rec, p, &d_a, &y);
+        return parallel_case(v, p, &d_a);
     }
-
-    let det_m1 = record_det(rec, &m1, "M1", "M_1");
-    let det_m2 = record_det(rec, &m2, "M2", "M_2");
+    let [det_m1, det_m2] = v.dets.insert(mi.each_ref().map(det2));
     if !det_m1.is_finite() || !det_m2.is_finite() {
-        return overflow();
+        return stop(v, overflow::<R>());
     }
-    let t = det_m1
-        .checked_div(&det_m)
-        .expect("|M| was checked to be nonzero");
-    let s = det_m2
-        .checked_div(&det_m)
-        .expect("|M| was checked to be nonzero");
-    record_quotient(
-        rec,
-        "t",
-        "t",
-        "|M1|",
-        "|M_1|",
-        &det_m1,
-        &det_m,
-        &t,
-        "How far along A from A1, in units of A2−A1.",
-    );
-    record_quotient(
-        rec,
-        "s",
-        "s",
-        "|M2|",
-        "|M_2|",
-        &det_m2,
-        &det_m,
-        &s,
-        "How far along B from B1, in units of B2−B1.",
-    );
 
-    let t_inside = in_unit_interval(rec, "check_t", "t", &t, "A");
-    let s_inside = in_unit_interval(rec, "check_s", "s", &s, "B");
+    // t and s by Cramer's rule; on the segments when both are in [0, 1].
+    let quotient = |det: &R| {
+        det.checked_div(det_m)
+            .expect("|M| was checked to be nonzero")
+    };
+    let (t, s) = (quotient(det_m1), quotient(det_m2));
+    let in_unit = |x: &R| x >= &R::zero() && x <= &R::one();
+    let (t_inside, s_inside) = (in_unit(&t), in_unit(&s));
+    v.inside = Some([t_inside, s_inside]);
     let at_end = |x: &R| x.is_zero() || (x.clone() - R::one()).is_zero();
     let outcome = match (t_inside, s_inside) {
         (true, true) if at_end(&t) || at_end(&s) => SegmentsOutcome::Touching,
@@ -364,23 +282,39 @@ fn solve_recorded<R: Real>(p: &SegmentPair<R>, rec: &mut Recorder) -> SegmentsSo
             s_outside: !s_inside,
         },
     };
-    let point = crate::math::linalg::add(&p.a1, &scale(&t, &d_a));
-    SegmentsSolution {
-        point: Some(point),
+    v.solution = SegmentsSolution {
+        point: Some(add(&p.a1, &scale(&t, &d_a))),
         t: Some(t),
         s: Some(s),
         ..SegmentsSolution::new(outcome)
+    };
+    v
+}
+
+impl<R> Values<R> {
+    fn stopped_at(outcome: SegmentsOutcome) -> Values<R> {
+        Values {
+            solution: SegmentsSolution::new(outcome),
+            system: None,
+            lengths: None,
+            replaced: None,
+            det: None,
+            parallel: None,
+            collinear: None,
+            dets: None,
+            inside: None,
+        }
     }
 }
 
-fn overflow<R: Real>() -> SegmentsSolution<R> {
-    SegmentsSolution::new(SegmentsOutcome::InvalidInput(InvalidInput {
+fn overflow<R: Real>() -> SegmentsOutcome {
+    SegmentsOutcome::InvalidInput(InvalidInput {
         field: "input".into(),
         problem: format!(
             "the determinants overflow {}: the coordinates are too large for this precision",
             R::PRECISION.name()
         ),
-    }))
+    })
 }
 
 /// Parallel lines: one line (collinear) or two. For one line, B1 and B2 are placed on A's parameter t.
@@ -388,81 +322,38 @@ fn overflow<R: Real>() -> SegmentsSolution<R> {
     clippy::expect_used,
     reason = "the squared length was checked to be nonzero just above"
 )]
-fn parallel_case<R: Real>(
-    rec: &mut Recorder,
-    p: &SegmentPair<R>,
-    d_a: &V2<R>,
-    b1_minus_a1: &V2<R>,
-) -> SegmentsSolution<R> {
-    let offset = cross2(d_a, b1_minus_a1);
+fn parallel_case<R: Real>(mut v: Values<R>, p: &SegmentPair<R>, d_a: &V2<R>) -> Values<R> {
+    let b1_minus_a1 = sub(&p.b1, &p.a1);
+    let offset = cross2(d_a, &b1_minus_a1);
     let collinear = negligible::<R>(
         offset.to_f64().abs(),
-        norm_f64(d_a) * norm_f64(b1_minus_a1),
+        norm_f64(d_a) * norm_f64(&b1_minus_a1),
         offset.is_zero(),
     );
-    rec.push(|| {
-        Step::new(
-            "check_collinear",
-            "Are the parallel lines one line?",
-            "B1 lies on line A exactly when (A2−A1) × (B1−A1) = 0.",
-            {
-                Payload::Check(Check {
-                    inequality: "(A2−A1) × (B1−A1) = 0".into(),
-                    latex: "(A_2-A_1) \\times (B_1-A_1) = 0".into(),
-                    value: Number::of(&offset),
-                    passed: collinear,
-                    meaning: "two distinct parallel lines: they never meet".into(),
-                })
-            },
-        )
-    });
+    v.collinear = Some((offset, collinear));
     if !collinear {
-        return SegmentsSolution::new(SegmentsOutcome::Parallel);
+        v.solution.outcome = SegmentsOutcome::Parallel;
+        return v;
     }
     // Project B1 and B2 onto line A: t = (P − A1)·(A2−A1) / |A2−A1|².
     let length_squared = dot(d_a, d_a);
-    let b2_minus_a1 = sub(&p.b2, &p.a1);
     // |A2−A1|² can underflow to 0 for a segment of length ~1e-30 in f32: say so rather than divide.
     if length_squared.is_zero() {
-        return SegmentsSolution::new(SegmentsOutcome::InvalidInput(InvalidInput {
+        v.solution.outcome = SegmentsOutcome::InvalidInput(InvalidInput {
             field: "A1, A2".into(),
             problem: format!(
                 "segment A is too short for {}: its squared length underflows to 0",
                 R::PRECISION.name()
             ),
-        }));
+        });
+        return v;
     }
     let t_of = |v: &V2<R>| {
         dot(v, d_a)
             .checked_div(&length_squared)
             .expect("the squared length was checked to be nonzero")
     };
-    let (t_b1, t_b2) = (t_of(b1_minus_a1), t_of(&b2_minus_a1));
-    for (id, point, point_latex, value) in
-        [("t_b1", "B1", "B_1", &t_b1), ("t_b2", "B2", "B_2", &t_b2)]
-    {
-        rec.push(|| {
-            Step::new(
-                id,
-                format!("t({point}) on line A"),
-                "Where an endpoint of B sits on A's parameter.",
-                {
-                    Payload::Scalar(Scalar {
-                        symbol: format!("t({point})"),
-                        latex: format!("t({point_latex})"),
-                        formula: Some(Formula::Expression {
-                            text: format!("({point}−A1)·(A2−A1) / |A2−A1|²"),
-                            latex: format!(
-                                "\\frac{{({point_latex}-A_1)\\cdot(A_2-A_1)}}{{|A_2-A_1|^2}}"
-                            ),
-                        }),
-                        value: Number::of(value),
-                        closed_form: None,
-                    })
-                },
-            )
-        });
-    }
+    let (t_b1, t_b2) = (t_of(&b1_minus_a1), t_of(&sub(&p.b2, &p.a1)));
     let (low, high) = if t_b1 <= t_b2 {
         (t_b1.clone(), t_b2.clone())
     } else {
@@ -476,15 +367,170 @@ fn parallel_case<R: Real>(
     } else {
         SegmentsOutcome::CollinearDisjoint
     };
-    SegmentsSolution {
+    v.solution = SegmentsSolution {
         t_of_b: Some([t_b1, t_b2]),
         overlap: overlaps.then_some([from, to]),
         ..SegmentsSolution::new(outcome)
+    };
+    v
+}
+
+/// Records what [`values`] computed, step by step, and the verdict.
+fn record<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
+    if !steps.is_recording() {
+        return;
+    }
+    record_stages(v, steps);
+    let solution = &v.solution;
+    steps.push(|| {
+        Step::new(
+            "verdict",
+            "Verdict",
+            "What the numbers say about the two segments.",
+            Payload::Verdict(Verdict {
+                status: solution.outcome.status(),
+                message: verdict_message(solution),
+            }),
+        )
+    });
+    if let Some(point) = &solution.point {
+        steps.push(|| {
+            Step::new(
+                "point",
+                "Where the lines cross: A(t) = B(s)",
+                "Substituting t into A(t) gives the same point as s in B(s).",
+                Payload::Vector(Vector::of("P", "P", point)),
+            )
+        });
     }
 }
 
-fn record_system<R: Real>(rec: &mut Recorder, m: &crate::math::linalg::M2<R>, y: &V2<R>) {
-    rec.push(|| {
+/// The steps before the verdict, as far as the solve went.
+fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
+    let Some((m, y)) = &v.system else { return };
+    record_system(steps, m, y);
+    let Some((shorter, [a_degenerate, b_degenerate])) = v.lengths else {
+        return;
+    };
+    steps.push(|| length_check::<R>(shorter, !(a_degenerate || b_degenerate)));
+    let (Some(mi), Some(det_m)) = (&v.replaced, &v.det) else {
+        return;
+    };
+    for (i, mi) in mi.iter().enumerate() {
+        steps.push(|| {
+            let name = format!("M{}", i + 1);
+            Step::new(
+                &name,
+                format!("{name}: M with column {} replaced by Y", i + 1),
+                "Cramer's rule: replace one column of M by the right-hand side Y.",
+                Payload::Matrix(
+                    Matrix::of2(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
+                ),
+            )
+        });
+    }
+    record_det(steps, m, det_m, "M", "M");
+    let Some(parallel) = v.parallel else { return };
+    steps.push(|| det_check(det_m, parallel));
+    if let Some((offset, collinear)) = &v.collinear {
+        steps.push(|| collinear_check(offset, *collinear));
+        if let Some([t_b1, t_b2]) = &v.solution.t_of_b {
+            record_ends_on_a(steps, t_b1, t_b2);
+        }
+        return;
+    }
+    let Some([det_m1, det_m2]) = &v.dets else {
+        return;
+    };
+    record_det(steps, &mi[0], det_m1, "M1", "M_1");
+    record_det(steps, &mi[1], det_m2, "M2", "M_2");
+    let (Some(t), Some(s), Some([t_inside, s_inside])) = (&v.solution.t, &v.solution.s, v.inside)
+    else {
+        return;
+    };
+    record_quotient(steps, ["t", "|M1|", "|M_1|"], det_m1, det_m, t, T_NOTE);
+    record_quotient(steps, ["s", "|M2|", "|M_2|"], det_m2, det_m, s, S_NOTE);
+    steps.push(|| unit_interval_check(["check_t", "t", "A"], t, t_inside));
+    steps.push(|| unit_interval_check(["check_s", "s", "B"], s, s_inside));
+}
+
+const T_NOTE: &str = "How far along A from A1, in units of A2−A1.";
+const S_NOTE: &str = "How far along B from B1, in units of B2−B1.";
+
+fn length_check<R: Real>(shorter: f64, passed: bool) -> Step {
+    Step::new(
+        "check_lengths",
+        "Both segments have a length",
+        "A segment whose endpoints coincide is a single point, with no direction to follow.",
+        Payload::Check(Check {
+            inequality: "min(|A2−A1|, |B2−B1|) > 0".into(),
+            latex: "\\min(|A_2-A_1|, |B_2-B_1|) > 0".into(),
+            value: Number::float(shorter, R::PRECISION),
+            passed,
+            meaning: "a segment has zero length".into(),
+        }),
+    )
+}
+
+fn det_check<R: Real>(det_m: &R, parallel: bool) -> Step {
+    Step::new(
+        "check_det",
+        "|M| is not zero",
+        parallel_explanation::<R>(),
+        Payload::Check(Check {
+            inequality: "|M| ≠ 0".into(),
+            latex: "|M| \\neq 0".into(),
+            value: Number::of(det_m),
+            passed: !parallel,
+            meaning: "the lines are parallel: no single crossing point".into(),
+        }),
+    )
+}
+
+fn collinear_check<R: Real>(offset: &R, collinear: bool) -> Step {
+    Step::new(
+        "check_collinear",
+        "Are the parallel lines one line?",
+        "B1 lies on line A exactly when (A2−A1) × (B1−A1) = 0.",
+        Payload::Check(Check {
+            inequality: "(A2−A1) × (B1−A1) = 0".into(),
+            latex: "(A_2-A_1) \\times (B_1-A_1) = 0".into(),
+            value: Number::of(offset),
+            passed: collinear,
+            meaning: "two distinct parallel lines: they never meet".into(),
+        }),
+    )
+}
+
+/// Records t(B1) and t(B2), where B's ends sit on line A.
+fn record_ends_on_a<R: Real>(steps: &mut impl StepSink, t_b1: &R, t_b2: &R) {
+    for (id, point, point_latex, value) in
+        [("t_b1", "B1", "B_1", t_b1), ("t_b2", "B2", "B_2", t_b2)]
+    {
+        steps.push(|| {
+            Step::new(
+                id,
+                format!("t({point}) on line A"),
+                "Where an endpoint of B sits on A's parameter.",
+                Payload::Scalar(Scalar {
+                    symbol: format!("t({point})"),
+                    latex: format!("t({point_latex})"),
+                    formula: Some(Formula::Expression {
+                        text: format!("({point}−A1)·(A2−A1) / |A2−A1|²"),
+                        latex: format!(
+                            "\\frac{{({point_latex}-A_1)\\cdot(A_2-A_1)}}{{|A_2-A_1|^2}}"
+                        ),
+                    }),
+                    value: Number::of(value),
+                    closed_form: None,
+                }),
+            )
+        });
+    }
+}
+
+fn record_system<R: Real>(steps: &mut impl StepSink, m: &M2<R>, y: &V2<R>) {
+    steps.push(|| {
         Step::new(
             "system",
             "The system M X = Y",
@@ -497,7 +543,7 @@ fn record_system<R: Real>(rec: &mut Recorder, m: &crate::math::linalg::M2<R>, y:
             },
         )
     });
-    rec.push(|| {
+    steps.push(|| {
         Step::new(
             "M",
             "M = [A2−A1 | B1−B2]",
@@ -505,7 +551,7 @@ fn record_system<R: Real>(rec: &mut Recorder, m: &crate::math::linalg::M2<R>, y:
             Payload::Matrix(Matrix::of2("M", "M", m, LABELS)),
         )
     });
-    rec.push(|| {
+    steps.push(|| {
         Step::new(
             "Y",
             "Y = B1 − A1",
@@ -515,34 +561,31 @@ fn record_system<R: Real>(rec: &mut Recorder, m: &crate::math::linalg::M2<R>, y:
     });
 }
 
-fn record_det<R: Real>(
-    rec: &mut Recorder,
-    m: &crate::math::linalg::M2<R>,
-    name: &str,
-    latex: &str,
-) -> R {
-    let value = crate::math::linalg::det2(m);
-    rec.push(|| Step::new(format!("det_{name}"), format!("|{name}|"), "A 2x2 determinant: the product of the diagonal minus the product of the anti-diagonal.", Payload::Determinant(Determinant::of2(name, latex, m, &value))));
-    value
+fn record_det<R: Real>(steps: &mut impl StepSink, m: &M2<R>, value: &R, name: &str, latex: &str) {
+    steps.push(|| {
+        Step::new(
+            format!("det_{name}"),
+            format!("|{name}|"),
+            "A 2x2 determinant: the product of the diagonal minus the product of the anti-diagonal.",
+            Payload::Determinant(Determinant::of2(name, latex, m, value)),
+        )
+    });
 }
 
-#[allow(clippy::too_many_arguments)]
+/// Records `symbol = |Mi| / |M|`; `names` is the symbol, |Mi| as text and |Mi| in LaTeX.
 fn record_quotient<R: Real>(
-    rec: &mut Recorder,
-    symbol: &str,
-    latex: &str,
-    numerator: &str,
-    numerator_latex: &str,
+    steps: &mut impl StepSink,
+    [symbol, numerator, numerator_latex]: [&str; 3],
     det_mi: &R,
     det_m: &R,
     value: &R,
     explanation: &str,
 ) {
-    rec.push(|| {
+    steps.push(|| {
         Step::new(symbol, format!("{symbol} by Cramer's rule"), explanation, {
             Payload::Scalar(Scalar {
                 symbol: symbol.into(),
-                latex: latex.into(),
+                latex: symbol.into(),
                 formula: Some(Formula::Quotient {
                     numerator: Operand::of(numerator, numerator_latex, det_mi),
                     denominator: Operand::of("|M|", "|M|", det_m),
@@ -554,36 +597,24 @@ fn record_quotient<R: Real>(
     });
 }
 
-/// Records and returns `0 ≤ x ≤ 1`.
-fn in_unit_interval<R: Real>(
-    rec: &mut Recorder,
-    id: &str,
-    symbol: &str,
-    x: &R,
-    segment: &str,
-) -> bool {
-    let inside = x >= &R::zero() && x <= &R::one();
+/// The check `0 ≤ x ≤ 1`; `names` is the step's id, the symbol and the segment.
+fn unit_interval_check<R: Real>([id, symbol, segment]: [&str; 3], x: &R, inside: bool) -> Step {
     let side = if x < &R::zero() { "before" } else { "past" };
     let start_or_end = if x < &R::zero() { "start" } else { "end" };
-    rec.push(|| {
-        Step::new(
-            id,
-            format!("Check 0 ≤ {symbol} ≤ 1"),
-            "The crossing is on the segment itself only for parameters in [0, 1].",
-            {
-                Payload::Check(Check {
-                    inequality: format!("0 ≤ {symbol} ≤ 1"),
-                    latex: format!("0 \\le {symbol} \\le 1"),
-                    value: Number::of(x),
-                    passed: inside,
-                    meaning: format!(
-                        "the crossing is on line {segment} {side} the segment's {start_or_end}"
-                    ),
-                })
-            },
-        )
-    });
-    inside
+    Step::new(
+        id,
+        format!("Check 0 ≤ {symbol} ≤ 1"),
+        "The crossing is on the segment itself only for parameters in [0, 1].",
+        Payload::Check(Check {
+            inequality: format!("0 ≤ {symbol} ≤ 1"),
+            latex: format!("0 \\le {symbol} \\le 1"),
+            value: Number::of(x),
+            passed: inside,
+            meaning: format!(
+                "the crossing is on line {segment} {side} the segment's {start_or_end}"
+            ),
+        }),
+    )
 }
 
 fn parallel_explanation<R: Real>() -> &'static str {
@@ -669,7 +700,7 @@ pub fn explore<R: Real>(p: &SegmentPair<R>, t: &R, s: &R) -> Exploration<R> {
 
 /// P1 + u(P2 − P1).
 pub fn point_on<R: Real>(p1: &V2<R>, p2: &V2<R>, u: &R) -> V2<R> {
-    crate::math::linalg::add(p1, &scale(u, &sub(p2, p1)))
+    add(p1, &scale(u, &sub(p2, p1)))
 }
 
 /// The parameter of the point of the line P1 + u(P2 − P1) nearest to q (for dragging a handle along

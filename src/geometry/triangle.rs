@@ -10,16 +10,20 @@ mod narration;
 
 use glam::DVec3;
 
-use super::{InvalidInput, Reading, check_finite, negligible, read, read_vec};
+use std::array::from_ref;
+
+use super::{
+    InvalidInput, Lecture, Reading, TriangleLecture, check_finite, negligible, read, read_vec,
+};
 use crate::math::exact::{Exact, SignedRoot};
 use crate::math::linalg::{
-    V3, all_finite, cofactor_terms3, cross, dot, from_columns, is_zero_vector, norm_f64, scale,
-    sub, sum_terms, with_column,
+    CofactorTerm, M3, V3, add, all_finite, cofactor_terms3, cross, dot, from_columns,
+    is_zero_vector, norm_f64, scale, sub, sum_terms, with_column,
 };
 use crate::math::real::Real;
 use crate::trace::{
-    Check, ClosedForm, Column, Determinant, Formula, Matrix, Number, Operand, Payload, Recorder,
-    Scalar, Status, Step, Trace, Vector, Verdict,
+    Check, ClosedForm, Column, Determinant, Formula, Matrix, Number, Operand, Payload, Scalar,
+    Status, Step, StepSink, Vector, Verdict,
 };
 use narration::{area_explanation, parallel_explanation, verdict_message, verdict_sentence};
 
@@ -196,221 +200,278 @@ impl<R: Real> TriangleSolution<R> {
     }
 }
 
-/// Solves the lecture's system by Cramer's rule.
-pub fn solve<R: Real>(problem: &RayTriangle<R>) -> TriangleSolution<R> {
-    solve_with(problem, &mut Recorder::new(false, "triangle", R::PRECISION))
-}
+impl Lecture for TriangleLecture {
+    const NAME: &'static str = "triangle";
+    type Floats = ([DVec3; 5], f64);
+    type Problem<R: Real> = RayTriangle<R>;
+    type Answer<R: Real> = TriangleSolution<R>;
 
-/// Solves the lecture's system by Cramer's rule, with every step.
-pub fn solve_traced<R: Real>(problem: &RayTriangle<R>) -> (TriangleSolution<R>, Trace) {
-    Recorder::traced("triangle", R::PRECISION, |rec| solve_with(problem, rec))
-}
-
-fn solve_with<R: Real>(problem: &RayTriangle<R>, rec: &mut Recorder) -> TriangleSolution<R> {
-    let (outcome, solution) = solve_recorded(problem, rec);
-    rec.push(|| {
-        Step::new("verdict", "Verdict", verdict_sentence(&outcome), {
-            Payload::Verdict(Verdict {
-                status: outcome.status(),
-                message: verdict_message(&outcome, solution.as_ref()),
-            })
-        })
-    });
-    if let Some(found) = &solution {
-        record_point(rec, problem, found, outcome.is_hit());
+    fn read<R: Real>(
+        (vectors, t_min): Self::Floats,
+        reading: Reading,
+    ) -> Result<RayTriangle<R>, InvalidInput> {
+        RayTriangle::read(reading, vectors, t_min)
     }
-    TriangleSolution { outcome, solution }
-}
 
-/// Converts float inputs and solves; inputs the precision cannot hold (NaN for exact numbers) give an
-/// `invalid-input` solution.
-pub fn solve_inputs<R: Real>(
-    reading: Reading,
-    vectors: [DVec3; 5],
-    t_min: f64,
-) -> TriangleSolution<R> {
-    let mut rec = Recorder::new(false, "triangle", R::PRECISION);
-    solve_inputs_with(reading, vectors, t_min, &mut rec)
-}
+    fn solve<R: Real>(problem: &RayTriangle<R>, steps: &mut impl StepSink) -> TriangleSolution<R> {
+        solve(problem, steps)
+    }
 
-/// [`solve_inputs`] with every step (a one-step trace for an input that cannot be used).
-pub fn solve_inputs_traced<R: Real>(
-    reading: Reading,
-    vectors: [DVec3; 5],
-    t_min: f64,
-) -> (TriangleSolution<R>, Trace) {
-    Recorder::traced("triangle", R::PRECISION, |rec| {
-        solve_inputs_with(reading, vectors, t_min, rec)
-    })
-}
-
-fn solve_inputs_with<R: Real>(
-    reading: Reading,
-    vectors: [DVec3; 5],
-    t_min: f64,
-    rec: &mut Recorder,
-) -> TriangleSolution<R> {
-    match RayTriangle::read(reading, vectors, t_min) {
-        Ok(problem) => solve_with(&problem, rec),
-        Err(bad) => {
-            let outcome = TriangleOutcome::Miss(TriangleMiss::InvalidInput(bad));
-            super::record_refusal(rec, outcome.status(), || {
-                verdict_message::<R>(&outcome, None)
-            });
-            TriangleSolution {
-                outcome,
-                solution: None,
-            }
+    fn refuse<R: Real>(bad: InvalidInput, steps: &mut impl StepSink) -> TriangleSolution<R> {
+        let outcome = TriangleOutcome::Miss(TriangleMiss::InvalidInput(bad));
+        super::record_refusal(steps, outcome.status(), || {
+            verdict_message::<R>(&outcome, None)
+        });
+        TriangleSolution {
+            outcome,
+            solution: None,
         }
     }
 }
 
-type Solved<R> = (TriangleOutcome, Option<Barycentric<R>>);
+/// Solves the lecture's system by Cramer's rule, recording every step into `steps` (`()` records
+/// nothing: the arithmetic is the same either way).
+pub fn solve<R: Real>(problem: &RayTriangle<R>, steps: &mut impl StepSink) -> TriangleSolution<R> {
+    let values = values(problem);
+    record(problem, &values, steps);
+    TriangleSolution {
+        outcome: values.outcome,
+        solution: values.solution,
+    }
+}
 
+/// Every value the lecture's solve computes, in the slide's order. A solve stops at the first check
+/// that fails, so a stage after it is `None`.
+struct Values<R> {
+    /// Hit, or why not.
+    outcome: TriangleOutcome,
+    /// M = [A−B | A−C | D] and Y = A − L.
+    system: Option<(M3<R>, V3<R>)>,
+    /// |(A−B)×(A−C)|, twice the area, and whether it counts as zero.
+    area: Option<(f64, bool)>,
+    /// M1, M2, M3: M with column i replaced by Y.
+    replaced: Option<[M3<R>; 3]>,
+    /// |M| expanded along its first row.
+    det: Option<Expansion<R>>,
+    /// Whether |M| counts as zero (unset when |M| overflowed).
+    parallel: Option<bool>,
+    /// |M1|, |M2|, |M3|.
+    dets: Option<[Expansion<R>; 3]>,
+    /// β, γ, t, α and the point.
+    solution: Option<Barycentric<R>>,
+    /// The edges P(β, γ) is beyond, and whether t > t_min.
+    checks: Option<(Vec<Edge>, bool)>,
+}
+
+/// A determinant's first-row expansion and its value.
+struct Expansion<R> {
+    terms: [CofactorTerm<R>; 3],
+    value: R,
+}
+
+impl<R: Real> Expansion<R> {
+    fn of(m: &M3<R>) -> Expansion<R> {
+        let terms = cofactor_terms3(m);
+        let value = sum_terms(&terms);
+        Expansion { terms, value }
+    }
+}
+
+/// The arithmetic of the slide: M X = Y, the area and |M| checks, Cramer's rule, then the four
+/// inequalities. Records nothing.
 #[allow(
     clippy::expect_used,
     reason = "a division by |M| runs only after |M| was checked to be nonzero"
 )]
-fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> {
-    let miss = |m| (TriangleOutcome::Miss(m), None);
-    let fields = [
+fn values<R: Real>(p: &RayTriangle<R>) -> Values<R> {
+    let mut v = Values::stopped_at(TriangleOutcome::Hit);
+    let stop = |mut v: Values<R>, miss| {
+        v.outcome = TriangleOutcome::Miss(miss);
+        v
+    };
+    let inputs = [
         ("A", &p.a),
         ("B", &p.b),
         ("C", &p.c),
         ("L", &p.origin),
         ("D", &p.dir),
     ];
-    if let Err(bad) =
-        check_finite(&fields).and(check_finite(&[("t_min", std::array::from_ref(&p.t_min))]))
-    {
-        return miss(TriangleMiss::InvalidInput(bad));
+    if let Err(bad) = check_finite(&inputs).and(check_finite(&[("t_min", from_ref(&p.t_min))])) {
+        return stop(v, TriangleMiss::InvalidInput(bad));
     }
     if is_zero_vector(&p.dir) {
-        return miss(TriangleMiss::ZeroDirection);
+        return stop(v, TriangleMiss::ZeroDirection);
     }
 
     // The system M X = Y.
-    let a_minus_b = sub(&p.a, &p.b);
-    let a_minus_c = sub(&p.a, &p.c);
+    let (a_minus_b, a_minus_c) = (sub(&p.a, &p.b), sub(&p.a, &p.c));
     let y = sub(&p.a, &p.origin);
-    let m = from_columns([&a_minus_b, &a_minus_c, &p.dir]);
-    record_system(rec, &m, &y);
+    let (m, y) = v
+        .system
+        .insert((from_columns([&a_minus_b, &a_minus_c, &p.dir]), y));
 
     // Degenerate triangle: the two edge vectors are parallel, n = (A−B)×(A−C) = 0.
     let normal = cross(&a_minus_b, &a_minus_c);
     if !all_finite(&normal) {
-        return overflow::<R>();
+        return stop(v, overflow::<R>());
     }
     let area_scale = norm_f64(&a_minus_b) * norm_f64(&a_minus_c);
     let degenerate = negligible::<R>(norm_f64(&normal), area_scale, is_zero_vector(&normal));
-    rec.push(|| {
-        Step::new(
-            "check_area",
-            "The triangle has an area",
-            area_explanation::<R>(),
-            {
-                Payload::Check(Check {
-                    inequality: "|(A−B)×(A−C)| / 2 > 0".into(),
-                    latex: "\\tfrac12 |(A-B)\\times(A-C)| > 0".into(),
-                    value: Number::float(norm_f64(&normal) / 2.0, R::PRECISION),
-                    passed: !degenerate,
-                    meaning: "A, B and C are collinear: the triangle is a segment or a point"
-                        .into(),
-                })
-            },
-        )
-    });
+    v.area = Some((norm_f64(&normal), degenerate));
     if degenerate {
-        return miss(TriangleMiss::DegenerateTriangle);
+        return stop(v, TriangleMiss::DegenerateTriangle);
     }
 
-    // Cramer's matrices: M with column i replaced by Y.
-    let mi: [_; 3] = std::array::from_fn(|col| with_column(&m, col, &y));
-    for (i, mi) in mi.iter().enumerate() {
-        rec.push(|| {
-            let name = format!("M{}", i + 1);
-            Step::new(
-                &name,
-                format!("{name}: M with column {} replaced by Y", i + 1),
-                "Cramer's rule: replace one column of M by the right-hand side Y.",
-                {
-                    Payload::Matrix(
-                        Matrix::of3(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
-                    )
-                },
-            )
-        });
-    }
-
-    // The determinants, each expanded along its first row.
-    let det_m = record_det(
-        rec,
-        &m,
-        "M",
-        "M",
-        "The determinant of M, expanded along the first row.",
-    );
+    // Cramer's matrices, and |M|: zero when the ray is parallel to the plane.
+    let mi = v
+        .replaced
+        .insert(std::array::from_fn(|col| with_column(m, col, y)));
+    let det_m = &v.det.insert(Expansion::of(m)).value;
     if !det_m.is_finite() {
-        return overflow::<R>();
+        return stop(v, overflow::<R>());
     }
-    let in_plane = || {
-        negligible::<R>(
-            dot(&normal, &y).to_f64().abs(),
-            norm_f64(&normal) * norm_f64(&y),
-            dot(&normal, &y).is_zero(),
-        )
-    };
     let parallel = negligible::<R>(
         det_m.to_f64().abs(),
         norm_f64(&normal) * norm_f64(&p.dir),
         det_m.is_zero(),
     );
-    rec.push(|| {
-        Step::new(
-            "check_det",
-            "|M| is not zero",
-            parallel_explanation::<R>(),
-            {
-                Payload::Check(Check {
-                inequality: "|M| ≠ 0".into(),
-                latex: "|M| \\neq 0".into(),
-                value: Number::of(&det_m),
-                passed: !parallel,
-                meaning:
-                    "the ray is parallel to the triangle's plane, so M X = Y has no unique solution"
-                        .into(),
-            })
-            },
-        )
-    });
+    v.parallel = Some(parallel);
     if parallel {
-        return miss(TriangleMiss::Parallel {
-            in_plane: in_plane(),
-        });
+        let in_plane = negligible::<R>(
+            dot(&normal, y).to_f64().abs(),
+            norm_f64(&normal) * norm_f64(y),
+            dot(&normal, y).is_zero(),
+        );
+        return stop(v, TriangleMiss::Parallel { in_plane });
     }
-    let dets: [R; 3] = std::array::from_fn(|i| {
-        record_det(
-            rec,
-            &mi[i],
-            ["M1", "M2", "M3"][i],
-            ["M_1", "M_2", "M_3"][i],
-            "Expanded along the first row, like |M|.",
-        )
-    });
-    if dets.iter().any(|d| !d.is_finite()) {
-        return overflow::<R>();
+    let dets = v.dets.insert(mi.each_ref().map(Expansion::of));
+    if dets.iter().any(|d| !d.value.is_finite()) {
+        return stop(v, overflow::<R>());
     }
 
-    // β, γ, t by Cramer's rule; α from β + γ + α = 1.
+    // β, γ, t by Cramer's rule; α from α + β + γ = 1.
     let quotient = |i: usize| {
         dets[i]
-            .checked_div(&det_m)
+            .value
+            .checked_div(det_m)
             .expect("|M| was checked to be nonzero")
     };
     let (beta, gamma, t) = (quotient(0), quotient(1), quotient(2));
+    let alpha = R::one() - beta.clone() - gamma.clone();
+
+    // In the triangle when β ≥ 0, γ ≥ 0, β + γ ≤ 1; in front when t > t_min.
+    let failed = edges_failed(&beta, &gamma);
+    let in_front = t > p.t_min;
+    v.outcome = if !failed.is_empty() {
+        TriangleOutcome::Miss(TriangleMiss::Outside {
+            edges: failed.clone(),
+        })
+    } else if !in_front {
+        TriangleOutcome::Miss(TriangleMiss::Behind)
+    } else {
+        TriangleOutcome::Hit
+    };
+    v.checks = Some((failed, in_front));
+    let point = add(&p.origin, &scale(&t, &p.dir));
+    let (distance, distance_exact) = distance_along(&t, &p.dir);
+    v.solution = Some(Barycentric {
+        beta,
+        gamma,
+        t,
+        alpha,
+        point,
+        distance,
+        distance_exact,
+    });
+    v
+}
+
+impl<R> Values<R> {
+    fn stopped_at(outcome: TriangleOutcome) -> Values<R> {
+        Values {
+            outcome,
+            system: None,
+            area: None,
+            replaced: None,
+            det: None,
+            parallel: None,
+            dets: None,
+            solution: None,
+            checks: None,
+        }
+    }
+}
+
+/// Records what [`values`] computed, step by step, and the verdict.
+fn record<R: Real>(p: &RayTriangle<R>, v: &Values<R>, steps: &mut impl StepSink) {
+    if !steps.is_recording() {
+        return;
+    }
+    record_stages(p, v, steps);
+    let solution = v.solution.as_ref();
+    steps.push(|| {
+        Step::new("verdict", "Verdict", verdict_sentence(&v.outcome), {
+            Payload::Verdict(Verdict {
+                status: v.outcome.status(),
+                message: verdict_message(&v.outcome, solution),
+            })
+        })
+    });
+    if let Some(found) = solution {
+        record_point(steps, p, found, v.outcome.is_hit());
+    }
+}
+
+/// The steps before the verdict, as far as the solve went.
+fn record_stages<R: Real>(p: &RayTriangle<R>, v: &Values<R>, steps: &mut impl StepSink) {
+    let Some((m, y)) = &v.system else { return };
+    record_system(steps, m, y);
+    let Some((normal_length, degenerate)) = v.area else {
+        return;
+    };
+    steps.push(|| area_check::<R>(normal_length, degenerate));
+    let (Some(mi), Some(det_m)) = (&v.replaced, &v.det) else {
+        return;
+    };
+    for (i, mi) in mi.iter().enumerate() {
+        steps.push(|| {
+            let name = format!("M{}", i + 1);
+            Step::new(
+                &name,
+                format!("{name}: M with column {} replaced by Y", i + 1),
+                "Cramer's rule: replace one column of M by the right-hand side Y.",
+                Payload::Matrix(
+                    Matrix::of3(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
+                ),
+            )
+        });
+    }
+    record_det(
+        steps,
+        det_m,
+        "M",
+        "M",
+        "The determinant of M, expanded along the first row.",
+    );
+    let Some(parallel) = v.parallel else { return };
+    steps.push(|| det_check(&det_m.value, parallel));
+    let Some(dets) = &v.dets else { return };
+    for (i, det) in dets.iter().enumerate() {
+        let (name, latex) = (["M1", "M2", "M3"][i], ["M_1", "M_2", "M_3"][i]);
+        record_det(
+            steps,
+            det,
+            name,
+            latex,
+            "Expanded along the first row, like |M|.",
+        );
+    }
+    let (Some(s), Some((failed, in_front))) = (&v.solution, &v.checks) else {
+        return;
+    };
     for (i, (id, symbol, latex)) in UNKNOWNS.iter().enumerate() {
-        let value = [&beta, &gamma, &t][i];
-        rec.push(|| {
+        let value = [&s.beta, &s.gamma, &s.t][i];
+        steps.push(|| {
             Step::new(
                 *id,
                 format!("{symbol} by Cramer's rule"),
@@ -423,9 +484,9 @@ fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> 
                             numerator: Operand::of(
                                 &format!("|M{}|", i + 1),
                                 &format!("|M_{}|", i + 1),
-                                &dets[i],
+                                &dets[i].value,
                             ),
-                            denominator: Operand::of("|M|", "|M|", &det_m),
+                            denominator: Operand::of("|M|", "|M|", &det_m.value),
                         }),
                         value: Number::of(value),
                         closed_form: None,
@@ -434,40 +495,8 @@ fn solve_recorded<R: Real>(p: &RayTriangle<R>, rec: &mut Recorder) -> Solved<R> 
             )
         });
     }
-    let alpha = R::one() - beta.clone() - gamma.clone();
-    rec.push(|| {
-        Step::new(
-            "alpha",
-            "α, the third barycentric coordinate",
-            "The weights of A, B and C add up to 1, so α = 1 − β − γ.",
-            {
-                Payload::Scalar(Scalar {
-                    symbol: "α".into(),
-                    latex: "\\alpha".into(),
-                    formula: Some(Formula::Expression {
-                        text: "1 − β − γ".into(),
-                        latex: "1 - \\beta - \\gamma".into(),
-                    }),
-                    value: Number::of(&alpha),
-                    closed_form: None,
-                })
-            },
-        )
-    });
-
-    let outcome = classify(rec, p, &beta, &gamma, &t);
-    let point = crate::math::linalg::add(&p.origin, &scale(&t, &p.dir));
-    let (distance, distance_exact) = distance_along(&t, &p.dir);
-    let solution = Barycentric {
-        beta,
-        gamma,
-        t,
-        alpha,
-        point,
-        distance,
-        distance_exact,
-    };
-    (outcome, Some(solution))
+    steps.push(|| alpha_step(&s.alpha));
+    record_checks(steps, p, s, failed, *in_front);
 }
 
 /// Column labels of M (the app colours columns by them).
@@ -483,22 +512,19 @@ const UNKNOWN_NOTES: [&str; 3] = [
     "t = |M3| / |M|: how far along the ray, in units of |D| (not a distance unless |D| = 1).",
 ];
 
-fn overflow<R: Real>() -> Solved<R> {
-    let problem = format!(
-        "the determinants overflow {}: the coordinates are too large for this precision",
-        R::PRECISION.name()
-    );
-    (
-        TriangleOutcome::Miss(TriangleMiss::InvalidInput(InvalidInput {
-            field: "input".into(),
-            problem,
-        })),
-        None,
-    )
+/// The miss of a solve whose numbers outgrew the precision.
+fn overflow<R: Real>() -> TriangleMiss {
+    TriangleMiss::InvalidInput(InvalidInput {
+        field: "input".into(),
+        problem: format!(
+            "the determinants overflow {}: the coordinates are too large for this precision",
+            R::PRECISION.name()
+        ),
+    })
 }
 
-fn record_system<R: Real>(rec: &mut Recorder, m: &crate::math::linalg::M3<R>, y: &V3<R>) {
-    rec.push(|| {
+fn record_system<R: Real>(steps: &mut impl StepSink, m: &M3<R>, y: &V3<R>) {
+    steps.push(|| {
         Step::new(
             "system",
             "The system M X = Y",
@@ -511,7 +537,7 @@ fn record_system<R: Real>(rec: &mut Recorder, m: &crate::math::linalg::M3<R>, y:
             },
         )
     });
-    rec.push(|| {
+    steps.push(|| {
         Step::new(
             "M",
             "M = [A−B | A−C | D]",
@@ -519,7 +545,7 @@ fn record_system<R: Real>(rec: &mut Recorder, m: &crate::math::linalg::M3<R>, y:
             Payload::Matrix(Matrix::of3("M", "M", m, LABELS)),
         )
     });
-    rec.push(|| {
+    steps.push(|| {
         Step::new(
             "Y",
             "Y = A − L",
@@ -529,89 +555,124 @@ fn record_system<R: Real>(rec: &mut Recorder, m: &crate::math::linalg::M3<R>, y:
     });
 }
 
+fn area_check<R: Real>(normal_length: f64, degenerate: bool) -> Step {
+    Step::new(
+        "check_area",
+        "The triangle has an area",
+        area_explanation::<R>(),
+        Payload::Check(Check {
+            inequality: "|(A−B)×(A−C)| / 2 > 0".into(),
+            latex: "\\tfrac12 |(A-B)\\times(A-C)| > 0".into(),
+            value: Number::float(normal_length / 2.0, R::PRECISION),
+            passed: !degenerate,
+            meaning: "A, B and C are collinear: the triangle is a segment or a point".into(),
+        }),
+    )
+}
+
+fn det_check<R: Real>(det_m: &R, parallel: bool) -> Step {
+    Step::new(
+        "check_det",
+        "|M| is not zero",
+        parallel_explanation::<R>(),
+        Payload::Check(Check {
+            inequality: "|M| ≠ 0".into(),
+            latex: "|M| \\neq 0".into(),
+            value: Number::of(det_m),
+            passed: !parallel,
+            meaning:
+                "the ray is parallel to the triangle's plane, so M X = Y has no unique solution"
+                    .into(),
+        }),
+    )
+}
+
 fn record_det<R: Real>(
-    rec: &mut Recorder,
-    m: &crate::math::linalg::M3<R>,
+    steps: &mut impl StepSink,
+    det: &Expansion<R>,
     name: &str,
     latex: &str,
     explanation: &str,
-) -> R {
-    let terms = cofactor_terms3(m);
-    let value = sum_terms(&terms);
-    rec.push(|| {
+) {
+    steps.push(|| {
         Step::new(
             format!("det_{name}"),
             format!("|{name}|"),
             explanation,
-            Payload::Determinant(Determinant::of3(name, latex, &terms, &value)),
+            Payload::Determinant(Determinant::of3(name, latex, &det.terms, &det.value)),
         )
     });
-    value
 }
 
-/// Records the four checks and decides the outcome.
-fn classify<R: Real>(
-    rec: &mut Recorder,
+fn alpha_step<R: Real>(alpha: &R) -> Step {
+    Step::new(
+        "alpha",
+        "α, the third barycentric coordinate",
+        "The weights of A, B and C add up to 1, so α = 1 − β − γ.",
+        Payload::Scalar(Scalar {
+            symbol: "α".into(),
+            latex: "\\alpha".into(),
+            formula: Some(Formula::Expression {
+                text: "1 − β − γ".into(),
+                latex: "1 - \\beta - \\gamma".into(),
+            }),
+            value: Number::of(alpha),
+            closed_form: None,
+        }),
+    )
+}
+
+/// Records the four checks: the three inequalities of the triangle and t > t_min.
+fn record_checks<R: Real>(
+    steps: &mut impl StepSink,
     p: &RayTriangle<R>,
-    beta: &R,
-    gamma: &R,
-    t: &R,
-) -> TriangleOutcome {
-    let sum = beta.clone() + gamma.clone();
+    s: &Barycentric<R>,
+    failed: &[Edge],
+    in_front: bool,
+) {
     let inside_checks = [
-        (Edge::Ca, beta.clone(), "\\beta \\ge 0"),
-        (Edge::Ab, gamma.clone(), "\\gamma \\ge 0"),
-        (Edge::Bc, sum, "\\beta + \\gamma \\le 1"),
+        (Edge::Ca, s.beta.clone(), "\\beta \\ge 0"),
+        (Edge::Ab, s.gamma.clone(), "\\gamma \\ge 0"),
+        (
+            Edge::Bc,
+            s.beta.clone() + s.gamma.clone(),
+            "\\beta + \\gamma \\le 1",
+        ),
     ];
-    // The decision is edges_failed's (the view's exploration uses it too); the checks record it.
-    let failed = edges_failed(beta, gamma);
     for (edge, value, latex) in inside_checks {
-        let passed = !failed.contains(&edge);
-        rec.push(|| {
+        steps.push(|| {
             Step::new(
                 format!("check_{}", edge.name().to_lowercase()),
                 format!("Check {}", edge.inequality()),
                 "A point of the plane is in the triangle only if all three inequalities hold.",
-                {
-                    Payload::Check(Check {
-                        inequality: edge.inequality().into(),
-                        latex: latex.into(),
-                        value: Number::of(&value),
-                        passed,
-                        meaning: format!("the point is beyond edge {}", edge.name()),
-                    })
-                },
+                Payload::Check(Check {
+                    inequality: edge.inequality().into(),
+                    latex: latex.into(),
+                    value: Number::of(&value),
+                    passed: !failed.contains(&edge),
+                    meaning: format!("the point is beyond edge {}", edge.name()),
+                }),
             )
         });
     }
-    let in_front = t > &p.t_min;
-    rec.push(|| {
+    steps.push(|| {
         Step::new(
             "check_t",
             "Check t > t_min",
             "The hit must be in front of the ray's origin (t_min is excluded).",
-            {
-                Payload::Check(Check {
-                    inequality: format!("t > {}", Number::of(&p.t_min).shown()),
-                    latex: format!("t > {}", crate::trace::latex_number(&Number::of(&p.t_min))),
-                    value: Number::of(t),
-                    passed: in_front,
-                    meaning: if t < &R::zero() {
-                        "the plane is behind the ray's origin".into()
-                    } else {
-                        "the plane is not beyond t_min".into()
-                    },
-                })
-            },
+            Payload::Check(Check {
+                inequality: format!("t > {}", Number::of(&p.t_min).shown()),
+                latex: format!("t > {}", crate::trace::latex_number(&Number::of(&p.t_min))),
+                value: Number::of(&s.t),
+                passed: in_front,
+                meaning: if s.t < R::zero() {
+                    "the plane is behind the ray's origin".into()
+                } else {
+                    "the plane is not beyond t_min".into()
+                },
+            }),
         )
     });
-    if !failed.is_empty() {
-        TriangleOutcome::Miss(TriangleMiss::Outside { edges: failed })
-    } else if !in_front {
-        TriangleOutcome::Miss(TriangleMiss::Behind)
-    } else {
-        TriangleOutcome::Hit
-    }
 }
 
 /// t·|D|, with its exact closed form when exact (t²·(D·D) under a square root).
@@ -632,7 +693,12 @@ fn distance_along<R: Real>(t: &R, dir: &V3<R>) -> (f64, Option<SignedRoot>) {
     (distance, exact)
 }
 
-fn record_point<R: Real>(rec: &mut Recorder, p: &RayTriangle<R>, s: &Barycentric<R>, hit: bool) {
+fn record_point<R: Real>(
+    rec: &mut impl StepSink,
+    p: &RayTriangle<R>,
+    s: &Barycentric<R>,
+    hit: bool,
+) {
     let title = if hit {
         "Hit point L + tD"
     } else {
@@ -693,7 +759,7 @@ pub struct Exploration<R> {
 pub fn explore<R: Real>(p: &RayTriangle<R>, beta: &R, gamma: &R, t: &R) -> Exploration<R> {
     let beta_end = point_at(p, beta, &R::zero());
     let plane_point = point_at(p, beta, gamma);
-    let ray_point = crate::math::linalg::add(&p.origin, &scale(t, &p.dir));
+    let ray_point = add(&p.origin, &scale(t, &p.dir));
     let gap = norm_f64(&sub(&plane_point, &ray_point));
     Exploration {
         beta_end,
@@ -706,11 +772,11 @@ pub fn explore<R: Real>(p: &RayTriangle<R>, beta: &R, gamma: &R, t: &R) -> Explo
 
 /// The triangle's parametric form P(β, γ) = A + β(B−A) + γ(C−A): any point of its plane.
 pub fn point_at<R: Real>(p: &RayTriangle<R>, beta: &R, gamma: &R) -> V3<R> {
-    let legs = crate::math::linalg::add(
+    let legs = add(
         &scale(beta, &sub(&p.b, &p.a)),
         &scale(gamma, &sub(&p.c, &p.a)),
     );
-    crate::math::linalg::add(&p.a, &legs)
+    add(&p.a, &legs)
 }
 
 /// The edges a point with barycentrics (β, γ) is beyond (β < 0: CA, γ < 0: AB, β + γ > 1: BC).

@@ -18,8 +18,8 @@ pub mod watertight;
 
 use serde::{Deserialize, Serialize};
 
-use crate::geometry::Real;
 use crate::geometry::triangle::{self, RayTriangle};
+use crate::geometry::{Lecture, Real, TriangleLecture};
 use crate::math::exact::Exact;
 use crate::math::linalg::V3;
 
@@ -225,14 +225,14 @@ impl Method {
                 dir: c.dir,
                 t_min: F::zero(),
             };
-            triangle::solve_traced(&problem).1
+            TriangleLecture::traced(&problem).1
         };
         match self {
             Method::Cramer => lecture(case),
             Method::Exact => match exact_problem(case) {
-                Some(problem) => triangle::solve_traced(&problem).1,
+                Some(problem) => TriangleLecture::traced(&problem).1,
                 None => {
-                    let mut rec = Recorder::new(true, "exact", crate::geometry::Precision::Exact);
+                    let mut rec = Recorder::new("exact", crate::geometry::Precision::Exact);
                     let refused = Answer {
                         invalid_input: true,
                         ..Answer::miss()
@@ -247,7 +247,7 @@ impl Method {
             | Method::Inverse
             | Method::Watertight
             | Method::WatertightExact => {
-                let mut rec = Recorder::new(true, self.name(), F::PRECISION);
+                let mut rec = Recorder::new(self.name(), F::PRECISION);
                 for (id, v) in ["A", "B", "C", "L", "D"].into_iter().zip([
                     &case.tri[0],
                     &case.tri[1],
@@ -287,7 +287,7 @@ pub fn exact_answer<F: Float>(case: &Case<F>) -> Answer<Exact> {
             ..Answer::miss()
         };
     };
-    let solved = triangle::solve(&problem);
+    let solved = triangle::solve(&problem, &mut ());
     Answer {
         hit: solved.outcome.is_hit(),
         values: solved.solution.map(|s| [s.t, s.beta, s.gamma]),

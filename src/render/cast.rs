@@ -808,7 +808,7 @@ mod tests {
                 continue;
             }
             skipped += 1;
-            if let Some([alpha, beta, _]) = solve(&problem).alpha_beta_t {
+            if let Some([alpha, beta, _]) = solve(&problem, &mut ()).alpha_beta_t {
                 let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
                 assert!(
                     !inside,
@@ -844,7 +844,7 @@ mod tests {
                 origin,
                 dir,
             };
-            let Some([alpha, beta, t]) = solve(&problem).alpha_beta_t else {
+            let Some([alpha, beta, t]) = solve(&problem, &mut ()).alpha_beta_t else {
                 continue;
             };
             let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);

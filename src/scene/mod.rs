@@ -6,7 +6,10 @@
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
-use crate::geometry::Inputs;
+use crate::geometry::{
+    Lecture, ParallelogramLecture, Precision, Reading, SegmentsLecture, TriangleLecture,
+};
+use crate::trace::Trace;
 
 pub mod check;
 pub mod lighting;
@@ -99,14 +102,19 @@ impl ParallelogramScene {
 }
 
 impl Problem {
-    /// The lecture problem's inputs; `None` for a render scene.
-    pub fn inputs(&self) -> Option<Inputs> {
-        match self {
-            Problem::Segments(s) => Some(Inputs::Segments(s.points())),
-            Problem::Triangle(t) => Some(Inputs::Triangle(t.vectors(), t.t_min)),
-            Problem::Parallelogram(p) => Some(Inputs::Parallelogram(p.vectors())),
-            Problem::Render(_) => None,
-        }
+    /// The steps of solving the lecture problem, its inputs read as `reading`, in `precision`;
+    /// `None` for a render scene.
+    pub fn trace(&self, reading: Reading, precision: Precision) -> Option<Trace> {
+        Some(match self {
+            Problem::Segments(s) => SegmentsLecture::trace_floats(s.points(), reading, precision),
+            Problem::Triangle(t) => {
+                TriangleLecture::trace_floats((t.vectors(), t.t_min), reading, precision)
+            }
+            Problem::Parallelogram(p) => {
+                ParallelogramLecture::trace_floats(p.vectors(), reading, precision)
+            }
+            Problem::Render(_) => return None,
+        })
     }
 }
 

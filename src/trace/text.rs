@@ -400,8 +400,9 @@ mod tests {
 
 #[cfg(test)]
 mod readable_numbers {
-    use crate::geometry::segments::{self, SegmentPair};
-    use crate::geometry::triangle::{self, RayTriangle};
+    use crate::geometry::segments::SegmentPair;
+    use crate::geometry::triangle::RayTriangle;
+    use crate::geometry::{Lecture, SegmentsLecture, TriangleLecture};
     use crate::trace::to_text;
     use glam::{DVec2, DVec3};
 
@@ -409,7 +410,7 @@ mod readable_numbers {
         let pair =
             SegmentPair::<crate::math::exact::Exact>::from_f64(points.map(DVec2::from_array))
                 .unwrap();
-        to_text(&segments::solve_traced(&pair).1)
+        to_text(&SegmentsLecture::traced(&pair).1)
     }
 
     #[test]
@@ -446,7 +447,7 @@ mod readable_numbers {
         let problem =
             RayTriangle::<crate::math::exact::Exact>::from_f64(v.map(DVec3::from_array), 0.0)
                 .unwrap();
-        let (_, trace) = triangle::solve_traced(&problem);
+        let (_, trace) = TriangleLecture::traced(&problem);
         let text = to_text(&trace);
         // The float −6.7 is computed with its exact value but read as the shortest decimal, and a
         // value that is not a float is marked ≈: never "≈-6.7000000000e0".

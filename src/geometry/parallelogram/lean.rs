@@ -148,7 +148,7 @@ mod tests {
 
     /// The solver's answer reduced to what [`solve_inside`] gives.
     fn reference(problem: &RayParallelogram<f64>) -> Option<Inside> {
-        let solution = solve(problem);
+        let solution = solve(problem, &mut ());
         let [alpha, beta, t] = solution.alpha_beta_t?;
         let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
         inside.then_some(Inside {
