@@ -2,6 +2,7 @@
 
 pub mod parallelogram;
 pub mod segments;
+mod steps;
 pub mod triangle;
 
 pub use crate::math::{Precision, Real};

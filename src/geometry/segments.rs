@@ -6,14 +6,16 @@
 
 use glam::DVec2;
 
+use super::steps::{
+    SystemWords, check, det_check, record_quotient, record_replaced, record_system, record_verdict,
+};
 use super::{InvalidInput, Lecture, Reading, SegmentsLecture, check_finite, negligible, read_vec};
 use crate::math::linalg::{
     M2, V2, add, cross2, det2, dot, from_columns, is_zero_vector, norm_f64, scale, sub, with_column,
 };
 use crate::math::real::Real;
 use crate::trace::{
-    Check, Column, Determinant, Formula, Matrix, Number, Operand, Payload, Scalar, Status, Step,
-    StepSink, Vector, Verdict,
+    Column, Determinant, Formula, Matrix, Number, Payload, Scalar, Status, Step, StepSink, Vector,
 };
 
 /// Two segments, in the lecture's names.
@@ -382,16 +384,9 @@ fn record<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
     }
     record_stages(v, steps);
     let solution = &v.solution;
-    steps.push(|| {
-        Step::new(
-            "verdict",
-            "Verdict",
-            "What the numbers say about the two segments.",
-            Payload::Verdict(Verdict {
-                status: solution.outcome.status(),
-                message: verdict_message(solution),
-            }),
-        )
+    let explanation = "What the numbers say about the two segments.";
+    record_verdict(steps, explanation, solution.outcome.status(), || {
+        verdict_message(solution)
     });
     if let Some(point) = &solution.point {
         steps.push(|| {
@@ -408,7 +403,8 @@ fn record<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
 /// The steps before the verdict, as far as the solve went.
 fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
     let Some((m, y)) = &v.system else { return };
-    record_system(steps, m, y);
+    let matrix = || Matrix::of2("M", "M", m, LABELS);
+    record_system(steps, &SYSTEM, matrix, || Vector::of("Y", "Y", y));
     let Some((shorter, [a_degenerate, b_degenerate])) = v.lengths else {
         return;
     };
@@ -416,22 +412,17 @@ fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
     let (Some(mi), Some(det_m)) = (&v.replaced, &v.det) else {
         return;
     };
-    for (i, mi) in mi.iter().enumerate() {
-        steps.push(|| {
-            let name = format!("M{}", i + 1);
-            Step::new(
-                &name,
-                format!("{name}: M with column {} replaced by Y", i + 1),
-                "Cramer's rule: replace one column of M by the right-hand side Y.",
-                Payload::Matrix(
-                    Matrix::of2(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
-                ),
-            )
-        });
-    }
-    record_det(steps, m, det_m, "M", "M");
+    record_replaced(steps, 2, |i| {
+        Matrix::of2(
+            &format!("M{}", i + 1),
+            &format!("M_{}", i + 1),
+            &mi[i],
+            LABELS,
+        )
+    });
+    record_det(steps, m, det_m, ["M", "M"]);
     let Some(parallel) = v.parallel else { return };
-    steps.push(|| det_check(det_m, parallel));
+    steps.push(|| det_check(det_m, parallel, parallel_explanation::<R>(), PARALLEL));
     if let Some((offset, collinear)) = &v.collinear {
         steps.push(|| collinear_check(offset, *collinear));
         if let Some([t_b1, t_b2]) = &v.solution.t_of_b {
@@ -442,63 +433,75 @@ fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
     let Some([det_m1, det_m2]) = &v.dets else {
         return;
     };
-    record_det(steps, &mi[0], det_m1, "M1", "M_1");
-    record_det(steps, &mi[1], det_m2, "M2", "M_2");
+    record_det(steps, &mi[0], det_m1, ["M1", "M_1"]);
+    record_det(steps, &mi[1], det_m2, ["M2", "M_2"]);
     let (Some(t), Some(s), Some([t_inside, s_inside])) = (&v.solution.t, &v.solution.s, v.inside)
     else {
         return;
     };
-    record_quotient(steps, ["t", "|M1|", "|M_1|"], det_m1, det_m, t, T_NOTE);
-    record_quotient(steps, ["s", "|M2|", "|M_2|"], det_m2, det_m, s, S_NOTE);
+    record_quotient(
+        steps,
+        ["t", "t", "t"],
+        ["|M1|", "|M_1|"],
+        [det_m1, det_m, t],
+        T_NOTE,
+    );
+    record_quotient(
+        steps,
+        ["s", "s", "s"],
+        ["|M2|", "|M_2|"],
+        [det_m2, det_m, s],
+        S_NOTE,
+    );
     steps.push(|| unit_interval_check(["check_t", "t", "A"], t, t_inside));
     steps.push(|| unit_interval_check(["check_s", "s", "B"], s, s_inside));
 }
 
+/// The system's words.
+const SYSTEM: SystemWords = SystemWords {
+    title: "The system M X = Y",
+    setup: "Set A1 + t(A2−A1) = B1 + s(B2−B1) and move the unknowns t, s to the left.",
+    unknowns: &[["t", "t"], ["s", "s"]],
+    apart: Some([
+        [
+            "M = [A2−A1 | B1−B2]",
+            "The columns are the direction of A and the reversed direction of B.",
+        ],
+        ["Y = B1 − A1", "The right-hand side: from A1 to B1."],
+    ]),
+};
 const T_NOTE: &str = "How far along A from A1, in units of A2−A1.";
 const S_NOTE: &str = "How far along B from B1, in units of B2−B1.";
+const PARALLEL: &str = "the lines are parallel: no single crossing point";
 
 fn length_check<R: Real>(shorter: f64, passed: bool) -> Step {
-    Step::new(
-        "check_lengths",
-        "Both segments have a length",
-        "A segment whose endpoints coincide is a single point, with no direction to follow.",
-        Payload::Check(Check {
-            inequality: "min(|A2−A1|, |B2−B1|) > 0".into(),
-            latex: "\\min(|A_2-A_1|, |B_2-B_1|) > 0".into(),
-            value: Number::float(shorter, R::PRECISION),
-            passed,
-            meaning: "a segment has zero length".into(),
-        }),
-    )
-}
-
-fn det_check<R: Real>(det_m: &R, parallel: bool) -> Step {
-    Step::new(
-        "check_det",
-        "|M| is not zero",
-        parallel_explanation::<R>(),
-        Payload::Check(Check {
-            inequality: "|M| ≠ 0".into(),
-            latex: "|M| \\neq 0".into(),
-            value: Number::of(det_m),
-            passed: !parallel,
-            meaning: "the lines are parallel: no single crossing point".into(),
-        }),
+    check(
+        [
+            "check_lengths",
+            "Both segments have a length",
+            "A segment whose endpoints coincide is a single point, with no direction to follow.",
+        ],
+        [
+            "min(|A2−A1|, |B2−B1|) > 0",
+            "\\min(|A_2-A_1|, |B_2-B_1|) > 0",
+        ],
+        Number::float(shorter, R::PRECISION),
+        passed,
+        "a segment has zero length",
     )
 }
 
 fn collinear_check<R: Real>(offset: &R, collinear: bool) -> Step {
-    Step::new(
-        "check_collinear",
-        "Are the parallel lines one line?",
-        "B1 lies on line A exactly when (A2−A1) × (B1−A1) = 0.",
-        Payload::Check(Check {
-            inequality: "(A2−A1) × (B1−A1) = 0".into(),
-            latex: "(A_2-A_1) \\times (B_1-A_1) = 0".into(),
-            value: Number::of(offset),
-            passed: collinear,
-            meaning: "two distinct parallel lines: they never meet".into(),
-        }),
+    check(
+        [
+            "check_collinear",
+            "Are the parallel lines one line?",
+            "B1 lies on line A exactly when (A2−A1) × (B1−A1) = 0.",
+        ],
+        ["(A2−A1) × (B1−A1) = 0", "(A_2-A_1) \\times (B_1-A_1) = 0"],
+        Number::of(offset),
+        collinear,
+        "two distinct parallel lines: they never meet",
     )
 }
 
@@ -529,39 +532,7 @@ fn record_ends_on_a<R: Real>(steps: &mut impl StepSink, t_b1: &R, t_b2: &R) {
     }
 }
 
-fn record_system<R: Real>(steps: &mut impl StepSink, m: &M2<R>, y: &V2<R>) {
-    steps.push(|| {
-        Step::new(
-            "system",
-            "The system M X = Y",
-            "Set A1 + t(A2−A1) = B1 + s(B2−B1) and move the unknowns t, s to the left.",
-            Payload::System {
-                matrix: Matrix::of2("M", "M", m, LABELS),
-                unknowns: vec!["t".into(), "s".into()],
-                unknowns_latex: vec!["t".into(), "s".into()],
-                rhs: Vector::of("Y", "Y", y),
-            },
-        )
-    });
-    steps.push(|| {
-        Step::new(
-            "M",
-            "M = [A2−A1 | B1−B2]",
-            "The columns are the direction of A and the reversed direction of B.",
-            Payload::Matrix(Matrix::of2("M", "M", m, LABELS)),
-        )
-    });
-    steps.push(|| {
-        Step::new(
-            "Y",
-            "Y = B1 − A1",
-            "The right-hand side: from A1 to B1.",
-            Payload::Vector(Vector::of("Y", "Y", y)),
-        )
-    });
-}
-
-fn record_det<R: Real>(steps: &mut impl StepSink, m: &M2<R>, value: &R, name: &str, latex: &str) {
+fn record_det<R: Real>(steps: &mut impl StepSink, m: &M2<R>, value: &R, [name, latex]: [&str; 2]) {
     steps.push(|| {
         Step::new(
             format!("det_{name}"),
@@ -572,48 +543,24 @@ fn record_det<R: Real>(steps: &mut impl StepSink, m: &M2<R>, value: &R, name: &s
     });
 }
 
-/// Records `symbol = |Mi| / |M|`; `names` is the symbol, |Mi| as text and |Mi| in LaTeX.
-fn record_quotient<R: Real>(
-    steps: &mut impl StepSink,
-    [symbol, numerator, numerator_latex]: [&str; 3],
-    det_mi: &R,
-    det_m: &R,
-    value: &R,
-    explanation: &str,
-) {
-    steps.push(|| {
-        Step::new(symbol, format!("{symbol} by Cramer's rule"), explanation, {
-            Payload::Scalar(Scalar {
-                symbol: symbol.into(),
-                latex: symbol.into(),
-                formula: Some(Formula::Quotient {
-                    numerator: Operand::of(numerator, numerator_latex, det_mi),
-                    denominator: Operand::of("|M|", "|M|", det_m),
-                }),
-                value: Number::of(value),
-                closed_form: None,
-            })
-        })
-    });
-}
-
 /// The check `0 ≤ x ≤ 1`; `names` is the step's id, the symbol and the segment.
 fn unit_interval_check<R: Real>([id, symbol, segment]: [&str; 3], x: &R, inside: bool) -> Step {
-    let side = if x < &R::zero() { "before" } else { "past" };
-    let start_or_end = if x < &R::zero() { "start" } else { "end" };
-    Step::new(
-        id,
-        format!("Check 0 ≤ {symbol} ≤ 1"),
-        "The crossing is on the segment itself only for parameters in [0, 1].",
-        Payload::Check(Check {
-            inequality: format!("0 ≤ {symbol} ≤ 1"),
-            latex: format!("0 \\le {symbol} \\le 1"),
-            value: Number::of(x),
-            passed: inside,
-            meaning: format!(
-                "the crossing is on line {segment} {side} the segment's {start_or_end}"
-            ),
-        }),
+    let (side, start_or_end) = if x < &R::zero() {
+        ("before", "start")
+    } else {
+        ("past", "end")
+    };
+    let title = format!("Check 0 ≤ {symbol} ≤ 1");
+    let note = "The crossing is on the segment itself only for parameters in [0, 1].";
+    check(
+        [id, &title, note],
+        [
+            &format!("0 ≤ {symbol} ≤ 1"),
+            &format!("0 \\le {symbol} \\le 1"),
+        ],
+        Number::of(x),
+        inside,
+        format!("the crossing is on line {segment} {side} the segment's {start_or_end}"),
     )
 }
 

@@ -12,6 +12,7 @@ pub mod lean;
 
 use glam::DVec3;
 
+use super::steps::{SystemWords, check, det_check, record_system, record_verdict};
 use super::{
     InvalidInput, Lecture, ParallelogramLecture, Reading, check_finite, negligible, read_vec,
 };
@@ -21,8 +22,7 @@ use crate::math::linalg::{
 };
 use crate::math::real::Real;
 use crate::trace::{
-    Check, Column, Determinant, Formula, Matrix, Number, Payload, Scalar, Status, Step, StepSink,
-    Vector, Verdict,
+    Column, Determinant, Formula, Matrix, Number, Payload, Scalar, Status, Step, StepSink, Vector,
 };
 
 /// A ray and a parallelogram, in seed 001's names.
@@ -367,14 +367,12 @@ fn record<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
     }
     record_stages(v, steps);
     let solution = &v.solution;
-    steps.push(|| {
-        Step::new("verdict", "Verdict", "What the checks decide.", {
-            Payload::Verdict(Verdict {
-                status: solution.outcome.status(),
-                message: verdict_message(&solution.outcome),
-            })
-        })
-    });
+    record_verdict(
+        steps,
+        "What the checks decide.",
+        solution.outcome.status(),
+        || verdict_message(&solution.outcome),
+    );
     if let Some(point) = &solution.point {
         let title = if solution.outcome.is_hit() {
             "Hit point o + t d"
@@ -392,7 +390,8 @@ fn record<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
 /// The steps before the verdict, as far as the solve went.
 fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
     let Some((m, y)) = &v.system else { return };
-    steps.push(|| system_step(m, y));
+    let matrix = || Matrix::of3("M", "M", m, LABELS);
+    record_system(steps, &SYSTEM, matrix, || Vector::of("o − c", "o - c", y));
     let Some((normal_length, degenerate)) = v.area else {
         return;
     };
@@ -407,7 +406,7 @@ fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
         )
     });
     let Some(parallel) = v.parallel else { return };
-    steps.push(|| det_check(det, parallel));
+    steps.push(|| det_check(det, parallel, PARALLEL_NOTE, PARALLEL));
     let Some((adjugate, inverse)) = &v.inverse else {
         return;
     };
@@ -447,47 +446,27 @@ fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
     record_checks(steps, x, *in_front);
 }
 
-fn system_step<R: Real>(m: &M3<R>, y: &V3<R>) -> Step {
-    Step::new(
-        "system",
-        "The system M (α, β, t)ᵀ = o − c",
-        "Set o + t d = c + α e1 + β e2 and move the unknowns left: α e1 + β e2 − t d = o − c (seed 001 prints c − o, a sign slip).",
-        Payload::System {
-            matrix: Matrix::of3("M", "M", m, LABELS),
-            unknowns: vec!["α".into(), "β".into(), "t".into()],
-            unknowns_latex: vec!["\\alpha".into(), "\\beta".into(), "t".into()],
-            rhs: Vector::of("o − c", "o - c", y),
-        },
-    )
-}
+/// The system's words (M and o − c are shown in the system step alone).
+const SYSTEM: SystemWords = SystemWords {
+    title: "The system M (α, β, t)ᵀ = o − c",
+    setup: "Set o + t d = c + α e1 + β e2 and move the unknowns left: α e1 + β e2 − t d = o − c (seed 001 prints c − o, a sign slip).",
+    unknowns: &[["α", "\\alpha"], ["β", "\\beta"], ["t", "t"]],
+    apart: None,
+};
+const PARALLEL_NOTE: &str = "M is invertible only if d is not in the plane of e1 and e2 (for floats: |M| > 16ε·|e1×e2|·|d|).";
+const PARALLEL: &str = "the ray is parallel to the parallelogram's plane";
 
 fn area_check<R: Real>(normal_length: f64, degenerate: bool) -> Step {
-    Step::new(
-        "check_area",
-        "The parallelogram has an area",
-        "Its area is |e1 × e2|; seed 001 requires e1 and e2 not parallel and not zero.",
-        Payload::Check(Check {
-            inequality: "|e1 × e2| > 0".into(),
-            latex: "|e_1 \\times e_2| > 0".into(),
-            value: Number::float(normal_length, R::PRECISION),
-            passed: !degenerate,
-            meaning: "e1 and e2 are parallel or zero: the parallelogram is flat".into(),
-        }),
-    )
-}
-
-fn det_check<R: Real>(det: &R, parallel: bool) -> Step {
-    Step::new(
-        "check_det",
-        "|M| is not zero",
-        "M is invertible only if d is not in the plane of e1 and e2 (for floats: |M| > 16ε·|e1×e2|·|d|).",
-        Payload::Check(Check {
-            inequality: "|M| ≠ 0".into(),
-            latex: "|M| \\neq 0".into(),
-            value: Number::of(det),
-            passed: !parallel,
-            meaning: "the ray is parallel to the parallelogram's plane".into(),
-        }),
+    check(
+        [
+            "check_area",
+            "The parallelogram has an area",
+            "Its area is |e1 × e2|; seed 001 requires e1 and e2 not parallel and not zero.",
+        ],
+        ["|e1 × e2| > 0", "|e_1 \\times e_2| > 0"],
+        Number::float(normal_length, R::PRECISION),
+        !degenerate,
+        "e1 and e2 are parallel or zero: the parallelogram is flat",
     )
 }
 
@@ -517,38 +496,42 @@ fn record_inverse<R: Real>(steps: &mut impl StepSink, adjugate: &M3<R>, inverse:
 
 /// Records the checks 0 ≤ α ≤ 1, 0 ≤ β ≤ 1 and t ≥ 0.
 fn record_checks<R: Real>(steps: &mut impl StepSink, x: &V3<R>, in_front: bool) {
-    for (i, (symbol, latex)) in [("α", "\\alpha"), ("β", "\\beta")].into_iter().enumerate() {
+    let note = "The point is on the parallelogram only if α and β are both in [0, 1].";
+    for (i, [id, symbol, latex]) in [
+        ["check_alpha", "α", "\\alpha"],
+        ["check_beta", "β", "\\beta"],
+    ]
+    .into_iter()
+    .enumerate()
+    {
         let broken = side_broken(i, &x[i]);
         steps.push(|| {
-            Step::new(
-                format!("check_{}", if i == 0 { "alpha" } else { "beta" }),
-                format!("Check 0 ≤ {symbol} ≤ 1"),
-                "The point is on the parallelogram only if α and β are both in [0, 1].",
-                Payload::Check(Check {
-                    inequality: format!("0 ≤ {symbol} ≤ 1"),
-                    latex: format!("0 \\le {latex} \\le 1"),
-                    value: Number::of(&x[i]),
-                    passed: broken.is_none(),
-                    meaning: format!(
-                        "the point breaks {}",
-                        broken.map(Side::inequality).unwrap_or_default()
-                    ),
-                }),
+            check(
+                [id, &format!("Check 0 ≤ {symbol} ≤ 1"), note],
+                [
+                    &format!("0 ≤ {symbol} ≤ 1"),
+                    &format!("0 \\le {latex} \\le 1"),
+                ],
+                Number::of(&x[i]),
+                broken.is_none(),
+                format!(
+                    "the point breaks {}",
+                    broken.map(Side::inequality).unwrap_or_default()
+                ),
             )
         });
     }
     steps.push(|| {
-        Step::new(
-            "check_t",
-            "Check t ≥ 0",
-            "Seed 001 takes the ray for t in [0, ∞): t = 0 counts.",
-            Payload::Check(Check {
-                inequality: "t ≥ 0".into(),
-                latex: "t \\ge 0".into(),
-                value: Number::of(&x[2]),
-                passed: in_front,
-                meaning: "the plane is behind the ray's origin".into(),
-            }),
+        check(
+            [
+                "check_t",
+                "Check t ≥ 0",
+                "Seed 001 takes the ray for t in [0, ∞): t = 0 counts.",
+            ],
+            ["t ≥ 0", "t \\ge 0"],
+            Number::of(&x[2]),
+            in_front,
+            "the plane is behind the ray's origin",
         )
     });
 }

@@ -12,6 +12,9 @@ use glam::DVec3;
 
 use std::array::from_ref;
 
+use super::steps::{
+    SystemWords, check, det_check, record_quotient, record_replaced, record_system, record_verdict,
+};
 use super::{
     InvalidInput, Lecture, Reading, TriangleLecture, check_finite, negligible, read, read_vec,
 };
@@ -22,8 +25,8 @@ use crate::math::linalg::{
 };
 use crate::math::real::Real;
 use crate::trace::{
-    Check, ClosedForm, Column, Determinant, Formula, Matrix, Number, Operand, Payload, Scalar,
-    Status, Step, StepSink, Vector, Verdict,
+    ClosedForm, Column, Determinant, Formula, Matrix, Number, Payload, Scalar, Status, Step,
+    StepSink, Vector,
 };
 use narration::{area_explanation, parallel_explanation, verdict_message, verdict_sentence};
 
@@ -409,14 +412,12 @@ fn record<R: Real>(p: &RayTriangle<R>, v: &Values<R>, steps: &mut impl StepSink)
     }
     record_stages(p, v, steps);
     let solution = v.solution.as_ref();
-    steps.push(|| {
-        Step::new("verdict", "Verdict", verdict_sentence(&v.outcome), {
-            Payload::Verdict(Verdict {
-                status: v.outcome.status(),
-                message: verdict_message(&v.outcome, solution),
-            })
-        })
-    });
+    record_verdict(
+        steps,
+        verdict_sentence(&v.outcome),
+        v.outcome.status(),
+        || verdict_message(&v.outcome, solution),
+    );
     if let Some(found) = solution {
         record_point(steps, p, found, v.outcome.is_hit());
     }
@@ -425,7 +426,8 @@ fn record<R: Real>(p: &RayTriangle<R>, v: &Values<R>, steps: &mut impl StepSink)
 /// The steps before the verdict, as far as the solve went.
 fn record_stages<R: Real>(p: &RayTriangle<R>, v: &Values<R>, steps: &mut impl StepSink) {
     let Some((m, y)) = &v.system else { return };
-    record_system(steps, m, y);
+    let matrix = || Matrix::of3("M", "M", m, LABELS);
+    record_system(steps, &SYSTEM, matrix, || Vector::of("Y", "Y", y));
     let Some((normal_length, degenerate)) = v.area else {
         return;
     };
@@ -433,78 +435,78 @@ fn record_stages<R: Real>(p: &RayTriangle<R>, v: &Values<R>, steps: &mut impl St
     let (Some(mi), Some(det_m)) = (&v.replaced, &v.det) else {
         return;
     };
-    for (i, mi) in mi.iter().enumerate() {
-        steps.push(|| {
-            let name = format!("M{}", i + 1);
-            Step::new(
-                &name,
-                format!("{name}: M with column {} replaced by Y", i + 1),
-                "Cramer's rule: replace one column of M by the right-hand side Y.",
-                Payload::Matrix(
-                    Matrix::of3(&name, &format!("M_{}", i + 1), mi, LABELS).replacing(i),
-                ),
-            )
-        });
-    }
-    record_det(
-        steps,
-        det_m,
-        "M",
-        "M",
-        "The determinant of M, expanded along the first row.",
-    );
+    record_replaced(steps, 3, |i| {
+        Matrix::of3(
+            &format!("M{}", i + 1),
+            &format!("M_{}", i + 1),
+            &mi[i],
+            LABELS,
+        )
+    });
+    record_det(steps, det_m, ["M", "M"], DET_M_NOTE);
     let Some(parallel) = v.parallel else { return };
-    steps.push(|| det_check(&det_m.value, parallel));
+    steps.push(|| {
+        det_check(
+            &det_m.value,
+            parallel,
+            parallel_explanation::<R>(),
+            PARALLEL,
+        )
+    });
     let Some(dets) = &v.dets else { return };
     for (i, det) in dets.iter().enumerate() {
-        let (name, latex) = (["M1", "M2", "M3"][i], ["M_1", "M_2", "M_3"][i]);
         record_det(
             steps,
             det,
-            name,
-            latex,
-            "Expanded along the first row, like |M|.",
+            [["M1", "M_1"], ["M2", "M_2"], ["M3", "M_3"]][i],
+            DET_MI_NOTE,
         );
     }
     let (Some(s), Some((failed, in_front))) = (&v.solution, &v.checks) else {
         return;
     };
-    for (i, (id, symbol, latex)) in UNKNOWNS.iter().enumerate() {
-        let value = [&s.beta, &s.gamma, &s.t][i];
-        steps.push(|| {
-            Step::new(
-                *id,
-                format!("{symbol} by Cramer's rule"),
-                UNKNOWN_NOTES[i],
-                {
-                    Payload::Scalar(Scalar {
-                        symbol: (*symbol).into(),
-                        latex: (*latex).into(),
-                        formula: Some(Formula::Quotient {
-                            numerator: Operand::of(
-                                &format!("|M{}|", i + 1),
-                                &format!("|M_{}|", i + 1),
-                                &dets[i].value,
-                            ),
-                            denominator: Operand::of("|M|", "|M|", &det_m.value),
-                        }),
-                        value: Number::of(value),
-                        closed_form: None,
-                    })
-                },
-            )
-        });
+    for (i, unknown) in UNKNOWNS.into_iter().enumerate() {
+        let numerator = [&format!("|M{}|", i + 1), &format!("|M_{}|", i + 1)];
+        let values = [&dets[i].value, &det_m.value, [&s.beta, &s.gamma, &s.t][i]];
+        record_quotient(
+            steps,
+            unknown,
+            numerator.map(String::as_str),
+            values,
+            UNKNOWN_NOTES[i],
+        );
     }
     steps.push(|| alpha_step(&s.alpha));
     record_checks(steps, p, s, failed, *in_front);
 }
 
+/// The system's words.
+const SYSTEM: SystemWords = SystemWords {
+    title: "The system M X = Y",
+    setup: "Set L + tD = A + β(B−A) + γ(C−A) and move the unknowns β, γ, t to the left.",
+    unknowns: &[["β", "\\beta"], ["γ", "\\gamma"], ["t", "t"]],
+    apart: Some([
+        [
+            "M = [A−B | A−C | D]",
+            "The columns are the two edge vectors from B and C to A, and the ray's direction.",
+        ],
+        [
+            "Y = A − L",
+            "The right-hand side: the vector from the ray's origin L to the vertex A.",
+        ],
+    ]),
+};
+const DET_M_NOTE: &str = "The determinant of M, expanded along the first row.";
+const DET_MI_NOTE: &str = "Expanded along the first row, like |M|.";
+const PARALLEL: &str =
+    "the ray is parallel to the triangle's plane, so M X = Y has no unique solution";
+
 /// Column labels of M (the app colours columns by them).
 const LABELS: [Column; 3] = [Column::AMinusB, Column::AMinusC, Column::D];
-const UNKNOWNS: [(&str, &str, &str); 3] = [
-    ("beta", "β", "\\beta"),
-    ("gamma", "γ", "\\gamma"),
-    ("t", "t", "t"),
+const UNKNOWNS: [[&str; 3]; 3] = [
+    ["beta", "β", "\\beta"],
+    ["gamma", "γ", "\\gamma"],
+    ["t", "t", "t"],
 ];
 const UNKNOWN_NOTES: [&str; 3] = [
     "β = |M1| / |M|: how far to go along B−A from A.",
@@ -523,75 +525,24 @@ fn overflow<R: Real>() -> TriangleMiss {
     })
 }
 
-fn record_system<R: Real>(steps: &mut impl StepSink, m: &M3<R>, y: &V3<R>) {
-    steps.push(|| {
-        Step::new(
-            "system",
-            "The system M X = Y",
-            "Set L + tD = A + β(B−A) + γ(C−A) and move the unknowns β, γ, t to the left.",
-            Payload::System {
-                matrix: Matrix::of3("M", "M", m, LABELS),
-                unknowns: vec!["β".into(), "γ".into(), "t".into()],
-                unknowns_latex: vec!["\\beta".into(), "\\gamma".into(), "t".into()],
-                rhs: Vector::of("Y", "Y", y),
-            },
-        )
-    });
-    steps.push(|| {
-        Step::new(
-            "M",
-            "M = [A−B | A−C | D]",
-            "The columns are the two edge vectors from B and C to A, and the ray's direction.",
-            Payload::Matrix(Matrix::of3("M", "M", m, LABELS)),
-        )
-    });
-    steps.push(|| {
-        Step::new(
-            "Y",
-            "Y = A − L",
-            "The right-hand side: the vector from the ray's origin L to the vertex A.",
-            Payload::Vector(Vector::of("Y", "Y", y)),
-        )
-    });
-}
-
 fn area_check<R: Real>(normal_length: f64, degenerate: bool) -> Step {
-    Step::new(
-        "check_area",
-        "The triangle has an area",
-        area_explanation::<R>(),
-        Payload::Check(Check {
-            inequality: "|(A−B)×(A−C)| / 2 > 0".into(),
-            latex: "\\tfrac12 |(A-B)\\times(A-C)| > 0".into(),
-            value: Number::float(normal_length / 2.0, R::PRECISION),
-            passed: !degenerate,
-            meaning: "A, B and C are collinear: the triangle is a segment or a point".into(),
-        }),
-    )
-}
-
-fn det_check<R: Real>(det_m: &R, parallel: bool) -> Step {
-    Step::new(
-        "check_det",
-        "|M| is not zero",
-        parallel_explanation::<R>(),
-        Payload::Check(Check {
-            inequality: "|M| ≠ 0".into(),
-            latex: "|M| \\neq 0".into(),
-            value: Number::of(det_m),
-            passed: !parallel,
-            meaning:
-                "the ray is parallel to the triangle's plane, so M X = Y has no unique solution"
-                    .into(),
-        }),
+    check(
+        [
+            "check_area",
+            "The triangle has an area",
+            area_explanation::<R>(),
+        ],
+        ["|(A−B)×(A−C)| / 2 > 0", "\\tfrac12 |(A-B)\\times(A-C)| > 0"],
+        Number::float(normal_length / 2.0, R::PRECISION),
+        !degenerate,
+        "A, B and C are collinear: the triangle is a segment or a point",
     )
 }
 
 fn record_det<R: Real>(
     steps: &mut impl StepSink,
     det: &Expansion<R>,
-    name: &str,
-    latex: &str,
+    [name, latex]: [&str; 2],
     explanation: &str,
 ) {
     steps.push(|| {
@@ -641,39 +592,40 @@ fn record_checks<R: Real>(
     ];
     for (edge, value, latex) in inside_checks {
         steps.push(|| {
-            Step::new(
-                format!("check_{}", edge.name().to_lowercase()),
-                format!("Check {}", edge.inequality()),
-                "A point of the plane is in the triangle only if all three inequalities hold.",
-                Payload::Check(Check {
-                    inequality: edge.inequality().into(),
-                    latex: latex.into(),
-                    value: Number::of(&value),
-                    passed: !failed.contains(&edge),
-                    meaning: format!("the point is beyond edge {}", edge.name()),
-                }),
+            let id = format!("check_{}", edge.name().to_lowercase());
+            let title = format!("Check {}", edge.inequality());
+            check(
+                [&id, &title, INSIDE_NOTE],
+                [edge.inequality(), latex],
+                Number::of(&value),
+                !failed.contains(&edge),
+                format!("the point is beyond edge {}", edge.name()),
             )
         });
     }
     steps.push(|| {
-        Step::new(
-            "check_t",
-            "Check t > t_min",
-            "The hit must be in front of the ray's origin (t_min is excluded).",
-            Payload::Check(Check {
-                inequality: format!("t > {}", Number::of(&p.t_min).shown()),
-                latex: format!("t > {}", crate::trace::latex_number(&Number::of(&p.t_min))),
-                value: Number::of(&s.t),
-                passed: in_front,
-                meaning: if s.t < R::zero() {
-                    "the plane is behind the ray's origin".into()
-                } else {
-                    "the plane is not beyond t_min".into()
-                },
-            }),
+        let t_min = Number::of(&p.t_min);
+        let inequality = format!("t > {}", t_min.shown());
+        let latex = format!("t > {}", crate::trace::latex_number(&t_min));
+        let meaning = if s.t < R::zero() {
+            "the plane is behind the ray's origin"
+        } else {
+            "the plane is not beyond t_min"
+        };
+        let words = ["check_t", "Check t > t_min", IN_FRONT_NOTE];
+        check(
+            words,
+            [&inequality, &latex],
+            Number::of(&s.t),
+            in_front,
+            meaning,
         )
     });
 }
+
+const INSIDE_NOTE: &str =
+    "A point of the plane is in the triangle only if all three inequalities hold.";
+const IN_FRONT_NOTE: &str = "The hit must be in front of the ray's origin (t_min is excluded).";
 
 /// t·|D|, with its exact closed form when exact (t²·(D·D) under a square root).
 fn distance_along<R: Real>(t: &R, dir: &V3<R>) -> (f64, Option<SignedRoot>) {
