@@ -439,20 +439,15 @@ fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
     else {
         return;
     };
-    record_quotient(
-        steps,
-        ["t", "t", "t"],
-        ["|M1|", "|M_1|"],
-        [det_m1, det_m, t],
-        T_NOTE,
-    );
-    record_quotient(
-        steps,
-        ["s", "s", "s"],
-        ["|M2|", "|M_2|"],
-        [det_m2, det_m, s],
-        S_NOTE,
-    );
+    let quotients = [
+        (["t", "|M1|", "|M_1|"], det_m1, t, T_NOTE),
+        (["s", "|M2|", "|M_2|"], det_m2, s, S_NOTE),
+    ];
+    for ([symbol, numerator, numerator_latex], det_mi, value, note) in quotients {
+        let names = [symbol, symbol, symbol];
+        let values = [det_mi, det_m, value];
+        record_quotient(steps, names, [numerator, numerator_latex], values, note);
+    }
     steps.push(|| unit_interval_check(["check_t", "t", "A"], t, t_inside));
     steps.push(|| unit_interval_check(["check_s", "s", "B"], s, s_inside));
 }
