@@ -204,3 +204,91 @@ pub(crate) fn negligible<R: Real>(magnitude: f64, scale: f64, exactly_zero: bool
         exactly_zero || magnitude <= R::TOLERANCE * scale
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{
+        Lecture, ParallelogramLecture, Precision, Reading, SegmentsLecture, TriangleLecture,
+    };
+    use crate::trace::{Trace, to_latex, to_text};
+    use glam::{DVec2, DVec3};
+
+    /// No reader may print ∞ or a false 0 for a length exact arithmetic knows.
+    fn assert_reads_every_length(trace: &Trace, expected: &[&str]) {
+        let text = to_text(trace);
+        let latex = to_latex(trace);
+        assert!(!text.contains("= ∞") && !text.contains("= -∞"), "{text}");
+        assert!(!latex.contains("= \\infty") && !latex.contains("=\\infty"), "{latex}");
+        for shown in expected {
+            assert!(text.contains(shown), "{shown} missing from\n{text}");
+        }
+    }
+
+    #[test]
+    fn lengths_beyond_the_float_range_read_as_exact_roots_not_infinity_or_zero() {
+        let v = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        let exact = |vectors, t_min| {
+            TriangleLecture::trace_floats((vectors, t_min), Reading::AsWritten, Precision::Exact)
+        };
+        // Legs of 10^200: twice the area is 10^400, past f64's ∞; the distance t·|D| = 1.
+        let huge = [
+            v(0.0, 0.0, 0.0),
+            v(1e200, 0.0, 0.0),
+            v(0.0, 1e200, 0.0),
+            v(1.0, 1.0, 1.0),
+        ];
+        let trace = exact([huge[0], huge[1], huge[2], huge[3], v(0.0, 0.0, -1.0)], 0.0);
+        assert_reads_every_length(&trace, &["|(A−B)×(A−C)| / 2 = ≈5e399", "t·|D| = 1"]);
+        // Legs of 10^-200: the area 10^-400 / 2 is not 0.
+        let tiny = [v(0.0, 0.0, 0.0), v(1e-200, 0.0, 0.0), v(0.0, 1e-200, 0.0)];
+        let trace = exact(
+            [
+                tiny[0],
+                tiny[1],
+                tiny[2],
+                v(1e-201, 1e-201, 1.0),
+                v(0.0, 0.0, -1.0),
+            ],
+            0.0,
+        );
+        assert_reads_every_length(&trace, &["|(A−B)×(A−C)| / 2 = ≈5e-401", "|D| = 1;"]);
+        // A ray of direction 10^300 reaching t = 10^-300 travels 1, its |D| read as ≈1e300.
+        let trace = exact(
+            [
+                huge[0],
+                v(4.0, 0.0, 0.0),
+                v(0.0, 4.0, 0.0),
+                huge[3],
+                v(0.0, 0.0, -1e300),
+            ],
+            0.0,
+        );
+        assert_reads_every_length(&trace, &["|D| = ≈1e300", "t·|D| = 1"]);
+
+        let diagonal = [DVec2::new(0.0, 0.0), DVec2::new(1e300, 1e300)];
+        let points = [
+            diagonal[0],
+            diagonal[1],
+            DVec2::new(0.0, 1e300),
+            DVec2::new(1e300, 0.0),
+        ];
+        let trace = SegmentsLecture::trace_floats(points, Reading::AsWritten, Precision::Exact);
+        assert_reads_every_length(&trace, &["min(|A2−A1|, |B2−B1|) = 1.414213562e300"]);
+        let square = [
+            v(0.0, 0.0, 0.0),
+            v(1e300, 0.0, 0.0),
+            v(0.0, 1e300, 0.0),
+            v(1.0, 1.0, 1.0),
+        ];
+        let vectors = [
+            square[0],
+            square[1],
+            square[2],
+            square[3],
+            v(0.0, 0.0, -1.0),
+        ];
+        let trace =
+            ParallelogramLecture::trace_floats(vectors, Reading::AsWritten, Precision::Exact);
+        assert_reads_every_length(&trace, &["|e1 × e2| = ≈1e600"]);
+    }
+}

@@ -199,8 +199,8 @@ struct Values<R> {
     solution: SegmentsSolution<R>,
     /// M = [A2−A1 | B1−B2] and Y = B1 − A1.
     system: Option<(M2<R>, V2<R>)>,
-    /// The shorter segment's length, and which segments have none.
-    lengths: Option<(f64, [bool; 2])>,
+    /// The shorter segment's direction, and which segments have no length.
+    lengths: Option<(V2<R>, [bool; 2])>,
     /// M1, M2: M with column i replaced by Y.
     replaced: Option<[M2<R>; 2]>,
     /// |M|.
@@ -240,7 +240,7 @@ fn values<R: Real>(p: &SegmentPair<R>) -> Values<R> {
 
     // Both segments need a length.
     let (a_degenerate, b_degenerate) = (is_zero_vector(&d_a), is_zero_vector(&b1_minus_b2));
-    let shorter = norm_f64(&d_a).min(norm_f64(&b1_minus_b2));
+    let shorter = shorter(&d_a, &b1_minus_b2).clone();
     v.lengths = Some((shorter, [a_degenerate, b_degenerate]));
     if a_degenerate || b_degenerate {
         let (a, b) = (a_degenerate, b_degenerate);
@@ -405,10 +405,10 @@ fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
     let Some((m, y)) = &v.system else { return };
     let matrix = || Matrix::of2("M", "M", m, LABELS);
     record_system(steps, &SYSTEM, matrix, || Vector::of("Y", "Y", y));
-    let Some((shorter, [a_degenerate, b_degenerate])) = v.lengths else {
+    let Some((shorter, [a_degenerate, b_degenerate])) = &v.lengths else {
         return;
     };
-    steps.push(|| length_check::<R>(shorter, !(a_degenerate || b_degenerate)));
+    steps.push(|| length_check(shorter, !(*a_degenerate || *b_degenerate)));
     let (Some(mi), Some(det_m)) = (&v.replaced, &v.det) else {
         return;
     };
@@ -469,7 +469,18 @@ const T_NOTE: &str = "How far along A from A1, in units of A2−A1.";
 const S_NOTE: &str = "How far along B from B1, in units of B2−B1.";
 const PARALLEL: &str = "the lines are parallel: no single crossing point";
 
-fn length_check<R: Real>(shorter: f64, passed: bool) -> Step {
+/// The shorter of two vectors (by their float lengths; by their exact squares where the floats
+/// cannot tell).
+fn shorter<'a, R: Real>(a: &'a V2<R>, b: &'a V2<R>) -> &'a V2<R> {
+    match norm_f64(a).partial_cmp(&norm_f64(b)) {
+        Some(std::cmp::Ordering::Less) => a,
+        Some(std::cmp::Ordering::Greater) => b,
+        _ if dot(a, a) <= dot(b, b) => a,
+        _ => b,
+    }
+}
+
+fn length_check<R: Real>(shorter: &V2<R>, passed: bool) -> Step {
     check(
         [
             "check_lengths",
@@ -480,7 +491,7 @@ fn length_check<R: Real>(shorter: f64, passed: bool) -> Step {
             "min(|A2−A1|, |B2−B1|) > 0",
             "\\min(|A_2-A_1|, |B_2-B_1|) > 0",
         ],
-        Number::float(shorter, R::PRECISION),
+        Number::length(shorter, 1.0),
         passed,
         "a segment has zero length",
     )

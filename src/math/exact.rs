@@ -281,6 +281,38 @@ impl SignedRoot {
         short.then(|| self.full())
     }
 
+    /// For people: [`SignedRoot::short`] when there is one, else `≈` and ten significant digits
+    /// worked out from the exact square, so that a root beyond the float range still reads
+    /// (`≈1.414213562e400`, not ∞; `≈1e-400`, not 0).
+    pub fn display(&self) -> String {
+        self.short().unwrap_or_else(|| {
+            let sign = if self.negative { "-" } else { "" };
+            format!("≈{sign}{}", self.approximation().significant(10))
+        })
+    }
+
+    /// A rational within about a part in 10^15 of √q: q = r·100^k with r near 1, so √q = √r·10^k,
+    /// and √r is a float's square root.
+    fn approximation(&self) -> Exact {
+        let q = &self.square.0;
+        if q.is_zero() {
+            return Exact::from_int(0);
+        }
+        let bits = q.numer().bits() as i64 - q.denom().bits() as i64;
+        let k = (bits as f64 * std::f64::consts::LOG10_2 / 2.0).floor() as i64;
+        let ten_k = num_traits::pow(
+            BigRational::from_integer(BigInt::from(10)),
+            k.unsigned_abs() as usize,
+        );
+        let (r, scale) = if k >= 0 {
+            (q / (&ten_k * &ten_k), ten_k)
+        } else {
+            (q * (&ten_k * &ten_k), BigRational::one() / ten_k)
+        };
+        let root_r = Exact::from_f64(Exact(r).to_f64().sqrt()).unwrap_or_default();
+        Exact(root_r.0 * scale)
+    }
+
     /// LaTeX for [`SignedRoot::short`]: `\sqrt{3}`, `\frac{2}{3}`, `\sqrt{\frac{1}{2}}`.
     pub fn short_latex(&self) -> Option<String> {
         self.short()?;

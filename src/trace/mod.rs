@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::math::exact::Exact;
+use crate::math::exact::{Exact, SignedRoot};
 use crate::math::linalg::{CofactorTerm, M2, M3};
 use crate::math::real::{Precision, Real};
 
@@ -60,6 +60,36 @@ impl Number {
             exact: None,
             exact_shown: None,
             precision,
+            float_expansion: None,
+        }
+    }
+
+    /// The length |v| of a solver vector, divided by `divisor` (|n| / 2 for a triangle's area). The
+    /// float is the value; an exact solve whose length leaves the float range keeps its exact root,
+    /// so it reads `≈1.7e400` rather than ∞, or `≈1e-400` rather than 0.
+    pub fn length<R: Real, const N: usize>(v: &[R; N], divisor: f64) -> Number {
+        let value = crate::math::linalg::norm_f64(v) / divisor;
+        let square = crate::math::linalg::dot(v, v).to_exact();
+        match square {
+            Some(square) if !value.is_normal() && !square.is_zero() => {
+                let divisor =
+                    Exact::from_f64(divisor * divisor).unwrap_or_else(|| Exact::from_int(1));
+                Number::root(&SignedRoot {
+                    negative: false,
+                    square: square.checked_div(&divisor).unwrap_or(square),
+                })
+            }
+            _ => Number::float(value, R::PRECISION),
+        }
+    }
+
+    /// An exact root (a length): its nearest float, shown as [`SignedRoot::display`] writes it.
+    pub fn root(root: &SignedRoot) -> Number {
+        Number {
+            value: root.to_f64(),
+            exact: Some(root.full()),
+            exact_shown: Some(root.display()),
+            precision: Precision::Exact,
             float_expansion: None,
         }
     }

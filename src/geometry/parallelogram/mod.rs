@@ -212,7 +212,7 @@ struct Values<R> {
     /// M = [e1 | e2 | −d] and o − c.
     system: Option<(M3<R>, V3<R>)>,
     /// |e1 × e2| and whether it counts as zero.
-    area: Option<(f64, bool)>,
+    area: Option<(V3<R>, bool)>,
     /// |M| expanded along its first row.
     det: Option<([CofactorTerm<R>; 3], R)>,
     /// Whether |M| counts as zero (unset when |M| overflowed).
@@ -260,7 +260,7 @@ fn values<R: Real>(p: &RayParallelogram<R>) -> Values<R> {
     }
     let area_scale = norm_f64(&p.e1) * norm_f64(&p.e2);
     let degenerate = negligible::<R>(norm_f64(&normal), area_scale, is_zero_vector(&normal));
-    v.area = Some((norm_f64(&normal), degenerate));
+    v.area = Some((normal.clone(), degenerate));
     if degenerate {
         return stop(v, ParallelogramOutcome::Degenerate);
     }
@@ -392,10 +392,10 @@ fn record_stages<R: Real>(v: &Values<R>, steps: &mut impl StepSink) {
     let Some((m, y)) = &v.system else { return };
     let matrix = || Matrix::of3("M", "M", m, LABELS);
     record_system(steps, &SYSTEM, matrix, || Vector::of("o − c", "o - c", y));
-    let Some((normal_length, degenerate)) = v.area else {
+    let Some((normal, degenerate)) = &v.area else {
         return;
     };
-    steps.push(|| area_check::<R>(normal_length, degenerate));
+    steps.push(|| area_check(normal, *degenerate));
     let Some((terms, det)) = &v.det else { return };
     steps.push(|| {
         Step::new(
@@ -456,7 +456,7 @@ const SYSTEM: SystemWords = SystemWords {
 const PARALLEL_NOTE: &str = "M is invertible only if d is not in the plane of e1 and e2 (for floats: |M| > 16ε·|e1×e2|·|d|).";
 const PARALLEL: &str = "the ray is parallel to the parallelogram's plane";
 
-fn area_check<R: Real>(normal_length: f64, degenerate: bool) -> Step {
+fn area_check<R: Real>(normal: &V3<R>, degenerate: bool) -> Step {
     check(
         [
             "check_area",
@@ -464,7 +464,7 @@ fn area_check<R: Real>(normal_length: f64, degenerate: bool) -> Step {
             "Its area is |e1 × e2|; seed 001 requires e1 and e2 not parallel and not zero.",
         ],
         ["|e1 × e2| > 0", "|e_1 \\times e_2| > 0"],
-        Number::float(normal_length, R::PRECISION),
+        Number::length(normal, 1.0),
         !degenerate,
         "e1 and e2 are parallel or zero: the parallelogram is flat",
     )

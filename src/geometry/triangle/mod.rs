@@ -250,8 +250,8 @@ struct Values<R> {
     outcome: TriangleOutcome,
     /// M = [A−B | A−C | D] and Y = A − L.
     system: Option<(M3<R>, V3<R>)>,
-    /// |(A−B)×(A−C)|, twice the area, and whether it counts as zero.
-    area: Option<(f64, bool)>,
+    /// (A−B)×(A−C), whose length is twice the area, and whether it counts as zero.
+    area: Option<(V3<R>, bool)>,
     /// M1, M2, M3: M with column i replaced by Y.
     replaced: Option<[M3<R>; 3]>,
     /// |M| expanded along its first row.
@@ -320,7 +320,7 @@ fn values<R: Real>(p: &RayTriangle<R>) -> Values<R> {
     }
     let area_scale = norm_f64(&a_minus_b) * norm_f64(&a_minus_c);
     let degenerate = negligible::<R>(norm_f64(&normal), area_scale, is_zero_vector(&normal));
-    v.area = Some((norm_f64(&normal), degenerate));
+    v.area = Some((normal.clone(), degenerate));
     if degenerate {
         return stop(v, TriangleMiss::DegenerateTriangle);
     }
@@ -428,10 +428,10 @@ fn record_stages<R: Real>(p: &RayTriangle<R>, v: &Values<R>, steps: &mut impl St
     let Some((m, y)) = &v.system else { return };
     let matrix = || Matrix::of3("M", "M", m, LABELS);
     record_system(steps, &SYSTEM, matrix, || Vector::of("Y", "Y", y));
-    let Some((normal_length, degenerate)) = v.area else {
+    let Some((normal, degenerate)) = &v.area else {
         return;
     };
-    steps.push(|| area_check::<R>(normal_length, degenerate));
+    steps.push(|| area_check(normal, *degenerate));
     let (Some(mi), Some(det_m)) = (&v.replaced, &v.det) else {
         return;
     };
@@ -525,7 +525,7 @@ fn overflow<R: Real>() -> TriangleMiss {
     })
 }
 
-fn area_check<R: Real>(normal_length: f64, degenerate: bool) -> Step {
+fn area_check<R: Real>(normal: &V3<R>, degenerate: bool) -> Step {
     check(
         [
             "check_area",
@@ -533,7 +533,7 @@ fn area_check<R: Real>(normal_length: f64, degenerate: bool) -> Step {
             area_explanation::<R>(),
         ],
         ["|(A−B)×(A−C)| / 2 > 0", "\\tfrac12 |(A-B)\\times(A-C)| > 0"],
-        Number::float(normal_length / 2.0, R::PRECISION),
+        Number::length(normal, 2.0),
         !degenerate,
         "A, B and C are collinear: the triangle is a segment or a point",
     )
@@ -667,7 +667,11 @@ fn record_point<R: Real>(
     rec.push(|| {
         // |D| from the exact D·D where there is one: a D of 10^-400 is not of length 0.
         let d_norm = match dot(&p.dir, &p.dir).to_exact() {
-            Some(dd) if !dd.is_zero() => format!("√({})", dd.display()).replace("√(≈", "≈√("),
+            Some(dd) if !dd.is_zero() => SignedRoot {
+                negative: false,
+                square: dd,
+            }
+            .display(),
             _ => crate::trace::format_float(norm_f64(&p.dir), R::PRECISION),
         };
         let explanation = format!(
@@ -677,7 +681,13 @@ fn record_point<R: Real>(
             symbol: "t·|D|".into(),
             latex: "t\\,|D|".into(),
             formula: None,
-            value: Number::float(s.distance, R::PRECISION),
+            value: match &s.distance_exact {
+                // Beyond the float range (t = 10^400): the exact root, not ∞.
+                Some(root) if !s.distance.is_normal() && !root.square.is_zero() => {
+                    Number::root(root)
+                }
+                _ => Number::float(s.distance, R::PRECISION),
+            },
             closed_form: s.distance_exact.as_ref().and_then(|root| {
                 Some(ClosedForm {
                     text: root.short()?,
