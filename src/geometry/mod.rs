@@ -218,7 +218,10 @@ mod tests {
         let text = to_text(trace);
         let latex = to_latex(trace);
         assert!(!text.contains("= ∞") && !text.contains("= -∞"), "{text}");
-        assert!(!latex.contains("= \\infty") && !latex.contains("=\\infty"), "{latex}");
+        assert!(
+            !latex.contains("= \\infty") && !latex.contains("=\\infty"),
+            "{latex}"
+        );
         for shown in expected {
             assert!(text.contains(shown), "{shown} missing from\n{text}");
         }
@@ -290,5 +293,74 @@ mod tests {
         let trace =
             ParallelogramLecture::trace_floats(vectors, Reading::AsWritten, Precision::Exact);
         assert_reads_every_length(&trace, &["|e1 × e2| = ≈1e600"]);
+    }
+}
+
+/// How the text reader writes the lecture solvers' numbers (here, above both, as the layers ask).
+#[cfg(test)]
+mod readable_numbers {
+    use crate::geometry::segments::SegmentPair;
+    use crate::geometry::triangle::RayTriangle;
+    use crate::geometry::{Lecture, SegmentsLecture, TriangleLecture};
+    use crate::trace::to_text;
+    use glam::{DVec2, DVec3};
+
+    fn segments_text(points: [[f64; 2]; 4]) -> String {
+        let pair =
+            SegmentPair::<crate::math::exact::Exact>::from_f64(points.map(DVec2::from_array))
+                .unwrap();
+        to_text(&SegmentsLecture::traced(&pair).1)
+    }
+
+    #[test]
+    fn fractions_in_products_and_quotients_are_parenthesised() {
+        let text = segments_text([[1.5, 2.0], [6.0, 1.25], [2.0, 6.0], [5.0, 1.0]]);
+        // Not 9/2·5, which reads as 9/(2·5); not 29/2 / 81/4.
+        assert!(text.contains("|M| = (9/2)·5 − (-3)·(-3/4)"), "{text}");
+        assert!(
+            text.contains("t = |M1| / |M| = (29/2) / (81/4) = 58/81"),
+            "{text}"
+        );
+        // Each check names the value it tested.
+        assert!(
+            text.contains("✓ 0 ≤ t ≤ 1   (t = 58/81 ≈ 0.7160493827)"),
+            "{text}"
+        );
+        assert!(text.contains("(|M| = 81/4 ≈ 20.25)"), "{text}");
+        assert!(
+            text.contains("(min(|A2−A1|, |B2−B1|) = 4.562071898)"),
+            "{text}"
+        );
+        assert!(!text.contains("(value"), "{text}");
+    }
+
+    #[test]
+    fn float_inputs_read_as_their_shortest_decimal() {
+        let v = [
+            [-6.7, 0.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [0.0, 0.0, 3.0],
+            [0.1, 0.2, 0.3],
+            [1.0, 1.0, 1.0],
+        ];
+        let problem =
+            RayTriangle::<crate::math::exact::Exact>::from_f64(v.map(DVec3::from_array), 0.0)
+                .unwrap();
+        let (_, trace) = TriangleLecture::traced(&problem);
+        let text = to_text(&trace);
+        // The float −6.7 is computed with its exact value but read as the shortest decimal, and a
+        // value that is not a float is marked ≈: never "≈-6.7000000000e0".
+        assert!(text.contains("⎡ -6.7  -6.7  1 ⎤"), "{text}");
+        assert!(text.contains("Y = (≈-6.8, -0.2, -0.3)"), "{text}");
+        assert!(!text.contains("e0"), "{text}");
+        let m = match &trace.step("M").unwrap().payload {
+            crate::trace::Payload::Matrix(m) => m.clone(),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            m.rows[0][0].float_expansion.as_deref(),
+            Some("-6.70000000000000017763568394002504646778106689453125")
+        );
+        assert!(!m.rows[0][0].shown_exactly());
     }
 }
