@@ -51,9 +51,10 @@ pub enum Verdict {
 pub enum AnswerError {
     /// Neither an outcome nor the right number of values.
     #[error(
-        "expected {} (fractions or decimals) or an outcome: hit, outside {}, behind, parallel, degenerate",
+        "expected {} (fractions or decimals) or an outcome: hit, outside {}, {}parallel, degenerate",
         .kind.unknowns().iter().map(|u| u.1).collect::<Vec<_>>().join(", "),
-        .kind.edges().join("|")
+        .kind.edges().join("|"),
+        if *.kind == Kind::Segments { "" } else { "behind, " }
     )]
     Expected {
         /// The problem's kind, which decides the unknowns and edges.
@@ -91,13 +92,16 @@ pub enum AnswerError {
     Missing,
 }
 
-/// One problem being practised: counts wrong answers so that each brings the next hint.
+/// One problem being practised. Each answer gets the hint of its own first wrong step; the same wrong
+/// answer given again gets the next one.
 #[derive(Clone, Debug)]
 pub struct Practice {
     /// The problem.
     pub problem: Problem,
     /// Wrong answers so far.
     pub wrong_answers: usize,
+    /// The last wrong answer (spaces removed, lower case) and how many times in a row it was given.
+    last_wrong: Option<(String, usize)>,
 }
 
 impl Practice {
@@ -106,27 +110,40 @@ impl Practice {
         Practice {
             problem,
             wrong_answers: 0,
+            last_wrong: None,
         }
     }
 
-    /// Checks an answer; a wrong one brings the next hint.
+    /// Checks an answer: a changed answer gets the hint of its own first wrong step, a repeated one
+    /// the next.
     pub fn check(&mut self, answer: &str) -> Verdict {
-        let verdict = check(&self.problem, answer, self.wrong_answers);
-        if matches!(verdict, Verdict::Wrong { .. }) {
-            self.wrong_answers += 1;
+        let key: String = answer.split_whitespace().collect::<String>().to_lowercase();
+        let repeats = match &self.last_wrong {
+            Some((last, times)) if *last == key => *times,
+            _ => 0,
+        };
+        let verdict = check(&self.problem, answer, repeats);
+        match verdict {
+            Verdict::Wrong { .. } => {
+                self.wrong_answers += 1;
+                self.last_wrong = Some((key, repeats + 1));
+            }
+            Verdict::Right { .. } => self.last_wrong = None,
+            Verdict::Unreadable { .. } => {}
         }
         verdict
     }
 }
 
-/// Checks `answer` against the problem's exact answer. `wrong_before` is how many wrong answers came
-/// before: the hint is the first step of the trace whose value differs from what this answer implies,
-/// or, after earlier wrong answers, the next ones.
+/// Checks `answer` against the problem's exact answer. The hint is the first step of the trace whose
+/// value differs from what this answer implies; `repeats` (how many times this same wrong answer was
+/// given before) moves it on to the next such steps. A decimal that is close but outside
+/// [`DECIMAL_TOLERANCE`] is told to round less.
 #[allow(
     clippy::expect_used,
     reason = "every trace a solver records ends with its verdict"
 )]
-pub fn check(problem: &Problem, answer: &str, wrong_before: usize) -> Verdict {
+pub fn check(problem: &Problem, answer: &str, repeats: usize) -> Verdict {
     let claim = match read_claim(problem.kind(), answer) {
         Ok(claim) => claim,
         Err(error) => return Verdict::Unreadable { error },
@@ -136,6 +153,9 @@ pub fn check(problem: &Problem, answer: &str, wrong_before: usize) -> Verdict {
             answer: problem.answer.text(),
         };
     }
+    if let Some(hint) = round_less(problem, &claim) {
+        return Verdict::Wrong { hint };
+    }
     let differing: Vec<&Step> = problem
         .trace
         .steps
@@ -143,11 +163,48 @@ pub fn check(problem: &Problem, answer: &str, wrong_before: usize) -> Verdict {
         .filter(|step| step_differs(problem, &claim, step))
         .collect();
     let step = differing
-        .get(wrong_before.min(differing.len().saturating_sub(1)))
+        .get(repeats.min(differing.len().saturating_sub(1)))
         .copied()
         .or_else(|| problem.trace.steps.iter().find(|s| s.id == "verdict"))
         .expect("every trace ends with a verdict");
-    Verdict::Wrong { hint: hint(step) }
+    Verdict::Wrong {
+        hint: hint(step, yours(problem.kind(), &claim, &step.id)),
+    }
+}
+
+/// A decimal near an unknown's value but outside the tolerance (0.67 for 2/3): the student rounded
+/// too far, and is told so rather than sent back to Cramer's rule.
+fn round_less(problem: &Problem, claim: &Claim) -> Option<Hint> {
+    let values = claim.values.as_ref()?;
+    let near = Exact::from_int(1) / Exact::from_int(100);
+    let (slot, claimed) = values.iter().enumerate().find(|(slot, claimed)| {
+        problem.answer.values.get(*slot).is_some_and(|truth| {
+            let off = (&claimed.value - &truth.value).abs();
+            let scale = truth.value.abs().max(Exact::from_int(1));
+            !claimed.matches(&truth.value) && !claimed.tolerance.is_zero() && off <= &near * &scale
+        })
+    })?;
+    let (id, symbol, _) = problem.kind().unknowns()[slot];
+    let step = problem.trace.step(id)?;
+    Some(Hint {
+        step_id: step.id.clone(),
+        title: "Round less".into(),
+        text: format!(
+            "{} = {} is close, but a decimal must be within {DECIMAL_TOLERANCE} of {symbol}: give more \
+             decimals, or the exact fraction.",
+            symbol, claimed.written
+        ),
+    })
+}
+
+/// The student's own value at a step, when the answer gives one (`your t = 1/2`, or for a check
+/// `your β + γ = 3/2`).
+fn yours(kind: Kind, claim: &Claim, id: &str) -> Option<String> {
+    let values = claim.values.as_ref()?;
+    if let Some(claimed) = claimed_unknown(kind, values, id) {
+        return Some(claimed.written);
+    }
+    claimed_check_value(kind, values, id).map(|claimed| claimed.value.display())
 }
 
 /// A number as the student wrote it: its exact value and how far off it may be.
@@ -155,6 +212,8 @@ pub fn check(problem: &Problem, answer: &str, wrong_before: usize) -> Verdict {
 struct Claimed {
     value: Exact,
     tolerance: Exact,
+    /// As the student wrote it.
+    written: String,
 }
 
 impl Claimed {
@@ -166,6 +225,7 @@ impl Claimed {
         Claimed {
             value: &self.value + &other.value,
             tolerance: &self.tolerance + &other.tolerance,
+            written: format!("{} + {}", self.written, other.written),
         }
     }
 }
@@ -177,19 +237,40 @@ struct Claim {
     values: Option<Vec<Claimed>>,
 }
 
+/// Reads an outcome and the values, forgivingly: brackets are ignored, and values may be separated by
+/// commas, semicolons or (when named) spaces: `(2/3, 1/3)`, `2/3; 1/3`, `t=2/3 s=1/3`.
 fn read_claim(kind: Kind, text: &str) -> Result<Claim, AnswerError> {
     let mut claim = Claim::default();
+    let text = text.replace(['(', ')', '[', ']', '{', '}'], " ");
+    let mut items = Vec::new();
     for part in text.split(';').map(str::trim).filter(|p| !p.is_empty()) {
         if let Some(outcome) = read_outcome(kind, part)? {
             claim.outcome = Some(outcome);
         } else {
-            claim.values = Some(read_values(kind, part)?);
+            items.extend(value_items(part));
         }
+    }
+    if !items.is_empty() {
+        claim.values = Some(read_values(kind, &items)?);
     }
     if claim.outcome.is_none() && claim.values.is_none() {
         return Err(AnswerError::Expected { kind });
     }
     Ok(claim)
+}
+
+/// The values in one part of an answer: split at commas, and at spaces between named values
+/// (`t = 2/3 s = 1/3` is two items).
+fn value_items(part: &str) -> Vec<String> {
+    let mut items = Vec::new();
+    for item in part.split(',').map(str::trim).filter(|i| !i.is_empty()) {
+        let mut joined = item.to_string();
+        while joined.contains(" =") || joined.contains("= ") {
+            joined = joined.replace(" =", "=").replace("= ", "=");
+        }
+        items.extend(joined.split_whitespace().map(str::to_string));
+    }
+    items
 }
 
 /// An outcome word, with the edge for `outside`; `None` if the text is not an outcome at all.
@@ -240,10 +321,9 @@ fn read_edge(kind: Kind, text: &str) -> Result<String, AnswerError> {
 
 /// `1/4, 1/2, 3` or `β = 1/4, γ = 1/2, t = 3` (names as symbols or words: `beta`).
 #[allow(clippy::expect_used, reason = "the tolerance is a finite constant")]
-fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, AnswerError> {
+fn read_values(kind: Kind, items: &[String]) -> Result<Vec<Claimed>, AnswerError> {
     let unknowns = kind.unknowns();
     let mut values: Vec<Option<Claimed>> = vec![None; unknowns.len()];
-    let items: Vec<&str> = text.split(',').map(str::trim).collect();
     if items.len() != unknowns.len() {
         return Err(AnswerError::Expected { kind });
     }
@@ -257,7 +337,7 @@ fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, AnswerError> {
                     .ok_or_else(|| AnswerError::UnknownName(name.clone()))?;
                 (slot, number.trim())
             }
-            None => (position, *item),
+            None => (position, item.as_str()),
         };
         let value: Exact = number.parse()?;
         let decimal = number.contains(['.', 'e', 'E']);
@@ -266,7 +346,15 @@ fn read_values(kind: Kind, text: &str) -> Result<Vec<Claimed>, AnswerError> {
         } else {
             Exact::from_int(0)
         };
-        if values[slot].replace(Claimed { value, tolerance }).is_some() {
+        let written = number.to_string();
+        if values[slot]
+            .replace(Claimed {
+                value,
+                tolerance,
+                written,
+            })
+            .is_some()
+        {
             return Err(AnswerError::GivenTwice(unknowns[slot].1));
         }
     }
@@ -387,15 +475,23 @@ fn passes_if(kind: Kind, outcome: &Outcome, id: &str) -> Option<bool> {
     }
 }
 
-fn hint(step: &Step) -> Hint {
+/// The hint at `step`: what to do there, its formula with the step's own numbers, and the student's
+/// value beside them when the answer gives one.
+fn hint(step: &Step, yours: Option<String>) -> Hint {
     let formula = match &step.payload {
         Payload::Scalar(scalar) => match &scalar.formula {
             Some(Formula::Quotient {
                 numerator,
                 denominator,
             }) => Some(format!(
-                "{} = {} / {}",
-                scalar.symbol, numerator.symbol, denominator.symbol
+                "{} = {} / {}, with {} = {} and {} = {}",
+                scalar.symbol,
+                numerator.symbol,
+                denominator.symbol,
+                numerator.symbol,
+                numerator.value.shown(),
+                denominator.symbol,
+                denominator.value.shown()
             )),
             Some(Formula::Expression { text, .. }) => Some(format!("{} = {text}", scalar.symbol)),
             None => None,
@@ -403,10 +499,24 @@ fn hint(step: &Step) -> Hint {
         Payload::Check(check) => Some(format!("check {}", check.inequality)),
         _ => None,
     };
-    let text = match formula {
+    let mut text = match formula {
         Some(formula) => format!("{} ({formula})", step.explanation),
         None => step.explanation.clone(),
     };
+    if let Some(yours) = yours {
+        // What the value is called: the unknown, or the left side of the check (β + γ).
+        let name = match &step.payload {
+            Payload::Scalar(scalar) => Some(scalar.symbol.clone()),
+            Payload::Check(check) => check
+                .inequality
+                .rsplit_once(['≥', '≤', '>', '<'])
+                .and_then(|(left, _)| left.rsplit(['≥', '≤', '>', '<']).next())
+                .map(|left| left.trim().to_string()),
+            _ => None,
+        };
+        let name = name.map(|n| format!("{n} = ")).unwrap_or_default();
+        text.push_str(&format!(" Your answer gives {name}{yours}."));
+    }
     Hint {
         step_id: step.id.clone(),
         title: step.title.clone(),

@@ -212,6 +212,71 @@ fn a_wrong_answer_gets_the_first_differing_step_then_the_next() {
 }
 
 #[test]
+fn a_changed_answer_gets_the_hint_of_its_own_first_wrong_step_with_its_value() {
+    let mut practice = Practice::new(known_triangle());
+    let Verdict::Wrong { hint } = practice.check("1/4, 1/3, 5/2") else {
+        panic!("γ is wrong")
+    };
+    assert_eq!(hint.step_id, "gamma");
+    assert!(hint.text.contains("Your answer gives γ = 1/3."), "{}", hint.text);
+    assert!(hint.text.contains("with |M2| = "), "{}", hint.text);
+    // γ mended, t now wrong: the t step, not the next step of the earlier answer (check γ ≥ 0).
+    assert_eq!(hint_step(practice.check("1/4, 1/2, 3")), "t");
+    // The same answer again moves on.
+    assert_ne!(hint_step(practice.check("1/4,1/2,3")), "t");
+    // β + γ past 1: the check says what the student's numbers give.
+    let Verdict::Wrong { hint } = check(&known_triangle(), "3/4, 1/2, 5/2", 2) else {
+        panic!("β is wrong")
+    };
+    assert_eq!(hint.step_id, "check_bc");
+    assert!(hint.text.contains("Your answer gives β + γ = 5/4."), "{}", hint.text);
+}
+
+#[test]
+fn answers_are_read_forgivingly() {
+    let problem = known_triangle();
+    for right in [
+        "(1/4, 1/2, 5/2)",
+        "[1/4, 1/2, 5/2]",
+        "1/4; 1/2; 5/2",
+        "t=5/2 beta=1/4 gamma=1/2",
+        "t = 5/2 β = 1/4 γ = 1/2",
+        "hit; (β = 1/4; γ = 1/2; t = 5/2)",
+    ] {
+        assert!(
+            matches!(check(&problem, right, 0), Verdict::Right { .. }),
+            "{right}: {:?}",
+            check(&problem, right, 0)
+        );
+    }
+}
+
+#[test]
+fn a_decimal_rounded_too_far_is_told_to_round_less() {
+    let segments = Problem::new(
+        1,
+        Inputs::Segments([[0, 0], [22, 0], [17, -1], [17, 1]].map(|p| p.map(Exact::from_int))),
+    )
+    .unwrap();
+    // 17/22 = 0.7727…: 0.77 is close; 0.6 is not (that is a wrong value, back to Cramer's rule).
+    let Verdict::Wrong { hint } = check(&segments, "0.77, 0.5", 0) else {
+        panic!("0.77 is outside the tolerance")
+    };
+    assert_eq!(hint.title, "Round less");
+    assert!(hint.text.contains("t = 0.77"), "{}", hint.text);
+    let Verdict::Wrong { hint } = check(&segments, "0.6, 0.5", 0) else {
+        panic!("0.6 is wrong")
+    };
+    assert_eq!(hint.step_id, "t");
+    assert_ne!(hint.title, "Round less");
+    // Segments have no 'behind': the error does not offer it.
+    let Verdict::Unreadable { error } = check(&segments, "", 0) else {
+        panic!("empty")
+    };
+    assert!(!error.to_string().contains("behind"), "{error}");
+}
+
+#[test]
 fn outcomes_are_read_by_name_for_every_solver() {
     for problem in all_problems() {
         let outcome = problem.answer.outcome.text();
