@@ -218,7 +218,11 @@ fn a_changed_answer_gets_the_hint_of_its_own_first_wrong_step_with_its_value() {
         panic!("γ is wrong")
     };
     assert_eq!(hint.step_id, "gamma");
-    assert!(hint.text.contains("Your answer gives γ = 1/3."), "{}", hint.text);
+    assert!(
+        hint.text.contains("Your answer gives γ = 1/3."),
+        "{}",
+        hint.text
+    );
     assert!(hint.text.contains("with |M2| = "), "{}", hint.text);
     // γ mended, t now wrong: the t step, not the next step of the earlier answer (check γ ≥ 0).
     assert_eq!(hint_step(practice.check("1/4, 1/2, 3")), "t");
@@ -229,7 +233,11 @@ fn a_changed_answer_gets_the_hint_of_its_own_first_wrong_step_with_its_value() {
         panic!("β is wrong")
     };
     assert_eq!(hint.step_id, "check_bc");
-    assert!(hint.text.contains("Your answer gives β + γ = 5/4."), "{}", hint.text);
+    assert!(
+        hint.text.contains("Your answer gives β + γ = 5/4."),
+        "{}",
+        hint.text
+    );
 }
 
 #[test]

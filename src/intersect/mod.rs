@@ -324,10 +324,11 @@ pub fn finite<F: Float>(case: &Case<F>) -> bool {
         .all(|v| v.iter().all(|x| x.is_finite()))
 }
 
-/// The lecture's inclusive test on computed barycentrics and t (t_min = 0, open).
+/// The lecture's inclusive test on computed barycentrics and t (t_min = 0, open). A t that
+/// overflowed the precision (∞, when the true t may well fit) is no hit: the method cannot say.
 pub fn decide<F: Float>(t: F, beta: F, gamma: F) -> bool {
     let zero = F::zero();
-    beta >= zero && gamma >= zero && beta + gamma <= F::one() && t > zero
+    beta >= zero && gamma >= zero && beta + gamma <= F::one() && t > zero && t.is_finite()
 }
 
 /// Recording helpers shared by the methods: a vector, a scalar, and the closing checks and verdict.
@@ -423,8 +424,14 @@ pub(crate) mod record {
                 });
             }
         }
+        let overflowed = answer
+            .values
+            .is_some_and(|v| v.iter().any(|x| !x.is_finite()));
         let how = if answer.invalid_input {
             "the input is outside the method's range (NaN or infinite): a miss"
+        } else if overflowed {
+            "a value overflowed this precision (t, β or γ is not a finite number): the method cannot \
+             decide, so it reports no hit"
         } else if answer.exact_fallback {
             "decided in exact arithmetic: a value was within its rounding bound of zero"
         } else if answer.values.is_none() {
@@ -447,5 +454,26 @@ pub(crate) mod record {
                 }),
             )
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Case, Method};
+
+    #[test]
+    fn a_t_that_overflows_f32_is_no_hit_and_the_verdict_says_so() {
+        // The true t = 10^18 fits in f32, but Möller–Trumbore's e2 · q = 10^56 does not: t = ∞.
+        let case = Case::<f32> {
+            tri: [[0.0, 0.0, 0.0], [1e19, 0.0, 0.0], [0.0, 1e19, 0.0]],
+            origin: [0.1, 0.1, 1e18],
+            dir: [0.0, 0.0, -1.0],
+        };
+        let answer = Method::MollerTrumbore.run(&case);
+        assert!(!answer.hit, "{answer:?}");
+        assert!(answer.values.is_some_and(|[t, _, _]| t.is_infinite()));
+        let trace = Method::MollerTrumbore.trace(&case);
+        let message = &trace.verdict().expect("a verdict").message;
+        assert!(message.contains("overflowed this precision"), "{message}");
     }
 }
