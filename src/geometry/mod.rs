@@ -192,6 +192,34 @@ pub(crate) fn check_finite<R: Real, const N: usize>(
     Ok(())
 }
 
+/// The most decimal digits a solve's exact inputs may hold in all (numerators and denominators
+/// together, reduced). The solve's work grows with about the square of this: 20 000 digits take about
+/// a second, the 80 000 of eight coordinates like 1e±10000 half a minute.
+pub const EXACT_DIGIT_BUDGET: usize = 20_000;
+
+/// Checks that exact inputs fit [`EXACT_DIGIT_BUDGET`] (floats always do), before any arithmetic.
+pub(crate) fn check_size<R: Real, const N: usize>(
+    fields: &[(&str, &[R; N])],
+    more: &[&R],
+) -> Result<(), InvalidInput> {
+    let digits: usize = fields
+        .iter()
+        .flat_map(|(_, v)| v.iter())
+        .chain(more.iter().copied())
+        .map(Real::digits)
+        .sum();
+    if digits <= EXACT_DIGIT_BUDGET {
+        return Ok(());
+    }
+    Err(InvalidInput {
+        field: "inputs".into(),
+        problem: format!(
+            "too large for exact arithmetic: about {digits} digits in all, past the budget of \
+             {EXACT_DIGIT_BUDGET} (the solve would take minutes)"
+        ),
+    })
+}
+
 /// True if a quantity counts as zero relative to the scale of the inputs it came from.
 ///
 /// Exact arithmetic needs a true zero (`exactly_zero`). For floats, `magnitude ≤ TOLERANCE · scale`,
@@ -293,6 +321,75 @@ mod tests {
         let trace =
             ParallelogramLecture::trace_floats(vectors, Reading::AsWritten, Precision::Exact);
         assert_reads_every_length(&trace, &["|e1 × e2| = ≈1e600"]);
+    }
+}
+
+#[cfg(test)]
+mod budget {
+    use super::triangle::{RayTriangle, TriangleMiss, TriangleOutcome, solve};
+    use super::{EXACT_DIGIT_BUDGET, segments};
+    use crate::math::exact::Exact;
+
+    fn exact(text: &str) -> Exact {
+        text.parse().unwrap()
+    }
+
+    #[test]
+    fn exact_inputs_past_the_digit_budget_are_refused_before_any_arithmetic() {
+        // Eight coordinates of 10^±10000: each within the ±10 000 exponent limit, 80 000 digits in all
+        // (a solve of them ran for half a minute).
+        let (big, small) = (exact("1e10000"), exact("1e-10000"));
+        let zero = Exact::from_int(0);
+        let problem = RayTriangle {
+            a: [small.clone(), zero.clone(), zero.clone()],
+            b: [big.clone(), small.clone(), zero.clone()],
+            c: [zero.clone(), big.clone(), small.clone()],
+            origin: [exact("0.1"), small.clone(), Exact::from_int(1)],
+            dir: [small.clone(), zero.clone(), Exact::from_int(-1)],
+            t_min: zero.clone(),
+        };
+        let solved = solve(&problem, &mut ());
+        let TriangleOutcome::Miss(TriangleMiss::InvalidInput(bad)) = &solved.outcome else {
+            panic!("{:?}", solved.outcome)
+        };
+        assert!(
+            bad.to_string().contains("too large for exact arithmetic"),
+            "{bad}"
+        );
+        assert!(
+            bad.to_string().contains(&EXACT_DIGIT_BUDGET.to_string()),
+            "{bad}"
+        );
+        // One fraction 1e10000/1e-10000 = 10^20000 is past it alone.
+        let pair = segments::SegmentPair {
+            a1: [zero.clone(), zero.clone()],
+            a2: [exact("1e10000/1e-10000"), zero.clone()],
+            b1: [zero.clone(), Exact::from_int(1)],
+            b2: [Exact::from_int(1), zero.clone()],
+        };
+        let solved = segments::solve(&pair, &mut ());
+        assert!(
+            solved.message().contains("too large for exact arithmetic"),
+            "{}",
+            solved.message()
+        );
+        // A thousand-digit coordinate is well within it, and solved.
+        let problem = RayTriangle {
+            b: [exact("1e1000"), zero.clone(), zero.clone()],
+            ..RayTriangle::<Exact>::from_f64(
+                [
+                    [0.0; 3],
+                    [1.0, 0.0, 0.0],
+                    [0.0, 1.0, 0.0],
+                    [0.1, 0.1, 1.0],
+                    [0.0, 0.0, -1.0],
+                ]
+                .map(glam::DVec3::from),
+                0.0,
+            )
+            .unwrap()
+        };
+        assert_eq!(solve(&problem, &mut ()).outcome, TriangleOutcome::Hit);
     }
 }
 

@@ -9,7 +9,9 @@ use glam::DVec2;
 use super::steps::{
     SystemWords, check, det_check, record_quotient, record_replaced, record_system, record_verdict,
 };
-use super::{InvalidInput, Lecture, Reading, SegmentsLecture, check_finite, negligible, read_vec};
+use super::{
+    InvalidInput, Lecture, Reading, SegmentsLecture, check_finite, check_size, negligible, read_vec,
+};
 use crate::math::linalg::{
     M2, V2, add, cross2, det2, dot, from_columns, is_zero_vector, norm_f64, scale, sub, with_column,
 };
@@ -229,7 +231,7 @@ fn values<R: Real>(p: &SegmentPair<R>) -> Values<R> {
         v
     };
     let inputs = [("A1", &p.a1), ("A2", &p.a2), ("B1", &p.b1), ("B2", &p.b2)];
-    if let Err(bad) = check_finite(&inputs) {
+    if let Err(bad) = check_finite(&inputs).and(check_size(&inputs, &[])) {
         return stop(v, SegmentsOutcome::InvalidInput(bad));
     }
 

@@ -70,6 +70,12 @@ impl Exact {
         })
     }
 
+    /// About how many decimal digits the reduced fraction has, numerator and denominator together.
+    pub fn digits(&self) -> usize {
+        let bits = self.0.numer().bits() + self.0.denom().bits();
+        (bits as f64 * std::f64::consts::LOG10_2).ceil() as usize
+    }
+
     /// True if the value is zero.
     pub fn is_zero(&self) -> bool {
         self.0.is_zero()

@@ -103,6 +103,11 @@ pub trait Real:
     fn checked_div(&self, other: &Self) -> Option<Self>;
     /// The absolute value.
     fn abs(&self) -> Self;
+    /// How many decimal digits the number holds (numerator and denominator together): what exact
+    /// arithmetic on it costs. Floats are a fixed size: 0.
+    fn digits(&self) -> usize {
+        0
+    }
 }
 
 /// Tolerance for floats: 16 units of roundoff in the precision.
@@ -154,6 +159,10 @@ float_real!(f64, Precision::F64);
 impl Real for Exact {
     const PRECISION: Precision = Precision::Exact;
     const TOLERANCE: f64 = 0.0;
+
+    fn digits(&self) -> usize {
+        Exact::digits(self)
+    }
 
     fn from_f64(x: f64) -> Option<Exact> {
         Exact::from_f64(x)

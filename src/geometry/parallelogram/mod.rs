@@ -14,7 +14,8 @@ use glam::DVec3;
 
 use super::steps::{SystemWords, check, det_check, record_system, record_verdict};
 use super::{
-    InvalidInput, Lecture, ParallelogramLecture, Reading, check_finite, negligible, read_vec,
+    InvalidInput, Lecture, ParallelogramLecture, Reading, check_finite, check_size, negligible,
+    read_vec,
 };
 use crate::math::linalg::{
     CofactorTerm, M3, V3, add, adjugate3, all_finite, cofactor_terms3, cross, from_columns,
@@ -242,7 +243,7 @@ fn values<R: Real>(p: &RayParallelogram<R>) -> Values<R> {
         ("o", &p.origin),
         ("d", &p.dir),
     ];
-    if let Err(bad) = check_finite(&inputs) {
+    if let Err(bad) = check_finite(&inputs).and(check_size(&inputs, &[])) {
         return stop(v, ParallelogramOutcome::InvalidInput(bad));
     }
     if is_zero_vector(&p.dir) {

@@ -16,7 +16,8 @@ use super::steps::{
     SystemWords, check, det_check, record_quotient, record_replaced, record_system, record_verdict,
 };
 use super::{
-    InvalidInput, Lecture, Reading, TriangleLecture, check_finite, negligible, read, read_vec,
+    InvalidInput, Lecture, Reading, TriangleLecture, check_finite, check_size, negligible, read,
+    read_vec,
 };
 use crate::math::exact::{Exact, SignedRoot};
 use crate::math::linalg::{
@@ -299,7 +300,11 @@ fn values<R: Real>(p: &RayTriangle<R>) -> Values<R> {
         ("L", &p.origin),
         ("D", &p.dir),
     ];
-    if let Err(bad) = check_finite(&inputs).and(check_finite(&[("t_min", from_ref(&p.t_min))])) {
+    let t_min = [("t_min", from_ref(&p.t_min))];
+    let checked = check_finite(&inputs)
+        .and(check_finite(&t_min))
+        .and(check_size(&inputs, &[&p.t_min]));
+    if let Err(bad) = checked {
         return stop(v, TriangleMiss::InvalidInput(bad));
     }
     if is_zero_vector(&p.dir) {
