@@ -86,6 +86,9 @@ pub enum CheckError {
         /// Its intensity.
         intensity: f64,
     },
+    /// An object's colour (or a vertex colour) with a negative part.
+    #[error("its colour {0:?} has a negative part: a colour's parts are 0 or more (1 is full)")]
+    NegativeColor([f64; 3]),
     /// A directional light whose direction is zero.
     #[error("a directional light's direction is (0, 0, 0): it has no direction")]
     NoDirection,

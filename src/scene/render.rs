@@ -196,6 +196,7 @@ impl RenderScene {
             check_numbers("coordinates", &numbers)
                 .and_then(|()| check_scale(&object.transform.scale))
                 .and_then(|()| self.material(i).check())
+                .and_then(|()| object.check_colors())
                 .map_err(|e| e.in_object(i))?;
         }
         self.check_lighting()
@@ -365,6 +366,22 @@ pub struct Object {
 }
 
 impl Object {
+    /// Its colour and any vertex colours have no negative part, as a light's colour.
+    pub fn check_colors(&self) -> Result<(), CheckError> {
+        let vertex_colors = match &self.shape {
+            Shape::Triangle {
+                colors: Some(colors),
+                ..
+            } => &colors[..],
+            _ => &[],
+        };
+        let mut all = std::iter::once(&self.color).chain(vertex_colors);
+        match all.find(|c| c.iter().any(|part| *part < 0.0)) {
+            Some(color) => Err(CheckError::NegativeColor(*color)),
+            None => Ok(()),
+        }
+    }
+
     /// Every number in the object, appended to `out` (for the finiteness check).
     pub fn numbers(&self, out: &mut Vec<f64>) {
         match &self.shape {
@@ -503,5 +520,19 @@ mod tests {
         // (1, 0, 0) → scale (2, 0, 0) → rotate 90° about z (0, 2, 0) → translate (1, 4, 3).
         let p = transform.matrix().transform_point3(DVec3::X);
         assert!((p - DVec3::new(1.0, 4.0, 3.0)).length() < 1e-12, "{p}");
+    }
+
+    #[test]
+    fn object_colours_are_checked_as_light_colours_are() {
+        let mut scene = crate::scene::first_built_in(|s| match s {
+            crate::scene::Problem::Render(r) => Some(r),
+            _ => None,
+        });
+        assert_eq!(scene.check(), Ok(()));
+        let last = scene.objects.len();
+        scene.objects[last - 1].color = [0.5, -1.0, 0.0];
+        let message = scene.check().unwrap_err().to_string();
+        assert!(message.contains("negative part"), "{message}");
+        assert!(message.contains(&format!("object {last}")), "{message}");
     }
 }
