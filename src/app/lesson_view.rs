@@ -92,10 +92,10 @@ impl RaylabApp {
                 if let Some(camera) = slide.camera {
                     let (yaw, pitch) = (camera.yaw.to_radians(), camera.pitch.to_radians());
                     // The views frame the scene from this direction on their next frame.
-                    self.state.triangle.camera.yaw = yaw;
-                    self.state.triangle.camera.pitch = pitch;
-                    self.state.parallelogram.camera.yaw = yaw;
-                    self.state.parallelogram.camera.pitch = pitch;
+                    self.state.triangle.canvas.camera.yaw = yaw;
+                    self.state.triangle.canvas.camera.pitch = pitch;
+                    self.state.parallelogram.canvas.camera.yaw = yaw;
+                    self.state.parallelogram.canvas.camera.pitch = pitch;
                 }
             }
             None => {

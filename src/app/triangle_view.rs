@@ -12,9 +12,10 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::highlight::{Column, Element, Parameter, Side};
+use super::widgets::canvas_state::CanvasState;
 use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette::{self, faded};
-use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
+use super::widgets::scene3d::{Canvas, OrbitCamera};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome};
 use crate::geometry::{Precision, Reading, Shown, TriangleLecture};
@@ -40,35 +41,23 @@ pub struct TriangleView {
     pub gamma: f64,
     /// The t slider.
     pub t: f64,
-    /// The camera.
-    pub camera: OrbitCamera,
+    /// The camera (saved), and the last frame's framing, projection and labels.
+    #[serde(rename = "camera")]
+    pub canvas: CanvasState,
     /// How exact arithmetic reads the inputs: as typed (0.1 is 1/10), or as the floats they are (the
     /// accuracy study's judge; hard cases load this way).
     pub reading: Reading,
     #[serde(skip)]
     grab: Option<Grab>,
-    /// The last frame's projection (tests use it to find handles on screen).
-    #[serde(skip)]
-    pub projector: Option<Projector>,
     /// The running "Solve" animation, if any.
     #[serde(skip)]
     pub animation: Option<Slide<3>>,
-    /// Keep the camera framing the scene to fill the canvas (on load, resize and zoom) until the
-    /// user orbits or zooms it themselves.
-    #[serde(skip)]
-    pub auto_frame: bool,
-    /// The canvas size the camera was last framed for.
-    #[serde(skip)]
-    framed_for: Option<egui::Vec2>,
     /// What the step on screen (or under the pointer) is about: drawn emphasised.
     #[serde(skip)]
     pub highlight: Vec<Element>,
     /// The column vector under the pointer in the canvas, for the step panel to mark.
     #[serde(skip)]
     pub hovered_column: Option<Column>,
-    /// Where each label went last frame (tests read it).
-    #[serde(skip)]
-    pub labels: Vec<super::widgets::labels::PlacedLabel>,
 }
 
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
@@ -84,30 +73,25 @@ impl TriangleView {
             beta: 0.0,
             gamma: 0.0,
             t: 0.0,
-            camera: OrbitCamera::default(),
+            canvas: CanvasState::default(),
             reading: Reading::AsWritten,
             grab: None,
-            projector: None,
             animation: None,
-            auto_frame: true,
-            framed_for: None,
             highlight: Vec::new(),
             hovered_column: None,
-            labels: Vec::new(),
         }
     }
 
     /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.
     pub fn load(&mut self, scene: TriangleScene) {
-        self.camera = OrbitCamera::framing(&self.points_of(&scene)).across(DVec3::from(scene.dir));
+        let camera = OrbitCamera::framing(&self.points_of(&scene)).across(DVec3::from(scene.dir));
+        self.canvas.reset(camera);
         self.scene = scene;
         self.reading = Reading::AsWritten;
         self.beta = 0.2;
         self.gamma = 0.2;
         self.t = 0.5;
         self.animation = None;
-        self.auto_frame = true;
-        self.framed_for = None;
     }
 
     /// Slides a parameter's handle to its value at the solution (presentation mode, on the step
@@ -195,10 +179,9 @@ impl TriangleView {
                 .on_hover_text("Frame the triangle and the ray again")
                 .clicked()
             {
-                self.camera = OrbitCamera::framing(&self.points_of(&self.scene))
+                let camera = OrbitCamera::framing(&self.points_of(&self.scene))
                     .across(DVec3::from(self.scene.dir));
-                self.auto_frame = true;
-                self.framed_for = None;
+                self.canvas.reset(camera);
             }
         });
         let t_span = target.map_or(4.0, |[_, _, t]| 2.0 * t.abs() + 1.0);
@@ -391,20 +374,19 @@ impl TriangleView {
     /// Where a vertex (0 = A, 1 = B, 2 = C) was drawn last frame.
     pub fn vertex_on_screen(&self, index: usize) -> Option<Pos2> {
         let p = DVec3::from([self.scene.a, self.scene.b, self.scene.c][index]);
-        self.projector.as_ref()?.screen_from_world(p)
+        self.canvas.screen_from_world(p)
     }
 
     fn canvas_ui(&mut self, ui: &mut Ui, solved: &Solved) {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         let rect = response.rect;
         self.handle_input(ui, &response);
-        if self.auto_frame && self.framed_for != Some(rect.size()) {
-            let reserved = super::widgets::verdict_height(ui, rect.width(), &solved.trace);
-            let points = self.points_to_frame(solved);
-            self.camera = self.camera.clone().fitted_to(&points, rect, reserved);
-            self.framed_for = Some(rect.size());
-        }
-        let projector = self.camera.projector(rect);
+        let points = self.points_to_frame(solved);
+        let projector = self.canvas.projector_for(
+            rect,
+            || points,
+            || super::widgets::verdict_height(ui, rect.width(), &solved.trace),
+        );
         let canvas = Canvas {
             painter: &painter,
             projector: &projector,
@@ -415,8 +397,8 @@ impl TriangleView {
         if self.hovered_column.is_some() {
             ui.ctx().set_cursor_icon(egui::CursorIcon::Help);
         }
-        self.labels = self.draw(ui, &canvas, solved);
-        self.projector = Some(projector);
+        self.canvas.labels = self.draw(ui, &canvas, solved);
+        self.canvas.projector = Some(projector);
         if self.grab.is_none() && self.hovered_vertex(&response).is_some() {
             ui.ctx().set_cursor_icon(egui::CursorIcon::Grab);
             response.on_hover_text("Drag to move this vertex in the plane facing you");
@@ -477,20 +459,20 @@ impl TriangleView {
         if response.dragged() {
             let delta = response.drag_delta();
             if self.grab == Some(Grab::Orbit) {
-                self.auto_frame = false;
+                self.canvas.auto_frame = false;
             }
             match self.grab {
                 Some(Grab::Vertex(i)) => {
                     let vertex = [&mut self.scene.a, &mut self.scene.b, &mut self.scene.c]
                         .into_iter()
                         .nth(i);
-                    if let (Some(projector), Some(vertex)) = (&self.projector, vertex) {
+                    if let (Some(projector), Some(vertex)) = (&self.canvas.projector, vertex) {
                         let moved = DVec3::from(*vertex)
                             + projector.drag_in_view_plane(DVec3::from(*vertex), delta);
                         *vertex = moved.to_array();
                     }
                 }
-                Some(Grab::Orbit) | None => self.camera.orbit(delta),
+                Some(Grab::Orbit) | None => self.canvas.camera.orbit(delta),
             }
         }
         if response.drag_stopped() {
@@ -503,13 +485,7 @@ impl TriangleView {
             }
             self.grab = None;
         }
-        if response.hovered() {
-            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
-            if scroll != 0.0 {
-                self.camera.zoom(scroll);
-                self.auto_frame = false;
-            }
-        }
+        self.canvas.zoom_on_scroll(ui, response);
     }
 
     /// Draws the scene, then places every label clear of the others, the handles and the verdict.
