@@ -8,6 +8,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::highlight::{Column, Element, Parameter, Side};
+use super::view::{LectureView, bits_of, first_scene};
 use super::widgets::canvas_state::CanvasState;
 use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette::{self, faded};
@@ -16,7 +17,8 @@ use super::widgets::{ParameterSlider, parameter_sliders, status_line, vector_edi
 use crate::geometry::parallelogram::{self, ParallelogramOutcome};
 use crate::geometry::{ParallelogramLecture, Precision, Reading, Shown};
 use crate::scene::ParallelogramScene;
-use crate::trace::format_float;
+use crate::scene::Problem;
+use crate::trace::{Trace, format_float};
 
 /// Everything the Parallelogram view remembers.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -41,23 +43,37 @@ pub struct ParallelogramView {
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<ParallelogramLecture>;
 
-lecture_view!(ParallelogramView, Parallelogram);
+impl Default for ParallelogramView {
+    fn default() -> ParallelogramView {
+        first_scene(ParallelogramView::unloaded)
+    }
+}
 
-impl ParallelogramView {
-    /// The view of `scene` before [`ParallelogramView::load`] sets its sliders and camera.
-    fn unloaded(scene: ParallelogramScene) -> ParallelogramView {
-        ParallelogramView {
-            scene,
-            alpha: 0.0,
-            beta: 0.0,
-            t: 0.0,
-            canvas: CanvasState::default(),
-            highlight: Vec::new(),
+impl LectureView for ParallelogramView {
+    type Scene = ParallelogramScene;
+    type Solved = Solved;
+
+    fn scene_of(problem: &Problem) -> Option<&ParallelogramScene> {
+        match problem {
+            Problem::Parallelogram(scene) => Some(scene),
+            _ => None,
         }
     }
 
+    fn problem_of(scene: ParallelogramScene) -> Problem {
+        Problem::Parallelogram(scene)
+    }
+
+    fn scene(&self) -> &ParallelogramScene {
+        &self.scene
+    }
+
+    fn trace(solved: &Solved) -> &Trace {
+        &solved.trace
+    }
+
     /// Loads a scene.
-    pub fn load(&mut self, scene: ParallelogramScene) {
+    fn load(&mut self, scene: ParallelogramScene) {
         let corner = DVec3::from(scene.corner);
         let points = [
             corner,
@@ -74,8 +90,27 @@ impl ParallelogramView {
         self.t = 0.5;
     }
 
+    /// Solves the current inputs.
+    fn solve(&self, precision: Precision) -> Solved {
+        let v = self.scene.vectors();
+        Solved::new(v, Reading::AsWritten, precision)
+    }
+
+    /// The view: controls below, the 3D canvas above.
+    fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        controls_below(ui, "parallelogram-controls", |ui, part| match part {
+            Part::Controls => self.controls_ui(ui, solved),
+            Part::Drawing => self.canvas_ui(ui, solved),
+        });
+    }
+
+    /// The canvas alone, filling the space (presentation mode).
+    fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.canvas_ui(ui, solved);
+    }
+
     /// Slides a parameter to its value at the solution (presentation mode).
-    pub fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, _now: f64) {
+    fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, _now: f64) {
         if let Some([alpha, beta, t]) = solved.float.alpha_beta_t {
             match parameter {
                 Parameter::Alpha => self.alpha = alpha,
@@ -86,23 +121,31 @@ impl ParallelogramView {
         }
     }
 
-    /// The canvas alone, filling the space (presentation mode).
-    pub fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        self.canvas_ui(ui, solved);
+    fn highlight(&mut self, elements: &[Element]) {
+        self.highlight = elements.to_vec();
     }
 
-    /// Solves the current inputs.
-    pub fn solve(&self, precision: Precision) -> Solved {
-        let v = self.scene.vectors();
-        Solved::new(v, Reading::AsWritten, precision)
+    fn fingerprint(&self, bits: &mut Vec<u64>) {
+        let vectors = self.scene.vectors().into_iter().flat_map(|v| v.to_array());
+        bits_of(bits, vectors.chain([self.alpha, self.beta, self.t]));
     }
 
-    /// The view: controls below, the 3D canvas above.
-    pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        controls_below(ui, "parallelogram-controls", |ui, part| match part {
-            Part::Controls => self.controls_ui(ui, solved),
-            Part::Drawing => self.canvas_ui(ui, solved),
-        });
+    fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
+        Some(&mut self.canvas)
+    }
+}
+
+impl ParallelogramView {
+    /// The view of `scene` before [`ParallelogramView::load`] sets its sliders and camera.
+    fn unloaded(scene: ParallelogramScene) -> ParallelogramView {
+        ParallelogramView {
+            scene,
+            alpha: 0.0,
+            beta: 0.0,
+            t: 0.0,
+            canvas: CanvasState::default(),
+            highlight: Vec::new(),
+        }
     }
 
     fn controls_ui(&mut self, ui: &mut Ui, solved: &Solved) {

@@ -12,6 +12,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::highlight::{Column, Element, Parameter, Side};
+use super::view::{LectureView, bits_of, first_scene};
 use super::widgets::canvas_state::CanvasState;
 use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette::{self, faded};
@@ -19,8 +20,9 @@ use super::widgets::scene3d::{Canvas, OrbitCamera};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome};
 use crate::geometry::{Precision, Reading, Shown, TriangleLecture};
+use crate::scene::Problem;
 use crate::scene::TriangleScene;
-use crate::trace::format_float;
+use crate::trace::{Trace, format_float};
 
 /// A drag in the canvas: a vertex, or the camera.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -63,7 +65,106 @@ pub struct TriangleView {
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<TriangleLecture>;
 
-lecture_view!(TriangleView, Triangle);
+impl Default for TriangleView {
+    fn default() -> TriangleView {
+        first_scene(TriangleView::unloaded)
+    }
+}
+
+impl LectureView for TriangleView {
+    type Scene = TriangleScene;
+    type Solved = Solved;
+
+    fn scene_of(problem: &Problem) -> Option<&TriangleScene> {
+        match problem {
+            Problem::Triangle(scene) => Some(scene),
+            _ => None,
+        }
+    }
+
+    fn problem_of(scene: TriangleScene) -> Problem {
+        Problem::Triangle(scene)
+    }
+
+    fn scene(&self) -> &TriangleScene {
+        &self.scene
+    }
+
+    fn trace(solved: &Solved) -> &Trace {
+        &solved.trace
+    }
+
+    /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.
+    fn load(&mut self, scene: TriangleScene) {
+        let camera = OrbitCamera::framing(&self.points_of(&scene)).across(DVec3::from(scene.dir));
+        self.canvas.reset(camera);
+        self.scene = scene;
+        self.reading = Reading::AsWritten;
+        self.beta = 0.2;
+        self.gamma = 0.2;
+        self.t = 0.5;
+        self.animation = None;
+    }
+
+    /// Solves the current inputs.
+    fn solve(&self, precision: Precision) -> Solved {
+        Solved::new(
+            (self.scene.vectors(), self.scene.t_min),
+            self.reading,
+            precision,
+        )
+    }
+
+    /// The view: controls below, the 3D canvas above.
+    fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.animate(ui);
+        controls_below(ui, "triangle-controls", |ui, part| match part {
+            Part::Controls => self.controls_ui(ui, solved),
+            Part::Drawing => self.canvas_ui(ui, solved),
+        });
+    }
+
+    /// The canvas alone, filling the space (presentation mode).
+    fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.animate(ui);
+        self.canvas_ui(ui, solved);
+    }
+
+    /// Slides a parameter's handle to its value at the solution (presentation mode, on the step
+    /// that computes it). Nothing happens when there is no solution.
+    fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, now: f64) {
+        let Some(s) = solved.float.solution.as_ref() else {
+            return;
+        };
+        let mut to = [self.beta, self.gamma, self.t];
+        match parameter {
+            Parameter::Beta => to[0] = s.beta,
+            Parameter::Gamma => to[1] = s.gamma,
+            Parameter::T => to[2] = s.t,
+            Parameter::Alpha => [to[0], to[1]] = [s.beta, s.gamma],
+            Parameter::S => return,
+        }
+        if let Some(slide) = Slide::new([self.beta, self.gamma, self.t], to, now) {
+            self.animation = Some(slide);
+        }
+    }
+
+    fn highlight(&mut self, elements: &[Element]) {
+        self.highlight = elements.to_vec();
+    }
+
+    fn fingerprint(&self, bits: &mut Vec<u64>) {
+        let vectors = self.scene.vectors().into_iter().flat_map(|v| v.to_array());
+        bits_of(
+            bits,
+            vectors.chain([self.scene.t_min, self.beta, self.gamma, self.t]),
+        );
+    }
+
+    fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
+        Some(&mut self.canvas)
+    }
+}
 
 impl TriangleView {
     /// The view of `scene` before [`TriangleView::load`] sets its sliders and camera.
@@ -82,37 +183,6 @@ impl TriangleView {
         }
     }
 
-    /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.
-    pub fn load(&mut self, scene: TriangleScene) {
-        let camera = OrbitCamera::framing(&self.points_of(&scene)).across(DVec3::from(scene.dir));
-        self.canvas.reset(camera);
-        self.scene = scene;
-        self.reading = Reading::AsWritten;
-        self.beta = 0.2;
-        self.gamma = 0.2;
-        self.t = 0.5;
-        self.animation = None;
-    }
-
-    /// Slides a parameter's handle to its value at the solution (presentation mode, on the step
-    /// that computes it). Nothing happens when there is no solution.
-    pub fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, now: f64) {
-        let Some(s) = solved.float.solution.as_ref() else {
-            return;
-        };
-        let mut to = [self.beta, self.gamma, self.t];
-        match parameter {
-            Parameter::Beta => to[0] = s.beta,
-            Parameter::Gamma => to[1] = s.gamma,
-            Parameter::T => to[2] = s.t,
-            Parameter::Alpha => [to[0], to[1]] = [s.beta, s.gamma],
-            Parameter::S => return,
-        }
-        if let Some(slide) = Slide::new([self.beta, self.gamma, self.t], to, now) {
-            self.animation = Some(slide);
-        }
-    }
-
     fn points_of(&self, s: &TriangleScene) -> Vec<DVec3> {
         let mut points: Vec<DVec3> = [s.a, s.b, s.c, s.origin]
             .iter()
@@ -120,30 +190,6 @@ impl TriangleView {
             .collect();
         points.push(DVec3::ZERO);
         points
-    }
-
-    /// Solves the current inputs.
-    pub fn solve(&self, precision: Precision) -> Solved {
-        Solved::new(
-            (self.scene.vectors(), self.scene.t_min),
-            self.reading,
-            precision,
-        )
-    }
-
-    /// The view: controls below, the 3D canvas above.
-    pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        self.animate(ui);
-        controls_below(ui, "triangle-controls", |ui, part| match part {
-            Part::Controls => self.controls_ui(ui, solved),
-            Part::Drawing => self.canvas_ui(ui, solved),
-        });
-    }
-
-    /// The canvas alone, filling the space (presentation mode).
-    pub fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        self.animate(ui);
-        self.canvas_ui(ui, solved);
     }
 
     fn animate(&mut self, ui: &Ui) {

@@ -5,6 +5,7 @@ use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use raylab::app::RaylabApp;
+use raylab::app::render_view::RenderView;
 
 /// The app in a 1280x800 window (the projector size) with its own style.
 #[allow(
@@ -38,7 +39,7 @@ pub fn wait_for_render(harness: &mut Harness<'static, RaylabApp>) {
     harness.step();
     harness.step();
     step_while(harness, 10, "the render did not finish", |h| {
-        h.state().state.render.is_rendering()
+        h.state().state.get::<RenderView>().is_rendering()
     });
 }
 
@@ -117,7 +118,11 @@ pub fn start_study(
     seed: u64,
     timing_seconds: f64,
 ) {
-    harness.state_mut().accuracy.config_override = Some(raylab::accuracy::study::Config {
+    harness
+        .state_mut()
+        .state
+        .get_mut::<raylab::app::accuracy_view::AccuracyView>()
+        .config_override = Some(raylab::accuracy::study::Config {
         rays,
         shared_rays,
         seed,
