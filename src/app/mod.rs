@@ -8,6 +8,8 @@ pub mod class_view;
 pub mod highlight;
 pub mod launch;
 pub mod lesson_view;
+#[cfg(test)]
+mod midpoint_view;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod native_dialog;
 pub mod parallelogram_view;
