@@ -7,7 +7,8 @@
 mod common;
 
 use common::{
-    app_at, click_image, load_preset, press, shows_text_containing, step_while, wait_for_render,
+    app_at, app_view, click_image, load_preset, press, shows_text_containing, step_while,
+    wait_for_render,
 };
 use egui::accesskit::Role;
 use egui::{Pos2, Vec2};
@@ -56,12 +57,8 @@ fn shows(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
 fn dragging_t_and_s_onto_the_crossing_reads_17_22_and_21_22() {
     let mut harness = app_at("Seed 000: segments that cross");
     assert_eq!(harness.state().state.view, ViewKind::Segments);
-    let solved = harness
-        .state()
-        .state
-        .get::<SegmentsView>()
-        .solve(raylab::geometry::Precision::Exact);
-    let view = harness.state().state.get::<SegmentsView>();
+    let solved = app_view::<SegmentsView>(&harness).solve(raylab::geometry::Precision::Exact);
+    let view = app_view::<SegmentsView>(&harness);
     let crossing = view
         .crossing_on_screen(&solved)
         .expect("the lines cross on screen");
@@ -69,7 +66,7 @@ fn dragging_t_and_s_onto_the_crossing_reads_17_22_and_21_22() {
     // Drop a few pixels off the crossing: the handle snaps onto it.
     drag(&mut harness, t_handle, crossing + Vec2::new(3.0, -2.0));
     assert!(shows(&harness, "t = 17/22"), "t did not land on 17/22");
-    let view = harness.state().state.get::<SegmentsView>();
+    let view = app_view::<SegmentsView>(&harness);
     let s_handle = view.handle_on_screen(Handle::S).unwrap();
     let crossing = view.crossing_on_screen(&solved).unwrap();
     drag(&mut harness, s_handle, crossing + Vec2::new(-2.0, 4.0));
@@ -80,13 +77,13 @@ fn dragging_t_and_s_onto_the_crossing_reads_17_22_and_21_22() {
 #[test]
 fn a_handle_dragged_elsewhere_does_not_snap() {
     let mut harness = app_at("Seed 000: segments that cross");
-    let view = harness.state().state.get::<SegmentsView>();
+    let view = app_view::<SegmentsView>(&harness);
     let t_handle = view.handle_on_screen(Handle::T).unwrap();
     let a2 = view.handle_on_screen(Handle::Endpoint(1)).unwrap();
     // Slide t toward A2 and beyond it onto the faded line.
     let beyond = a2 + (a2 - t_handle) * 0.5;
     drag(&mut harness, t_handle, beyond);
-    let t = harness.state().state.get::<SegmentsView>().t;
+    let t = app_view::<SegmentsView>(&harness).t;
     assert!(t > 1.0 && t < 1.6, "t = {t}");
     assert!(!shows(&harness, "t = 17/22"));
 }
@@ -130,11 +127,7 @@ fn solve_slides_to_one_third_one_third_one() {
 #[test]
 fn a_parallel_ray_shows_its_named_state() {
     let harness = app_at("Ray parallel to the triangle's plane");
-    let status = harness
-        .state()
-        .state
-        .get::<TriangleView>()
-        .solve(raylab::geometry::Precision::F64);
+    let status = app_view::<TriangleView>(&harness).solve(raylab::geometry::Precision::F64);
     assert_eq!(status.float.outcome.status().word(), "parallel");
     assert!(shows(
         &harness,
@@ -295,7 +288,7 @@ fn scenes_save_and_open_and_bad_files_keep_the_scene() {
     harness.run();
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
     assert_eq!(
-        harness.state().state.get::<TriangleView>().scene.origin,
+        app_view::<TriangleView>(&harness).scene.origin,
         [0.5, 0.25, 0.0]
     );
 
@@ -311,7 +304,7 @@ fn scenes_save_and_open_and_bad_files_keep_the_scene() {
     assert!(notice.error);
     assert!(notice.text.contains("bad.ron:4:"), "{}", notice.text);
     assert_eq!(
-        harness.state().state.get::<TriangleView>().scene.origin,
+        app_view::<TriangleView>(&harness).scene.origin,
         [0.5, 0.25, 0.0]
     );
     let _ = std::fs::remove_dir_all(&dir);
@@ -364,14 +357,7 @@ fn the_accuracy_view_runs_in_the_background_and_loads_hard_cases() {
     step_while(&mut harness, 20, "the study did not finish", |h| {
         h.state().state.get::<AccuracyView>().is_running()
     });
-    assert!(
-        !harness
-            .state()
-            .state
-            .get::<AccuracyView>()
-            .records
-            .is_empty()
-    );
+    assert!(!app_view::<AccuracyView>(&harness).records.is_empty());
     assert!(shows(
         &harness,
         "Largest relative error of t against time per test"
@@ -395,7 +381,7 @@ fn the_accuracy_view_runs_in_the_background_and_loads_hard_cases() {
     assert!(shows(&harness, "Hard case: through an edge"));
     // Judged as the gallery judges it: exact arithmetic on the float values.
     assert_eq!(
-        harness.state().state.get::<TriangleView>().reading,
+        app_view::<TriangleView>(&harness).reading,
         raylab::geometry::Reading::FloatValue
     );
 }
@@ -409,10 +395,7 @@ fn a_running_study_can_be_cancelled() {
         h.state().state.get::<AccuracyView>().is_running()
     });
     assert!(
-        harness
-            .state()
-            .state
-            .get::<AccuracyView>()
+        app_view::<AccuracyView>(&harness)
             .status
             .contains("cancelled")
     );
@@ -422,13 +405,7 @@ fn a_running_study_can_be_cancelled() {
 fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
     let mut harness = app_at("Seed 003: facing ratio");
     assert_eq!(harness.state().state.view, ViewKind::Render);
-    let stats = harness
-        .state()
-        .state
-        .get::<RenderView>()
-        .rendered()
-        .unwrap()
-        .stats;
+    let stats = app_view::<RenderView>(&harness).rendered().unwrap().stats;
     // The covered pixels of seed 003's own script, and one shading per hit.
     assert_eq!((stats.hits, stats.shading), (38737, 38737));
     assert!(shows_text_containing(
@@ -439,26 +416,14 @@ fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
     // Turning facing-ratio off renders again without it: the same hits, no shading at all.
     harness.get_by_label("facing-ratio").click();
     wait_for_render(&mut harness);
-    let stats = harness
-        .state()
-        .state
-        .get::<RenderView>()
-        .rendered()
-        .unwrap()
-        .stats;
+    let stats = app_view::<RenderView>(&harness).rendered().unwrap().stats;
     assert_eq!((stats.hits, stats.shading), (38737, 0));
     harness.get_by_label("facing-ratio").click();
     wait_for_render(&mut harness);
 
     // A click in the triangle: its ray goes into the Triangle view and the step panel.
     click_image(&mut harness, "Correct render", Vec2::new(0.45, 0.5));
-    let probe = harness
-        .state()
-        .state
-        .get::<RenderView>()
-        .probe()
-        .cloned()
-        .unwrap();
+    let probe = app_view::<RenderView>(&harness).probe().cloned().unwrap();
     let hit = probe
         .hit
         .expect("the middle of the image is on the triangle");
@@ -468,7 +433,7 @@ fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
         &format!("t = {:.6}", hit.t)
     ));
     assert!(shows_text_containing(&harness, "facing ratio"));
-    let triangle = &harness.state().state.get::<TriangleView>().scene;
+    let triangle = &app_view::<TriangleView>(&harness).scene;
     assert_eq!((triangle.origin, triangle.dir), (probe.origin, probe.dir));
     // The step panel shows the probed ray's solve, ending in a hit.
     assert!(shows(&harness, "1. The system M X = Y"));
@@ -490,7 +455,7 @@ fn a_common_bug_renders_beside_the_correct_image() {
     wait_for_render(&mut harness);
     assert!(shows(&harness, "With the bug: accepting t < 0 render"));
     assert!(shows_text_containing(&harness, "objects behind the camera"));
-    let render = harness.state().state.get::<RenderView>();
+    let render = app_view::<RenderView>(&harness);
     let (correct, buggy) = (
         render.rendered().unwrap(),
         render.rendered_with_bug().unwrap(),
@@ -508,10 +473,7 @@ fn a_common_bug_renders_beside_the_correct_image() {
 fn the_spaces_mode_shows_one_t_in_world_and_object_space() {
     let mut harness = app_at("Render: a transformed object");
     click_image(&mut harness, "Correct render", Vec2::new(0.55, 0.35));
-    let hit = harness
-        .state()
-        .state
-        .get::<RenderView>()
+    let hit = app_view::<RenderView>(&harness)
         .probe()
         .unwrap()
         .hit
@@ -542,7 +504,7 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
     )
     .unwrap();
     let mut harness = app_at("Render: a closed mesh");
-    let before = harness.state().state.get::<RenderView>().scene.clone();
+    let before = app_view::<RenderView>(&harness).scene.clone();
     harness.state_mut().state.scene_path = bad.display().to_string();
     let notice = harness.state_mut().run_dialog_path(false);
     assert!(notice.error);
@@ -551,7 +513,7 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
         "{}",
         notice.text
     );
-    assert_eq!(harness.state().state.get::<RenderView>().scene, before);
+    assert_eq!(app_view::<RenderView>(&harness).scene, before);
     // The same scene with its mesh beside the file opens: a scene's own files are found there.
     std::fs::create_dir_all(dir.join("meshes")).unwrap();
     std::fs::copy(
@@ -561,7 +523,7 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
     .unwrap();
     let notice = harness.state_mut().run_dialog_path(false);
     assert!(!notice.error, "{}", notice.text);
-    assert_ne!(harness.state().state.get::<RenderView>().scene, before);
+    assert_ne!(app_view::<RenderView>(&harness).scene, before);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -600,27 +562,21 @@ fn a_lesson_plays_with_the_keys_and_a_slide_survives_exploring() {
     harness.key_press(egui::Key::ArrowRight);
     harness.run();
     assert!(shows(&harness, "Slide 9 of 14"));
-    assert!((harness.state().state.get::<TriangleView>().beta - 1.0 / 3.0).abs() < 1e-12);
+    assert!((app_view::<TriangleView>(&harness).beta - 1.0 / 3.0).abs() < 1e-12);
     // Leave the slide's scene to explore: drag vertex A away, as a student would...
-    let lecture_a = harness.state().state.get::<TriangleView>().scene.a;
-    let a = harness
-        .state()
-        .state
-        .get::<TriangleView>()
+    let lecture_a = app_view::<TriangleView>(&harness).scene.a;
+    let a = app_view::<TriangleView>(&harness)
         .vertex_on_screen(0)
         .unwrap();
     drag(&mut harness, a, a + Vec2::new(-60.0, 40.0));
     assert_ne!(
-        harness.state().state.get::<TriangleView>().scene.a,
+        app_view::<TriangleView>(&harness).scene.a,
         lecture_a,
         "the drag moved A"
     );
     // ...and come back to the slide as the lesson has it.
     click(&mut harness, &["↺ Restore slide"]);
-    assert_eq!(
-        harness.state().state.get::<TriangleView>().scene.a,
-        lecture_a
-    );
+    assert_eq!(app_view::<TriangleView>(&harness).scene.a, lecture_a);
     assert!(shows(&harness, "Slide 9 of 14"));
     // ← and Page Up go back; Esc leaves with the slide's scene open.
     press(&mut harness, [egui::Key::ArrowLeft, egui::Key::PageUp]);

@@ -6,6 +6,7 @@ use egui::Ui;
 use serde::{Deserialize, Serialize};
 
 use super::highlight::{Element, Parameter};
+use super::segments_view::SegmentsView;
 use super::view::{LectureView, bits_of, first_scene};
 use crate::geometry::Precision;
 use crate::scene::{Problem, SegmentsScene};
@@ -35,15 +36,13 @@ impl LectureView for MidpointView {
     type Scene = SegmentsScene;
     type Solved = Solved;
 
+    /// The Segments view's problem.
     fn scene_of(problem: &Problem) -> Option<&SegmentsScene> {
-        match problem {
-            Problem::Segments(scene) => Some(scene),
-            _ => None,
-        }
+        SegmentsView::scene_of(problem)
     }
 
     fn problem_of(scene: SegmentsScene) -> Problem {
-        Problem::Segments(scene)
+        SegmentsView::problem_of(scene)
     }
 
     fn scene(&self) -> &SegmentsScene {
@@ -101,6 +100,8 @@ mod tests {
     use crate::app::view::{ViewEntry, restored};
     use crate::app::{RaylabApp, VIEWS, ViewKind};
 
+    const MIDPOINT: ViewKind = ViewKind::new("midpoint", "Midpoint");
+
     /// The view, registered by one line in a registry, is a tab: it draws, its step shows in the step
     /// panel, a change of its inputs redraws both, and it is saved under its name.
     #[test]
@@ -112,10 +113,7 @@ mod tests {
                 let registry: Vec<ViewEntry> = VIEWS
                     .iter()
                     .copied()
-                    .chain([ViewEntry {
-                        kind: ViewKind::new("midpoint", "Midpoint"),
-                        build: restored::<MidpointView>,
-                    }])
+                    .chain([ViewEntry::new(MIDPOINT, restored::<MidpointView>)])
                     .collect();
                 RaylabApp::with_views(&registry)
             });

@@ -38,31 +38,21 @@ use egui::Ui;
 use crate::geometry::Precision;
 use crate::scene::{self, Problem, Scene};
 use crate::trace::Trace;
+use accuracy_view::AccuracyView;
+use parallelogram_view::ParallelogramView;
+use render_view::RenderView;
+use segments_view::SegmentsView;
+use triangle_view::TriangleView;
 use view::{ActiveSolve, ViewEntry, fresh, restored};
 
 /// The registry: the app's tabs in order, each with how its view is made. A new view is its file
 /// (with its `mod` line above) and its line here.
 pub const VIEWS: &[ViewEntry] = &[
-    ViewEntry {
-        kind: ViewKind::Segments,
-        build: restored::<segments_view::SegmentsView>,
-    },
-    ViewEntry {
-        kind: ViewKind::Triangle,
-        build: restored::<triangle_view::TriangleView>,
-    },
-    ViewEntry {
-        kind: ViewKind::Parallelogram,
-        build: restored::<parallelogram_view::ParallelogramView>,
-    },
-    ViewEntry {
-        kind: ViewKind::Render,
-        build: restored::<render_view::RenderView>,
-    },
-    ViewEntry {
-        kind: ViewKind::Accuracy,
-        build: fresh::<accuracy_view::AccuracyView>,
-    },
+    ViewEntry::new(ViewKind::Segments, restored::<SegmentsView>),
+    ViewEntry::new(ViewKind::Triangle, restored::<TriangleView>),
+    ViewEntry::new(ViewKind::Parallelogram, restored::<ParallelogramView>),
+    ViewEntry::new(ViewKind::Render, restored::<RenderView>),
+    ViewEntry::new(ViewKind::Accuracy, fresh::<AccuracyView>),
 ];
 
 /// A message in the status line: what was loaded or saved, or what went wrong.
@@ -246,7 +236,7 @@ impl RaylabApp {
     /// Carries out what the Render view asked for: a probed ray into the Triangle or Parallelogram
     /// view (its steps then show in the panel), or a switch of view.
     pub(crate) fn render_action(&mut self, action: render_view::Action) {
-        let probed = self.state.find::<render_view::RenderView>();
+        let probed = self.state.find::<RenderView>();
         let title = format!(
             "{} of “{}”",
             probed.map(|r| r.probed_ray_name()).unwrap_or_default(),
@@ -273,7 +263,7 @@ impl RaylabApp {
         }
         // Judge the probe as the renderer saw it: exact arithmetic on the floats themselves.
         if kind == ViewKind::Triangle
-            && let Some(triangle) = self.state.find_mut::<triangle_view::TriangleView>()
+            && let Some(triangle) = self.state.find_mut::<TriangleView>()
         {
             triangle.reading = crate::geometry::Reading::FloatValue;
         }
@@ -293,7 +283,7 @@ impl RaylabApp {
             problem: Problem::Triangle(scene),
         });
         debug_assert!(loaded.is_ok(), "a triangle always loads");
-        if let Some(triangle) = self.state.find_mut::<triangle_view::TriangleView>() {
+        if let Some(triangle) = self.state.find_mut::<TriangleView>() {
             triangle.reading = crate::geometry::Reading::FloatValue;
         }
     }
@@ -416,7 +406,7 @@ impl RaylabApp {
                 .show(ui, |ui| match solved.trace() {
                     Some(trace) => {
                         let triangle = self.state.view == ViewKind::Triangle;
-                        let shown = self.state.find::<triangle_view::TriangleView>();
+                        let shown = self.state.find::<TriangleView>();
                         let marked = shown.and_then(|t| t.hovered_column);
                         let marked = marked.filter(|_| triangle);
                         let to_top = std::mem::take(&mut self.steps_to_top);
@@ -456,7 +446,7 @@ impl RaylabApp {
 
     /// Seed 002's derivation for the Triangle view's scene, made again only when the scene changes.
     fn refresh_symbolic(&mut self) {
-        let Some(triangle) = self.state.find::<triangle_view::TriangleView>() else {
+        let Some(triangle) = self.state.find::<TriangleView>() else {
             return;
         };
         let scene = triangle.scene.clone();
@@ -640,7 +630,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let mut app = RaylabApp::new();
         app.launch(&Launch::from_query("?preset=render-mesh"));
-        let before = app.state.get::<render_view::RenderView>().scene.clone();
+        let before = app.state.get::<RenderView>().scene.clone();
         let typo = dir.join("typo.ron");
         let text = scene::preset("render-mesh").unwrap().to_ron();
         std::fs::write(
@@ -656,7 +646,7 @@ mod tests {
             "{}",
             notice.text
         );
-        assert_eq!(app.state.get::<render_view::RenderView>().scene, before);
+        assert_eq!(app.state.get::<RenderView>().scene, before);
 
         let saved = dir.join("saved.ron");
         std::fs::write(&saved, "an older file").unwrap();

@@ -287,6 +287,13 @@ pub struct ViewEntry {
     pub build: fn(Option<&str>) -> Box<dyn View>,
 }
 
+impl ViewEntry {
+    /// The line of a tab and how its view is made.
+    pub const fn new(kind: ViewKind, build: fn(Option<&str>) -> Box<dyn View>) -> ViewEntry {
+        ViewEntry { kind, build }
+    }
+}
+
 /// A [`ViewEntry::build`] for a view that saves itself: read back from its RON, field by field
 /// (with `#[serde(default)]`), or its default.
 pub fn restored<V: View + Default + DeserializeOwned>(saved: Option<&str>) -> Box<dyn View> {

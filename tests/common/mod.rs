@@ -6,6 +6,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use raylab::app::RaylabApp;
 use raylab::app::render_view::RenderView;
+use raylab::app::view::View;
 
 /// The app in a 1280x800 window (the projector size) with its own style.
 #[allow(
@@ -147,4 +148,9 @@ pub fn shows_text_containing(harness: &Harness<'static, RaylabApp>, text: &str) 
         })
         .next()
         .is_some()
+}
+
+/// The app's view of a type.
+pub fn app_view<'a, V: View>(harness: &'a Harness<'static, RaylabApp>) -> &'a V {
+    harness.state().state.get::<V>()
 }
