@@ -11,6 +11,9 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use egui::Vec2;
 use egui_kittest::Harness;
+use raylab::app::parallelogram_view::ParallelogramView;
+use raylab::app::segments_view::SegmentsView;
+use raylab::app::triangle_view::TriangleView;
 use raylab::app::{RaylabApp, ViewKind};
 use raylab::geometry::Precision;
 
@@ -43,9 +46,9 @@ fn frames(c: &mut Criterion) {
                     k = k.wrapping_add(1);
                     let nudge = f64::from(k % 100) / 1000.0;
                     let state = &mut harness.state_mut().state;
-                    state.segments.t = 0.3 + nudge;
-                    state.triangle.beta = 0.2 + nudge;
-                    state.parallelogram.alpha = 0.4 + nudge;
+                    state.get_mut::<SegmentsView>().t = 0.3 + nudge;
+                    state.get_mut::<TriangleView>().beta = 0.2 + nudge;
+                    state.get_mut::<ParallelogramView>().alpha = 0.4 + nudge;
                     harness.step();
                     let output = harness.output();
                     let primitives = harness

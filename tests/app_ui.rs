@@ -7,13 +7,19 @@
 mod common;
 
 use common::{
-    app_at, click_image, load_preset, press, shows_text_containing, step_while, wait_for_render,
+    app_at, app_view, click_image, load_preset, press, shows_text_containing, step_while,
+    wait_for_render,
 };
 use egui::accesskit::Role;
 use egui::{Pos2, Vec2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
-use raylab::app::segments_view::Handle;
+use raylab::app::accuracy_view::AccuracyView;
+use raylab::app::parallelogram_view::ParallelogramView;
+use raylab::app::render_view::RenderView;
+use raylab::app::segments_view::{Handle, SegmentsView};
+use raylab::app::triangle_view::TriangleView;
+use raylab::app::view::LectureView as _;
 use raylab::app::{RaylabApp, ViewKind};
 
 fn harness() -> Harness<'static, RaylabApp> {
@@ -51,12 +57,8 @@ fn shows(harness: &Harness<'static, RaylabApp>, text: &str) -> bool {
 fn dragging_t_and_s_onto_the_crossing_reads_17_22_and_21_22() {
     let mut harness = app_at("Seed 000: segments that cross");
     assert_eq!(harness.state().state.view, ViewKind::Segments);
-    let solved = harness
-        .state()
-        .state
-        .segments
-        .solve(raylab::geometry::Precision::Exact);
-    let view = &harness.state().state.segments;
+    let solved = app_view::<SegmentsView>(&harness).solve(raylab::geometry::Precision::Exact);
+    let view = app_view::<SegmentsView>(&harness);
     let crossing = view
         .crossing_on_screen(&solved)
         .expect("the lines cross on screen");
@@ -64,7 +66,7 @@ fn dragging_t_and_s_onto_the_crossing_reads_17_22_and_21_22() {
     // Drop a few pixels off the crossing: the handle snaps onto it.
     drag(&mut harness, t_handle, crossing + Vec2::new(3.0, -2.0));
     assert!(shows(&harness, "t = 17/22"), "t did not land on 17/22");
-    let view = &harness.state().state.segments;
+    let view = app_view::<SegmentsView>(&harness);
     let s_handle = view.handle_on_screen(Handle::S).unwrap();
     let crossing = view.crossing_on_screen(&solved).unwrap();
     drag(&mut harness, s_handle, crossing + Vec2::new(-2.0, 4.0));
@@ -75,13 +77,13 @@ fn dragging_t_and_s_onto_the_crossing_reads_17_22_and_21_22() {
 #[test]
 fn a_handle_dragged_elsewhere_does_not_snap() {
     let mut harness = app_at("Seed 000: segments that cross");
-    let view = &harness.state().state.segments;
+    let view = app_view::<SegmentsView>(&harness);
     let t_handle = view.handle_on_screen(Handle::T).unwrap();
     let a2 = view.handle_on_screen(Handle::Endpoint(1)).unwrap();
     // Slide t toward A2 and beyond it onto the faded line.
     let beyond = a2 + (a2 - t_handle) * 0.5;
     drag(&mut harness, t_handle, beyond);
-    let t = harness.state().state.segments.t;
+    let t = app_view::<SegmentsView>(&harness).t;
     assert!(t > 1.0 && t < 1.6, "t = {t}");
     assert!(!shows(&harness, "t = 17/22"));
 }
@@ -125,11 +127,7 @@ fn solve_slides_to_one_third_one_third_one() {
 #[test]
 fn a_parallel_ray_shows_its_named_state() {
     let harness = app_at("Ray parallel to the triangle's plane");
-    let status = harness
-        .state()
-        .state
-        .triangle
-        .solve(raylab::geometry::Precision::F64);
+    let status = app_view::<TriangleView>(&harness).solve(raylab::geometry::Precision::F64);
     assert_eq!(status.float.outcome.status().word(), "parallel");
     assert!(shows(
         &harness,
@@ -202,13 +200,13 @@ fn bad_inputs_never_panic() {
     for (round, bad) in bad_values.into_iter().enumerate() {
         {
             let state = &mut harness.state_mut().state;
-            state.triangle.scene.dir = [bad, 0.0, 0.0];
-            state.triangle.scene.a[round % 3] = bad;
-            state.triangle.beta = bad;
-            state.segments.scene.a1 = [bad, bad];
-            state.segments.t = bad;
-            state.parallelogram.scene.e1 = [bad; 3];
-            state.parallelogram.t = bad;
+            state.get_mut::<TriangleView>().scene.dir = [bad, 0.0, 0.0];
+            state.get_mut::<TriangleView>().scene.a[round % 3] = bad;
+            state.get_mut::<TriangleView>().beta = bad;
+            state.get_mut::<SegmentsView>().scene.a1 = [bad, bad];
+            state.get_mut::<SegmentsView>().t = bad;
+            state.get_mut::<ParallelogramView>().scene.e1 = [bad; 3];
+            state.get_mut::<ParallelogramView>().t = bad;
         }
         for view in ViewKind::ALL {
             harness.state_mut().state.view = view;
@@ -217,7 +215,7 @@ fn bad_inputs_never_panic() {
                 // A render this starts runs on a worker: wait for it, not for a number of frames.
                 harness.step();
                 step_while(&mut harness, 5, "the render did not finish", |h| {
-                    h.state().state.render.is_rendering()
+                    h.state().state.get::<RenderView>().is_rendering()
                 });
             }
         }
@@ -228,7 +226,12 @@ fn bad_inputs_never_panic() {
         &harness,
         "A, B and C are collinear: the triangle has no area"
     ));
-    harness.state_mut().state.triangle.scene.dir = [0.0; 3];
+    harness
+        .state_mut()
+        .state
+        .get_mut::<TriangleView>()
+        .scene
+        .dir = [0.0; 3];
     harness.run();
     assert!(shows(
         &harness,
@@ -239,12 +242,12 @@ fn bad_inputs_never_panic() {
 #[test]
 fn state_survives_a_restart() {
     let mut harness = app_at("Seed 000: alternative 2");
-    harness.state_mut().state.triangle.beta = 0.125;
+    harness.state_mut().state.get_mut::<TriangleView>().beta = 0.125;
     let saved = ron::to_string(&harness.state().state).unwrap();
     let restored: raylab::app::AppState = ron::from_str(&saved).unwrap();
     assert_eq!(restored.view, ViewKind::Triangle);
-    assert_eq!(restored.triangle.scene.dir, [1.0, 0.0, 0.0]);
-    assert_eq!(restored.triangle.beta, 0.125);
+    assert_eq!(restored.get::<TriangleView>().scene.dir, [1.0, 0.0, 0.0]);
+    assert_eq!(restored.get::<TriangleView>().beta, 0.125);
     // Older or partial state files fall back to defaults field by field.
     let partial: raylab::app::AppState = ron::from_str("(view: Parallelogram)").unwrap();
     assert_eq!(partial.view, ViewKind::Parallelogram);
@@ -252,8 +255,11 @@ fn state_survives_a_restart() {
     let before = r#"(view: Triangle, titles: (("a", "1"), ("b", "2"), ("c", "3")))"#;
     let before: raylab::app::AppState = ron::from_str(before).unwrap();
     assert_eq!(before.view, ViewKind::Triangle);
-    assert_eq!(before.titles[1], ("b".to_string(), "2".to_string()));
-    assert!(!before.titles[ViewKind::Render as usize].0.is_empty());
+    assert_eq!(
+        before.title(ViewKind::Triangle),
+        ("b".to_string(), "2".to_string())
+    );
+    assert!(!before.title(ViewKind::Render).0.is_empty());
 }
 
 #[test]
@@ -262,7 +268,12 @@ fn scenes_save_and_open_and_bad_files_keep_the_scene() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("mine.ron");
     let mut harness = app_at("Seed 000: alternative 3");
-    harness.state_mut().state.triangle.scene.origin = [0.5, 0.25, 0.0];
+    harness
+        .state_mut()
+        .state
+        .get_mut::<TriangleView>()
+        .scene
+        .origin = [0.5, 0.25, 0.0];
     harness.state_mut().state.scene_path = path.display().to_string();
     // Save through the File menu and its dialog.
     click(&mut harness, &["File", "Save scene as…"]);
@@ -277,7 +288,7 @@ fn scenes_save_and_open_and_bad_files_keep_the_scene() {
     harness.run();
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
     assert_eq!(
-        harness.state().state.triangle.scene.origin,
+        app_view::<TriangleView>(&harness).scene.origin,
         [0.5, 0.25, 0.0]
     );
 
@@ -293,7 +304,7 @@ fn scenes_save_and_open_and_bad_files_keep_the_scene() {
     assert!(notice.error);
     assert!(notice.text.contains("bad.ron:4:"), "{}", notice.text);
     assert_eq!(
-        harness.state().state.triangle.scene.origin,
+        app_view::<TriangleView>(&harness).scene.origin,
         [0.5, 0.25, 0.0]
     );
     let _ = std::fs::remove_dir_all(&dir);
@@ -344,9 +355,9 @@ fn the_accuracy_view_runs_in_the_background_and_loads_hard_cases() {
     common::start_study(&mut harness, [40, 40], 1, 0.0);
     // The UI keeps drawing frames while the named worker thread measures.
     step_while(&mut harness, 20, "the study did not finish", |h| {
-        h.state().accuracy.is_running()
+        h.state().state.get::<AccuracyView>().is_running()
     });
-    assert!(!harness.state().accuracy.records.is_empty());
+    assert!(!app_view::<AccuracyView>(&harness).records.is_empty());
     assert!(shows(
         &harness,
         "Largest relative error of t against time per test"
@@ -370,7 +381,7 @@ fn the_accuracy_view_runs_in_the_background_and_loads_hard_cases() {
     assert!(shows(&harness, "Hard case: through an edge"));
     // Judged as the gallery judges it: exact arithmetic on the float values.
     assert_eq!(
-        harness.state().state.triangle.reading,
+        app_view::<TriangleView>(&harness).reading,
         raylab::geometry::Reading::FloatValue
     );
 }
@@ -381,16 +392,20 @@ fn a_running_study_can_be_cancelled() {
     common::start_study(&mut harness, [3000, 3000], 1, 0.05);
     harness.get_by_label("Cancel").click();
     step_while(&mut harness, 20, "cancel did not stop the study", |h| {
-        h.state().accuracy.is_running()
+        h.state().state.get::<AccuracyView>().is_running()
     });
-    assert!(harness.state().accuracy.status.contains("cancelled"));
+    assert!(
+        app_view::<AccuracyView>(&harness)
+            .status
+            .contains("cancelled")
+    );
 }
 
 #[test]
 fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
     let mut harness = app_at("Seed 003: facing ratio");
     assert_eq!(harness.state().state.view, ViewKind::Render);
-    let stats = harness.state().state.render.rendered().unwrap().stats;
+    let stats = app_view::<RenderView>(&harness).rendered().unwrap().stats;
     // The covered pixels of seed 003's own script, and one shading per hit.
     assert_eq!((stats.hits, stats.shading), (38737, 38737));
     assert!(shows_text_containing(
@@ -401,14 +416,14 @@ fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
     // Turning facing-ratio off renders again without it: the same hits, no shading at all.
     harness.get_by_label("facing-ratio").click();
     wait_for_render(&mut harness);
-    let stats = harness.state().state.render.rendered().unwrap().stats;
+    let stats = app_view::<RenderView>(&harness).rendered().unwrap().stats;
     assert_eq!((stats.hits, stats.shading), (38737, 0));
     harness.get_by_label("facing-ratio").click();
     wait_for_render(&mut harness);
 
     // A click in the triangle: its ray goes into the Triangle view and the step panel.
     click_image(&mut harness, "Correct render", Vec2::new(0.45, 0.5));
-    let probe = harness.state().state.render.probe().cloned().unwrap();
+    let probe = app_view::<RenderView>(&harness).probe().cloned().unwrap();
     let hit = probe
         .hit
         .expect("the middle of the image is on the triangle");
@@ -418,7 +433,7 @@ fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
         &format!("t = {:.6}", hit.t)
     ));
     assert!(shows_text_containing(&harness, "facing ratio"));
-    let triangle = &harness.state().state.triangle.scene;
+    let triangle = &app_view::<TriangleView>(&harness).scene;
     assert_eq!((triangle.origin, triangle.dir), (probe.origin, probe.dir));
     // The step panel shows the probed ray's solve, ending in a hit.
     assert!(shows(&harness, "1. The system M X = Y"));
@@ -440,7 +455,7 @@ fn a_common_bug_renders_beside_the_correct_image() {
     wait_for_render(&mut harness);
     assert!(shows(&harness, "With the bug: accepting t < 0 render"));
     assert!(shows_text_containing(&harness, "objects behind the camera"));
-    let render = &harness.state().state.render;
+    let render = app_view::<RenderView>(&harness);
     let (correct, buggy) = (
         render.rendered().unwrap(),
         render.rendered_with_bug().unwrap(),
@@ -458,7 +473,11 @@ fn a_common_bug_renders_beside_the_correct_image() {
 fn the_spaces_mode_shows_one_t_in_world_and_object_space() {
     let mut harness = app_at("Render: a transformed object");
     click_image(&mut harness, "Correct render", Vec2::new(0.55, 0.35));
-    let hit = harness.state().state.render.probe().unwrap().hit.unwrap();
+    let hit = app_view::<RenderView>(&harness)
+        .probe()
+        .unwrap()
+        .hit
+        .unwrap();
     assert_eq!(hit.object, 0, "the probe is on the stretched sphere");
     click(&mut harness, &["World vs object space"]);
     assert!(shows(&harness, "World space"));
@@ -485,7 +504,7 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
     )
     .unwrap();
     let mut harness = app_at("Render: a closed mesh");
-    let before = harness.state().state.render.scene.clone();
+    let before = app_view::<RenderView>(&harness).scene.clone();
     harness.state_mut().state.scene_path = bad.display().to_string();
     let notice = harness.state_mut().run_dialog_path(false);
     assert!(notice.error);
@@ -494,7 +513,7 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
         "{}",
         notice.text
     );
-    assert_eq!(harness.state().state.render.scene, before);
+    assert_eq!(app_view::<RenderView>(&harness).scene, before);
     // The same scene with its mesh beside the file opens: a scene's own files are found there.
     std::fs::create_dir_all(dir.join("meshes")).unwrap();
     std::fs::copy(
@@ -504,7 +523,7 @@ fn a_render_scene_with_a_missing_mesh_keeps_the_scene() {
     .unwrap();
     let notice = harness.state_mut().run_dialog_path(false);
     assert!(!notice.error, "{}", notice.text);
-    assert_ne!(harness.state().state.render.scene, before);
+    assert_ne!(app_view::<RenderView>(&harness).scene, before);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -543,19 +562,21 @@ fn a_lesson_plays_with_the_keys_and_a_slide_survives_exploring() {
     harness.key_press(egui::Key::ArrowRight);
     harness.run();
     assert!(shows(&harness, "Slide 9 of 14"));
-    assert!((harness.state().state.triangle.beta - 1.0 / 3.0).abs() < 1e-12);
+    assert!((app_view::<TriangleView>(&harness).beta - 1.0 / 3.0).abs() < 1e-12);
     // Leave the slide's scene to explore: drag vertex A away, as a student would...
-    let lecture_a = harness.state().state.triangle.scene.a;
-    let a = harness.state().state.triangle.vertex_on_screen(0).unwrap();
+    let lecture_a = app_view::<TriangleView>(&harness).scene.a;
+    let a = app_view::<TriangleView>(&harness)
+        .vertex_on_screen(0)
+        .unwrap();
     drag(&mut harness, a, a + Vec2::new(-60.0, 40.0));
     assert_ne!(
-        harness.state().state.triangle.scene.a,
+        app_view::<TriangleView>(&harness).scene.a,
         lecture_a,
         "the drag moved A"
     );
     // ...and come back to the slide as the lesson has it.
     click(&mut harness, &["↺ Restore slide"]);
-    assert_eq!(harness.state().state.triangle.scene.a, lecture_a);
+    assert_eq!(app_view::<TriangleView>(&harness).scene.a, lecture_a);
     assert!(shows(&harness, "Slide 9 of 14"));
     // ← and Page Up go back; Esc leaves with the slide's scene open.
     press(&mut harness, [egui::Key::ArrowLeft, egui::Key::PageUp]);

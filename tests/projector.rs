@@ -9,10 +9,14 @@
 #[allow(dead_code)] // the shared helpers this test does not need
 mod common;
 
+use common::app_view;
+
 use egui::epaint::{ClippedShape, Shape};
 use egui::{Rect, Vec2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
+use raylab::app::render_view::RenderView;
+use raylab::app::triangle_view::TriangleView;
 use raylab::app::{RaylabApp, ViewKind};
 
 /// A projector of `width`x`height` pixels at `zoom`: the window is that many pixels, and egui draws
@@ -221,7 +225,7 @@ fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting(
         common::highlighted(&harness),
         "Highlighted: β at its solution"
     );
-    assert!((harness.state().state.triangle.beta - 1.0 / 3.0).abs() < 1e-12);
+    assert!((app_view::<TriangleView>(&harness).beta - 1.0 / 3.0).abs() < 1e-12);
     // The check β + γ ≤ 1 (step 19) highlights edge BC; ← and Page Up go back.
     common::press(&mut harness, [egui::Key::ArrowRight; 6]);
     assert_eq!(
@@ -256,7 +260,7 @@ fn a_probed_pixel_with_long_decimals_keeps_the_step_panel_whole() {
         harness.remove_cursor();
         harness.run();
         assert!(
-            harness.state().state.render.probed.is_some(),
+            app_view::<RenderView>(&harness).probed.is_some(),
             "the click probed a pixel"
         );
         let texts = painted_texts(&harness);
@@ -287,10 +291,7 @@ fn hovering_a_step_highlights_it_in_the_view() {
         .rect();
     harness.hover_at(card.center());
     harness.run();
-    let names: Vec<String> = harness
-        .state()
-        .state
-        .triangle
+    let names: Vec<String> = app_view::<TriangleView>(&harness)
         .highlight
         .iter()
         .map(|e| e.name())
@@ -299,7 +300,7 @@ fn hovering_a_step_highlights_it_in_the_view() {
     // Away from the panel, nothing stays highlighted.
     harness.hover_at(egui::pos2(5.0, 790.0));
     harness.run();
-    assert!(harness.state().state.triangle.highlight.is_empty());
+    assert!(app_view::<TriangleView>(&harness).highlight.is_empty());
 }
 
 /// Every slide of every lesson, and a practice problem of each kind, read cleanly on the projector at

@@ -8,11 +8,14 @@
 #[allow(dead_code)] // the shared helpers these tests do not need
 mod common;
 
-use common::{app_at, click_image, shows_text_containing, step_while, wait_for_render};
+use common::{app_at, app_view, click_image, shows_text_containing, step_while, wait_for_render};
 use egui::Vec2;
 use egui_kittest::kittest::Queryable;
 use raylab::app::ViewKind;
+use raylab::app::parallelogram_view::ParallelogramView;
+use raylab::app::render_view::RenderView;
 use raylab::app::render_view::grouped;
+use raylab::app::triangle_view::TriangleView;
 use raylab::render::rays::RayKind;
 use raylab::render::trace_rays::LightTest;
 
@@ -28,7 +31,7 @@ fn click_label(harness: &mut egui_kittest::Harness<'static, raylab::app::RaylabA
 fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
     let mut harness = app_at("Effect: shadows");
     assert_eq!(harness.state().state.view, ViewKind::Render);
-    let stats = harness.state().state.render.rendered().unwrap().stats;
+    let stats = app_view::<RenderView>(&harness).rendered().unwrap().stats;
     let shadow = stats.secondary.shadow_rays;
     assert!(shadow > 10_000, "{shadow}");
     // The rays by kind are on the screen: one shadow ray per lit hit, one primary ray per pixel.
@@ -44,7 +47,7 @@ fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
     // Turned off by its label, the effect casts no shadow ray, and the screen says so.
     harness.get_by_label("shadows").click();
     wait_for_render(&mut harness);
-    let stats = harness.state().state.render.rendered().unwrap().stats;
+    let stats = app_view::<RenderView>(&harness).rendered().unwrap().stats;
     assert_eq!(stats.secondary.shadow_rays, 0);
     assert!(shows_text_containing(&harness, "shadow rays: 0"));
     assert!(shows_text_containing(&harness, "shadow (off)"));
@@ -58,7 +61,10 @@ fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
     // The image's centre sees the floor at the origin, in the triangle's shadow (the light is
     // straight above the triangle).
     click_image(&mut harness, "Correct render", Vec2::new(0.5, 0.5));
-    let tree = harness.state().state.render.ray_tree().cloned().unwrap();
+    let tree = app_view::<RenderView>(&harness)
+        .ray_tree()
+        .cloned()
+        .unwrap();
     assert_eq!(tree.root.hit.unwrap().object, 0, "the floor");
     let light = tree.root.lights[0];
     let LightTest::Blocked(shadow_ray, _) = light.test else {
@@ -82,7 +88,7 @@ fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
     ));
     assert!(!shows_text_containing(&harness, "), triangle"));
     // The pixel says which number is its row (a bare "(74, 100)" reads as x and y).
-    let (row, column) = harness.state().state.render.probed.unwrap();
+    let (row, column) = app_view::<RenderView>(&harness).probed.unwrap();
     assert!(
         column > row,
         "the image is wider than tall, clicked at its centre"
@@ -99,14 +105,15 @@ fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
     );
     let state = &harness.state().state;
     assert_eq!(state.view, ViewKind::Triangle);
-    let triangle = &state.triangle.scene;
+    let triangle = &state.get::<TriangleView>().scene;
     assert_eq!((triangle.origin, triangle.dir), shadow_ray);
     assert!(
-        state.titles[ViewKind::Triangle as usize]
+        state
+            .title(ViewKind::Triangle)
             .0
             .contains("the shadow ray to light 1"),
         "{:?}",
-        state.titles[ViewKind::Triangle as usize]
+        state.title(ViewKind::Triangle)
     );
     assert!(shows_text_containing(
         &harness,
@@ -120,14 +127,17 @@ fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
     click_label(&mut harness, "Open in Parallelogram →");
     let state = &harness.state().state;
     assert_eq!(state.view, ViewKind::Parallelogram);
-    assert_eq!(state.parallelogram.scene.origin, tree.root.ray.0);
-    assert_eq!(state.parallelogram.scene.dir, tree.root.ray.1);
+    assert_eq!(
+        state.get::<ParallelogramView>().scene.origin,
+        tree.root.ray.0
+    );
+    assert_eq!(state.get::<ParallelogramView>().scene.dir, tree.root.ray.1);
 }
 
 #[test]
 fn a_mirror_pixel_shows_its_reflected_ray_and_each_effect_has_a_cost() {
     let mut harness = app_at("Effect: reflections");
-    let stats = harness.state().state.render.rendered().unwrap().stats;
+    let stats = app_view::<RenderView>(&harness).rendered().unwrap().stats;
     let reflected = stats.secondary.rays(RayKind::Reflection);
     assert!(reflected > 0);
     assert!(shows_text_containing(
@@ -145,7 +155,10 @@ fn a_mirror_pixel_shows_its_reflected_ray_and_each_effect_has_a_cost() {
         (0.6, 0.35),
     ] {
         click_image(&mut harness, "Correct render", Vec2::new(x, y));
-        let tree = harness.state().state.render.ray_tree().cloned().unwrap();
+        let tree = app_view::<RenderView>(&harness)
+            .ray_tree()
+            .cloned()
+            .unwrap();
         if tree.root.hit.is_some_and(|h| h.object == 1) {
             let child = &tree.root.children[0];
             assert_eq!((child.kind, child.depth), (RayKind::Reflection, 1));

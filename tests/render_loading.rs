@@ -10,7 +10,7 @@
 )]
 mod common;
 
-use common::shows_text_containing;
+use common::{app_view, shows_text_containing};
 
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
@@ -18,6 +18,7 @@ use std::time::{Duration, Instant};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use raylab::app::RaylabApp;
+use raylab::app::render_view::RenderView;
 
 fn harness() -> Harness<'static, RaylabApp> {
     common::app_harness()
@@ -69,31 +70,33 @@ fn a_large_mesh_loads_in_the_background_with_progress_and_cancel() {
     let path = grid_scene(350);
     let mut harness = harness();
     open(&mut harness, &path);
-    assert!(harness.state().state.render.is_loading());
+    assert!(app_view::<RenderView>(&harness).is_loading());
     assert!(shows_text_containing(&harness, "loading mesh 1 of 1"));
     assert!(harness.query_by_label("Cancel").is_some());
     // The app keeps drawing frames while it loads, then renders.
     let started = Instant::now();
     let mut frames_while_loading = 0;
-    while harness.state().state.render.is_rendering() {
+    while app_view::<RenderView>(&harness).is_rendering() {
         assert!(started.elapsed().as_secs() < 120, "the load never finished");
-        if harness.state().state.render.is_loading() {
+        if app_view::<RenderView>(&harness).is_loading() {
             frames_while_loading += 1;
         }
         std::thread::sleep(Duration::from_millis(10));
         harness.step();
     }
     assert!(frames_while_loading > 1, "{frames_while_loading} frames");
-    let rendered = harness.state().state.render.rendered().expect("rendered");
+    let rendered = app_view::<RenderView>(&harness)
+        .rendered()
+        .expect("rendered");
     assert!(rendered.stats.hits > 0);
 
     // Opened again and cancelled: the load stops and the view says so.
     open(&mut harness, &path);
-    assert!(harness.state().state.render.is_loading());
+    assert!(app_view::<RenderView>(&harness).is_loading());
     harness.get_by_label("Cancel").click();
     harness.step();
     harness.step();
-    assert!(!harness.state().state.render.is_loading());
+    assert!(!app_view::<RenderView>(&harness).is_loading());
     assert!(shows_text_containing(&harness, "cancelled"));
     let _ = std::fs::remove_dir_all(path.parent().unwrap());
 }

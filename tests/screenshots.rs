@@ -10,12 +10,13 @@
 #[allow(dead_code)] // the shared helpers these pictures do not need
 mod common;
 
-use common::{click_image, load_preset, press, wait_for_render};
+use common::{app_view, click_image, load_preset, press, wait_for_render};
 use egui::Vec2;
 use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions};
 use raylab::app::RaylabApp;
+use raylab::app::accuracy_view::AccuracyView;
 
 fn harness(size: Vec2, pixels_per_point: f32, theme: egui::Theme) -> Harness<'static, RaylabApp> {
     Harness::builder()
@@ -159,7 +160,7 @@ fn render_screenshots(folder: &str, write: bool) {
 fn accuracy_screenshot(folder: &str) {
     let mut harness = harness(Vec2::new(1280.0, 800.0), 1.0, egui::Theme::Light);
     common::start_study(&mut harness, [400, 600], 2019, 0.01);
-    while harness.state().accuracy.is_running() {
+    while app_view::<AccuracyView>(&harness).is_running() {
         std::thread::sleep(std::time::Duration::from_millis(50));
         harness.step();
     }

@@ -4,8 +4,8 @@
 //! angle, shows the table, and a gallery of hard cases that load into the Triangle view with what
 //! each method decides.
 
-use super::ViewKind;
-use super::view::{ActiveSolve, OpenError, Request, View, not_mine};
+use super::RaylabApp;
+use super::view::{ActiveSolve, OpenError, Request, View};
 use super::widgets::palette::Readable as _;
 use egui::{Color32, RichText, Ui};
 use egui_plot::{Line, MarkerShape, Plot, PlotPoints, Points};
@@ -41,13 +41,28 @@ pub enum Action {
     LoadTriangle(TriangleScene, String, String),
 }
 
+/// A copy of the view: its results, without a study in flight (a copy does not run it twice).
+impl Clone for AccuracyView {
+    fn clone(&self) -> AccuracyView {
+        AccuracyView {
+            records: self.records.clone(),
+            running: None,
+            family: self.family,
+            full: self.full,
+            gallery: self.gallery.clone(),
+            status: self.status.clone(),
+            config_override: self.config_override.clone(),
+        }
+    }
+}
+
 impl View for AccuracyView {
-    fn kind(&self) -> ViewKind {
-        ViewKind::Accuracy
+    fn opens(&self, _problem: &Problem) -> bool {
+        false
     }
 
     fn open(&mut self, _problem: &Problem, _folder: Option<String>) -> Result<(), OpenError> {
-        Err(not_mine(self.kind()))
+        Err(OpenError::NotMine)
     }
 
     fn problem(&self) -> Option<Problem> {
@@ -55,7 +70,7 @@ impl View for AccuracyView {
     }
 
     fn solve_frame(&self, _precision: Precision) -> ActiveSolve {
-        ActiveSolve::Nothing
+        ActiveSolve::nothing()
     }
 
     fn frame_ui(
@@ -64,7 +79,10 @@ impl View for AccuracyView {
         _solved: &ActiveSolve,
         _canvas_only: bool,
     ) -> Option<Request> {
-        self.ui(ui).map(Request::Accuracy)
+        let Action::LoadTriangle(scene, title, note) = self.ui(ui)?;
+        Some(Request::new(move |app: &mut RaylabApp| {
+            app.load_hard_case(scene, title, note)
+        }))
     }
 }
 

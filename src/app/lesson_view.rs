@@ -6,7 +6,7 @@
 use egui::{RichText, Ui};
 
 use super::widgets::palette::{self, Readable as _};
-use super::{ActiveSolve, Notice, RaylabApp, enlarge, highlight, step_panel, view_of};
+use super::{ActiveSolve, Notice, RaylabApp, enlarge, highlight, step_panel};
 use crate::lesson::{self, Lesson};
 
 /// A lesson being played.
@@ -82,7 +82,9 @@ impl RaylabApp {
                 if let Err(error) = self.load_scene(&scene) {
                     self.notice = Some(Notice::error(format!("Slide {}: {error}", index + 1)));
                 }
-                self.state.view = view_of(&scene.problem);
+                if let Some(kind) = self.state.kind_of(&scene.problem) {
+                    self.state.view = kind;
+                }
                 // A live class gets the slide's question on every device.
                 if let Some(question) = &slide.question
                     && self.class.is_some()
@@ -92,10 +94,12 @@ impl RaylabApp {
                 if let Some(camera) = slide.camera {
                     let (yaw, pitch) = (camera.yaw.to_radians(), camera.pitch.to_radians());
                     // The views frame the scene from this direction on their next frame.
-                    self.state.triangle.camera.yaw = yaw;
-                    self.state.triangle.camera.pitch = pitch;
-                    self.state.parallelogram.camera.yaw = yaw;
-                    self.state.parallelogram.camera.pitch = pitch;
+                    for tab in &mut self.state.tabs {
+                        if let Some(canvas) = tab.view.canvas_mut() {
+                            canvas.camera.yaw = yaw;
+                            canvas.camera.pitch = pitch;
+                        }
+                    }
                 }
             }
             None => {

@@ -3,13 +3,13 @@
 //! The app only turns state into widgets and input into state changes; every number it shows comes
 //! from the core's solvers and their Trace.
 
-#[macro_use]
-pub mod view;
 pub mod accuracy_view;
 pub mod class_view;
 pub mod highlight;
 pub mod launch;
 pub mod lesson_view;
+#[cfg(test)]
+mod midpoint_view;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod native_dialog;
 pub mod parallelogram_view;
@@ -23,12 +23,13 @@ pub mod step_panel;
 mod style;
 mod top_bar;
 pub mod triangle_view;
+pub mod view;
 pub mod widgets;
 
 pub use launch::Launch;
 use scene_files::Dialog;
-pub use state::{AppState, ViewKind};
-use state::{STATE_KEY, heading, view_of};
+pub use state::{AppState, Tab, ViewKind};
+use state::{STATE_KEY, heading};
 use style::enlarge;
 pub use style::set_style;
 
@@ -37,7 +38,22 @@ use egui::Ui;
 use crate::geometry::Precision;
 use crate::scene::{self, Problem, Scene};
 use crate::trace::Trace;
-use view::{ActiveSolve, Request};
+use accuracy_view::AccuracyView;
+use parallelogram_view::ParallelogramView;
+use render_view::RenderView;
+use segments_view::SegmentsView;
+use triangle_view::TriangleView;
+use view::{ActiveSolve, ViewEntry, fresh, restored};
+
+/// The registry: the app's tabs in order, each with how its view is made. A new view is its file
+/// (with its `mod` line above) and its line here.
+pub const VIEWS: &[ViewEntry] = &[
+    ViewEntry::new(ViewKind::Segments, restored::<SegmentsView>),
+    ViewEntry::new(ViewKind::Triangle, restored::<TriangleView>),
+    ViewEntry::new(ViewKind::Parallelogram, restored::<ParallelogramView>),
+    ViewEntry::new(ViewKind::Render, restored::<RenderView>),
+    ViewEntry::new(ViewKind::Accuracy, fresh::<AccuracyView>),
+];
 
 /// A message in the status line: what was loaded or saved, or what went wrong.
 #[derive(Clone, Debug, PartialEq)]
@@ -78,8 +94,6 @@ pub struct RaylabApp {
     dialog: Option<Dialog>,
     /// The last notice.
     pub notice: Option<Notice>,
-    /// The Accuracy view (its results are not persisted).
-    pub accuracy: accuracy_view::AccuracyView,
     /// Scene files the browser's file picker has read (web).
     inbox: crate::platform::Inbox,
     /// The desktop's native Open/Save dialog while it is open.
@@ -110,12 +124,16 @@ pub struct RaylabApp {
 impl RaylabApp {
     /// The app with default state (tests, first start).
     pub fn new() -> RaylabApp {
+        RaylabApp::with_views(VIEWS)
+    }
+
+    /// The app with the tabs of `registry` (the app's is [`VIEWS`]; a test may add a view of its own).
+    pub fn with_views(registry: &[ViewEntry]) -> RaylabApp {
         RaylabApp {
-            state: AppState::default(),
+            state: AppState::with_views(registry),
             presets: scene::built_in(),
             dialog: None,
             notice: None,
-            accuracy: accuracy_view::AccuracyView::default(),
             inbox: crate::platform::Inbox::default(),
             #[cfg(not(target_arch = "wasm32"))]
             browsing: None,
@@ -143,7 +161,7 @@ impl RaylabApp {
                         self.notice = Some(Notice {
                             text: format!("Loaded “{}”", preset.title),
                             error: false,
-                            view: Some(view_of(&preset.problem)),
+                            view: self.state.kind_of(&preset.problem),
                         })
                     }
                     Err(error) => problems.push(format!("“{name}”: {error}")),
@@ -155,11 +173,16 @@ impl RaylabApp {
             }
         }
         if let Some(name) = &launch.view {
-            match ViewKind::ALL.into_iter().find(|kind| kind.name() == name) {
-                Some(kind) => self.state.view = kind,
+            let kinds: Vec<ViewKind> = self.state.tabs.iter().map(|tab| tab.kind).collect();
+            match kinds.iter().find(|kind| kind.name() == name) {
+                Some(kind) => self.state.view = *kind,
                 None => problems.push(format!(
                     "no view named “{name}” (there are: {})",
-                    ViewKind::ALL.map(ViewKind::name).join(", ")
+                    kinds
+                        .iter()
+                        .map(|kind| kind.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )),
             }
         }
@@ -197,10 +220,14 @@ impl RaylabApp {
         scene: &Scene,
         folder: Option<String>,
     ) -> Result<(), view::OpenError> {
-        let kind = view_of(&scene.problem);
-        self.view_mut(kind).open(&scene.problem, folder)?;
-        self.state.titles[kind as usize] = (scene.title.clone(), scene.note.clone());
-        self.state.loaded[kind as usize] = Some(scene.problem.clone());
+        let kind = self
+            .state
+            .kind_of(&scene.problem)
+            .ok_or(view::OpenError::NotMine)?;
+        let tab = self.state.tab_mut(kind).ok_or(view::OpenError::NotMine)?;
+        tab.view.open(&scene.problem, folder)?;
+        tab.title = (scene.title.clone(), scene.note.clone());
+        tab.loaded = Some(scene.problem.clone());
         self.state.view = kind;
         self.steps_to_top = true;
         Ok(())
@@ -208,37 +235,63 @@ impl RaylabApp {
 
     /// Carries out what the Render view asked for: a probed ray into the Triangle or Parallelogram
     /// view (its steps then show in the panel), or a switch of view.
-    fn render_action(&mut self, action: render_view::Action) {
+    pub(crate) fn render_action(&mut self, action: render_view::Action) {
+        let probed = self.state.find::<RenderView>();
         let title = format!(
             "{} of “{}”",
-            self.state.render.probed_ray_name(),
-            self.state.titles[ViewKind::Render as usize].0
+            probed.map(|r| r.probed_ray_name()).unwrap_or_default(),
+            self.state.title(ViewKind::Render).0
         );
         let note = "The ray the renderer cast for that pixel, and what it met.".to_string();
         self.steps_to_top = true;
-        match action {
-            render_view::Action::Triangle(scene) => {
-                self.state.loaded[ViewKind::Triangle as usize] =
-                    Some(Problem::Triangle(scene.clone()));
-                self.state.triangle.load(scene);
-                // Judge the probe as the renderer saw it: exact arithmetic on the floats themselves.
-                self.state.triangle.reading = crate::geometry::Reading::FloatValue;
-                self.state.titles[ViewKind::Triangle as usize] = (title, note);
+        let problem = match action {
+            render_view::Action::Triangle(scene) => Problem::Triangle(scene),
+            render_view::Action::Parallelogram(scene) => Problem::Parallelogram(scene),
+            render_view::Action::Open(kind) => {
+                self.state.view = kind;
+                return;
             }
-            render_view::Action::Parallelogram(scene) => {
-                self.state.loaded[ViewKind::Parallelogram as usize] =
-                    Some(Problem::Parallelogram(scene.clone()));
-                self.state.parallelogram.load(scene);
-                self.state.titles[ViewKind::Parallelogram as usize] = (title, note);
-            }
-            render_view::Action::Open(kind) => self.state.view = kind,
+        };
+        let Some(kind) = self.state.kind_of(&problem) else {
+            return;
+        };
+        if let Some(tab) = self.state.tab_mut(kind)
+            && tab.view.open(&problem, None).is_ok()
+        {
+            tab.loaded = Some(problem);
+            tab.title = (title, note);
+        }
+        // Judge the probe as the renderer saw it: exact arithmetic on the floats themselves.
+        if kind == ViewKind::Triangle
+            && let Some(triangle) = self.state.find_mut::<TriangleView>()
+        {
+            triangle.reading = crate::geometry::Reading::FloatValue;
+        }
+    }
+
+    /// Loads a hard case of the Accuracy view's gallery into the Triangle view, judged as the
+    /// gallery does: exact arithmetic on the float values themselves.
+    pub(crate) fn load_hard_case(
+        &mut self,
+        scene: scene::TriangleScene,
+        title: String,
+        note: String,
+    ) {
+        let loaded = self.load_scene(&Scene {
+            title,
+            note,
+            problem: Problem::Triangle(scene),
+        });
+        debug_assert!(loaded.is_ok(), "a triangle always loads");
+        if let Some(triangle) = self.state.find_mut::<TriangleView>() {
+            triangle.reading = crate::geometry::Reading::FloatValue;
         }
     }
 
     /// The open view's inputs as a scene, for saving.
     pub fn current_scene(&self) -> Option<Scene> {
         let problem = self.view(self.state.view).problem()?;
-        let (title, note) = self.state.titles[self.state.view as usize].clone();
+        let (title, note) = self.state.title(self.state.view);
         Some(Scene {
             title,
             note,
@@ -250,40 +303,18 @@ impl RaylabApp {
         self.view(self.state.view).solve_frame(self.state.precision)
     }
 
-    /// Everything a solve depends on, to tell whether a frame changed it.
+    /// Everything a solve depends on, to tell whether a frame changed it: the tab, the precision,
+    /// and each view's titles and what it says its frames depend on.
     fn fingerprint(&self) -> Fingerprint {
         let s = &self.state;
-        let triangle = &s.triangle.scene;
-        let vectors = [
-            s.segments.scene.points().map(|p| p.extend(0.0)).to_vec(),
-            s.triangle.scene.vectors().to_vec(),
-            s.parallelogram.scene.vectors().to_vec(),
-        ];
-        let scalars = [
-            s.segments.t,
-            s.segments.s,
-            triangle.t_min,
-            s.triangle.beta,
-            s.triangle.gamma,
-            s.triangle.t,
-            s.parallelogram.alpha,
-            s.parallelogram.beta,
-            s.parallelogram.t,
-        ];
-        // Bits, not values: NaN (an input being typed) must equal itself, or every frame would differ.
-        let numbers = vectors
-            .iter()
-            .flatten()
-            .flat_map(|v| v.to_array())
-            .chain(scalars)
-            .map(f64::to_bits)
-            .collect();
+        let mut numbers = Vec::new();
+        for tab in &s.tabs {
+            tab.view.fingerprint(&mut numbers);
+        }
         Fingerprint {
             view: s.view,
-            probed: s.render.probed,
             precision: s.precision,
-            show_lines: s.segments.show_lines,
-            titles: s.titles.clone(),
+            titles: s.tabs.iter().map(|tab| tab.title.clone()).collect(),
             numbers,
         }
     }
@@ -293,10 +324,8 @@ impl RaylabApp {
 #[derive(PartialEq)]
 struct Fingerprint {
     view: ViewKind,
-    probed: Option<(usize, usize)>,
     precision: Precision,
-    show_lines: bool,
-    titles: [(String, String); 4],
+    titles: Vec<(String, String)>,
     numbers: Vec<u64>,
 }
 
@@ -377,7 +406,8 @@ impl RaylabApp {
                 .show(ui, |ui| match solved.trace() {
                     Some(trace) => {
                         let triangle = self.state.view == ViewKind::Triangle;
-                        let marked = self.state.triangle.hovered_column;
+                        let shown = self.state.find::<TriangleView>();
+                        let marked = shown.and_then(|t| t.hovered_column);
                         let marked = marked.filter(|_| triangle);
                         let to_top = std::mem::take(&mut self.steps_to_top);
                         let symbolic_on = triangle && self.state.symbolic;
@@ -416,13 +446,16 @@ impl RaylabApp {
 
     /// Seed 002's derivation for the Triangle view's scene, made again only when the scene changes.
     fn refresh_symbolic(&mut self) {
-        let scene = self.state.triangle.scene.clone();
+        let Some(triangle) = self.state.find::<TriangleView>() else {
+            return;
+        };
+        let scene = triangle.scene.clone();
+        let reading = triangle.reading;
         if self
             .symbolic
             .as_ref()
             .is_none_or(|(made_for, _)| *made_for != scene)
         {
-            let reading = self.state.triangle.reading;
             // The scene's numbers as the Triangle view reads them; none if one is not finite.
             let numbers =
                 crate::geometry::triangle::RayTriangle::<crate::math::exact::Exact>::read(
@@ -440,29 +473,18 @@ impl RaylabApp {
 
     /// The open view; `canvas_only` in presentation mode (no controls, the drawing fills the space).
     fn view_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve, canvas_only: bool) {
-        match self
+        if let Some(request) = self
             .view_mut(self.state.view)
             .frame_ui(ui, solved, canvas_only)
         {
-            Some(Request::Render(action)) => self.render_action(action),
-            Some(Request::Accuracy(accuracy_view::Action::LoadTriangle(scene, title, note))) => {
-                let loaded = self.load_scene(&Scene {
-                    title,
-                    note,
-                    problem: Problem::Triangle(scene),
-                });
-                debug_assert!(loaded.is_ok(), "a triangle always loads");
-                // Judge it as the gallery does: exact arithmetic on the float values themselves.
-                self.state.triangle.reading = crate::geometry::Reading::FloatValue;
-            }
-            None => {}
+            request.apply(self);
         }
     }
 
     /// Tells the open view what to emphasise.
     fn set_highlight(&mut self, elements: Vec<highlight::Element>) {
-        for kind in ViewKind::ALL {
-            self.view_mut(kind).emphasise(&elements);
+        for tab in &mut self.state.tabs {
+            tab.view.emphasise(&elements);
         }
     }
 }
@@ -608,7 +630,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let mut app = RaylabApp::new();
         app.launch(&Launch::from_query("?preset=render-mesh"));
-        let before = app.state.render.scene.clone();
+        let before = app.state.get::<RenderView>().scene.clone();
         let typo = dir.join("typo.ron");
         let text = scene::preset("render-mesh").unwrap().to_ron();
         std::fs::write(
@@ -624,7 +646,7 @@ mod tests {
             "{}",
             notice.text
         );
-        assert_eq!(app.state.render.scene, before);
+        assert_eq!(app.state.get::<RenderView>().scene, before);
 
         let saved = dir.join("saved.ron");
         std::fs::write(&saved, "an older file").unwrap();

@@ -8,14 +8,17 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::highlight::{Column, Element, Parameter, Side};
-use super::widgets::labels::{LabelLayer, PlacedLabel, Priority};
+use super::view::{LectureView, bits_of, first_scene};
+use super::widgets::canvas_state::CanvasState;
+use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette::{self, faded};
-use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
+use super::widgets::scene3d::{Canvas, OrbitCamera};
 use super::widgets::{ParameterSlider, parameter_sliders, status_line, vector_editor};
 use crate::geometry::parallelogram::{self, ParallelogramOutcome};
 use crate::geometry::{ParallelogramLecture, Precision, Reading, Shown};
 use crate::scene::ParallelogramScene;
-use crate::trace::format_float;
+use crate::scene::Problem;
+use crate::trace::{Trace, format_float};
 
 /// Everything the Parallelogram view remembers.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -29,49 +32,48 @@ pub struct ParallelogramView {
     pub beta: f64,
     /// The t slider.
     pub t: f64,
-    /// The camera.
-    pub camera: OrbitCamera,
-    /// The last frame's projection.
-    #[serde(skip)]
-    pub projector: Option<Projector>,
-    /// Keep the camera framing the scene to fill the canvas until the user orbits or zooms.
-    #[serde(skip)]
-    pub auto_frame: bool,
-    /// The canvas size the camera was last framed for.
-    #[serde(skip)]
-    framed_for: Option<egui::Vec2>,
+    /// The camera (saved), and the last frame's framing, projection and labels.
+    #[serde(rename = "camera")]
+    pub canvas: CanvasState,
     /// What the step on screen is about: drawn emphasised.
     #[serde(skip)]
     pub highlight: Vec<Element>,
-    /// Where each label went last frame (tests read it).
-    #[serde(skip)]
-    pub labels: Vec<PlacedLabel>,
 }
 
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<ParallelogramLecture>;
 
-lecture_view!(ParallelogramView, Parallelogram);
+impl Default for ParallelogramView {
+    fn default() -> ParallelogramView {
+        first_scene(ParallelogramView::unloaded)
+    }
+}
 
-impl ParallelogramView {
-    /// The view of `scene` before [`ParallelogramView::load`] sets its sliders and camera.
-    fn unloaded(scene: ParallelogramScene) -> ParallelogramView {
-        ParallelogramView {
-            scene,
-            alpha: 0.0,
-            beta: 0.0,
-            t: 0.0,
-            camera: OrbitCamera::default(),
-            projector: None,
-            auto_frame: true,
-            framed_for: None,
-            highlight: Vec::new(),
-            labels: Vec::new(),
+impl LectureView for ParallelogramView {
+    type Scene = ParallelogramScene;
+    type Solved = Solved;
+
+    fn scene_of(problem: &Problem) -> Option<&ParallelogramScene> {
+        match problem {
+            Problem::Parallelogram(scene) => Some(scene),
+            _ => None,
         }
     }
 
+    fn problem_of(scene: ParallelogramScene) -> Problem {
+        Problem::Parallelogram(scene)
+    }
+
+    fn scene(&self) -> &ParallelogramScene {
+        &self.scene
+    }
+
+    fn trace(solved: &Solved) -> &Trace {
+        &solved.trace
+    }
+
     /// Loads a scene.
-    pub fn load(&mut self, scene: ParallelogramScene) {
+    fn load(&mut self, scene: ParallelogramScene) {
         let corner = DVec3::from(scene.corner);
         let points = [
             corner,
@@ -80,17 +82,35 @@ impl ParallelogramView {
             DVec3::from(scene.origin),
             DVec3::ZERO,
         ];
-        self.camera = OrbitCamera::framing(&points).across(DVec3::from(scene.dir));
+        self.canvas
+            .reset(OrbitCamera::framing(&points).across(DVec3::from(scene.dir)));
         self.scene = scene;
         self.alpha = 0.5;
         self.beta = 0.5;
         self.t = 0.5;
-        self.auto_frame = true;
-        self.framed_for = None;
+    }
+
+    /// Solves the current inputs.
+    fn solve(&self, precision: Precision) -> Solved {
+        let v = self.scene.vectors();
+        Solved::new(v, Reading::AsWritten, precision)
+    }
+
+    /// The view: controls below, the 3D canvas above.
+    fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        controls_below(ui, "parallelogram-controls", |ui, part| match part {
+            Part::Controls => self.controls_ui(ui, solved),
+            Part::Drawing => self.canvas_ui(ui, solved),
+        });
+    }
+
+    /// The canvas alone, filling the space (presentation mode).
+    fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.canvas_ui(ui, solved);
     }
 
     /// Slides a parameter to its value at the solution (presentation mode).
-    pub fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, _now: f64) {
+    fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, _now: f64) {
         if let Some([alpha, beta, t]) = solved.float.alpha_beta_t {
             match parameter {
                 Parameter::Alpha => self.alpha = alpha,
@@ -101,23 +121,31 @@ impl ParallelogramView {
         }
     }
 
-    /// The canvas alone, filling the space (presentation mode).
-    pub fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        self.canvas_ui(ui, solved);
+    fn highlight(&mut self, elements: &[Element]) {
+        self.highlight = elements.to_vec();
     }
 
-    /// Solves the current inputs.
-    pub fn solve(&self, precision: Precision) -> Solved {
-        let v = self.scene.vectors();
-        Solved::new(v, Reading::AsWritten, precision)
+    fn fingerprint(&self, bits: &mut Vec<u64>) {
+        let vectors = self.scene.vectors().into_iter().flat_map(|v| v.to_array());
+        bits_of(bits, vectors.chain([self.alpha, self.beta, self.t]));
     }
 
-    /// The view: controls below, the 3D canvas above.
-    pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        controls_below(ui, "parallelogram-controls", |ui, part| match part {
-            Part::Controls => self.controls_ui(ui, solved),
-            Part::Drawing => self.canvas_ui(ui, solved),
-        });
+    fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
+        Some(&mut self.canvas)
+    }
+}
+
+impl ParallelogramView {
+    /// The view of `scene` before [`ParallelogramView::load`] sets its sliders and camera.
+    fn unloaded(scene: ParallelogramScene) -> ParallelogramView {
+        ParallelogramView {
+            scene,
+            alpha: 0.0,
+            beta: 0.0,
+            t: 0.0,
+            canvas: CanvasState::default(),
+            highlight: Vec::new(),
+        }
     }
 
     fn controls_ui(&mut self, ui: &mut Ui, solved: &Solved) {
@@ -235,33 +263,24 @@ impl ParallelogramView {
     fn canvas_ui(&mut self, ui: &mut Ui, solved: &Solved) {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         if response.dragged() {
-            self.camera.orbit(response.drag_delta());
-            self.auto_frame = false;
+            self.canvas.orbit(response.drag_delta());
         }
-        if response.hovered() {
-            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
-            if scroll != 0.0 {
-                self.camera.zoom(scroll);
-                self.auto_frame = false;
-            }
-        }
+        self.canvas.zoom_on_scroll(ui, &response);
         let [c, _, _, o, d] = self.scene.vectors();
         // The corners p(0,0), p(1,0), p(1,1), p(0,1) from the core's parametric form.
         let problem = self.problem();
         let corner =
             |alpha: f64, beta: f64| DVec3::from(parallelogram::point_at(&problem, &alpha, &beta));
         let (c_e1, c_e1_e2, c_e2) = (corner(1.0, 0.0), corner(1.0, 1.0), corner(0.0, 1.0));
-        if self.auto_frame && self.framed_for != Some(response.rect.size()) {
-            let mut points = vec![c, c_e1, c_e1_e2, c_e2, o, o + d];
-            points.extend(solved.float.point.map(DVec3::from));
-            let reserved = super::widgets::verdict_height(ui, response.rect.width(), &solved.trace);
-            self.camera = self
-                .camera
-                .clone()
-                .fitted_to(&points, response.rect, reserved);
-            self.framed_for = Some(response.rect.size());
-        }
-        let projector = self.camera.projector(response.rect);
+        let projector = self.canvas.projector_for(
+            response.rect,
+            || {
+                let mut points = vec![c, c_e1, c_e1_e2, c_e2, o, o + d];
+                points.extend(solved.float.point.map(DVec3::from));
+                points
+            },
+            || super::widgets::verdict_height(ui, response.rect.width(), &solved.trace),
+        );
         let canvas = Canvas {
             painter: &painter,
             projector: &projector,
@@ -348,8 +367,8 @@ impl ParallelogramView {
         if let Some(verdict) = verdict {
             verdict.paint(&painter);
         }
-        self.labels = labels.paint(ui, &painter, ui.scope_id().with("parallelogram-labels"));
-        self.projector = Some(projector);
+        self.canvas.labels = labels.paint(ui, &painter, ui.scope_id().with("parallelogram-labels"));
+        self.canvas.projector = Some(projector);
     }
 
     /// Emphasises what the step on screen is about.

@@ -6,7 +6,7 @@
 use egui::{RichText, Ui};
 
 use super::widgets::palette::{self, Readable as _};
-use super::{ActiveSolve, Notice, RaylabApp, step_panel, view_of};
+use super::{ActiveSolve, Notice, RaylabApp, step_panel};
 use crate::exercise::{self, DECIMAL_TOLERANCE, Inputs, Kind, Level, Practice, Verdict};
 use crate::scene::{ParallelogramScene, Problem, Scene, SegmentsScene, TriangleScene};
 
@@ -56,7 +56,9 @@ impl RaylabApp {
                     self.notice = Some(Notice::error(error.to_string()));
                     return;
                 }
-                self.state.view = view_of(&scene.problem);
+                if let Some(kind) = self.state.kind_of(&scene.problem) {
+                    self.state.view = kind;
+                }
                 self.state.precision = crate::geometry::Precision::Exact;
                 self.state.symbolic = false;
                 self.presentation = None;

@@ -4,9 +4,7 @@
 use egui::{RichText, Ui};
 
 use super::widgets::palette::Readable as _;
-use super::{
-    ActiveSolve, Notice, RaylabApp, ViewKind, enlarge, highlight, lesson_view, step_panel, widgets,
-};
+use super::{ActiveSolve, Notice, RaylabApp, enlarge, highlight, lesson_view, step_panel, widgets};
 
 impl RaylabApp {
     /// Enters or leaves presentation mode (only views that solve one problem have steps to show).
@@ -15,10 +13,7 @@ impl RaylabApp {
             ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(false));
             return;
         }
-        if matches!(
-            self.state.view,
-            ViewKind::Segments | ViewKind::Triangle | ViewKind::Parallelogram
-        ) {
+        if self.view(self.state.view).presents() {
             self.presentation = Some(0);
             ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(true));
         } else {

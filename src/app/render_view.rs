@@ -15,9 +15,11 @@ pub use effects::grouped;
 
 use jobs::{Choices, Runtime, loads_in_background};
 
-use super::view::{ActiveSolve, OpenError, Request, View, not_mine};
+use super::parallelogram_view::{self, ParallelogramView};
+use super::triangle_view::{self, TriangleView};
+use super::view::{ActiveSolve, LectureView, OpenError, Request, View};
 use super::widgets::palette::Readable as _;
-use super::{ViewKind, parallelogram_view, triangle_view};
+use super::{RaylabApp, ViewKind};
 use std::sync::Arc;
 
 use egui::{Color32, ColorImage, RichText, Sense, Stroke, TextureHandle, TextureOptions, Ui, Vec2};
@@ -73,13 +75,13 @@ pub struct RenderView {
 }
 
 impl View for RenderView {
-    fn kind(&self) -> ViewKind {
-        ViewKind::Render
+    fn opens(&self, problem: &Problem) -> bool {
+        matches!(problem, Problem::Render(_))
     }
 
     fn open(&mut self, problem: &Problem, folder: Option<String>) -> Result<(), OpenError> {
         let Problem::Render(scene) = problem else {
-            return Err(not_mine(self.kind()));
+            return Err(OpenError::NotMine);
         };
         self.load(scene.clone(), folder)
     }
@@ -92,15 +94,19 @@ impl View for RenderView {
     /// steps, judged as the renderer saw it (exact arithmetic on the floats themselves for a triangle).
     fn solve_frame(&self, precision: Precision) -> ActiveSolve {
         match self.probed_problem() {
-            Some(Action::Triangle(scene)) => ActiveSolve::Triangle(triangle_view::Solved::new(
-                (scene.vectors(), scene.t_min),
-                Reading::FloatValue,
-                precision,
-            )),
-            Some(Action::Parallelogram(scene)) => ActiveSolve::Parallelogram(
-                parallelogram_view::Solved::new(scene.vectors(), Reading::AsWritten, precision),
+            Some(Action::Triangle(scene)) => ActiveSolve::new(
+                triangle_view::Solved::new(
+                    (scene.vectors(), scene.t_min),
+                    Reading::FloatValue,
+                    precision,
+                ),
+                TriangleView::trace,
             ),
-            _ => ActiveSolve::Nothing,
+            Some(Action::Parallelogram(scene)) => ActiveSolve::new(
+                parallelogram_view::Solved::new(scene.vectors(), Reading::AsWritten, precision),
+                ParallelogramView::trace,
+            ),
+            _ => ActiveSolve::nothing(),
         }
     }
 
@@ -110,7 +116,20 @@ impl View for RenderView {
         _solved: &ActiveSolve,
         _canvas_only: bool,
     ) -> Option<Request> {
-        self.ui(ui).map(Request::Render)
+        let action = self.ui(ui)?;
+        Some(Request::new(move |app: &mut RaylabApp| {
+            app.render_action(action)
+        }))
+    }
+
+    /// The probed pixel: the step panel's solve changes with it.
+    fn fingerprint(&self, bits: &mut Vec<u64>) {
+        let (row, column) = self.probed.unwrap_or((usize::MAX, usize::MAX));
+        bits.extend([row as u64, column as u64]);
+    }
+
+    fn save(&self) -> Option<String> {
+        ron::to_string(self).ok()
     }
 }
 

@@ -12,13 +12,15 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use super::highlight::{Column, Element, Parameter, Side};
+use super::view::{LectureView, bits_of, first_scene};
 use super::widgets::labels::{LabelLayer, PlacedLabel, Priority};
 use super::widgets::palette::{self, faded};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::segments::{self, SegmentsOutcome};
 use crate::geometry::{Precision, Reading, SegmentsLecture, Shown};
+use crate::scene::Problem;
 use crate::scene::SegmentsScene;
-use crate::trace::format_float;
+use crate::trace::{Trace, format_float};
 
 /// Something a drag can move.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -99,7 +101,86 @@ pub struct SegmentsView {
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<SegmentsLecture>;
 
-lecture_view!(SegmentsView, Segments);
+impl Default for SegmentsView {
+    fn default() -> SegmentsView {
+        first_scene(SegmentsView::unloaded)
+    }
+}
+
+impl LectureView for SegmentsView {
+    type Scene = SegmentsScene;
+    type Solved = Solved;
+
+    fn scene_of(problem: &Problem) -> Option<&SegmentsScene> {
+        match problem {
+            Problem::Segments(scene) => Some(scene),
+            _ => None,
+        }
+    }
+
+    fn problem_of(scene: SegmentsScene) -> Problem {
+        Problem::Segments(scene)
+    }
+
+    fn scene(&self) -> &SegmentsScene {
+        &self.scene
+    }
+
+    fn trace(solved: &Solved) -> &Trace {
+        &solved.trace
+    }
+
+    /// Loads a scene: new segments, handles at the start, view fitted.
+    fn load(&mut self, scene: SegmentsScene) {
+        self.scene = scene;
+        self.t = 0.25;
+        self.s = 0.25;
+        self.animation = None;
+        self.fit();
+    }
+
+    /// Solves the current inputs.
+    fn solve(&self, precision: Precision) -> Solved {
+        let points = self.scene.points();
+        Solved::new(points, Reading::AsWritten, precision)
+    }
+
+    /// The view: controls below, the plot above.
+    fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.animate(ui);
+        controls_below(ui, "segments-controls", |ui, part| match part {
+            Part::Controls => self.controls_ui(ui, solved),
+            Part::Drawing => self.plot_ui(ui, solved),
+        });
+    }
+
+    /// The plot alone, filling the space (presentation mode).
+    fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.animate(ui);
+        self.plot_ui(ui, solved);
+    }
+
+    /// Slides t or s to its value at the crossing (presentation mode).
+    fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, now: f64) {
+        let mut to = [self.t, self.s];
+        match (parameter, solved.float.t, solved.float.s) {
+            (Parameter::T, Some(t), _) => to[0] = t,
+            (Parameter::S, _, Some(s)) => to[1] = s,
+            _ => return,
+        }
+        self.animation = Slide::new([self.t, self.s], to, now);
+    }
+
+    fn highlight(&mut self, elements: &[Element]) {
+        self.highlight = elements.to_vec();
+    }
+
+    fn fingerprint(&self, bits: &mut Vec<u64>) {
+        let points = self.scene.points().into_iter().flat_map(|p| p.to_array());
+        bits_of(bits, points.chain([self.t, self.s]));
+        bits.push(u64::from(self.show_lines));
+    }
+}
 
 impl SegmentsView {
     /// The view of `scene` before [`SegmentsView::load`] places its handles and fits the plot.
@@ -121,15 +202,6 @@ impl SegmentsView {
         }
     }
 
-    /// Loads a scene: new segments, handles at the start, view fitted.
-    pub fn load(&mut self, scene: SegmentsScene) {
-        self.scene = scene;
-        self.t = 0.25;
-        self.s = 0.25;
-        self.animation = None;
-        self.fit();
-    }
-
     /// Fits the plot around both segments (and the origin).
     pub fn fit(&mut self) {
         let points = self.scene.points();
@@ -140,38 +212,6 @@ impl SegmentsView {
         }
         self.center = ((min + max) / 2.0).to_array();
         self.half_extent = ((max - min).max_element() / 2.0 + 1.0).max(1.0);
-    }
-
-    /// Solves the current inputs.
-    pub fn solve(&self, precision: Precision) -> Solved {
-        let points = self.scene.points();
-        Solved::new(points, Reading::AsWritten, precision)
-    }
-
-    /// The view: controls below, the plot above.
-    pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        self.animate(ui);
-        controls_below(ui, "segments-controls", |ui, part| match part {
-            Part::Controls => self.controls_ui(ui, solved),
-            Part::Drawing => self.plot_ui(ui, solved),
-        });
-    }
-
-    /// The plot alone, filling the space (presentation mode).
-    pub fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        self.animate(ui);
-        self.plot_ui(ui, solved);
-    }
-
-    /// Slides t or s to its value at the crossing (presentation mode).
-    pub fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, now: f64) {
-        let mut to = [self.t, self.s];
-        match (parameter, solved.float.t, solved.float.s) {
-            (Parameter::T, Some(t), _) => to[0] = t,
-            (Parameter::S, _, Some(s)) => to[1] = s,
-            _ => return,
-        }
-        self.animation = Slide::new([self.t, self.s], to, now);
     }
 
     fn animate(&mut self, ui: &Ui) {

@@ -4,14 +4,15 @@
 use egui::{RichText, Ui};
 
 use super::widgets::palette::Readable as _;
-use super::{Notice, RaylabApp, ViewKind, heading, view_of, widgets};
+use super::{Notice, RaylabApp, heading, widgets};
 
 impl RaylabApp {
     /// The top bar: menus and tabs, wrapping onto a second row when the window is narrow; the quick
     /// controls (steps, presentation, zoom, theme) follow in the same row when they fit, and always
     /// sit in the View menu.
     pub(super) fn top_bar(&mut self, ui: &mut Ui) {
-        let quick = QuickGroups::that_fit(ui);
+        let labels: Vec<&str> = self.state.tabs.iter().map(|tab| tab.kind.label()).collect();
+        let quick = QuickGroups::that_fit(ui, &labels);
         ui.horizontal_wrapped(|ui| {
             ui.menu_button("Presets", |ui| self.presets_menu(ui))
                 .response
@@ -34,7 +35,13 @@ impl RaylabApp {
                 .response
                 .on_hover_text("Step panel, presentation mode, zoom and theme");
             ui.separator();
-            for kind in ViewKind::ALL {
+            for kind in self
+                .state
+                .tabs
+                .iter()
+                .map(|tab| tab.kind)
+                .collect::<Vec<_>>()
+            {
                 ui.selectable_value(
                     &mut self.state.view,
                     kind,
@@ -91,9 +98,8 @@ impl RaylabApp {
     pub fn edited(&self) -> bool {
         let Some(loaded) = self
             .state
-            .loaded
-            .get(self.state.view as usize)
-            .and_then(Option::as_ref)
+            .tab(self.state.view)
+            .and_then(|tab| tab.loaded.as_ref())
         else {
             return false;
         };
@@ -111,12 +117,13 @@ impl RaylabApp {
                 let mut group = None;
                 for (index, preset) in self.presets.iter().enumerate() {
                     // A heading where the presets of the next view begin.
-                    let kind = view_of(&preset.problem);
+                    let kind = self.state.kind_of(&preset.problem);
                     if group != Some(kind) {
                         if group.is_some() {
                             ui.separator();
                         }
-                        ui.label(RichText::new(kind.label()).weak().small());
+                        let label = kind.map_or("", |kind| kind.label());
+                        ui.label(RichText::new(label).weak().small());
                         group = Some(kind);
                     }
                     if ui
@@ -134,7 +141,7 @@ impl RaylabApp {
                 Ok(()) => Notice {
                     text: format!("Loaded “{}”", preset.title),
                     error: false,
-                    view: Some(view_of(&preset.problem)),
+                    view: self.state.kind_of(&preset.problem),
                 },
                 Err(error) => Notice::error(format!("Could not load “{}”: {error}", preset.title)),
             });
@@ -245,10 +252,10 @@ pub(super) struct QuickGroups {
 
 impl QuickGroups {
     /// Adds the groups in order of use while the row still fits the window.
-    pub(super) fn that_fit(ui: &Ui) -> QuickGroups {
+    pub(super) fn that_fit(ui: &Ui, tabs: &[&str]) -> QuickGroups {
         let menus_and_tabs = ["Presets", "Lessons", "Practice", "File", "View"]
             .into_iter()
-            .chain(ViewKind::ALL.map(ViewKind::label));
+            .chain(tabs.iter().copied());
         let mut used = row_width(ui, menus_and_tabs) + 24.0;
         let mut fits = |labels: &[&str]| {
             used += row_width(ui, labels.iter().copied());

@@ -12,14 +12,17 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::highlight::{Column, Element, Parameter, Side};
+use super::view::{LectureView, bits_of, first_scene};
+use super::widgets::canvas_state::CanvasState;
 use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette::{self, faded};
-use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
+use super::widgets::scene3d::{Canvas, OrbitCamera};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome};
 use crate::geometry::{Precision, Reading, Shown, TriangleLecture};
+use crate::scene::Problem;
 use crate::scene::TriangleScene;
-use crate::trace::format_float;
+use crate::trace::{Trace, format_float};
 
 /// A drag in the canvas: a vertex, or the camera.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,79 +43,96 @@ pub struct TriangleView {
     pub gamma: f64,
     /// The t slider.
     pub t: f64,
-    /// The camera.
-    pub camera: OrbitCamera,
+    /// The camera (saved), and the last frame's framing, projection and labels.
+    #[serde(rename = "camera")]
+    pub canvas: CanvasState,
     /// How exact arithmetic reads the inputs: as typed (0.1 is 1/10), or as the floats they are (the
     /// accuracy study's judge; hard cases load this way).
     pub reading: Reading,
     #[serde(skip)]
     grab: Option<Grab>,
-    /// The last frame's projection (tests use it to find handles on screen).
-    #[serde(skip)]
-    pub projector: Option<Projector>,
     /// The running "Solve" animation, if any.
     #[serde(skip)]
     pub animation: Option<Slide<3>>,
-    /// Keep the camera framing the scene to fill the canvas (on load, resize and zoom) until the
-    /// user orbits or zooms it themselves.
-    #[serde(skip)]
-    pub auto_frame: bool,
-    /// The canvas size the camera was last framed for.
-    #[serde(skip)]
-    framed_for: Option<egui::Vec2>,
     /// What the step on screen (or under the pointer) is about: drawn emphasised.
     #[serde(skip)]
     pub highlight: Vec<Element>,
     /// The column vector under the pointer in the canvas, for the step panel to mark.
     #[serde(skip)]
     pub hovered_column: Option<Column>,
-    /// Where each label went last frame (tests read it).
-    #[serde(skip)]
-    pub labels: Vec<super::widgets::labels::PlacedLabel>,
 }
 
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<TriangleLecture>;
 
-lecture_view!(TriangleView, Triangle);
+impl Default for TriangleView {
+    fn default() -> TriangleView {
+        first_scene(TriangleView::unloaded)
+    }
+}
 
-impl TriangleView {
-    /// The view of `scene` before [`TriangleView::load`] sets its sliders and camera.
-    fn unloaded(scene: TriangleScene) -> TriangleView {
-        TriangleView {
-            scene,
-            beta: 0.0,
-            gamma: 0.0,
-            t: 0.0,
-            camera: OrbitCamera::default(),
-            reading: Reading::AsWritten,
-            grab: None,
-            projector: None,
-            animation: None,
-            auto_frame: true,
-            framed_for: None,
-            highlight: Vec::new(),
-            hovered_column: None,
-            labels: Vec::new(),
+impl LectureView for TriangleView {
+    type Scene = TriangleScene;
+    type Solved = Solved;
+
+    fn scene_of(problem: &Problem) -> Option<&TriangleScene> {
+        match problem {
+            Problem::Triangle(scene) => Some(scene),
+            _ => None,
         }
     }
 
+    fn problem_of(scene: TriangleScene) -> Problem {
+        Problem::Triangle(scene)
+    }
+
+    fn scene(&self) -> &TriangleScene {
+        &self.scene
+    }
+
+    fn trace(solved: &Solved) -> &Trace {
+        &solved.trace
+    }
+
     /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.
-    pub fn load(&mut self, scene: TriangleScene) {
-        self.camera = OrbitCamera::framing(&self.points_of(&scene)).across(DVec3::from(scene.dir));
+    fn load(&mut self, scene: TriangleScene) {
+        let camera = OrbitCamera::framing(&self.points_of(&scene)).across(DVec3::from(scene.dir));
+        self.canvas.reset(camera);
         self.scene = scene;
         self.reading = Reading::AsWritten;
         self.beta = 0.2;
         self.gamma = 0.2;
         self.t = 0.5;
         self.animation = None;
-        self.auto_frame = true;
-        self.framed_for = None;
+    }
+
+    /// Solves the current inputs.
+    fn solve(&self, precision: Precision) -> Solved {
+        Solved::new(
+            (self.scene.vectors(), self.scene.t_min),
+            self.reading,
+            precision,
+        )
+    }
+
+    /// The view: controls below, the 3D canvas above.
+    fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.animate(ui);
+        controls_below(ui, "triangle-controls", |ui, part| match part {
+            Part::Controls => self.controls_ui(ui, solved),
+            Part::Drawing => self.canvas_ui(ui, solved),
+        });
+    }
+
+    /// The canvas alone, filling the space (presentation mode).
+    fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
+        self.animate(ui);
+        self.canvas_ui(ui, solved);
     }
 
     /// Slides a parameter's handle to its value at the solution (presentation mode, on the step
     /// that computes it). Nothing happens when there is no solution.
-    pub fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, now: f64) {
+    fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, now: f64) {
         let Some(s) = solved.float.solution.as_ref() else {
             return;
         };
@@ -129,6 +149,40 @@ impl TriangleView {
         }
     }
 
+    fn highlight(&mut self, elements: &[Element]) {
+        self.highlight = elements.to_vec();
+    }
+
+    fn fingerprint(&self, bits: &mut Vec<u64>) {
+        let vectors = self.scene.vectors().into_iter().flat_map(|v| v.to_array());
+        bits_of(
+            bits,
+            vectors.chain([self.scene.t_min, self.beta, self.gamma, self.t]),
+        );
+    }
+
+    fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
+        Some(&mut self.canvas)
+    }
+}
+
+impl TriangleView {
+    /// The view of `scene` before [`TriangleView::load`] sets its sliders and camera.
+    fn unloaded(scene: TriangleScene) -> TriangleView {
+        TriangleView {
+            scene,
+            beta: 0.0,
+            gamma: 0.0,
+            t: 0.0,
+            canvas: CanvasState::default(),
+            reading: Reading::AsWritten,
+            grab: None,
+            animation: None,
+            highlight: Vec::new(),
+            hovered_column: None,
+        }
+    }
+
     fn points_of(&self, s: &TriangleScene) -> Vec<DVec3> {
         let mut points: Vec<DVec3> = [s.a, s.b, s.c, s.origin]
             .iter()
@@ -136,30 +190,6 @@ impl TriangleView {
             .collect();
         points.push(DVec3::ZERO);
         points
-    }
-
-    /// Solves the current inputs.
-    pub fn solve(&self, precision: Precision) -> Solved {
-        Solved::new(
-            (self.scene.vectors(), self.scene.t_min),
-            self.reading,
-            precision,
-        )
-    }
-
-    /// The view: controls below, the 3D canvas above.
-    pub fn ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        self.animate(ui);
-        controls_below(ui, "triangle-controls", |ui, part| match part {
-            Part::Controls => self.controls_ui(ui, solved),
-            Part::Drawing => self.canvas_ui(ui, solved),
-        });
-    }
-
-    /// The canvas alone, filling the space (presentation mode).
-    pub fn present_ui(&mut self, ui: &mut Ui, solved: &Solved) {
-        self.animate(ui);
-        self.canvas_ui(ui, solved);
     }
 
     fn animate(&mut self, ui: &Ui) {
@@ -195,10 +225,9 @@ impl TriangleView {
                 .on_hover_text("Frame the triangle and the ray again")
                 .clicked()
             {
-                self.camera = OrbitCamera::framing(&self.points_of(&self.scene))
+                let camera = OrbitCamera::framing(&self.points_of(&self.scene))
                     .across(DVec3::from(self.scene.dir));
-                self.auto_frame = true;
-                self.framed_for = None;
+                self.canvas.reset(camera);
             }
         });
         let t_span = target.map_or(4.0, |[_, _, t]| 2.0 * t.abs() + 1.0);
@@ -391,20 +420,19 @@ impl TriangleView {
     /// Where a vertex (0 = A, 1 = B, 2 = C) was drawn last frame.
     pub fn vertex_on_screen(&self, index: usize) -> Option<Pos2> {
         let p = DVec3::from([self.scene.a, self.scene.b, self.scene.c][index]);
-        self.projector.as_ref()?.screen_from_world(p)
+        self.canvas.screen_from_world(p)
     }
 
     fn canvas_ui(&mut self, ui: &mut Ui, solved: &Solved) {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         let rect = response.rect;
         self.handle_input(ui, &response);
-        if self.auto_frame && self.framed_for != Some(rect.size()) {
-            let reserved = super::widgets::verdict_height(ui, rect.width(), &solved.trace);
-            let points = self.points_to_frame(solved);
-            self.camera = self.camera.clone().fitted_to(&points, rect, reserved);
-            self.framed_for = Some(rect.size());
-        }
-        let projector = self.camera.projector(rect);
+        let points = self.points_to_frame(solved);
+        let projector = self.canvas.projector_for(
+            rect,
+            || points,
+            || super::widgets::verdict_height(ui, rect.width(), &solved.trace),
+        );
         let canvas = Canvas {
             painter: &painter,
             projector: &projector,
@@ -415,8 +443,8 @@ impl TriangleView {
         if self.hovered_column.is_some() {
             ui.ctx().set_cursor_icon(egui::CursorIcon::Help);
         }
-        self.labels = self.draw(ui, &canvas, solved);
-        self.projector = Some(projector);
+        self.canvas.labels = self.draw(ui, &canvas, solved);
+        self.canvas.projector = Some(projector);
         if self.grab.is_none() && self.hovered_vertex(&response).is_some() {
             ui.ctx().set_cursor_icon(egui::CursorIcon::Grab);
             response.on_hover_text("Drag to move this vertex in the plane facing you");
@@ -477,20 +505,20 @@ impl TriangleView {
         if response.dragged() {
             let delta = response.drag_delta();
             if self.grab == Some(Grab::Orbit) {
-                self.auto_frame = false;
+                self.canvas.auto_frame = false;
             }
             match self.grab {
                 Some(Grab::Vertex(i)) => {
                     let vertex = [&mut self.scene.a, &mut self.scene.b, &mut self.scene.c]
                         .into_iter()
                         .nth(i);
-                    if let (Some(projector), Some(vertex)) = (&self.projector, vertex) {
+                    if let (Some(projector), Some(vertex)) = (&self.canvas.projector, vertex) {
                         let moved = DVec3::from(*vertex)
                             + projector.drag_in_view_plane(DVec3::from(*vertex), delta);
                         *vertex = moved.to_array();
                     }
                 }
-                Some(Grab::Orbit) | None => self.camera.orbit(delta),
+                Some(Grab::Orbit) | None => self.canvas.camera.orbit(delta),
             }
         }
         if response.drag_stopped() {
@@ -503,13 +531,7 @@ impl TriangleView {
             }
             self.grab = None;
         }
-        if response.hovered() {
-            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
-            if scroll != 0.0 {
-                self.camera.zoom(scroll);
-                self.auto_frame = false;
-            }
-        }
+        self.canvas.zoom_on_scroll(ui, response);
     }
 
     /// Draws the scene, then places every label clear of the others, the handles and the verdict.

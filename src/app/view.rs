@@ -1,53 +1,93 @@
-//! What every tab does, as one trait. The frame loop, scene files, presentation and highlighting treat
-//! the views alike through [`View`]; [`RaylabApp::view`] and [`RaylabApp::view_mut`] are the registry
-//! from a tab to its view. A new view is a file that implements [`View`], its [`ViewKind`], and its
-//! line in the registry.
+//! What every tab does, as one trait. The frame loop, scene files, presentation, highlighting and the
+//! saved state treat the views alike through [`View`]; the registry ([`super::VIEWS`]) lists them.
+//!
+//! A new view is one file and one line in the registry: a lecture view (one problem, solved with its
+//! steps) implements [`LectureView`] and gets [`View`] from it; any other view implements [`View`].
+//! The app keeps each view's saved state under its name ([`ViewKind::name`]), asks it what its frames
+//! depend on ([`View::fingerprint`]), and carries its solve ([`ActiveSolve`]) and its requests
+//! ([`Request`]) without knowing their types.
+
+use std::any::Any;
+use std::fmt;
 
 use egui::Ui;
+use serde::Serialize;
+use serde::de::DeserializeOwned;
 
 use super::highlight::{Element, Parameter};
-use super::{RaylabApp, ViewKind, accuracy_view, parallelogram_view, render_view};
-use super::{segments_view, triangle_view};
+use super::widgets::canvas_state::CanvasState;
+use super::{RaylabApp, ViewKind};
 use crate::geometry::Precision;
 use crate::scene::Problem;
 use crate::trace::Trace;
 
-/// One frame's solve of the open view: what it draws and the step panel shows.
-pub enum ActiveSolve {
-    /// Two segments.
-    Segments(segments_view::Solved),
-    /// A ray and a triangle (also a probed pixel's ray in the Render view).
-    Triangle(triangle_view::Solved),
-    /// A ray and a parallelogram (also a probed pixel's ray in the Render view).
-    Parallelogram(parallelogram_view::Solved),
-    /// Nothing to solve (the Accuracy view; the Render view before a pixel is probed).
-    Nothing,
+/// One frame's solve of the open view: what it draws, and the steps the step panel shows. The view
+/// that made it reads it back as its own type ([`ActiveSolve::get`]).
+pub struct ActiveSolve(Option<Box<dyn Solve>>);
+
+/// A solve of any type, with a way to its steps.
+trait Solve {
+    fn steps(&self) -> &Trace;
+    fn as_any(&self) -> &dyn Any;
 }
 
-impl ActiveSolve {
-    /// The steps for the step panel, if there is a solve.
-    pub fn trace(&self) -> Option<&Trace> {
-        match self {
-            ActiveSolve::Segments(s) => Some(&s.trace),
-            ActiveSolve::Triangle(s) => Some(&s.trace),
-            ActiveSolve::Parallelogram(s) => Some(&s.trace),
-            ActiveSolve::Nothing => None,
-        }
+/// A solve and the function that finds its steps in it.
+struct Solved<S> {
+    solved: S,
+    steps: fn(&S) -> &Trace,
+}
+
+impl<S: 'static> Solve for Solved<S> {
+    fn steps(&self) -> &Trace {
+        (self.steps)(&self.solved)
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        &self.solved
     }
 }
 
-/// What a view asks the app to do after drawing.
-pub enum Request {
-    /// The Render view's probe: open a ray in another view, or switch views.
-    Render(render_view::Action),
-    /// The Accuracy view's gallery: load this hard case into the Triangle view.
-    Accuracy(accuracy_view::Action),
+impl ActiveSolve {
+    /// Nothing to solve (the Accuracy view; the Render view before a pixel is probed).
+    pub fn nothing() -> ActiveSolve {
+        ActiveSolve(None)
+    }
+
+    /// A solve, whose steps `steps` finds in it.
+    pub fn new<S: 'static>(solved: S, steps: fn(&S) -> &Trace) -> ActiveSolve {
+        ActiveSolve(Some(Box::new(Solved { solved, steps })))
+    }
+
+    /// The steps for the step panel, if there is a solve.
+    pub fn trace(&self) -> Option<&Trace> {
+        self.0.as_ref().map(|s| s.steps())
+    }
+
+    /// The solve, if it is an `S` (a view's own; not when the tab changed this frame).
+    pub fn get<S: 'static>(&self) -> Option<&S> {
+        self.0.as_ref()?.as_any().downcast_ref()
+    }
+}
+
+/// What a view asks the app to do after drawing (open a probed ray in another view, switch tabs, …).
+pub struct Request(Box<dyn FnOnce(&mut RaylabApp)>);
+
+impl Request {
+    /// A request to run `change` on the app.
+    pub fn new(change: impl FnOnce(&mut RaylabApp) + 'static) -> Request {
+        Request(Box::new(change))
+    }
+
+    /// Carries it out.
+    pub fn apply(self, app: &mut RaylabApp) {
+        (self.0)(app)
+    }
 }
 
 /// A tab of the app.
-pub trait View {
-    /// Its tab.
-    fn kind(&self) -> ViewKind;
+pub trait View: AnyView {
+    /// True if it opens this problem (the app opens a scene in the view that does).
+    fn opens(&self, problem: &Problem) -> bool;
 
     /// Opens a problem of its kind (a render scene's meshes and textures are found in `folder`).
     fn open(&mut self, problem: &Problem, folder: Option<String>) -> Result<(), OpenError>;
@@ -64,105 +104,216 @@ pub trait View {
     fn frame_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve, canvas_only: bool)
     -> Option<Request>;
 
+    /// Adds the bits of everything its solve and drawing depend on (the app draws once more when a
+    /// frame changed them: the step panel was drawn before the frame's drags).
+    fn fingerprint(&self, _bits: &mut Vec<u64>) {}
+
+    /// What it saves across restarts (RON), or `None` if nothing (see [`restored`]).
+    fn save(&self) -> Option<String> {
+        None
+    }
+
+    /// True if it has steps to present one at a time (presentation mode, lessons).
+    fn presents(&self) -> bool {
+        false
+    }
+
     /// Emphasises what the step on screen is about.
     fn emphasise(&mut self, _elements: &[Element]) {}
 
     /// Slides a parameter to its value at the solution (a presentation step computed it).
     fn slide_to(&mut self, _parameter: Parameter, _solved: &ActiveSolve, _now: f64) {}
+
+    /// Its 3D canvas, if it has one (a lesson's slide turns the camera).
+    fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
+        None
+    }
 }
 
-/// The [`View`] of a lecture view (Segments, Triangle, Parallelogram): its problem is
-/// `Problem::$variant`, its frame's solve `ActiveSolve::$variant`, and it has `load(scene)`,
-/// `solve(precision)`, `ui` and `present_ui(ui, solved)`, `show_parameter(parameter, solved, now)`
-/// and a `highlight` list. Its `Default` is the first built-in scene of its kind, loaded into
-/// `unloaded(scene)`.
-macro_rules! lecture_view {
-    ($view:ty, $variant:ident) => {
-        impl Default for $view {
-            fn default() -> Self {
-                let scene = $crate::scene::first_built_in(|s| match s {
-                    $crate::scene::Problem::$variant(p) => Some(p),
-                    _ => None,
-                });
-                let mut view = Self::unloaded(scene.clone());
-                view.load(scene);
-                view
-            }
-        }
-
-        impl $crate::app::view::View for $view {
-            fn kind(&self) -> $crate::app::ViewKind {
-                $crate::app::ViewKind::$variant
-            }
-
-            fn open(
-                &mut self,
-                problem: &$crate::scene::Problem,
-                _folder: Option<String>,
-            ) -> Result<(), $crate::app::view::OpenError> {
-                let $crate::scene::Problem::$variant(scene) = problem else {
-                    return Err($crate::app::view::not_mine(self.kind()));
-                };
-                self.load(scene.clone());
-                Ok(())
-            }
-
-            fn problem(&self) -> Option<$crate::scene::Problem> {
-                Some($crate::scene::Problem::$variant(self.scene.clone()))
-            }
-
-            fn solve_frame(
-                &self,
-                precision: $crate::geometry::Precision,
-            ) -> $crate::app::view::ActiveSolve {
-                $crate::app::view::ActiveSolve::$variant(self.solve(precision))
-            }
-
-            fn frame_ui(
-                &mut self,
-                ui: &mut egui::Ui,
-                solved: &$crate::app::view::ActiveSolve,
-                canvas_only: bool,
-            ) -> Option<$crate::app::view::Request> {
-                match solved {
-                    $crate::app::view::ActiveSolve::$variant(s) if canvas_only => {
-                        self.present_ui(ui, s)
-                    }
-                    $crate::app::view::ActiveSolve::$variant(s) => self.ui(ui, s),
-                    _ => ui.ctx().request_repaint(),
-                }
-                None
-            }
-
-            fn emphasise(&mut self, elements: &[$crate::app::highlight::Element]) {
-                self.highlight = elements.to_vec();
-            }
-
-            fn slide_to(
-                &mut self,
-                parameter: $crate::app::highlight::Parameter,
-                solved: &$crate::app::view::ActiveSolve,
-                now: f64,
-            ) {
-                if let $crate::app::view::ActiveSolve::$variant(s) = solved {
-                    self.show_parameter(parameter, s, now);
-                }
-            }
-        }
-    };
+/// What every view is without writing it: its concrete type (the app reaches a view it knows by
+/// type, as the Render view's probe does the Triangle view) and a copy of it.
+pub trait AnyView: Any {
+    /// As `Any`, to reach the concrete view.
+    fn as_any(&self) -> &dyn Any;
+    /// As `Any`, to change the concrete view.
+    fn as_any_mut(&mut self) -> &mut dyn Any;
+    /// A copy.
+    fn clone_view(&self) -> Box<dyn View>;
 }
 
-/// The refusal of a problem that belongs to another view.
-pub fn not_mine(kind: ViewKind) -> OpenError {
-    OpenError::NotMine(kind)
+impl<V: View + Clone> AnyView for V {
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+
+    fn clone_view(&self) -> Box<dyn View> {
+        Box::new(self.clone())
+    }
+}
+
+impl fmt::Debug for dyn View {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(
+            &self
+                .save()
+                .unwrap_or_else(|| "(a view that saves nothing)".into()),
+        )
+    }
+}
+
+/// A lecture view: one problem of the lecture (two segments, a ray and a triangle, …) with its
+/// parameters on sliders, solved every frame with its steps. It gets [`View`] from this trait: its
+/// problem is opened, saved, solved, drawn and presented through these methods alone.
+pub trait LectureView: Clone + Serialize + DeserializeOwned + 'static {
+    /// Its inputs.
+    type Scene: Clone;
+    /// One frame's solve.
+    type Solved: 'static;
+
+    /// Its inputs in a problem, if the problem is its kind.
+    fn scene_of(problem: &Problem) -> Option<&Self::Scene>;
+    /// Its inputs as a problem.
+    fn problem_of(scene: Self::Scene) -> Problem;
+    /// Its inputs now.
+    fn scene(&self) -> &Self::Scene;
+    /// Loads new inputs: sliders at a starting point, the camera framing them.
+    fn load(&mut self, scene: Self::Scene);
+    /// Solves its inputs, with the step panel in `precision`.
+    fn solve(&self, precision: Precision) -> Self::Solved;
+    /// The steps of a solve.
+    fn trace(solved: &Self::Solved) -> &Trace;
+    /// The view: controls and drawing.
+    fn ui(&mut self, ui: &mut Ui, solved: &Self::Solved);
+    /// The drawing alone, filling the space (presentation mode).
+    fn present_ui(&mut self, ui: &mut Ui, solved: &Self::Solved);
+    /// Slides a parameter's handle to its value at the solution (presentation mode, on the step
+    /// that computes it).
+    fn show_parameter(&mut self, parameter: Parameter, solved: &Self::Solved, now: f64);
+    /// Emphasises what the step on screen is about.
+    fn highlight(&mut self, elements: &[Element]);
+    /// Adds the bits of its inputs and sliders (see [`View::fingerprint`]).
+    fn fingerprint(&self, bits: &mut Vec<u64>);
+    /// Its 3D canvas, if it has one.
+    fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
+        None
+    }
+}
+
+impl<L: LectureView> View for L {
+    fn opens(&self, problem: &Problem) -> bool {
+        L::scene_of(problem).is_some()
+    }
+
+    fn open(&mut self, problem: &Problem, _folder: Option<String>) -> Result<(), OpenError> {
+        let scene = L::scene_of(problem).ok_or(OpenError::NotMine)?;
+        self.load(scene.clone());
+        Ok(())
+    }
+
+    fn problem(&self) -> Option<Problem> {
+        Some(L::problem_of(self.scene().clone()))
+    }
+
+    fn solve_frame(&self, precision: Precision) -> ActiveSolve {
+        ActiveSolve::new(self.solve(precision), L::trace)
+    }
+
+    fn frame_ui(
+        &mut self,
+        ui: &mut Ui,
+        solved: &ActiveSolve,
+        canvas_only: bool,
+    ) -> Option<Request> {
+        match solved.get::<L::Solved>() {
+            Some(s) if canvas_only => self.present_ui(ui, s),
+            Some(s) => self.ui(ui, s),
+            None => ui.ctx().request_repaint(),
+        }
+        None
+    }
+
+    fn fingerprint(&self, bits: &mut Vec<u64>) {
+        LectureView::fingerprint(self, bits);
+    }
+
+    fn save(&self) -> Option<String> {
+        ron::to_string(self).ok()
+    }
+
+    fn presents(&self) -> bool {
+        true
+    }
+
+    fn emphasise(&mut self, elements: &[Element]) {
+        self.highlight(elements);
+    }
+
+    fn slide_to(&mut self, parameter: Parameter, solved: &ActiveSolve, now: f64) {
+        if let Some(s) = solved.get::<L::Solved>() {
+            self.show_parameter(parameter, s, now);
+        }
+    }
+
+    fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
+        LectureView::canvas_mut(self)
+    }
+}
+
+/// A lecture view of the first built-in scene of its kind (its `Default`).
+pub fn first_scene<L: LectureView>(unloaded: impl FnOnce(L::Scene) -> L) -> L {
+    let scene = crate::scene::first_built_in(|problem| L::scene_of(&problem).cloned());
+    let mut view = unloaded(scene.clone());
+    view.load(scene);
+    view
+}
+
+/// The bits of some numbers, for [`View::fingerprint`]: bits, not values, so that NaN (an input
+/// being typed) equals itself, or every frame would differ.
+pub fn bits_of(bits: &mut Vec<u64>, numbers: impl IntoIterator<Item = f64>) {
+    bits.extend(numbers.into_iter().map(f64::to_bits));
+}
+
+/// A line of the registry: a tab, and how its view is made.
+#[derive(Clone, Copy)]
+pub struct ViewEntry {
+    /// Its tab: name (the key of its saved state, `?view=`) and label.
+    pub kind: ViewKind,
+    /// Makes the view from what it saved (see [`View::save`]), or afresh from `None` or from a
+    /// saved state it cannot read.
+    pub build: fn(Option<&str>) -> Box<dyn View>,
+}
+
+impl ViewEntry {
+    /// The line of a tab and how its view is made.
+    pub const fn new(kind: ViewKind, build: fn(Option<&str>) -> Box<dyn View>) -> ViewEntry {
+        ViewEntry { kind, build }
+    }
+}
+
+/// A [`ViewEntry::build`] for a view that saves itself: read back from its RON, field by field
+/// (with `#[serde(default)]`), or its default.
+pub fn restored<V: View + Default + DeserializeOwned>(saved: Option<&str>) -> Box<dyn View> {
+    let view: V = saved
+        .and_then(|text| ron::from_str(text).ok())
+        .unwrap_or_default();
+    Box::new(view)
+}
+
+/// A [`ViewEntry::build`] for a view that saves nothing: its default, every time.
+pub fn fresh<V: View + Default>(_saved: Option<&str>) -> Box<dyn View> {
+    Box::new(V::default())
 }
 
 /// Why a view cannot open a problem (the scene on screen is kept).
 #[derive(Debug, thiserror::Error)]
 pub enum OpenError {
     /// A problem of another view's kind.
-    #[error("the {} view opens no such problem", .0.label())]
-    NotMine(ViewKind),
+    #[error("no view opens such a problem")]
+    NotMine,
     /// A render scene whose numbers, size, camera or settings are refused.
     #[error(transparent)]
     Scene(#[from] crate::scene::check::CheckError),
@@ -172,25 +323,13 @@ pub enum OpenError {
 }
 
 impl RaylabApp {
-    /// The view of a tab.
+    /// The view of a tab (the first view when no tab has that kind).
     pub fn view(&self, kind: ViewKind) -> &dyn View {
-        match kind {
-            ViewKind::Segments => &self.state.segments,
-            ViewKind::Triangle => &self.state.triangle,
-            ViewKind::Parallelogram => &self.state.parallelogram,
-            ViewKind::Render => &self.state.render,
-            ViewKind::Accuracy => &self.accuracy,
-        }
+        self.state.view_of_kind(kind)
     }
 
     /// The view of a tab, to change.
     pub fn view_mut(&mut self, kind: ViewKind) -> &mut dyn View {
-        match kind {
-            ViewKind::Segments => &mut self.state.segments,
-            ViewKind::Triangle => &mut self.state.triangle,
-            ViewKind::Parallelogram => &mut self.state.parallelogram,
-            ViewKind::Render => &mut self.state.render,
-            ViewKind::Accuracy => &mut self.accuracy,
-        }
+        self.state.view_of_kind_mut(kind)
     }
 }

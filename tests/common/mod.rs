@@ -5,6 +5,8 @@ use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use raylab::app::RaylabApp;
+use raylab::app::render_view::RenderView;
+use raylab::app::view::View;
 
 /// The app in a 1280x800 window (the projector size) with its own style.
 #[allow(
@@ -38,7 +40,7 @@ pub fn wait_for_render(harness: &mut Harness<'static, RaylabApp>) {
     harness.step();
     harness.step();
     step_while(harness, 10, "the render did not finish", |h| {
-        h.state().state.render.is_rendering()
+        h.state().state.get::<RenderView>().is_rendering()
     });
 }
 
@@ -117,7 +119,11 @@ pub fn start_study(
     seed: u64,
     timing_seconds: f64,
 ) {
-    harness.state_mut().accuracy.config_override = Some(raylab::accuracy::study::Config {
+    harness
+        .state_mut()
+        .state
+        .get_mut::<raylab::app::accuracy_view::AccuracyView>()
+        .config_override = Some(raylab::accuracy::study::Config {
         rays,
         shared_rays,
         seed,
@@ -142,4 +148,9 @@ pub fn shows_text_containing(harness: &Harness<'static, RaylabApp>, text: &str) 
         })
         .next()
         .is_some()
+}
+
+/// The app's view of a type.
+pub fn app_view<'a, V: View>(harness: &'a Harness<'static, RaylabApp>) -> &'a V {
+    harness.state().state.get::<V>()
 }

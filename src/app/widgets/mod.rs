@@ -1,5 +1,6 @@
 //! Widgets the views share: the palette, the 3D canvas, and editors for points and vectors.
 
+pub mod canvas_state;
 pub mod labels;
 pub mod palette;
 pub mod scene3d;
