@@ -8,8 +8,7 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-#[allow(dead_code)] // the helpers these tests do not need
-mod run;
+use crate::run;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
