@@ -1,11 +1,18 @@
 //! The `raylab` launcher: on the desktop, parse the command line and run a subcommand (or open the
 //! app); in a web page, start the app on the page's canvas.
 
+/// Runs the command line. A subcommand's error is written here and only here, once, and a standard
+/// error that cannot be written (a closed pipe) is ignored: the exit status still says what happened.
 #[cfg(not(target_arch = "wasm32"))]
-fn main() {
+fn main() -> std::process::ExitCode {
+    use std::io::Write as _;
     ignore_file_size_signal();
-    let cli = raylab::cli::parse_or_exit();
-    std::process::exit(raylab::cli::run(cli));
+    raylab::cli::run_command_line().unwrap_or_else(|error| {
+        if let Some(message) = error.message() {
+            let _ = writeln!(std::io::stderr().lock(), "{message}");
+        }
+        error.exit_code()
+    })
 }
 
 #[cfg(target_arch = "wasm32")]

@@ -32,7 +32,16 @@ where
 
 #[cfg(test)]
 mod tests {
-    use crate::intersect::Method;
+    /// An enum named by words as raylab's are (the real ones live in higher layers, which this module
+    /// may not import, tests included).
+    #[derive(Clone, Copy, Debug, PartialEq, strum::EnumIter, strum::IntoStaticStr)]
+    #[strum(serialize_all = "kebab-case")]
+    enum Method {
+        Cramer,
+        MollerTrumbore,
+        WatertightExact,
+        Exact,
+    }
 
     #[test]
     fn a_word_names_its_value_and_a_typo_lists_every_word() {
@@ -43,12 +52,9 @@ mod tests {
         let error = super::parse::<Method>("method", "moller")
             .unwrap_err()
             .to_string();
-        assert!(
-            error.starts_with("unknown method 'moller' (expected one of cramer, moller-trumbore")
-        );
-        assert!(
-            error.ends_with("watertight, watertight-exact, exact)"),
-            "{error}"
+        assert_eq!(
+            error,
+            "unknown method 'moller' (expected one of cramer, moller-trumbore, watertight-exact, exact)"
         );
     }
 }

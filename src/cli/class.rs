@@ -3,12 +3,13 @@
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
+use std::process::ExitCode;
 
 use std::io::Write as _;
 
 use clap::{Args, Subcommand};
 
-use crate::class::server::{self, Options};
+use crate::class::server::{self, ClassError, Options};
 
 /// `raylab class`.
 #[derive(Debug, Args)]
@@ -56,17 +57,39 @@ pub enum ClassAction {
     },
 }
 
-/// Runs `raylab class`; returns the exit code.
-pub fn run(args: ClassArgs) -> i32 {
-    match args.action {
-        Some(ClassAction::Export {
-            session, db, out, ..
-        }) => export(&session, db, out),
-        None => serve(args),
+/// Why `raylab class` stopped or its export failed.
+#[derive(Debug, thiserror::Error)]
+pub enum ClassCommandError {
+    /// The server could not start or stopped on an error.
+    #[error(transparent)]
+    Serve(ClassError),
+    /// `raylab class export` could not read the session or write its rows.
+    #[error(transparent)]
+    Export(ClassError),
+}
+
+impl ClassCommandError {
+    /// The command the message names: `class` or `class export`.
+    pub fn command(&self) -> &'static str {
+        match self {
+            ClassCommandError::Serve(_) => "class",
+            ClassCommandError::Export(_) => "class export",
+        }
     }
 }
 
-fn serve(args: ClassArgs) -> i32 {
+/// Runs `raylab class`: serves until stopped, or exports.
+pub fn run(args: ClassArgs) -> Result<ExitCode, ClassCommandError> {
+    match args.action {
+        Some(ClassAction::Export {
+            session, db, out, ..
+        }) => export(&session, db, out).map_err(ClassCommandError::Export),
+        None => serve(args).map_err(ClassCommandError::Serve),
+    }?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn serve(args: ClassArgs) -> Result<(), ClassError> {
     let options = Options {
         listen: args.listen,
         db: args.db.unwrap_or_else(server::default_db_path),
@@ -75,7 +98,7 @@ fn serve(args: ClassArgs) -> i32 {
         site: Some(args.site.unwrap_or_else(|| PathBuf::from("target/site"))),
     };
     let db = options.db.display().to_string();
-    let result = server::serve(&options, |started| {
+    server::serve(&options, |started| {
         let verb = if started.resumed {
             "resumed"
         } else {
@@ -93,49 +116,23 @@ fn serve(args: ClassArgs) -> i32 {
             started.key
         );
         out!("  Ctrl-C stops the server; answers are kept, and the next start resumes the class");
-    });
-    match result {
-        Ok(()) => 0,
-        Err(error) => {
-            err!("raylab class: {error}");
-            1
-        }
-    }
+    })
 }
 
-fn export(session: &str, db: Option<PathBuf>, out: Option<PathBuf>) -> i32 {
+fn export(session: &str, db: Option<PathBuf>, out: Option<PathBuf>) -> Result<(), ClassError> {
     let db = db.unwrap_or_else(server::default_db_path);
-    let rows = match server::export_rows(&db, session) {
-        Ok(rows) => rows,
-        Err(error) => {
-            err!("raylab class export: {error}");
-            return 1;
-        }
-    };
-    let written = match &out {
-        Some(path) => {
-            let mut bytes = Vec::new();
-            server::write_csv(&rows, &mut bytes).and_then(|()| {
-                crate::files::write_atomically(path, |file| file.write_all(&bytes))
-                    .map_err(|e| server::ClassError::Write(format!("{}: {e}", path.display())))
-            })
-        }
+    let rows = server::export_rows(&db, session)?;
+    let mut bytes = Vec::new();
+    server::write_csv(&rows, &mut bytes)?;
+    match &out {
+        Some(path) => crate::files::write_atomically(path, |file| file.write_all(&bytes))
+            .map_err(|e| ClassError::Write(format!("{}: {e}", path.display()))),
         None => {
-            let mut bytes = Vec::new();
-            server::write_csv(&rows, &mut bytes).and_then(|()| {
-                let mut stdout = std::io::stdout().lock();
-                stdout
-                    .write_all(&bytes)
-                    .and_then(|()| stdout.flush())
-                    .map_err(|e| server::ClassError::Write(e.to_string()))
-            })
-        }
-    };
-    match written {
-        Ok(()) => 0,
-        Err(error) => {
-            err!("raylab class export: {error}");
-            1
+            let mut stdout = std::io::stdout().lock();
+            stdout
+                .write_all(&bytes)
+                .and_then(|()| stdout.flush())
+                .map_err(|e| ClassError::Write(e.to_string()))
         }
     }
 }

@@ -1,12 +1,8 @@
 //! The command line: `raylab solve …` prints every step of a solve as text, JSON or LaTeX.
 //!
-//! Errors in what the user typed are one line naming the flag (or the batch line), and a non-zero exit.
-
-pub mod batch;
-pub mod input;
-mod scan;
-pub mod solve;
-pub mod worksheet;
+//! Every subcommand returns `Result<ExitCode, CliError>`: an error is each subcommand's own enum, wrapped
+//! in [`CliError`] and written once, by the launcher (`src/main.rs`), as one line naming the flag (or the
+//! batch line, or the file) with its exit status (1: the work failed; 2: what the user typed is refused).
 
 /// Prints a line to standard output, ignoring a closed pipe (`raylab bench | head` must not panic,
 /// as `println!` does).
@@ -17,19 +13,26 @@ macro_rules! out {
     }};
 }
 
-/// Prints a line to standard error, ignoring a closed or failing stream: a message about a problem
-/// must never become a panic of its own (`eprintln!` panics when standard error is a closed pipe).
-macro_rules! err {
+/// Prints a note (what was written where) to standard error, ignoring a closed or failing stream: a
+/// note must never become a panic (`eprintln!` panics when standard error is a closed pipe). Errors are
+/// not written here but returned, as a [`CliError`].
+macro_rules! note {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
         let _ = writeln!(std::io::stderr().lock(), $($arg)*);
     }};
 }
 
-// After the macros above, which it uses.
+// After the macros above, which they use.
+pub mod batch;
 pub mod class;
+pub mod input;
+mod scan;
+pub mod solve;
+pub mod worksheet;
 
 use std::io::Write;
+use std::process::ExitCode;
 
 /// A value as indented JSON.
 #[allow(
@@ -121,6 +124,10 @@ pub struct BenchArgs {
     /// The random seed of the ray families.
     #[arg(long, default_value_t = 2019)]
     pub seed: u64,
+    /// Rays per family, the seam sweep and the vertex fan included (default: 1500 and 5000 with
+    /// --quick, 20 000 and 200 000 otherwise); a small number makes a run of a second.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub rays: Option<u32>,
     /// Print the hard-case gallery instead: what every method decides on each named case.
     #[arg(long, conflicts_with = "out")]
     pub hard_cases: bool,
@@ -282,73 +289,137 @@ impl Problem {
     }
 }
 
-/// Parses the arguments; a usage error prints one line and exits with status 2.
-pub fn parse_or_exit() -> Cli {
-    Cli::try_parse().unwrap_or_else(|error| {
-        use clap::error::ErrorKind;
-        if matches!(
-            error.kind(),
-            ErrorKind::DisplayHelp
-                | ErrorKind::DisplayVersion
-                | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
-        ) {
-            error.exit();
-        }
-        // clap spreads some messages over several lines (the missing flags on their own lines, then a
-        // usage block): keep the message, drop the usage and hints, and join it into one line.
-        let rendered = error.render().to_string();
-        let message: Vec<&str> = rendered
-            .lines()
-            .map(str::trim)
-            .take_while(|line| !line.starts_with("Usage:"))
-            .filter(|line| !line.is_empty() && !line.starts_with("For more information"))
-            .collect();
-        let message = message.join(" ");
-        err!(
-            "raylab: {} (see --help)",
-            message.trim_start_matches("error: ")
-        );
-        std::process::exit(2);
-    })
+/// Why a `raylab` command failed: each subcommand's own error. The launcher writes it once, as
+/// [`CliError::message`] says, and exits with [`CliError::exit_code`].
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// The command line itself is refused (clap: an unknown flag, a missing value, a bad number).
+    #[error("{}", usage_line(.0))]
+    Usage(clap::Error),
+    /// `raylab solve`.
+    #[error(transparent)]
+    Solve(#[from] SolveCommandError),
+    /// `raylab bench`.
+    #[error(transparent)]
+    Bench(#[from] BenchError),
+    /// `raylab render`.
+    #[error(transparent)]
+    Render(#[from] RenderError),
+    /// `raylab worksheet`.
+    #[error(transparent)]
+    Worksheet(#[from] worksheet::WorksheetError),
+    /// `raylab class` and `raylab class export`.
+    #[error(transparent)]
+    Class(#[from] class::ClassCommandError),
+    /// `raylab --lesson NAME` names no built-in lesson.
+    #[error(transparent)]
+    Lesson(#[from] crate::lesson::UnknownLesson),
+    /// `raylab` with no subcommand: the window could not open.
+    #[error("could not open the window: {0}")]
+    Window(String),
 }
 
-/// Runs a parsed command line; returns the process exit code.
-pub fn run(cli: Cli) -> i32 {
-    match cli.command {
-        Some(Command::Solve(args)) => run_solve(*args),
-        Some(Command::Bench(args)) => run_bench(args),
-        Some(Command::Render(args)) => run_render(args),
-        Some(Command::Worksheet(args)) => worksheet::run(args),
-        Some(Command::Class(args)) => class::run(args),
-        None if cli
-            .lesson
-            .as_deref()
-            .is_some_and(|name| crate::lesson::lesson(name).is_none()) =>
-        {
-            let _ = writeln!(
-                std::io::stderr(),
-                "raylab: no lesson named '{}' (there are: {})",
-                cli.lesson.unwrap_or_default(),
-                crate::lesson::lesson_names().join(", ")
-            );
-            2
+impl CliError {
+    /// The exit status: 2 where what the user typed is refused before any work, 1 where the work failed.
+    pub fn status(&self) -> u8 {
+        match self {
+            CliError::Usage(_) | CliError::Lesson(_) => 2,
+            CliError::Solve(error) => error.status(),
+            CliError::Bench(error) => error.status(),
+            CliError::Render(error) => error.status(),
+            CliError::Worksheet(_) | CliError::Class(_) | CliError::Window(_) => 1,
         }
-        None => match crate::app::launch::open_window(crate::app::Launch {
-            lesson: cli.lesson,
-            ..Default::default()
-        }) {
-            Ok(()) => 0,
-            Err(error) => {
-                err!("raylab: could not open the window: {error}");
-                1
+    }
+
+    /// [`CliError::status`] as the process's exit code.
+    pub fn exit_code(&self) -> ExitCode {
+        ExitCode::from(self.status())
+    }
+
+    /// What to write on standard error: one line, `raylab: …` (`raylab class: …` for the class's
+    /// server), or clap's help where a subcommand is named without the arguments it needs. None where
+    /// nothing is to be said: standard output's reader stopped reading (`| head`), which it chose.
+    pub fn message(&self) -> Option<String> {
+        match self {
+            CliError::Usage(error)
+                if error.kind()
+                    == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand =>
+            {
+                Some(error.render().to_string().trim_end().to_string())
             }
-        },
+            CliError::Solve(SolveCommandError::Output(error))
+                if error.kind() == std::io::ErrorKind::BrokenPipe =>
+            {
+                None
+            }
+            CliError::Class(error) => Some(format!("raylab {}: {error}", error.command())),
+            error => Some(format!("raylab: {error}")),
+        }
+    }
+}
+
+/// clap's message on one line: clap spreads some over several lines (the missing flags on their own
+/// lines, then a usage block), so the message is kept, the usage and hints dropped, and the rest joined.
+fn usage_line(error: &clap::Error) -> String {
+    let rendered = error.render().to_string();
+    let message: Vec<&str> = rendered
+        .lines()
+        .map(str::trim)
+        .take_while(|line| !line.starts_with("Usage:"))
+        .filter(|line| !line.is_empty() && !line.starts_with("For more information"))
+        .collect();
+    format!(
+        "{} (see --help)",
+        message.join(" ").trim_start_matches("error: ")
+    )
+}
+
+/// Parses the process's arguments and runs them: `--help` and `--version` print and succeed; a usage
+/// error is [`CliError::Usage`] (exit status 2).
+pub fn run_command_line() -> Result<ExitCode, CliError> {
+    match Cli::try_parse() {
+        Ok(cli) => run(cli),
+        Err(error)
+            if matches!(
+                error.kind(),
+                clap::error::ErrorKind::DisplayHelp | clap::error::ErrorKind::DisplayVersion
+            ) =>
+        {
+            // Written to standard output; a closed one is the reader's choice.
+            let _ = error.print();
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(error) => Err(CliError::Usage(error)),
+    }
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
+    match cli.command {
+        Some(Command::Solve(args)) => Ok(run_solve(*args)?),
+        Some(Command::Bench(args)) => Ok(run_bench(args)?),
+        Some(Command::Render(args)) => Ok(run_render(args)?),
+        Some(Command::Worksheet(args)) => Ok(worksheet::run(args)?),
+        Some(Command::Class(args)) => Ok(class::run(args)?),
+        None => {
+            if let Some(name) = &cli.lesson
+                && crate::lesson::lesson(name).is_none()
+            {
+                return Err(crate::lesson::UnknownLesson { name: name.clone() }.into());
+            }
+            crate::app::launch::open_window(crate::app::Launch {
+                lesson: cli.lesson,
+                ..Default::default()
+            })
+            .map_err(|error| CliError::Window(error.to_string()))?;
+            Ok(ExitCode::SUCCESS)
+        }
     }
 }
 
 /// Why `raylab render` cannot write its image.
 #[derive(Debug, thiserror::Error)]
-enum ImageOutputError {
+pub enum ImageOutputError {
     /// `-o` names another image format, or none.
     #[error(
         "-o {}: raylab writes PNG images only{} (name the file .png)",
@@ -446,53 +517,78 @@ fn prepare_showing_progress(
     prepared
 }
 
-fn run_render(args: RenderArgs) -> i32 {
+/// Why `raylab render` wrote no image.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// `-o` names no PNG file (said before anything is read or rendered).
+    #[error(transparent)]
+    OutputName(ImageOutputError),
+    /// The scene file could not be read.
+    #[error("{0}")]
+    Scene(crate::scene::SceneError),
+    /// The scene file poses a lecture problem, not a render.
+    #[error("{0}: not a render scene (its problem is not Render(...))")]
+    NotARenderScene(String),
+    /// A mesh or texture of the scene could not be loaded.
+    #[error("{scene}: {error}")]
+    Prepare {
+        /// The scene file.
+        scene: String,
+        /// Why.
+        error: crate::render::PrepareError,
+    },
+    /// `--effects` names an effect that does not exist.
+    #[error("--effects: {0}")]
+    Effects(crate::names::UnknownName),
+    /// The image could not be written (an old file is left as it was).
+    #[error("could not write {}: {error}", .path.display())]
+    Write {
+        /// The PNG.
+        path: std::path::PathBuf,
+        /// Why.
+        error: ImageOutputError,
+    },
+}
+
+impl RenderError {
+    /// 2 for a refused flag, 1 for a scene that cannot be rendered or an image that cannot be written.
+    fn status(&self) -> u8 {
+        match self {
+            RenderError::OutputName(_) | RenderError::Effects(_) => 2,
+            RenderError::Scene(_)
+            | RenderError::NotARenderScene(_)
+            | RenderError::Prepare { .. }
+            | RenderError::Write { .. } => 1,
+        }
+    }
+}
+
+fn run_render(args: RenderArgs) -> Result<ExitCode, RenderError> {
     use crate::render::render;
     use crate::scene::render::Effect;
     use crate::scene::{Problem, Scene};
     let name = args.scene.display().to_string();
-    if let Err(message) = check_png_name(&args.output) {
-        err!("raylab: {message}");
-        return 2;
-    }
-    let scene = match Scene::load(&args.scene) {
-        Ok(Scene {
+    check_png_name(&args.output).map_err(RenderError::OutputName)?;
+    let scene = match Scene::load(&args.scene).map_err(RenderError::Scene)? {
+        Scene {
             problem: Problem::Render(scene),
             ..
-        }) => scene,
-        Ok(_) => {
-            err!("raylab: {name}: not a render scene (its problem is not Render(...))");
-            return 1;
-        }
-        Err(error) => {
-            err!("raylab: {error}");
-            return 1;
-        }
+        } => scene,
+        _ => return Err(RenderError::NotARenderScene(name)),
     };
     let assets = crate::render::assets::OnDisk::beside(&args.scene);
-    let mut prepared = match prepare_showing_progress(&scene, assets) {
-        Ok(prepared) => prepared,
-        Err(message) => {
-            err!("raylab: {name}: {message}");
-            return 1;
-        }
-    };
+    let mut prepared = prepare_showing_progress(&scene, assets)
+        .map_err(|error| RenderError::Prepare { scene: name, error })?;
     if let Some(method) = args.method {
         prepared.method = Some(method);
     }
     prepared.bug = args.bug;
     if let Some(names) = &args.effects {
-        match names
+        prepared.effects = names
             .iter()
             .map(|n| Effect::try_from(n.trim().to_string()))
             .collect::<Result<Vec<_>, _>>()
-        {
-            Ok(effects) => prepared.effects = effects,
-            Err(message) => {
-                err!("raylab: --effects: {message}");
-                return 2;
-            }
-        }
+            .map_err(RenderError::Effects)?;
     }
     let timed = || {
         let clock = crate::platform::Stopwatch::start();
@@ -504,13 +600,10 @@ fn run_render(args: RenderArgs) -> i32 {
     times.extend((1..args.repeat).map(|_| timed().0));
     times.sort_by(f64::total_cmp);
     let seconds = times[times.len() / 2];
-    if let Err(message) = write_png(&image, &args.output) {
-        err!(
-            "raylab: could not write {}: {message}",
-            args.output.display()
-        );
-        return 1;
-    }
+    write_png(&image, &args.output).map_err(|error| RenderError::Write {
+        path: args.output.clone(),
+        error,
+    })?;
     if args.stats {
         out!(
             "{}x{} with {}: median {:.3} ms in-process over {} render(s), covered pixels {}",
@@ -529,10 +622,10 @@ fn run_render(args: RenderArgs) -> i32 {
         out!("{}", counters.join(", "));
         out!("{}", crate::render::rays::by_kind_line(&stats));
     }
-    0
+    Ok(ExitCode::SUCCESS)
 }
 
-fn print_hard_cases() -> i32 {
+fn print_hard_cases() -> ExitCode {
     use crate::accuracy::hard_cases::{gallery, verdicts};
     for hard in gallery() {
         let verdicts = verdicts(&hard.case());
@@ -558,7 +651,7 @@ fn print_hard_cases() -> i32 {
             out!("    exact: {exact}; wrong: {}", wrong.join(", "));
         }
     }
-    0
+    ExitCode::SUCCESS
 }
 
 /// `bench --out` names a folder (made if missing); a file there is said before the run.
@@ -566,20 +659,58 @@ fn out_is_a_file(dir: &std::path::Path) -> bool {
     std::fs::metadata(dir).is_ok_and(|metadata| !metadata.is_dir())
 }
 
-fn run_bench(args: BenchArgs) -> i32 {
+/// Why `raylab bench` stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// `--out` names a file (said before the run).
+    #[error(
+        "--out {}: is a file, not a folder (bench writes results.json and results.csv into a folder)",
+        .0.display()
+    )]
+    OutIsAFile(std::path::PathBuf),
+    /// The study was stopped before it finished.
+    #[error("the study was cancelled")]
+    Cancelled,
+    /// The results could not be written as CSV.
+    #[error(transparent)]
+    Csv(#[from] crate::accuracy::study::CsvError),
+    /// The `--out` folder could not be made.
+    #[error("could not write to {}: {error}", .dir.display())]
+    MakeFolder {
+        /// The folder.
+        dir: std::path::PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// A results file could not be written (neither is, then).
+    #[error("could not write {} (neither file was written): {error}", .path.display())]
+    Write {
+        /// The file that failed.
+        path: std::path::PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+}
+
+impl BenchError {
+    /// 2 for a refused `--out`, 1 for a run that failed.
+    fn status(&self) -> u8 {
+        match self {
+            BenchError::OutIsAFile(_) => 2,
+            _ => 1,
+        }
+    }
+}
+
+fn run_bench(args: BenchArgs) -> Result<ExitCode, BenchError> {
     use crate::accuracy::study;
     if args.hard_cases {
-        return print_hard_cases();
+        return Ok(print_hard_cases());
     }
     if let Some(dir) = &args.out
         && out_is_a_file(dir)
     {
-        err!(
-            "raylab: --out {}: is a file, not a folder (bench writes results.json and results.csv \
-             into a folder)",
-            dir.display()
-        );
-        return 2;
+        return Err(BenchError::OutIsAFile(dir.clone()));
     }
     let mut config = if args.quick {
         study::Config::quick()
@@ -587,6 +718,9 @@ fn run_bench(args: BenchArgs) -> i32 {
         study::Config::full()
     };
     config.seed = args.seed;
+    if let Some(rays) = args.rays {
+        (config.rays, config.shared_rays) = (rays as usize, rays as usize);
+    }
     let clock = crate::platform::Stopwatch::start();
     // A bar on a terminal; nothing where stderr is a file or a pipe (indicatif hides itself there).
     let bar = indicatif::ProgressBar::new(0).with_style(
@@ -600,10 +734,7 @@ fn run_bench(args: BenchArgs) -> i32 {
         true
     });
     bar.finish_and_clear();
-    let Some(records) = records else {
-        err!("raylab: the study was cancelled");
-        return 1;
-    };
+    let records = records.ok_or(BenchError::Cancelled)?;
     out!("{}", study::table(&records).trim_end());
     out!(
         "{} tests in {:.1} s",
@@ -612,38 +743,70 @@ fn run_bench(args: BenchArgs) -> i32 {
     );
     if let Some(dir) = args.out {
         let json = pretty_json(&records);
-        let csv = match study::csv(&records) {
-            Ok(csv) => csv,
-            Err(error) => {
-                err!("raylab: {error}");
-                return 1;
-            }
-        };
+        let csv = study::csv(&records)?;
         let (json_path, csv_path) = (dir.join("results.json"), dir.join("results.csv"));
-        if let Err(error) = std::fs::create_dir_all(&dir) {
-            err!("raylab: could not write to {}: {error}", dir.display());
-            return 1;
-        }
+        std::fs::create_dir_all(&dir).map_err(|error| BenchError::MakeFolder {
+            dir: dir.clone(),
+            error,
+        })?;
         // Both or neither: results.json must not be new while results.csv is old or missing.
         let files = [
             (json_path.as_path(), json.as_bytes()),
             (csv_path.as_path(), csv.as_bytes()),
         ];
-        if let Err((path, error)) = crate::files::write_all_or_none(&files) {
-            err!(
-                "raylab: could not write {} (neither file was written): {error}",
-                path.display()
-            );
-            return 1;
-        }
-        err!("wrote {0}/results.json and {0}/results.csv", dir.display());
+        crate::files::write_all_or_none(&files)
+            .map_err(|(path, error)| BenchError::Write { path, error })?;
+        note!("wrote {0}/results.json and {0}/results.csv", dir.display());
     }
-    0
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Why `raylab solve` gave no answer (or, with `--batch`, not every answer).
+#[derive(Debug, thiserror::Error)]
+pub enum SolveCommandError {
+    /// `--batch` with `--precision symbolic`.
+    #[error("--batch solves with numbers; --precision symbolic is for one triangle")]
+    SymbolicBatch,
+    /// `--batch` with `--format text` or `latex`.
+    #[error("--batch writes JSON lines; --format text and latex do not apply")]
+    BatchFormat,
+    /// Neither a problem nor `--batch`.
+    #[error("name a problem (segments, triangle, parallelogram) or pass --batch (see --help)")]
+    NoProblem,
+    /// `--precision symbolic` for another problem than the triangle.
+    #[error(
+        "--precision symbolic derives the triangle's solution (seed 002); use it with `solve triangle`"
+    )]
+    SymbolicNeedsTriangle,
+    /// A number the precision cannot hold, or a flag the method does not take.
+    #[error(transparent)]
+    Case(#[from] solve::SolveError),
+    /// Some lines of the batch were bad (each has its line on standard error and in the output).
+    #[error("{0} bad line(s) in the batch")]
+    BadLines(usize),
+    /// The batch could not read its input or write its output.
+    #[error("{0}")]
+    Batch(std::io::Error),
+    /// The report could not be written (a full disk; a closed pipe, which is said by nothing).
+    #[error("cannot write the output: {0}")]
+    Output(std::io::Error),
+}
+
+impl SolveCommandError {
+    /// 2 for a refused command line, 1 for a batch with bad lines or output that could not be written.
+    fn status(&self) -> u8 {
+        match self {
+            SolveCommandError::BadLines(_)
+            | SolveCommandError::Batch(_)
+            | SolveCommandError::Output(_) => 1,
+            _ => 2,
+        }
+    }
 }
 
 /// `solve triangle … --precision symbolic`: seed 002's derivation, its identities checked on the
 /// case's numbers read exactly.
-fn run_symbolic(problem: &Problem, format: Format) -> i32 {
+fn run_symbolic(problem: &Problem, format: Format) -> Result<ExitCode, SolveCommandError> {
     let Problem::Triangle {
         a,
         b,
@@ -653,11 +816,7 @@ fn run_symbolic(problem: &Problem, format: Format) -> i32 {
         ..
     } = problem
     else {
-        let _ = writeln!(
-            std::io::stderr(),
-            "raylab: --precision symbolic derives the triangle's solution (seed 002); use it with `solve triangle`"
-        );
-        return 2;
+        return Err(SolveCommandError::SymbolicNeedsTriangle);
     };
     let numbers = [a, b, c, origin, dir].map(|v| v.exact());
     let trace = crate::symbolic::trace(Some(&numbers));
@@ -666,22 +825,17 @@ fn run_symbolic(problem: &Problem, format: Format) -> i32 {
         Format::Json => format!("{}\n", pretty_json(&trace)),
         Format::Latex => trace::to_latex(&trace),
     };
-    write_stdout(&output).unwrap_or(0)
+    write_stdout(&output)
 }
 
-fn run_solve(args: SolveArgs) -> i32 {
+fn run_solve(args: SolveArgs) -> Result<ExitCode, SolveCommandError> {
     let precision = Precision::from(args.precision);
     if args.batch && args.precision == PrecisionArg::Symbolic {
-        let _ = writeln!(
-            std::io::stderr(),
-            "raylab: --batch solves with numbers; --precision symbolic is for one triangle"
-        );
-        return 2;
+        return Err(SolveCommandError::SymbolicBatch);
     }
     if args.batch {
         if matches!(args.format, Some(Format::Text | Format::Latex)) {
-            err!("raylab: --batch writes JSON lines; --format text and latex do not apply");
-            return 2;
+            return Err(SolveCommandError::BatchFormat);
         }
         let stdin = std::io::BufReader::with_capacity(1 << 16, std::io::stdin().lock());
         return match batch::run_batch(
@@ -691,22 +845,13 @@ fn run_solve(args: SolveArgs) -> i32 {
             precision,
             !args.no_trace,
         ) {
-            Ok(0) => 0,
-            Ok(bad) => {
-                err!("raylab: {bad} bad line(s) in the batch");
-                1
-            }
-            Err(error) => {
-                err!("raylab: {error}");
-                1
-            }
+            Ok(0) => Ok(ExitCode::SUCCESS),
+            Ok(bad) => Err(SolveCommandError::BadLines(bad)),
+            Err(error) => Err(SolveCommandError::Batch(error)),
         };
     }
     let Some(problem) = args.problem else {
-        err!(
-            "raylab: name a problem (segments, triangle, parallelogram) or pass --batch (see --help)"
-        );
-        return 2;
+        return Err(SolveCommandError::NoProblem);
     };
     if args.precision == PrecisionArg::Symbolic {
         return run_symbolic(&problem, args.format.unwrap_or(Format::Text));
@@ -722,20 +867,11 @@ fn run_solve(args: SolveArgs) -> i32 {
             method: Some(method),
         } => {
             let vectors = [a.clone(), b.clone(), c.clone(), origin.clone(), dir.clone()];
-            match solve::method_report(&vectors, tmin, *method, precision) {
-                Ok(report) => report,
-                Err(message) => {
-                    err!("raylab: {message}");
-                    return 2;
-                }
-            }
+            solve::method_report(&vectors, tmin, *method, precision)?
         }
         _ => {
             let case = problem.into_case();
-            if let Err(message) = case.fits(precision) {
-                err!("raylab: {message}");
-                return 2;
-            }
+            case.fits(precision)?;
             solve::run(&case, precision)
         }
     };
@@ -744,23 +880,17 @@ fn run_solve(args: SolveArgs) -> i32 {
         Format::Json => format!("{}\n", pretty_json(&report.to_json(!args.no_trace))),
         Format::Latex => trace::to_latex(&report.trace),
     };
-    write_stdout(&output).unwrap_or(0)
+    write_stdout(&output)
 }
 
-/// Writes a report to standard output and flushes it; on failure, the exit code (1). A full disk or a
-/// closed stream is said on standard error (a closed pipe, as `| head` leaves, silently: the reader
-/// chose to stop), never a panic and never a success.
-fn write_stdout(output: &str) -> Option<i32> {
+/// Writes a report to standard output and flushes it. A full disk or a closed stream is an error
+/// (a closed pipe, as `| head` leaves, is said by nothing: the reader chose to stop), never a panic and
+/// never a success.
+fn write_stdout(output: &str) -> Result<ExitCode, SolveCommandError> {
     let mut stdout = std::io::stdout().lock();
-    match stdout
+    stdout
         .write_all(output.as_bytes())
         .and_then(|()| stdout.flush())
-    {
-        Ok(()) => None,
-        Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => Some(1),
-        Err(error) => {
-            err!("raylab: cannot write the output: {error}");
-            Some(1)
-        }
-    }
+        .map_err(SolveCommandError::Output)?;
+    Ok(ExitCode::SUCCESS)
 }

@@ -1,7 +1,7 @@
 //! `raylab worksheet`: a printable worksheet, its answer key and the problems as JSON, from a seed.
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 use clap::Args;
 
@@ -68,23 +68,14 @@ pub enum WorksheetError {
     Generate(#[from] exercise::GenerateError),
 }
 
-/// Writes the three files; returns the exit code.
-pub fn run(args: WorksheetArgs) -> i32 {
-    match write(&args) {
-        Ok(()) => {
-            // A closed or failing standard error must not turn success into a panic.
-            let _ = writeln!(
-                std::io::stderr(),
-                "wrote {0}/worksheet.tex, {0}/key.tex and {0}/problems.json",
-                args.output.display()
-            );
-            0
-        }
-        Err(message) => {
-            let _ = writeln!(std::io::stderr(), "raylab: {message}");
-            1
-        }
-    }
+/// Writes the three files, then says where on standard error.
+pub fn run(args: WorksheetArgs) -> Result<ExitCode, WorksheetError> {
+    write(&args)?;
+    note!(
+        "wrote {0}/worksheet.tex, {0}/key.tex and {0}/problems.json",
+        args.output.display()
+    );
+    Ok(ExitCode::SUCCESS)
 }
 
 fn write(args: &WorksheetArgs) -> Result<(), WorksheetError> {

@@ -40,3 +40,20 @@ pub fn raylab_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
         .expect("stdin takes the input");
     output
 }
+
+/// Whether pdflatex is here to compile LaTeX. Without it a LaTeX test prints `skipped: <why>` and passes,
+/// unless `RAYLAB_LATEX_TEST=require` (which `.ci/run` sets, as it installs texlive), where a missing
+/// pdflatex is a failure, not a silent skip.
+#[allow(dead_code, reason = "only the LaTeX tests compile LaTeX")]
+pub fn pdflatex_or_skip() -> bool {
+    if Command::new("pdflatex").arg("--version").output().is_ok() {
+        return true;
+    }
+    let required = std::env::var("RAYLAB_LATEX_TEST").is_ok_and(|v| v == "require");
+    assert!(
+        !required,
+        "RAYLAB_LATEX_TEST=require, but pdflatex is not installed"
+    );
+    println!("skipped: pdflatex is not installed");
+    false
+}

@@ -9,7 +9,9 @@ use raylab::accuracy::hard_cases::{gallery, verdicts};
 
 #[test]
 fn every_method_agrees_or_its_disagreement_is_listed() {
-    for hard in gallery() {
+    let gallery = gallery();
+    assert!(!gallery.is_empty(), "assets/hard_cases.ron lists no case");
+    for hard in gallery {
         let verdicts = verdicts(&hard.case());
         let mut disagree: Vec<String> = verdicts
             .iter()
@@ -39,6 +41,9 @@ fn a_power_of_two_shift_keeps_every_exact_decision() {
     // Same geometry up to an exact translation by 2^20 (and the triangle scaled by 1, the ray the same).
     let before = verdicts(&edge.case());
     let after = verdicts(&moved.case());
+    // One verdict per method on each side, so the zip below compares every method.
+    assert_eq!(before.len(), after.len());
+    assert!(!before.is_empty(), "no method gave a verdict");
     for (b, a) in before.iter().zip(&after) {
         assert_eq!(b.exact_hit, a.exact_hit);
         if b.who.starts_with("watertight") {

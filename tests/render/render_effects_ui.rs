@@ -5,8 +5,7 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-#[allow(dead_code)] // the shared helpers these tests do not need
-mod common;
+use crate::common;
 
 use common::{app_at, app_view, click_image, shows_text_containing, step_while, wait_for_render};
 use egui::Vec2;

@@ -3,10 +3,12 @@
 //! one line.
 //!
 //! pdflatex (Debian: texlive-latex-base) is needed for the compile test; where it is missing that test
-//! says so and passes.
+//! prints `skipped: pdflatex is not installed` and passes, unless `RAYLAB_LATEX_TEST=require`.
 
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use crate::run;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -49,8 +51,7 @@ fn read(dir: &Path, name: &str) -> String {
 
 #[test]
 fn worksheet_and_key_compile_with_pdflatex() {
-    if Command::new("pdflatex").arg("--version").output().is_err() {
-        eprintln!("skipped: pdflatex is not installed");
+    if !run::pdflatex_or_skip() {
         return;
     }
     let dir = scratch("pdflatex");

@@ -4,11 +4,7 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-#[allow(
-    dead_code,
-    reason = "this test uses only the app harness of the shared steps"
-)]
-mod common;
+use crate::common;
 
 use common::{app_view, shows_text_containing};
 

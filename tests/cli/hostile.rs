@@ -1,28 +1,41 @@
 //! Hostile files through the real binary: scenes with typos, scenes that would hang the renderer,
 //! meshes and textures that are not what they claim, outputs that must not be destroyed. Each case
-//! ends within a second with a one-line error that names the problem.
+//! ends with a one-line error that names the problem, under an address-space limit that a file read
+//! whole or a texture decoded in full would pass. Time is not measured here (a busy machine is slow,
+//! not wrong): a run past [`HANG_SECONDS`] is stopped and fails as a hang.
 
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::time::{Duration, Instant};
+
+/// A run this long is a hang (a refusal takes milliseconds): it is killed and the test fails.
+const HANG_SECONDS: u32 = 60;
 
 /// Address space the child may use: a debug render of a shipped scene needs far less, and reading a
 /// 4 GB file or decoding a 13 000 × 13 000 texture far more.
 const ADDRESS_SPACE_KIB: u64 = 512 * 1024;
 
-/// Runs the binary under `sh -c` with these shell limits (`ulimit -v …`), in `dir`.
+/// Runs the binary under `sh -c` with these shell limits (`ulimit -v …`), in `dir`, stopped by
+/// `timeout` after [`HANG_SECONDS`].
 fn raylab_limited(limits: &str, dir: &Path, args: &[&str]) -> Output {
-    Command::new("sh")
+    let output = Command::new("sh")
         .arg("-c")
-        .arg(format!("{limits} && exec \"$0\" \"$@\""))
+        .arg(format!(
+            "{limits} && exec timeout {HANG_SECONDS} \"$0\" \"$@\""
+        ))
         .arg(env!("CARGO_BIN_EXE_raylab"))
         .args(args)
         .current_dir(dir)
         .output()
-        .expect("sh runs")
+        .expect("sh runs");
+    assert_ne!(
+        output.status.code(),
+        Some(124),
+        "raylab {args:?} ran past {HANG_SECONDS} s: a hang"
+    );
+    output
 }
 
 fn stderr(output: &Output) -> String {
@@ -44,18 +57,15 @@ fn mesh_scene() -> String {
 }
 
 /// Renders `scene` (written into `dir`) to `dir/out.png` under an address-space limit; the run must
-/// fail within a second with one line on standard error, which is returned.
+/// fail with one line on standard error, which is returned.
 fn refused(dir: &Path, name: &str, scene: &str) -> String {
     let file = dir.join(name);
     std::fs::write(&file, scene).unwrap();
     let png = dir.join("out.png");
-    let clock = Instant::now();
     let limit = format!("ulimit -v {ADDRESS_SPACE_KIB}");
     let output = raylab_limited(&limit, dir, &["render", name, "-o", "out.png"]);
-    let elapsed = clock.elapsed();
     let message = stderr(&output);
     assert_eq!(output.status.code(), Some(1), "{name}: {message}");
-    assert!(elapsed < Duration::from_secs(1), "{name} took {elapsed:?}");
     assert_eq!(message.trim_end().lines().count(), 1, "{name}: {message}");
     assert!(!png.exists(), "{name}: an image was written");
     message
@@ -211,12 +221,10 @@ fn paths_that_are_not_regular_files_or_too_large_are_refused_at_once() {
             "raylab: 4gb.ron: 4.0 GiB, larger than a scene file may be (16.0 MiB)",
         ),
     ] {
-        let clock = Instant::now();
         let output = raylab_limited(&limit, &dir, &["render", scene, "-o", "out.png"]);
         let message = stderr(&output);
         assert_eq!(output.status.code(), Some(1), "{scene}: {message}");
         assert_eq!(message.trim_end(), expected);
-        assert!(clock.elapsed() < Duration::from_secs(1), "{scene}");
     }
     for (shape, expected) in [
         (
@@ -295,14 +303,14 @@ fn an_existing_output_file_is_never_destroyed() {
     let dir = scratch("output");
     // A format raylab cannot write: refused before rendering, the file untouched.
     std::fs::write(dir.join("existing.jpg"), "precious").unwrap();
-    let clock = Instant::now();
     let output = raylab_limited("true", &dir, &["render", FACING, "-o", "existing.jpg"]);
     assert_eq!(output.status.code(), Some(2));
     assert_eq!(
         stderr(&output).trim_end(),
         "raylab: -o existing.jpg: raylab writes PNG images only, not Jpeg (name the file .png)"
     );
-    assert!(clock.elapsed() < Duration::from_secs(1));
+    // Refused before rendering: no statistics, no image.
+    assert!(output.stdout.is_empty());
     assert_eq!(
         std::fs::read_to_string(dir.join("existing.jpg")).unwrap(),
         "precious"
@@ -343,7 +351,6 @@ fn an_existing_output_file_is_never_destroyed() {
 fn bench_out_must_name_a_folder_and_does_not_apply_to_hard_cases() {
     let dir = scratch("bench");
     std::fs::write(dir.join("results"), "precious").unwrap();
-    let clock = Instant::now();
     let output = raylab_limited("true", &dir, &["bench", "--quick", "--out", "results"]);
     assert_eq!(output.status.code(), Some(2));
     assert_eq!(
@@ -351,10 +358,8 @@ fn bench_out_must_name_a_folder_and_does_not_apply_to_hard_cases() {
         "raylab: --out results: is a file, not a folder (bench writes results.json and \
          results.csv into a folder)"
     );
-    assert!(
-        clock.elapsed() < Duration::from_secs(1),
-        "checked before the run"
-    );
+    // Checked before the run: the study's table, printed after it, is not there.
+    assert!(output.stdout.is_empty(), "checked before the run");
     let output = raylab_limited("true", &dir, &["bench", "--hard-cases", "--out", "gallery"]);
     assert_eq!(output.status.code(), Some(2));
     assert!(

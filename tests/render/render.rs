@@ -5,7 +5,7 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod shipped;
+use crate::shipped;
 use shipped::shipped_render_scenes;
 use std::path::Path;
 

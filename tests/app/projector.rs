@@ -6,8 +6,7 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-#[allow(dead_code)] // the shared helpers this test does not need
-mod common;
+use crate::common;
 
 use common::app_view;
 

@@ -4,7 +4,7 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod run;
+use crate::run;
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Output, Stdio};
@@ -145,9 +145,9 @@ fn exact_reads_json_numbers_as_written_even_with_a_thousand_digits() {
     assert_eq!(lines[0]["exact"]["t"], t.as_str());
     // The same numbers in f64 round to 1: touching.
     assert_eq!(lines[1]["status"], "touching");
-    // A guard against the old behaviour (a long decimal took minutes), not a speed figure: the
-    // figure is measured by the README's command. Generous, so a loaded CI machine does not flake.
-    assert!(seconds < 10.0, "{seconds} s");
+    // Only a hang is caught here (the old behaviour: a long decimal took minutes); the speed of the
+    // batch is a benchmark's figure (`cargo bench --bench batch`), not a test's.
+    assert!(seconds < 60.0, "{seconds} s: a hang");
 }
 
 #[test]

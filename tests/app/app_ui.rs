@@ -4,7 +4,7 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
+use crate::common;
 
 use common::{
     app_at, app_view, click_image, load_preset, press, shows_text_containing, step_while,

@@ -1,14 +1,13 @@
 //! Pictures of the app, rendered on the CPU (wgpu on Mesa's lavapipe): image snapshots that fail when a
 //! view changes, and the README's screenshots.
 //!
-//! `RAYLAB_SCREENSHOTS=1 cargo test --test screenshots` rewrites `assets/screenshots/*.png`;
-//! `UPDATE_SNAPSHOTS=1 cargo test --test screenshots` accepts changed snapshots in `tests/snapshots/`.
+//! `RAYLAB_SCREENSHOTS=1 cargo test --test app screenshots::` rewrites `assets/screenshots/*.png`;
+//! `UPDATE_SNAPSHOTS=1 cargo test --test app screenshots::` accepts changed snapshots in `tests/snapshots/`.
 
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-#[allow(dead_code)] // the shared helpers these pictures do not need
-mod common;
+use crate::common;
 
 use common::{app_view, click_image, load_preset, press, wait_for_render};
 use egui::Vec2;

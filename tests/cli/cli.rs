@@ -3,7 +3,7 @@
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod run;
+use crate::run;
 
 use std::process::{Command, Output};
 
@@ -526,9 +526,27 @@ fn exact_values_beyond_the_float_range_read_from_the_exact_value() {
     );
 }
 
-/// Runs `raylab args…` with standard error on a pipe whose reader has gone (as
-/// `../shared/tools/closed_stderr.py` does) and standard output discarded; returns the exit code.
-fn exit_with_stderr_closed(args: &[&str]) -> Option<i32> {
+/// Runs `raylab args…` with `input` on standard input and standard output discarded, standard error
+/// going to `stderr`; returns the exit code (None: killed by a signal).
+fn exit_code_with(args: &[&str], input: &[u8], stderr: std::process::Stdio) -> Option<i32> {
+    use std::io::Write as _;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(args)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::null())
+        .stderr(stderr)
+        .spawn()
+        .expect("the binary runs");
+    let mut stdin = child.stdin.take().expect("stdin is piped");
+    // A command that does not read its input may have exited already: a closed pipe here is fine.
+    let _ = stdin.write_all(input);
+    drop(stdin);
+    child.wait().expect("the binary runs").code()
+}
+
+/// A pipe whose reader has gone (as `../shared/tools/closed_stderr.py` makes), to write standard
+/// error into.
+fn closed_pipe() -> std::process::Stdio {
     use std::os::fd::{FromRawFd, OwnedFd};
     let mut ends = [0; 2];
     #[allow(unsafe_code)]
@@ -538,15 +556,12 @@ fn exit_with_stderr_closed(args: &[&str]) -> Option<i32> {
         (OwnedFd::from_raw_fd(ends[0]), OwnedFd::from_raw_fd(ends[1]))
     };
     drop(reader);
-    Command::new(env!("CARGO_BIN_EXE_raylab"))
-        .args(args)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::from(writer))
-        .status()
-        .expect("the binary runs")
-        .code()
+    std::process::Stdio::from(writer)
 }
 
+/// Every subcommand, on success and on failure, run twice: with standard error readable (its exit code
+/// as the README says, and no panic message), then with standard error on a pipe whose reader has gone
+/// (the same exit code: a message that cannot be written is no panic, exit 101).
 #[test]
 fn every_subcommand_exits_cleanly_with_standard_error_closed() {
     let folder = std::env::temp_dir().join(format!("raylab-closed-stderr-{}", std::process::id()));
@@ -557,22 +572,134 @@ fn every_subcommand_exits_cleanly_with_standard_error_closed() {
         env!("CARGO_MANIFEST_DIR"),
         "/assets/scenes/seed003-facing.ron"
     );
-    let (png, sheets, db) = (out("facing.png"), out("sheets"), out("class.sqlite3"));
-    // (arguments, the exit code a user gets with standard error open)
-    let cases: [(Vec<&str>, i32); 11] = [
+    let lecture_scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/seed000-triangle.ron"
+    );
+    let (png, sheets, sheets_there, db, results) = (
+        out("facing.png"),
+        out("sheets"),
+        out("sheets-there"),
+        out("class.sqlite3"),
+        out("results"),
+    );
+    // A worksheet already there, which raylab replaces only with --force.
+    std::fs::create_dir_all(&sheets_there).unwrap();
+    std::fs::write(folder.join("sheets-there/worksheet.tex"), "old").unwrap();
+    let segments = [
+        "solve", "segments", "--a1", "0,0", "--a2", "4,4", "--b1", "0,4", "--b2", "4,0",
+    ];
+    let triangle = [
+        "solve", "triangle", "--a", "1,0,0", "--b", "0,1,0", "--c", "0,0,1", "--origin", "0,0,0",
+        "--dir", "1,1,1",
+    ];
+    let with = |base: &[&'static str], extra: &[&'static str]| [base, extra].concat();
+    let good_line =
+        br#"{"kind": "segments", "a1": [0, 0], "a2": [4, 4], "b1": [0, 4], "b2": [4, 0]}"#;
+    let bad_lines = b"{\"kind\": \"segments\"}\nnot json\n";
+    // (arguments, standard input, the exit code a user gets with standard error open)
+    let cases: Vec<(Vec<&str>, &[u8], i32)> = vec![
+        (vec!["--help"], b"", 0),
+        (vec!["--version"], b"", 0),
+        (vec!["solve", "--help"], b"", 0),
+        (vec!["no-such-command"], b"", 2),
+        (vec!["--lesson", "no-such-lesson"], b"", 2),
+        // solve, in each format and precision, and refused
+        (segments.to_vec(), b"", 0),
+        (with(&segments, &["--format", "json"]), b"", 0),
+        (with(&segments, &["--format", "latex"]), b"", 0),
         (
-            vec![
-                "solve", "segments", "--a1", "0,0", "--a2", "4,4", "--b1", "0,4", "--b2", "4,0",
-            ],
+            with(&triangle, &["--precision", "exact", "--format", "json"]),
+            b"",
             0,
         ),
-        (vec!["solve", "segments", "--a1", "0,0"], 2),
-        (vec!["render", scene, "-o", &png, "--stats"], 0),
-        (vec!["render", "no-such-scene.ron", "-o", &png], 1),
-        (vec!["render", scene, "-o", "facing.jpg"], 2),
         (
-            vec!["worksheet", "--seed", "1", "--count", "2", "-o", &sheets],
+            with(&triangle, &["--method", "watertight", "--precision", "f32"]),
+            b"",
             0,
+        ),
+        (
+            with(&triangle, &["--precision", "symbolic", "--format", "latex"]),
+            b"",
+            0,
+        ),
+        (vec!["solve", "segments", "--a1", "0,0"], b"", 2),
+        (vec!["solve"], b"", 2),
+        (with(&segments, &["--precision", "symbolic"]), b"", 2),
+        (
+            with(
+                &triangle,
+                &["--method", "watertight", "--precision", "exact"],
+            ),
+            b"",
+            2,
+        ),
+        (
+            with(&triangle, &["--dir", "1e400,0,0", "--precision", "f32"]),
+            b"",
+            2,
+        ),
+        // batch
+        (vec!["solve", "--batch"], good_line, 0),
+        (
+            vec!["solve", "--batch", "--precision", "exact"],
+            good_line,
+            0,
+        ),
+        (vec!["solve", "--batch"], bad_lines, 1),
+        (vec!["solve", "--batch", "--format", "latex"], good_line, 2),
+        (
+            vec!["solve", "--batch", "--precision", "symbolic"],
+            good_line,
+            2,
+        ),
+        // render, a small scene
+        (vec!["render", scene, "-o", &png, "--stats"], b"", 0),
+        (
+            vec!["render", scene, "-o", &png, "--effects", "coverage"],
+            b"",
+            0,
+        ),
+        (vec!["render", "no-such-scene.ron", "-o", &png], b"", 1),
+        (vec!["render", lecture_scene, "-o", &png], b"", 1),
+        (vec!["render", scene, "-o", "facing.jpg"], b"", 2),
+        (
+            vec!["render", scene, "-o", &png, "--effects", "sparkle"],
+            b"",
+            2,
+        ),
+        (
+            vec!["render", scene, "-o", "/proc/no-such/facing.png"],
+            b"",
+            1,
+        ),
+        // worksheet
+        (
+            vec![
+                "worksheet",
+                "--seed",
+                "1",
+                "--count",
+                "2",
+                "-o",
+                &sheets,
+                "--force",
+            ],
+            b"",
+            0,
+        ),
+        (
+            vec![
+                "worksheet",
+                "--seed",
+                "1",
+                "--count",
+                "2",
+                "-o",
+                &sheets_there,
+            ],
+            b"",
+            1,
         ),
         (
             vec![
@@ -584,19 +711,62 @@ fn every_subcommand_exits_cleanly_with_standard_error_closed() {
                 "-o",
                 "/proc/no-such",
             ],
+            b"",
             1,
         ),
-        (vec!["bench", "--hard-cases"], 0),
-        (vec!["bench", "--out", scene], 2),
-        (vec!["class", "export", "NOSUCH", "--db", &db], 1),
-        (vec!["class", "--listen", "not-an-address"], 2),
+        (
+            vec!["worksheet", "--seed", "1", "--count", "0", "-o", &sheets],
+            b"",
+            2,
+        ),
+        // bench: a tiny study writing its results, the gallery, and refusals
+        (
+            vec!["bench", "--quick", "--rays", "4", "--out", &results],
+            b"",
+            0,
+        ),
+        (vec!["bench", "--hard-cases"], b"", 0),
+        (vec!["bench", "--out", scene], b"", 2),
+        (vec!["bench", "--rays", "0"], b"", 2),
+        // class: the export and the server's refusals (a server that starts runs until stopped)
+        (vec!["class", "export", "NOSUCH", "--db", &db], b"", 1),
+        (vec!["class", "--listen", "not-an-address"], b"", 2),
+        (
+            vec![
+                "class",
+                "--listen",
+                "127.0.0.1:0",
+                "--db",
+                "/proc/no-such/class.sqlite3",
+            ],
+            b"",
+            1,
+        ),
     ];
-    for (args, expected) in cases {
+    for (args, input, expected) in cases {
+        let command = format!("raylab {}", args.join(" "));
+        let readable = Command::new(env!("CARGO_BIN_EXE_raylab"))
+            .args(&args)
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .and_then(|mut child| {
+                use std::io::Write as _;
+                let _ = child.stdin.take().expect("stdin is piped").write_all(input);
+                child.wait_with_output()
+            })
+            .expect("the binary runs");
+        let said = stderr(&readable);
+        assert_eq!(readable.status.code(), Some(expected), "{command}: {said}");
+        assert!(!said.contains("panicked"), "{command}: {said}");
+        if expected != 0 {
+            assert!(said.starts_with("raylab"), "{command} says why: {said}");
+        }
         assert_eq!(
-            exit_with_stderr_closed(&args),
+            exit_code_with(&args, input, closed_pipe()),
             Some(expected),
-            "raylab {}",
-            args.join(" ")
+            "{command} with standard error closed"
         );
     }
     let _ = std::fs::remove_dir_all(&folder);
