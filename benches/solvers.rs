@@ -19,12 +19,21 @@ use raylab::math::exact::Exact;
 /// Seed 003's ray and triangle: non-integer inputs, so the exact run meets real fractions.
 fn seed003<R: Real>() -> RayTriangle<R> {
     let v = Case::SEED003.vectors();
-    RayTriangle::from_f64(v.map(DVec3::from_array), 0.0).unwrap()
+    RayTriangle::read(
+        raylab::geometry::Reading::FloatValue,
+        v.map(DVec3::from_array),
+        0.0,
+    )
+    .unwrap()
 }
 
 fn seed000_segments<R: Real>() -> SegmentPair<R> {
     let p = [[1.0, 2.0], [6.0, 1.0], [2.0, 6.0], [5.0, 1.0]];
-    SegmentPair::from_f64(p.map(DVec2::from_array)).unwrap()
+    SegmentPair::read(
+        raylab::geometry::Reading::FloatValue,
+        p.map(DVec2::from_array),
+    )
+    .unwrap()
 }
 
 fn square<R: Real>() -> RayParallelogram<R> {
@@ -35,7 +44,11 @@ fn square<R: Real>() -> RayParallelogram<R> {
         [0.5, 0.5, 1.0],
         [0.1, 0.0, -1.0],
     ];
-    RayParallelogram::from_f64(v.map(DVec3::from_array)).unwrap()
+    RayParallelogram::read(
+        raylab::geometry::Reading::FloatValue,
+        v.map(DVec3::from_array),
+    )
+    .unwrap()
 }
 
 fn bench_precision<R: Real>(c: &mut Criterion) {

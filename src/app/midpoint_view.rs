@@ -6,10 +6,9 @@ use egui::Ui;
 use serde::{Deserialize, Serialize};
 
 use super::highlight::{Element, Parameter};
-use super::segments_view::SegmentsView;
 use super::view::{LectureView, bits_of, first_scene};
 use crate::geometry::Precision;
-use crate::scene::{Problem, SegmentsScene};
+use crate::scene::SegmentsScene;
 use crate::trace::{Payload, Step, Trace, Vector};
 
 /// The midpoint of segment A.
@@ -26,6 +25,12 @@ pub struct Solved {
     trace: Trace,
 }
 
+impl AsRef<Trace> for Solved {
+    fn as_ref(&self) -> &Trace {
+        &self.trace
+    }
+}
+
 impl Default for MidpointView {
     fn default() -> MidpointView {
         first_scene(|scene| MidpointView { scene })
@@ -35,15 +40,6 @@ impl Default for MidpointView {
 impl LectureView for MidpointView {
     type Scene = SegmentsScene;
     type Solved = Solved;
-
-    /// The Segments view's problem.
-    fn scene_of(problem: &Problem) -> Option<&SegmentsScene> {
-        SegmentsView::scene_of(problem)
-    }
-
-    fn problem_of(scene: SegmentsScene) -> Problem {
-        SegmentsView::problem_of(scene)
-    }
 
     fn scene(&self) -> &SegmentsScene {
         &self.scene
@@ -64,10 +60,6 @@ impl LectureView for MidpointView {
             Payload::Vector(Vector::of("M", "M", &midpoint)),
         ));
         Solved { midpoint, trace }
-    }
-
-    fn trace(solved: &Solved) -> &Trace {
-        &solved.trace
     }
 
     fn ui(&mut self, ui: &mut Ui, solved: &Solved) {

@@ -17,8 +17,7 @@ use super::widgets::{ParameterSlider, parameter_sliders, status_line, vector_edi
 use crate::geometry::parallelogram::{self, ParallelogramOutcome};
 use crate::geometry::{ParallelogramLecture, Precision, Reading, Shown};
 use crate::scene::ParallelogramScene;
-use crate::scene::Problem;
-use crate::trace::{Trace, format_float};
+use crate::trace::format_float;
 
 /// Everything the Parallelogram view remembers.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -53,23 +52,8 @@ impl LectureView for ParallelogramView {
     type Scene = ParallelogramScene;
     type Solved = Solved;
 
-    fn scene_of(problem: &Problem) -> Option<&ParallelogramScene> {
-        match problem {
-            Problem::Parallelogram(scene) => Some(scene),
-            _ => None,
-        }
-    }
-
-    fn problem_of(scene: ParallelogramScene) -> Problem {
-        Problem::Parallelogram(scene)
-    }
-
     fn scene(&self) -> &ParallelogramScene {
         &self.scene
-    }
-
-    fn trace(solved: &Solved) -> &Trace {
-        &solved.trace
     }
 
     /// Loads a scene.

@@ -15,9 +15,9 @@ pub use effects::grouped;
 
 use jobs::{Choices, Runtime, loads_in_background};
 
-use super::parallelogram_view::{self, ParallelogramView};
-use super::triangle_view::{self, TriangleView};
-use super::view::{ActiveSolve, LectureView, OpenError, Request, View};
+use super::parallelogram_view;
+use super::triangle_view;
+use super::view::{ActiveSolve, OpenError, Request, View};
 use super::widgets::palette::Readable as _;
 use super::{RaylabApp, ViewKind};
 use std::sync::Arc;
@@ -94,17 +94,13 @@ impl View for RenderView {
     /// steps, judged as the renderer saw it (exact arithmetic on the floats themselves for a triangle).
     fn solve_frame(&self, precision: Precision) -> ActiveSolve {
         match self.probed_problem() {
-            Some(Action::Triangle(scene)) => ActiveSolve::new(
-                triangle_view::Solved::new(
-                    (scene.vectors(), scene.t_min),
-                    Reading::FloatValue,
-                    precision,
-                ),
-                TriangleView::trace,
-            ),
+            Some(Action::Triangle(scene)) => ActiveSolve::new(triangle_view::Solved::new(
+                (scene.vectors(), scene.t_min),
+                Reading::FloatValue,
+                precision,
+            )),
             Some(Action::Parallelogram(scene)) => ActiveSolve::new(
                 parallelogram_view::Solved::new(scene.vectors(), Reading::AsWritten, precision),
-                ParallelogramView::trace,
             ),
             _ => ActiveSolve::nothing(),
         }

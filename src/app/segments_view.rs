@@ -18,9 +18,8 @@ use super::widgets::palette::{self, faded};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::segments::{self, SegmentsOutcome};
 use crate::geometry::{Precision, Reading, SegmentsLecture, Shown};
-use crate::scene::Problem;
 use crate::scene::SegmentsScene;
-use crate::trace::{Trace, format_float};
+use crate::trace::format_float;
 
 /// Something a drag can move.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -111,23 +110,8 @@ impl LectureView for SegmentsView {
     type Scene = SegmentsScene;
     type Solved = Solved;
 
-    fn scene_of(problem: &Problem) -> Option<&SegmentsScene> {
-        match problem {
-            Problem::Segments(scene) => Some(scene),
-            _ => None,
-        }
-    }
-
-    fn problem_of(scene: SegmentsScene) -> Problem {
-        Problem::Segments(scene)
-    }
-
     fn scene(&self) -> &SegmentsScene {
         &self.scene
-    }
-
-    fn trace(solved: &Solved) -> &Trace {
-        &solved.trace
     }
 
     /// Loads a scene: new segments, handles at the start, view fitted.

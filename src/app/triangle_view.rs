@@ -20,9 +20,8 @@ use super::widgets::scene3d::{Canvas, OrbitCamera};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome};
 use crate::geometry::{Precision, Reading, Shown, TriangleLecture};
-use crate::scene::Problem;
 use crate::scene::TriangleScene;
-use crate::trace::{Trace, format_float};
+use crate::trace::format_float;
 
 /// A drag in the canvas: a vertex, or the camera.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -75,23 +74,8 @@ impl LectureView for TriangleView {
     type Scene = TriangleScene;
     type Solved = Solved;
 
-    fn scene_of(problem: &Problem) -> Option<&TriangleScene> {
-        match problem {
-            Problem::Triangle(scene) => Some(scene),
-            _ => None,
-        }
-    }
-
-    fn problem_of(scene: TriangleScene) -> Problem {
-        Problem::Triangle(scene)
-    }
-
     fn scene(&self) -> &TriangleScene {
         &self.scene
-    }
-
-    fn trace(solved: &Solved) -> &Trace {
-        &solved.trace
     }
 
     /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.

@@ -18,32 +18,26 @@ use super::highlight::{Element, Parameter};
 use super::widgets::canvas_state::CanvasState;
 use super::{RaylabApp, ViewKind};
 use crate::geometry::Precision;
-use crate::scene::Problem;
+use crate::scene::{LectureScene, Problem};
 use crate::trace::Trace;
 
 /// One frame's solve of the open view: what it draws, and the steps the step panel shows. The view
 /// that made it reads it back as its own type ([`ActiveSolve::get`]).
 pub struct ActiveSolve(Option<Box<dyn Solve>>);
 
-/// A solve of any type, with a way to its steps.
+/// A solve of any type that holds its steps.
 trait Solve {
     fn steps(&self) -> &Trace;
     fn as_any(&self) -> &dyn Any;
 }
 
-/// A solve and the function that finds its steps in it.
-struct Solved<S> {
-    solved: S,
-    steps: fn(&S) -> &Trace,
-}
-
-impl<S: 'static> Solve for Solved<S> {
+impl<S: AsRef<Trace> + 'static> Solve for S {
     fn steps(&self) -> &Trace {
-        (self.steps)(&self.solved)
+        self.as_ref()
     }
 
     fn as_any(&self) -> &dyn Any {
-        &self.solved
+        self
     }
 }
 
@@ -53,9 +47,9 @@ impl ActiveSolve {
         ActiveSolve(None)
     }
 
-    /// A solve, whose steps `steps` finds in it.
-    pub fn new<S: 'static>(solved: S, steps: fn(&S) -> &Trace) -> ActiveSolve {
-        ActiveSolve(Some(Box::new(Solved { solved, steps })))
+    /// A solve, with its steps.
+    pub fn new<S: AsRef<Trace> + 'static>(solved: S) -> ActiveSolve {
+        ActiveSolve(Some(Box::new(solved)))
     }
 
     /// The steps for the step panel, if there is a solve.
@@ -169,23 +163,17 @@ impl fmt::Debug for dyn View {
 /// parameters on sliders, solved every frame with its steps. It gets [`View`] from this trait: its
 /// problem is opened, saved, solved, drawn and presented through these methods alone.
 pub trait LectureView: Clone + Serialize + DeserializeOwned + 'static {
-    /// Its inputs.
-    type Scene: Clone;
-    /// One frame's solve.
-    type Solved: 'static;
+    /// Its inputs: which kind of problem it opens.
+    type Scene: LectureScene;
+    /// One frame's solve, with its steps.
+    type Solved: AsRef<Trace> + 'static;
 
-    /// Its inputs in a problem, if the problem is its kind.
-    fn scene_of(problem: &Problem) -> Option<&Self::Scene>;
-    /// Its inputs as a problem.
-    fn problem_of(scene: Self::Scene) -> Problem;
     /// Its inputs now.
     fn scene(&self) -> &Self::Scene;
     /// Loads new inputs: sliders at a starting point, the camera framing them.
     fn load(&mut self, scene: Self::Scene);
     /// Solves its inputs, with the step panel in `precision`.
     fn solve(&self, precision: Precision) -> Self::Solved;
-    /// The steps of a solve.
-    fn trace(solved: &Self::Solved) -> &Trace;
     /// The view: controls and drawing.
     fn ui(&mut self, ui: &mut Ui, solved: &Self::Solved);
     /// The drawing alone, filling the space (presentation mode).
@@ -205,21 +193,21 @@ pub trait LectureView: Clone + Serialize + DeserializeOwned + 'static {
 
 impl<L: LectureView> View for L {
     fn opens(&self, problem: &Problem) -> bool {
-        L::scene_of(problem).is_some()
+        L::Scene::of(problem).is_some()
     }
 
     fn open(&mut self, problem: &Problem, _folder: Option<String>) -> Result<(), OpenError> {
-        let scene = L::scene_of(problem).ok_or(OpenError::NotMine)?;
+        let scene = L::Scene::of(problem).ok_or(OpenError::NotMine)?;
         self.load(scene.clone());
         Ok(())
     }
 
     fn problem(&self) -> Option<Problem> {
-        Some(L::problem_of(self.scene().clone()))
+        Some(self.scene().clone().into_problem())
     }
 
     fn solve_frame(&self, precision: Precision) -> ActiveSolve {
-        ActiveSolve::new(self.solve(precision), L::trace)
+        ActiveSolve::new(self.solve(precision))
     }
 
     fn frame_ui(
@@ -265,7 +253,7 @@ impl<L: LectureView> View for L {
 
 /// A lecture view of the first built-in scene of its kind (its `Default`).
 pub fn first_scene<L: LectureView>(unloaded: impl FnOnce(L::Scene) -> L) -> L {
-    let scene = crate::scene::first_built_in(|problem| L::scene_of(&problem).cloned());
+    let scene = crate::scene::first_built_in(|problem| L::Scene::of(&problem).cloned());
     let mut view = unloaded(scene.clone());
     view.load(scene);
     view

@@ -97,6 +97,12 @@ pub struct Shown<L: Lecture> {
     pub trace: Trace,
 }
 
+impl<L: Lecture> AsRef<Trace> for Shown<L> {
+    fn as_ref(&self) -> &Trace {
+        &self.trace
+    }
+}
+
 impl<L: Lecture> Shown<L> {
     /// Solves `floats`, read as `reading`, for a view whose step panel shows `precision`.
     pub fn new(floats: L::Floats, reading: Reading, precision: Precision) -> Shown<L> {
@@ -376,7 +382,8 @@ mod budget {
         // A thousand-digit coordinate is well within it, and solved.
         let problem = RayTriangle {
             b: [exact("1e1000"), zero.clone(), zero.clone()],
-            ..RayTriangle::<Exact>::from_f64(
+            ..RayTriangle::<Exact>::read(
+                crate::geometry::Reading::FloatValue,
                 [
                     [0.0; 3],
                     [1.0, 0.0, 0.0],
@@ -403,9 +410,11 @@ mod readable_numbers {
     use glam::{DVec2, DVec3};
 
     fn segments_text(points: [[f64; 2]; 4]) -> String {
-        let pair =
-            SegmentPair::<crate::math::exact::Exact>::from_f64(points.map(DVec2::from_array))
-                .unwrap();
+        let pair = SegmentPair::<crate::math::exact::Exact>::read(
+            crate::geometry::Reading::FloatValue,
+            points.map(DVec2::from_array),
+        )
+        .unwrap();
         to_text(&SegmentsLecture::traced(&pair).1)
     }
 
@@ -440,9 +449,12 @@ mod readable_numbers {
             [0.1, 0.2, 0.3],
             [1.0, 1.0, 1.0],
         ];
-        let problem =
-            RayTriangle::<crate::math::exact::Exact>::from_f64(v.map(DVec3::from_array), 0.0)
-                .unwrap();
+        let problem = RayTriangle::<crate::math::exact::Exact>::read(
+            crate::geometry::Reading::FloatValue,
+            v.map(DVec3::from_array),
+            0.0,
+        )
+        .unwrap();
         let (_, trace) = TriangleLecture::traced(&problem);
         let text = to_text(&trace);
         // The float −6.7 is computed with its exact value but read as the shortest decimal, and a

@@ -33,13 +33,6 @@ pub struct SegmentPair<R> {
     pub b2: V2<R>,
 }
 
-impl<R: Real> SegmentPair<R> {
-    /// Converts float inputs to precision `R`, naming the first that does not convert.
-    pub fn from_f64(points: [DVec2; 4]) -> Result<SegmentPair<R>, InvalidInput> {
-        SegmentPair::read(Reading::FloatValue, points)
-    }
-}
-
 impl SegmentPair<f64> {
     /// The pair in f64, which holds every input as it is.
     pub fn from_floats([a1, a2, b1, b2]: [DVec2; 4]) -> SegmentPair<f64> {

@@ -118,6 +118,33 @@ impl Problem {
     }
 }
 
+/// The inputs of one kind of lecture problem, as a type: which [`Problem`] variant holds them.
+pub trait LectureScene: Clone + 'static {
+    /// The inputs in `problem`, if it is this kind.
+    fn of(problem: &Problem) -> Option<&Self>;
+    /// The inputs as a problem.
+    fn into_problem(self) -> Problem;
+}
+
+/// Each scene type is held by the [`Problem`] variant of its name.
+macro_rules! lecture_scene {
+    ($($scene:ident in $variant:ident),*) => {$(
+        impl LectureScene for $scene {
+            fn of(problem: &Problem) -> Option<&$scene> {
+                match problem {
+                    Problem::$variant(scene) => Some(scene),
+                    _ => None,
+                }
+            }
+            fn into_problem(self) -> Problem {
+                Problem::$variant(self)
+            }
+        }
+    )*};
+}
+
+lecture_scene!(SegmentsScene in Segments, TriangleScene in Triangle, ParallelogramScene in Parallelogram);
+
 /// The first built-in problem that `pick` takes: a view's starting scene.
 #[allow(
     clippy::expect_used,

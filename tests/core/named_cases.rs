@@ -23,7 +23,11 @@ fn render_all(trace: &Trace) {
 }
 
 fn triangle_status<R: Real>(v: [[f64; 3]; 5], t_min: f64) -> (&'static str, String) {
-    let problem = match RayTriangle::<R>::from_f64(v.map(DVec3::from_array), t_min) {
+    let problem = match RayTriangle::<R>::read(
+        raylab::geometry::Reading::FloatValue,
+        v.map(DVec3::from_array),
+        t_min,
+    ) {
         Ok(problem) => problem,
         // Only the exact type refuses to convert NaN and ∞; that is the invalid-input path too.
         Err(bad) => return ("invalid-input", bad.to_string()),
@@ -159,7 +163,10 @@ fn f32_overflow_is_named_not_nonsense() {
 }
 
 fn segments_status<R: Real>(points: [[f64; 2]; 4]) -> segments::SegmentsSolution<R> {
-    match SegmentPair::<R>::from_f64(points.map(DVec2::from_array)) {
+    match SegmentPair::<R>::read(
+        raylab::geometry::Reading::FloatValue,
+        points.map(DVec2::from_array),
+    ) {
         Ok(pair) => {
             let (solved, trace) = SegmentsLecture::traced(&pair);
             render_all(&trace);
@@ -258,7 +265,10 @@ fn segments_bad_input() {
         ] {
             assert_eq!(solved.status().word(), "invalid-input");
         }
-        let converted = SegmentPair::<Exact>::from_f64(points.map(DVec2::from_array));
+        let converted = SegmentPair::<Exact>::read(
+            raylab::geometry::Reading::FloatValue,
+            points.map(DVec2::from_array),
+        );
         assert_eq!(
             converted.unwrap_err().field,
             ["A1", "A2", "B1", "B2"][field]
@@ -267,10 +277,18 @@ fn segments_bad_input() {
 }
 
 fn parallelogram_outcome(v: [[f64; 3]; 5]) -> ParallelogramOutcome {
-    let exact = RayParallelogram::<Exact>::from_f64(v.map(DVec3::from_array)).unwrap();
+    let exact = RayParallelogram::<Exact>::read(
+        raylab::geometry::Reading::FloatValue,
+        v.map(DVec3::from_array),
+    )
+    .unwrap();
     let (solved, trace) = ParallelogramLecture::traced(&exact);
     render_all(&trace);
-    let float = RayParallelogram::<f64>::from_f64(v.map(DVec3::from_array)).unwrap();
+    let float = RayParallelogram::<f64>::read(
+        raylab::geometry::Reading::FloatValue,
+        v.map(DVec3::from_array),
+    )
+    .unwrap();
     assert_eq!(
         parallelogram::solve(&float, &mut ()).outcome.status(),
         solved.outcome.status()

@@ -110,7 +110,12 @@ fn check_triangle<R: Real>(v: [[f64; 3]; 5], eps: f64) -> Result<bool, TestCaseE
     if !well_posed {
         return Ok(false);
     }
-    let problem = RayTriangle::<R>::from_f64(v.map(glam::DVec3::from_array), 0.0).unwrap();
+    let problem = RayTriangle::<R>::read(
+        raylab::geometry::Reading::FloatValue,
+        v.map(glam::DVec3::from_array),
+        0.0,
+    )
+    .unwrap();
     let float = triangle::solve(&problem, &mut ());
     let Some(xf) = float.solution else {
         return Err(TestCaseError::fail(format!(
@@ -176,7 +181,7 @@ proptest! {
         if err >= det.abs() / 2.0 || det.abs() <= 32.0 * eps * norm_f64(&d_a) * norm_f64(&b1_b2) {
             return Ok(());
         }
-        let pair = SegmentPair::<f64>::from_f64(points.map(glam::DVec2::from_array)).unwrap();
+        let pair = SegmentPair::<f64>::read(raylab::geometry::Reading::FloatValue, points.map(glam::DVec2::from_array)).unwrap();
         let float = segments::solve(&pair, &mut ());
         let (tf, sf) = (float.t.unwrap(), float.s.unwrap());
         let mut bounds = [0.0; 2];

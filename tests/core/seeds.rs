@@ -17,12 +17,21 @@ fn q(text: &str) -> Exact {
 }
 
 fn exact_segments(points: [[f64; 2]; 4]) -> (segments::SegmentsSolution<Exact>, Trace) {
-    let pair = SegmentPair::from_f64(points.map(DVec2::from_array)).unwrap();
+    let pair = SegmentPair::read(
+        raylab::geometry::Reading::FloatValue,
+        points.map(DVec2::from_array),
+    )
+    .unwrap();
     SegmentsLecture::traced(&pair)
 }
 
 fn triangle_in<R: Real>(v: [[f64; 3]; 5]) -> (triangle::TriangleSolution<R>, Trace) {
-    let problem = RayTriangle::<R>::from_f64(v.map(DVec3::from_array), 0.0).unwrap();
+    let problem = RayTriangle::<R>::read(
+        raylab::geometry::Reading::FloatValue,
+        v.map(DVec3::from_array),
+        0.0,
+    )
+    .unwrap();
     TriangleLecture::traced(&problem)
 }
 
@@ -149,7 +158,8 @@ fn seed003_ray_hits_at_its_printed_point() {
 
 #[test]
 fn seed001_parallelogram_by_inverse() {
-    let problem = RayParallelogram::<Exact>::from_f64(
+    let problem = RayParallelogram::<Exact>::read(
+        raylab::geometry::Reading::FloatValue,
         [
             [0.0, 0.0, 0.0],
             [2.0, 0.0, 0.0],

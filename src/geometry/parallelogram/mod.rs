@@ -55,11 +55,6 @@ impl RayParallelogram<f64> {
 }
 
 impl<R: Real> RayParallelogram<R> {
-    /// Converts float inputs to precision `R`, naming the first that does not convert.
-    pub fn from_f64(vectors: [DVec3; 5]) -> Result<RayParallelogram<R>, InvalidInput> {
-        RayParallelogram::read(Reading::FloatValue, vectors)
-    }
-
     /// Converts float inputs as [`Reading`] says.
     pub fn read(
         reading: Reading,

@@ -63,11 +63,6 @@ impl RayTriangle<f64> {
 }
 
 impl<R: Real> RayTriangle<R> {
-    /// Converts float inputs to precision `R`, naming the first input that does not convert.
-    pub fn from_f64(vectors: [DVec3; 5], t_min: f64) -> Result<RayTriangle<R>, InvalidInput> {
-        RayTriangle::read(Reading::FloatValue, vectors, t_min)
-    }
-
     /// Converts float inputs as [`Reading`] says.
     pub fn read(
         reading: Reading,
