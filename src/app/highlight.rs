@@ -179,17 +179,13 @@ mod tests {
 
     #[test]
     fn every_step_of_the_lecture_triangle_highlights_something() {
-        use crate::geometry::{Lecture, Precision, Reading, TriangleLecture};
-        let vectors = [
-            [3.0, 0.0, 0.0],
-            [0.0, 3.0, 0.0],
-            [0.0, 0.0, 3.0],
-            [0.0; 3],
-            [1.0; 3],
-        ]
-        .map(glam::DVec3::from);
-        let trace =
-            TriangleLecture::trace_floats((vectors, 0.0), Reading::AsWritten, Precision::Exact);
+        use crate::geometry::{Precision, Reading};
+        let lecture =
+            crate::scene::preset("seed000-triangle").expect("the lecture's triangle ships");
+        let trace = lecture
+            .problem
+            .trace(Reading::AsWritten, Precision::Exact)
+            .expect("a lecture problem");
         for step in &trace.steps {
             assert!(
                 !of_step(&trace.solver, &step.id).is_empty(),

@@ -336,12 +336,9 @@ mod budget {
     use super::{EXACT_DIGIT_BUDGET, segments};
     use crate::math::exact::Exact;
 
-    fn exact(text: &str) -> Exact {
-        text.parse().unwrap()
-    }
-
     #[test]
     fn exact_inputs_past_the_digit_budget_are_refused_before_any_arithmetic() {
+        let exact = |text: &str| text.parse::<Exact>().unwrap();
         // Eight coordinates of 10^±10000: each within the ±10 000 exponent limit, 80 000 digits in all
         // (a solve of them ran for half a minute).
         let (big, small) = (exact("1e10000"), exact("1e-10000"));
