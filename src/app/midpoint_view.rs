@@ -31,22 +31,16 @@ impl AsRef<Trace> for Solved {
     }
 }
 
-impl Default for MidpointView {
-    fn default() -> MidpointView {
-        first_scene(|scene| MidpointView { scene })
-    }
-}
-
 impl LectureView for MidpointView {
     type Scene = SegmentsScene;
     type Solved = Solved;
 
-    fn scene(&self) -> &SegmentsScene {
-        &self.scene
-    }
-
     fn load(&mut self, scene: SegmentsScene) {
         self.scene = scene;
+    }
+
+    fn scene(&self) -> &SegmentsScene {
+        &self.scene
     }
 
     fn solve(&self, precision: Precision) -> Solved {
@@ -80,6 +74,12 @@ impl LectureView for MidpointView {
 
     fn fingerprint(&self, bits: &mut Vec<u64>) {
         bits_of(bits, self.scene.a1.into_iter().chain(self.scene.a2));
+    }
+}
+
+impl Default for MidpointView {
+    fn default() -> MidpointView {
+        first_scene(|scene| MidpointView { scene })
     }
 }
 

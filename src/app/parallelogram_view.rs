@@ -42,19 +42,9 @@ pub struct ParallelogramView {
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<ParallelogramLecture>;
 
-impl Default for ParallelogramView {
-    fn default() -> ParallelogramView {
-        first_scene(ParallelogramView::unloaded)
-    }
-}
-
 impl LectureView for ParallelogramView {
     type Scene = ParallelogramScene;
     type Solved = Solved;
-
-    fn scene(&self) -> &ParallelogramScene {
-        &self.scene
-    }
 
     /// Loads a scene.
     fn load(&mut self, scene: ParallelogramScene) {
@@ -72,6 +62,10 @@ impl LectureView for ParallelogramView {
         self.alpha = 0.5;
         self.beta = 0.5;
         self.t = 0.5;
+    }
+
+    fn scene(&self) -> &ParallelogramScene {
+        &self.scene
     }
 
     /// Solves the current inputs.
@@ -116,6 +110,12 @@ impl LectureView for ParallelogramView {
 
     fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
         Some(&mut self.canvas)
+    }
+}
+
+impl Default for ParallelogramView {
+    fn default() -> ParallelogramView {
+        first_scene(ParallelogramView::unloaded)
     }
 }
 

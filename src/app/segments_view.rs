@@ -100,19 +100,9 @@ pub struct SegmentsView {
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<SegmentsLecture>;
 
-impl Default for SegmentsView {
-    fn default() -> SegmentsView {
-        first_scene(SegmentsView::unloaded)
-    }
-}
-
 impl LectureView for SegmentsView {
     type Scene = SegmentsScene;
     type Solved = Solved;
-
-    fn scene(&self) -> &SegmentsScene {
-        &self.scene
-    }
 
     /// Loads a scene: new segments, handles at the start, view fitted.
     fn load(&mut self, scene: SegmentsScene) {
@@ -121,6 +111,10 @@ impl LectureView for SegmentsView {
         self.s = 0.25;
         self.animation = None;
         self.fit();
+    }
+
+    fn scene(&self) -> &SegmentsScene {
+        &self.scene
     }
 
     /// Solves the current inputs.
@@ -163,6 +157,12 @@ impl LectureView for SegmentsView {
         let points = self.scene.points().into_iter().flat_map(|p| p.to_array());
         bits_of(bits, points.chain([self.t, self.s]));
         bits.push(u64::from(self.show_lines));
+    }
+}
+
+impl Default for SegmentsView {
+    fn default() -> SegmentsView {
+        first_scene(SegmentsView::unloaded)
     }
 }
 

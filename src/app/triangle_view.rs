@@ -64,19 +64,9 @@ pub struct TriangleView {
 /// The solves one frame needs: f64 for drawing, exact for fractions, and the trace for the panel.
 pub type Solved = Shown<TriangleLecture>;
 
-impl Default for TriangleView {
-    fn default() -> TriangleView {
-        first_scene(TriangleView::unloaded)
-    }
-}
-
 impl LectureView for TriangleView {
     type Scene = TriangleScene;
     type Solved = Solved;
-
-    fn scene(&self) -> &TriangleScene {
-        &self.scene
-    }
 
     /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.
     fn load(&mut self, scene: TriangleScene) {
@@ -88,6 +78,10 @@ impl LectureView for TriangleView {
         self.gamma = 0.2;
         self.t = 0.5;
         self.animation = None;
+    }
+
+    fn scene(&self) -> &TriangleScene {
+        &self.scene
     }
 
     /// Solves the current inputs.
@@ -147,6 +141,12 @@ impl LectureView for TriangleView {
 
     fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
         Some(&mut self.canvas)
+    }
+}
+
+impl Default for TriangleView {
+    fn default() -> TriangleView {
+        first_scene(TriangleView::unloaded)
     }
 }
 
