@@ -223,7 +223,9 @@ fn raylab_occluded(pool: &rayon::ThreadPool, prepared: &Prepared) -> Option<(f64
         rows.par_iter()
             .map(|row| {
                 row.iter()
-                    .filter(|(o, d)| bvh.occluded(o, d, 0.0, f64::INFINITY, &mut 0, &mut 0))
+                    .filter(|(o, d)| {
+                        bvh.occluded(prepared.simd, o, d, (0.0, f64::INFINITY), &mut 0, &mut 0)
+                    })
                     .count()
             })
             .sum::<usize>()

@@ -1,13 +1,13 @@
 //! Casting one ray into a prepared scene: into each object's space, through its BVH, through the core's
 //! intersection method; the nearest hit wins. The common bugs the app shows are switched on here.
 
-mod parallelogram4;
-
 use serde::{Deserialize, Serialize};
 use strum::{EnumIter, IntoStaticStr};
 
 use super::bvh::Bvh;
 use super::crack_free::ShearedRay;
+use super::kernels::Avx2;
+use super::kernels::parallelogram4::Parallelogram4;
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
 use super::{Prepared, Stats};
 use crate::geometry::parallelogram::lean::solve_inside;
@@ -252,6 +252,7 @@ pub fn crack_free_applies(prepared: &Prepared, object: &PreparedObject) -> bool 
 /// The nearest hit of the crack-free test among `triangles` (through the BVH when there is one) with
 /// 0 < t ≤ `t_max`, ties to the lower index; its `object` is left 0 for the caller to set.
 fn nearest_crack_free(
+    simd: Option<Avx2>,
     triangles: &[PreparedTriangle],
     bvh: Option<&Bvh>,
     origin: V3<f64>,
@@ -261,10 +262,10 @@ fn nearest_crack_free(
 ) -> Option<Hit> {
     let (primitive, [t, beta, gamma]) = match bvh {
         Some(bvh) => bvh.nearest_crack_free(
+            simd,
             &origin,
             &dir,
-            0.0,
-            t_max,
+            (0.0, t_max),
             &mut stats.box_tests,
             &mut stats.triangle_tests,
         )?,
@@ -353,6 +354,7 @@ pub fn nearest_hits<const P: usize>(
         let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
         let mut hits = [None; P];
         bvh.nearest_crack_free_packet(
+            prepared.simd,
             local,
             t_max,
             &mut stats.box_tests,
@@ -398,7 +400,7 @@ fn each_four<const P: usize>(
 }
 
 /// Lone triangles (Möller–Trumbore), without a bug that changes the test, four rays at a time with
-/// AVX2 ([`super::lone`]: the same arithmetic, so the same hits as [`hit_object`]). False when the
+/// AVX2 ([`super::kernels::moller_trumbore4`]: the same arithmetic, so the same hits as [`hit_object`]). False when the
 /// object, the bug or the processor does not allow it (then nothing was done).
 fn lone_hits<const P: usize>(
     prepared: &Prepared,
@@ -407,7 +409,7 @@ fn lone_hits<const P: usize>(
     best: &mut [Option<Hit>; P],
     stats: &mut Stats,
 ) -> bool {
-    use super::lone::{self, Rays4};
+    use super::kernels::moller_trumbore4::{Rays4, moller_trumbore};
     let object = &prepared.objects[index];
     let Geometry::Triangles {
         triangles,
@@ -416,10 +418,12 @@ fn lone_hits<const P: usize>(
     else {
         return false;
     };
+    let Some(avx2) = prepared.simd else {
+        return false;
+    };
     if !P.is_multiple_of(4)
         || test_bug(prepared).is_some()
         || prepared.method_for(object) != Method::MollerTrumbore
-        || !lone::available()
     {
         return false;
     }
@@ -430,7 +434,7 @@ fn lone_hits<const P: usize>(
         };
         for (primitive, triangle) in triangles.iter().enumerate() {
             stats.triangle_tests += 4;
-            let (mut hit, [t, beta, gamma]) = lone::moller_trumbore(&triangle.vertices, &four);
+            let (mut hit, [t, beta, gamma]) = moller_trumbore(avx2, &triangle.vertices, &four);
             while hit != 0 {
                 let lane = hit.trailing_zeros() as usize;
                 hit &= hit - 1;
@@ -443,7 +447,7 @@ fn lone_hits<const P: usize>(
 }
 
 /// A parallelogram, without a bug that changes its test, four rays at a time with AVX2
-/// ([`parallelogram4`]: seed 001's solver in lanes, the same bits, so the same hits as
+/// ([`super::kernels::parallelogram4`]: seed 001's solver in lanes, the same bits, so the same hits as
 /// [`hit_object`]); a ray whose t is beyond its nearest hit so far is dropped before its α and β are
 /// computed. Rays the kernel leaves to the one-ray solver go through [`test_parallelogram`]. False
 /// when the object, the bug or the processor does not allow it (then nothing was done).
@@ -458,10 +462,13 @@ fn parallelogram_hits<const P: usize>(
     let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
         return false;
     };
+    let Some(avx2) = prepared.simd else {
+        return false;
+    };
     if !P.is_multiple_of(4) || test_bug(prepared).is_some() {
         return false;
     }
-    let Some(solver) = parallelogram4::Parallelogram4::new([corner, e1, e2]) else {
+    let Some(solver) = Parallelogram4::new(avx2, [corner, e1, e2]) else {
         return false;
     };
     each_four(object, rays, best, stats, |local, best, stats| {
@@ -523,7 +530,9 @@ fn hit_object(
         match &object.geometry {
             Geometry::Triangles { triangles, bvh } if crack_free_applies(prepared, object) => {
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
-                if let Some(hit) = nearest_crack_free(triangles, bvh.as_ref(), o, d, t_max, stats) {
+                if let Some(hit) =
+                    nearest_crack_free(prepared.simd, triangles, bvh.as_ref(), o, d, t_max, stats)
+                {
                     offer(
                         best,
                         Hit {
@@ -661,7 +670,7 @@ fn object_blocks(
     {
         let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
         let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
-        return bvh.occluded(&o, &d, t_min, t_max, boxes, triangles);
+        return bvh.occluded(prepared.simd, &o, &d, (t_min, t_max), boxes, triangles);
     }
     // The largest float below t_max: the same open interval.
     let range = (t_min, t_max.next_down());
@@ -722,10 +731,10 @@ fn triangles_between(
         && let Some(bvh) = bvh
     {
         let (primitive, values) = bvh.nearest_crack_free(
+            prepared.simd,
             &o,
             &d,
-            t_min,
-            t_max,
+            (t_min, t_max),
             &mut stats.box_tests,
             &mut stats.triangle_tests,
         )?;
@@ -951,45 +960,5 @@ mod packet_tests {
             floor_hits > 600 && turned_hits > 50,
             "{floor_hits} {turned_hits}"
         );
-    }
-}
-
-#[cfg(test)]
-mod four_ray_tests {
-    use super::*;
-    use crate::render::lone::{self, Rays4};
-    use rand::SeedableRng;
-
-    /// The four-ray Möller–Trumbore decides as the one-ray code, bit for bit: its hits and
-    /// (t, β, γ), on random rays near a triangle's edges.
-    #[test]
-    fn four_rays_at_once_decide_as_one_at_a_time() {
-        let mut random = rand_pcg::Pcg64::seed_from_u64(3);
-        let mut hits = 0;
-        for i in 0..20_000 {
-            let draws: [[V3<f64>; 5]; 4] = std::array::from_fn(|_| {
-                crate::geometry::parallelogram::lean::random_ray_near_edges(&mut random, 1e-12)
-            });
-            let [corner, e1, e2, _, _] = draws[i % 4];
-            let four = Rays4 {
-                origin: std::array::from_fn(|k| draws.map(|d| d[3][k])),
-                dir: std::array::from_fn(|k| draws.map(|d| d[4][k])),
-            };
-            let triangle = [
-                corner,
-                std::array::from_fn(|k| corner[k] + e1[k]),
-                std::array::from_fn(|k| corner[k] + e2[k]),
-            ];
-            let (hit, values) = lone::moller_trumbore(&triangle, &four);
-            for lane in 0..4 {
-                let (origin, dir) = (draws[lane][3], draws[lane][4]);
-                let expected = moller_trumbore::hit(&triangle, &origin, &dir);
-                let got = (hit & (1 << lane) != 0).then(|| values.map(|row| row[lane]));
-                let bits = |v: Option<[f64; 3]>| v.map(|v| v.map(f64::to_bits));
-                assert_eq!(bits(got), bits(expected), "{i} {lane}");
-                hits += got.is_some() as usize;
-            }
-        }
-        assert!(hits > 2_000, "{hits}");
     }
 }

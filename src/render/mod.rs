@@ -12,10 +12,9 @@ pub mod bvh;
 pub mod cast;
 pub mod cost;
 pub mod crack_free;
-mod crack_free4;
 pub mod generate;
+pub mod kernels;
 pub mod light;
-mod lone;
 pub mod objects;
 pub mod optics;
 pub mod probe;
@@ -195,6 +194,9 @@ pub struct Prepared {
     pub objects: Arc<[PreparedObject]>,
     /// Lights, materials and the parameters of the effects past ray casting.
     pub lighting: Lighting,
+    /// The proof that this processor runs the AVX2 kernels ([`kernels`]), detected when the scene
+    /// is prepared; `None` renders with the scalar paths alone (the same image to the bit).
+    pub simd: Option<kernels::Avx2>,
 }
 
 impl Prepared {
@@ -221,6 +223,7 @@ impl Prepared {
             bug: None,
             objects,
             lighting: Lighting::of(scene),
+            simd: kernels::Avx2::detect(),
         })
     }
 
