@@ -18,7 +18,7 @@ use std::process::Command;
 use raylab::math::linalg::V3;
 use raylab::render::generate::{grid_box, irregular_sphere, mesh_scene, to_obj};
 use raylab::render::objects::Geometry;
-use raylab::render::{Prepared, assets::Embedded, render, world_triangle};
+use raylab::render::{Prepared, loading::assets::Embedded, render, world_triangle};
 use raylab::scene::render::{Camera, Effect};
 use raylab::scene::{Problem, Scene};
 

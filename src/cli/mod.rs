@@ -406,7 +406,7 @@ fn write_png(
 /// time (indicatif draws nothing where standard error is not a terminal).
 fn prepare_showing_progress(
     scene: &crate::scene::RenderScene,
-    assets: crate::render::assets::OnDisk,
+    assets: crate::render::loading::assets::OnDisk,
 ) -> Result<crate::render::Prepared, crate::render::PrepareError> {
     use indicatif::{ProgressBar, ProgressStyle};
     let style = ProgressStyle::with_template(
@@ -416,8 +416,10 @@ fn prepare_showing_progress(
     let mut clock = crate::platform::Stopwatch::start();
     let mut current = String::new();
     let mut bar: Option<ProgressBar> = None;
-    let prepared =
-        crate::render::scene_load::prepare_with_progress(scene, assets, &mut |name, progress| {
+    let prepared = crate::render::loading::scene_load::prepare_with_progress(
+        scene,
+        assets,
+        &mut |name, progress| {
             if current != name {
                 if let Some(done) = bar.take() {
                     done.finish();
@@ -439,7 +441,8 @@ fn prepare_showing_progress(
                 bar.set_prefix(progress.triangles.to_string());
             }
             true
-        });
+        },
+    );
     if let Some(done) = bar {
         done.finish();
     }
@@ -469,7 +472,7 @@ fn run_render(args: RenderArgs) -> i32 {
             return 1;
         }
     };
-    let assets = crate::render::assets::OnDisk::beside(&args.scene);
+    let assets = crate::render::loading::assets::OnDisk::beside(&args.scene);
     let mut prepared = match prepare_showing_progress(&scene, assets) {
         Ok(prepared) => prepared,
         Err(message) => {

@@ -6,7 +6,7 @@ use std::cell::RefCell;
 
 use super::cast::Hit;
 use super::objects::Geometry;
-use super::shade::Shader;
+use super::shading::shade::Shader;
 use std::ops::Range;
 
 use super::{Basis, Camera, Prepared, Stats, camera_ray, pinhole_basis};

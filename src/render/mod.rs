@@ -6,23 +6,19 @@
 //! effects: without an effect that needs barycentrics, none are interpolated; without shading, nothing
 //! is shaded. [`Stats`] counts the work so tests can check that an effect not called for costs nothing.
 
-pub mod assets;
 mod batched;
+pub mod bug;
 pub mod bvh;
 pub mod cast;
-pub mod cost;
 pub mod crack_free;
+#[cfg(any(test, feature = "test-meshes"))]
 pub mod generate;
+pub mod inspect;
 pub mod kernels;
-pub mod light;
+pub mod loading;
 pub mod objects;
-pub mod optics;
-pub mod probe;
-pub mod ray_tree;
 pub mod rays;
-pub mod sampling;
-pub mod scene_load;
-pub mod shade;
+pub mod shading;
 pub mod trace_rays;
 
 use std::sync::Arc;
@@ -34,12 +30,13 @@ use crate::intersect::Method;
 use crate::math::linalg::{V3, cross, dot, sub};
 use crate::platform::{Progress, Sliced, Stopwatch};
 use crate::scene::render::{Camera, Effect, RenderScene};
-use assets::AssetSource;
-pub use cast::{Bug, Hit};
-use light::Lighting;
+pub use bug::Bug;
+pub use cast::Hit;
+use loading::assets::AssetSource;
 use objects::{Geometry, PreparedObject, unit};
 pub use objects::{ObjectError, PrepareError};
-use shade::Shader;
+use shading::light::Lighting;
+use shading::shade::Shader;
 
 /// A ray: origin and direction (not normalised).
 pub type Ray = (V3<f64>, V3<f64>);
@@ -625,7 +622,7 @@ mod tests {
             materials: vec![],
             settings: Default::default(),
         };
-        Prepared::new(&scene, &assets::Embedded).unwrap()
+        Prepared::new(&scene, &loading::assets::Embedded).unwrap()
     }
 
     #[test]

@@ -83,8 +83,8 @@ impl Isa for Avx2 {
 mod tests {
     use super::*;
     use crate::intersect::Method;
-    use crate::render::assets::Embedded;
     use crate::render::generate::{grid_box, irregular_sphere, mesh_scene};
+    use crate::render::loading::assets::Embedded;
     use crate::render::{Bug, Prepared, Stats, render};
     use crate::scene::render::Camera;
     use crate::scene::{Problem, Scene};

@@ -3,12 +3,12 @@
 //! their bounce depth, and the ambient-occlusion rays summarised: the rays the render traced, in the
 //! order it traced them (the same seeded random numbers), recorded as they were cast.
 
-use super::cast::{self, Hit, nearest_hit};
-use super::rays::RayKind;
-use super::sampling::{pixel_rng, stratified};
-use super::trace_rays::{LightTest, Record, Tracer};
-use super::{Prepared, Ray, Stats};
 use crate::math::linalg::V3;
+use crate::render::cast::{self, Hit, nearest_hit};
+use crate::render::rays::RayKind;
+use crate::render::shading::sampling::{pixel_rng, stratified};
+use crate::render::trace_rays::{LightTest, Record, Tracer};
+use crate::render::{Prepared, Ray, Stats};
 use crate::scene::render::Effect;
 
 /// One pixel's rays.
@@ -224,7 +224,7 @@ fn samples(prepared: &Prepared, tracer: &Tracer, (row, column): (usize, usize)) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::{assets::Embedded, render};
+    use crate::render::{loading::assets::Embedded, render};
     use crate::scene::{Problem, Scene};
 
     fn prepared(body: &str) -> Prepared {

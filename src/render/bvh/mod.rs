@@ -1065,7 +1065,7 @@ impl Builder<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::assets::{Embedded, load_mesh};
+    use crate::render::loading::assets::{Embedded, load_mesh};
 
     fn ray_of(origin: V3<f64>, dir: V3<f64>) -> BoxRay {
         let inverse_dir = dir.map(|d| 1.0 / d);
