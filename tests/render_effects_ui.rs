@@ -14,7 +14,7 @@ use egui_kittest::kittest::Queryable;
 use raylab::app::ViewKind;
 use raylab::app::render_view::grouped;
 use raylab::render::rays::RayKind;
-use raylab::render::trace_rays::LightTest;
+use raylab::render::secondary::LightTest;
 
 /// Clicks the widget with this label, scrolled into view first (the probe's column scrolls).
 fn click_label(harness: &mut egui_kittest::Harness<'static, raylab::app::RaylabApp>, label: &str) {

@@ -6,10 +6,10 @@
 //! effects: without an effect that needs barycentrics, none are interpolated; without shading, nothing
 //! is shaded. [`Stats`] counts the work so tests can check that an effect not called for costs nothing.
 
-mod batched;
 pub mod bug;
 pub mod bvh;
 pub mod cast;
+mod coverage_rows;
 pub mod crack_free;
 #[cfg(any(test, feature = "test-meshes"))]
 pub mod generate;
@@ -18,8 +18,8 @@ pub mod kernels;
 pub mod loading;
 pub mod objects;
 pub mod rays;
+pub mod secondary;
 pub mod shading;
-pub mod trace_rays;
 
 use std::sync::Arc;
 
@@ -260,11 +260,11 @@ impl Prepared {
     /// Renders rows `first..first + pixels.len() / width` into the given slices of the image.
     fn render_rows(&self, first: usize, pixels: &mut [[f32; 3]], covered: &mut [bool]) -> Stats {
         let width = self.width;
-        if trace_rays::applies(self) {
-            return trace_rays::Tracer::new(self).render_rows(first, pixels, covered);
+        if secondary::applies(self) {
+            return secondary::SecondaryCaster::new(self).render_rows(first, pixels, covered);
         }
-        if batched::applies(self) {
-            return batched::render_rows(self, first, pixels, covered);
+        if coverage_rows::applies(self) {
+            return coverage_rows::render_rows(self, first, pixels, covered);
         }
         let shader = Shader::new(&self.effects);
         // The pinhole's frame once, not once a pixel.

@@ -89,9 +89,9 @@ impl Sliced for CostJob {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
     use crate::render::loading::assets::Embedded;
     use crate::render::rays::RayKind;
-    use super::*;
     use crate::scene::{Problem, Scene};
 
     #[test]

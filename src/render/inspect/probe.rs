@@ -35,8 +35,8 @@ pub fn probe(prepared: &Prepared, row: usize, column: usize) -> Probe {
     let hit = nearest_hit(prepared, origin, dir, &mut stats);
     // Lit scenes and the effects past ray casting: the render's own pixel, lights, shadows, mirrors,
     // glass, occlusion and antialiasing's mean included.
-    let traced = crate::render::trace_rays::applies(prepared).then(|| {
-        crate::render::trace_rays::Tracer::new(prepared)
+    let traced = crate::render::secondary::applies(prepared).then(|| {
+        crate::render::secondary::SecondaryCaster::new(prepared)
             .pixel((row, column), (origin, dir), hit, &mut stats)
             .map(|c| c as f32)
     });

@@ -10,7 +10,7 @@
 //! | [`crack_free4`] | one ray, four triangles of a BVH leaf | [`super::crack_free::ShearedRay::intersect`] |
 //! | [`boxes4`] | one ray, a BVH node's four boxes | the node's portable box test |
 //! | [`narrow`] | sixteen rays, f32 box tests eight at a time | the one-ray box test (it only culls) |
-//! | the coverage rows ([`super::batched`]) | a row of rays compiled with AVX2 | the same loop compiled for the baseline |
+//! | the coverage rows ([`super::coverage_rows`]) | a row of rays compiled with AVX2 | the same loop compiled for the baseline |
 //!
 //! No safe function runs AVX2 code on a processor without it: every kernel takes an [`Avx2`], a
 //! proof that the processor has AVX2 and FMA which only [`Avx2::detect`] makes, and

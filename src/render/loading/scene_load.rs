@@ -137,9 +137,9 @@ pub fn prepare_with_progress(
 
 #[cfg(test)]
 mod tests {
+    use super::*;
     use crate::files::FileKind;
     use crate::render::loading::assets::{CANCELLED, FetchError};
-    use super::*;
     use crate::scene::render::Object;
 
     /// One generated OBJ file, `meshes/grid.obj`: a grid of `n` × `n` squares (2n² triangles).

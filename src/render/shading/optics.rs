@@ -50,8 +50,8 @@ pub fn critical_angle(eta_from: f64, eta_to: f64) -> Option<f64> {
 
 #[cfg(test)]
 mod tests {
-    use crate::math::linalg::cross;
     use super::*;
+    use crate::math::linalg::cross;
 
     fn close(a: &V3<f64>, b: &V3<f64>) -> bool {
         (0..3).all(|k| (a[k] - b[k]).abs() < 1e-12)

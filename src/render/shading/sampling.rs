@@ -53,8 +53,8 @@ fn tangents(n: &V3<f64>) -> (V3<f64>, V3<f64>) {
 
 #[cfg(test)]
 mod tests {
-    use crate::math::linalg::dot;
     use super::*;
+    use crate::math::linalg::dot;
 
     #[test]
     fn stratified_samples_fill_each_cell_once() {

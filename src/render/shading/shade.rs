@@ -13,7 +13,7 @@ pub struct Shader {
     texture: bool,
     smooth: bool,
     facing: bool,
-    /// Lights shade the scene (see [`crate::render::trace_rays`]): an object without another colour shows its
+    /// Lights shade the scene (see [`crate::render::secondary`]): an object without another colour shows its
     /// own, not white.
     lit: bool,
 }

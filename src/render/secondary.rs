@@ -73,20 +73,20 @@ pub struct Silent;
 
 impl Record for Silent {}
 
-/// A render's tracer: the scene, its effects and the shader.
-pub struct Tracer<'a> {
+/// A render's caster of secondary rays: the scene, its effects and the shader.
+pub struct SecondaryCaster<'a> {
     prepared: &'a Prepared,
     shader: Shader,
     on: Effects,
     basis: Option<Basis>,
 }
 
-impl<'a> Tracer<'a> {
-    /// The tracer for a prepared scene.
-    pub fn new(prepared: &'a Prepared) -> Tracer<'a> {
+impl<'a> SecondaryCaster<'a> {
+    /// The caster for a prepared scene.
+    pub fn new(prepared: &'a Prepared) -> SecondaryCaster<'a> {
         let on = |e: Effect| prepared.effects.contains(&e);
         let lit = !prepared.lighting.lights.is_empty();
-        Tracer {
+        SecondaryCaster {
             prepared,
             shader: if lit {
                 Shader::lit(&prepared.effects)

@@ -1,4 +1,4 @@
-//! The batched coverage path: when every object is an untransformed triangle tested by
+//! The coverage rows: when every object is an untransformed triangle tested by
 //! Möller–Trumbore, a row's rays go through the vectorised f32 kernel
 //! ([`crate::intersect::batch::intersect_rays`]) one triangle at a time, and only the hits are shaded.
 
@@ -14,7 +14,7 @@ use crate::intersect::Method;
 use crate::intersect::batch::{Nearest, RayBatch, intersect_rays};
 use crate::math::linalg::dot;
 
-/// True when the scene can take the batched path.
+/// True when the scene can take the coverage rows.
 pub fn applies(prepared: &Prepared) -> bool {
     prepared.bug.is_none()
         && prepared.objects.iter().all(|object| {
