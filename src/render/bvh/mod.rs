@@ -583,6 +583,8 @@ impl Bvh {
             }
             return limit;
         }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = isa;
         for slot in slots {
             if let Some(hit) = ray.intersect(&self.vertices[slot], t_min) {
                 offer(slot, hit, &mut limit);
