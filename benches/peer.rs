@@ -13,7 +13,7 @@
 use std::process::Command;
 
 use raylab::platform::Stopwatch;
-use raylab::render::{Prepared, assets::Embedded, render};
+use raylab::render::{Prepared, loading::assets::Embedded, render};
 use raylab::scene::{Problem, Scene};
 
 #[path = "peer/embree.rs"]

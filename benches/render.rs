@@ -11,9 +11,9 @@ use std::time::Duration;
 use criterion::{
     BenchmarkGroup, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
 };
-use raylab::render::cost::each_left_out;
+use raylab::render::inspect::cost::each_left_out;
 use raylab::render::objects::Geometry;
-use raylab::render::{Prepared, assets::Embedded, render};
+use raylab::render::{Prepared, loading::assets::Embedded, render};
 use raylab::scene::render::{Effect, RenderScene};
 use raylab::scene::{Problem, Scene};
 

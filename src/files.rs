@@ -32,7 +32,7 @@ pub const MESH: FileKind = FileKind {
     max_bytes: 256 * MIB,
 };
 
-/// PNG textures (their pixels are limited separately, see `render::assets::MAX_TEXTURE_PIXELS`).
+/// PNG textures (their pixels are limited separately, see `render::loading::assets::MAX_TEXTURE_PIXELS`).
 pub const TEXTURE: FileKind = FileKind {
     what: "a texture",
     max_bytes: 64 * MIB,

@@ -18,7 +18,7 @@ use std::process::Command;
 use raylab::math::linalg::V3;
 use raylab::render::generate::{grid_box, irregular_sphere, mesh_scene, to_obj};
 use raylab::render::objects::Geometry;
-use raylab::render::{Prepared, assets::Embedded, render, world_triangle};
+use raylab::render::{Prepared, loading::assets::Embedded, render, world_triangle};
 use raylab::scene::render::{Camera, Effect};
 use raylab::scene::{Problem, Scene};
 
@@ -223,7 +223,9 @@ fn raylab_occluded(pool: &rayon::ThreadPool, prepared: &Prepared) -> Option<(f64
         rows.par_iter()
             .map(|row| {
                 row.iter()
-                    .filter(|(o, d)| bvh.occluded(o, d, 0.0, f64::INFINITY, &mut 0, &mut 0))
+                    .filter(|(o, d)| {
+                        bvh.occluded(prepared.simd, o, d, (0.0, f64::INFINITY), &mut 0, &mut 0)
+                    })
                     .count()
             })
             .sum::<usize>()

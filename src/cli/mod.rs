@@ -477,7 +477,7 @@ fn write_png(
 /// time (indicatif draws nothing where standard error is not a terminal).
 fn prepare_showing_progress(
     scene: &crate::scene::RenderScene,
-    assets: crate::render::assets::OnDisk,
+    assets: crate::render::loading::assets::OnDisk,
 ) -> Result<crate::render::Prepared, crate::render::PrepareError> {
     use indicatif::{ProgressBar, ProgressStyle};
     let style = ProgressStyle::with_template(
@@ -487,8 +487,10 @@ fn prepare_showing_progress(
     let mut clock = crate::platform::Stopwatch::start();
     let mut current = String::new();
     let mut bar: Option<ProgressBar> = None;
-    let prepared =
-        crate::render::scene_load::prepare_with_progress(scene, assets, &mut |name, progress| {
+    let prepared = crate::render::loading::scene_load::prepare_with_progress(
+        scene,
+        assets,
+        &mut |name, progress| {
             if current != name {
                 if let Some(done) = bar.take() {
                     done.finish();
@@ -510,7 +512,8 @@ fn prepare_showing_progress(
                 bar.set_prefix(progress.triangles.to_string());
             }
             true
-        });
+        },
+    );
     if let Some(done) = bar {
         done.finish();
     }
@@ -576,7 +579,7 @@ fn run_render(args: RenderArgs) -> Result<ExitCode, RenderError> {
         } => scene,
         _ => return Err(RenderError::NotARenderScene(name)),
     };
-    let assets = crate::render::assets::OnDisk::beside(&args.scene);
+    let assets = crate::render::loading::assets::OnDisk::beside(&args.scene);
     let mut prepared = prepare_showing_progress(&scene, assets)
         .map_err(|error| RenderError::Prepare { scene: name, error })?;
     if let Some(method) = args.method {

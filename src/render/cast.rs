@@ -1,13 +1,12 @@
 //! Casting one ray into a prepared scene: into each object's space, through its BVH, through the core's
-//! intersection method; the nearest hit wins. The common bugs the app shows are switched on here.
+//! intersection method; the nearest hit wins. The common bugs the app shows ([`Bug`]) are switched on
+//! here.
 
-mod parallelogram4;
-
-use serde::{Deserialize, Serialize};
-use strum::{EnumIter, IntoStaticStr};
-
+use super::Bug;
 use super::bvh::Bvh;
 use super::crack_free::ShearedRay;
+use super::kernels::Avx2;
+use super::kernels::parallelogram4::Parallelogram4;
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
 use super::{Prepared, Stats};
 use crate::geometry::parallelogram::lean::solve_inside;
@@ -15,78 +14,6 @@ use crate::intersect::moller_trumbore;
 use crate::intersect::{Case, Method};
 use crate::math::linalg::V3;
 use crate::math::linalg::sub;
-
-/// A mistake students make, rendered beside the correct image (in menu order).
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, EnumIter, IntoStaticStr,
-)]
-#[strum(serialize_all = "kebab-case")]
-pub enum Bug {
-    /// Seed 003's outside test with `and` where `or` is meant.
-    AndForOr,
-    /// Accepting hits with t < 0.
-    NegativeT,
-    /// Testing v ≤ 1 instead of β + γ ≤ 1.
-    VInsteadOfSum,
-    /// Normalising the direction after transforming into object space.
-    NormalizedDirection,
-    /// Starting shadow (and other secondary) rays exactly at the hit point, without the offset
-    /// along the normal: shadow acne.
-    ShadowAcne,
-}
-
-impl Bug {
-    /// The name on the command line (`negative-t`).
-    pub fn key(self) -> &'static str {
-        self.into()
-    }
-
-    /// A short name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Bug::AndForOr => "“and” where “or” is meant",
-            Bug::NegativeT => "accepting t < 0",
-            Bug::VInsteadOfSum => "v ≤ 1 for β + γ ≤ 1",
-            Bug::NormalizedDirection => "normalising D in object space",
-            Bug::ShadowAcne => "no offset: shadow acne",
-        }
-    }
-
-    /// One sentence on the mistake.
-    pub fn sentence(self) -> &'static str {
-        match self {
-            Bug::AndForOr => {
-                "Seed 003 calls a point outside only when all three edge tests fail (“and”), but one \
-                 failing test is enough (“or”): the whole plane in front of the ray lights up."
-            }
-            Bug::NegativeT => {
-                "Without t > 0 the ray is a line: objects behind the camera are drawn as if in front."
-            }
-            Bug::VInsteadOfSum => {
-                "Checking β ≤ 1 and γ ≤ 1 instead of β + γ ≤ 1 accepts the whole parallelogram \
-                 spanned by the triangle's two edges."
-            }
-            Bug::NormalizedDirection => {
-                "After M⁻¹ the direction must stay as it is: normalised, the object-space t is no \
-                 longer the world t, so depths and which object is in front go wrong under a \
-                 non-uniform scale."
-            }
-            Bug::ShadowAcne => {
-                "The hit point is rounded to one side of the surface or the other: a shadow ray \
-                 started exactly there hits its own surface at t ≈ 1e-16 about half the time, and \
-                 speckles lit surfaces with shadow. Move the origin off along the normal (or ask \
-                 for t > ε)."
-            }
-        }
-    }
-}
-
-impl std::str::FromStr for Bug {
-    type Err = crate::names::UnknownName;
-    fn from_str(key: &str) -> Result<Bug, Self::Err> {
-        crate::names::parse("bug", key)
-    }
-}
 
 /// The nearest hit along a ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -252,6 +179,7 @@ pub fn crack_free_applies(prepared: &Prepared, object: &PreparedObject) -> bool 
 /// The nearest hit of the crack-free test among `triangles` (through the BVH when there is one) with
 /// 0 < t ≤ `t_max`, ties to the lower index; its `object` is left 0 for the caller to set.
 fn nearest_crack_free(
+    simd: Option<Avx2>,
     triangles: &[PreparedTriangle],
     bvh: Option<&Bvh>,
     origin: V3<f64>,
@@ -261,10 +189,10 @@ fn nearest_crack_free(
 ) -> Option<Hit> {
     let (primitive, [t, beta, gamma]) = match bvh {
         Some(bvh) => bvh.nearest_crack_free(
+            simd,
             &origin,
             &dir,
-            0.0,
-            t_max,
+            (0.0, t_max),
             &mut stats.box_tests,
             &mut stats.triangle_tests,
         )?,
@@ -353,6 +281,7 @@ pub fn nearest_hits<const P: usize>(
         let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
         let mut hits = [None; P];
         bvh.nearest_crack_free_packet(
+            prepared.simd,
             local,
             t_max,
             &mut stats.box_tests,
@@ -398,7 +327,7 @@ fn each_four<const P: usize>(
 }
 
 /// Lone triangles (Möller–Trumbore), without a bug that changes the test, four rays at a time with
-/// AVX2 ([`super::lone`]: the same arithmetic, so the same hits as [`hit_object`]). False when the
+/// AVX2 ([`super::kernels::moller_trumbore4`]: the same arithmetic, so the same hits as [`hit_object`]). False when the
 /// object, the bug or the processor does not allow it (then nothing was done).
 fn lone_hits<const P: usize>(
     prepared: &Prepared,
@@ -407,7 +336,7 @@ fn lone_hits<const P: usize>(
     best: &mut [Option<Hit>; P],
     stats: &mut Stats,
 ) -> bool {
-    use super::lone::{self, Rays4};
+    use super::kernels::moller_trumbore4::{Rays4, moller_trumbore};
     let object = &prepared.objects[index];
     let Geometry::Triangles {
         triangles,
@@ -416,10 +345,12 @@ fn lone_hits<const P: usize>(
     else {
         return false;
     };
+    let Some(avx2) = prepared.simd else {
+        return false;
+    };
     if !P.is_multiple_of(4)
         || test_bug(prepared).is_some()
         || prepared.method_for(object) != Method::MollerTrumbore
-        || !lone::available()
     {
         return false;
     }
@@ -430,7 +361,7 @@ fn lone_hits<const P: usize>(
         };
         for (primitive, triangle) in triangles.iter().enumerate() {
             stats.triangle_tests += 4;
-            let (mut hit, [t, beta, gamma]) = lone::moller_trumbore(&triangle.vertices, &four);
+            let (mut hit, [t, beta, gamma]) = moller_trumbore(avx2, &triangle.vertices, &four);
             while hit != 0 {
                 let lane = hit.trailing_zeros() as usize;
                 hit &= hit - 1;
@@ -443,7 +374,7 @@ fn lone_hits<const P: usize>(
 }
 
 /// A parallelogram, without a bug that changes its test, four rays at a time with AVX2
-/// ([`parallelogram4`]: seed 001's solver in lanes, the same bits, so the same hits as
+/// ([`super::kernels::parallelogram4`]: seed 001's solver in lanes, the same bits, so the same hits as
 /// [`hit_object`]); a ray whose t is beyond its nearest hit so far is dropped before its α and β are
 /// computed. Rays the kernel leaves to the one-ray solver go through [`test_parallelogram`]. False
 /// when the object, the bug or the processor does not allow it (then nothing was done).
@@ -458,10 +389,13 @@ fn parallelogram_hits<const P: usize>(
     let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
         return false;
     };
+    let Some(avx2) = prepared.simd else {
+        return false;
+    };
     if !P.is_multiple_of(4) || test_bug(prepared).is_some() {
         return false;
     }
-    let Some(solver) = parallelogram4::Parallelogram4::new([corner, e1, e2]) else {
+    let Some(solver) = Parallelogram4::new(avx2, [corner, e1, e2]) else {
         return false;
     };
     each_four(object, rays, best, stats, |local, best, stats| {
@@ -523,7 +457,9 @@ fn hit_object(
         match &object.geometry {
             Geometry::Triangles { triangles, bvh } if crack_free_applies(prepared, object) => {
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
-                if let Some(hit) = nearest_crack_free(triangles, bvh.as_ref(), o, d, t_max, stats) {
+                if let Some(hit) =
+                    nearest_crack_free(prepared.simd, triangles, bvh.as_ref(), o, d, t_max, stats)
+                {
                     offer(
                         best,
                         Hit {
@@ -661,7 +597,7 @@ fn object_blocks(
     {
         let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
         let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
-        return bvh.occluded(&o, &d, t_min, t_max, boxes, triangles);
+        return bvh.occluded(prepared.simd, &o, &d, (t_min, t_max), boxes, triangles);
     }
     // The largest float below t_max: the same open interval.
     let range = (t_min, t_max.next_down());
@@ -722,10 +658,10 @@ fn triangles_between(
         && let Some(bvh) = bvh
     {
         let (primitive, values) = bvh.nearest_crack_free(
+            prepared.simd,
             &o,
             &d,
-            t_min,
-            t_max,
+            (t_min, t_max),
             &mut stats.box_tests,
             &mut stats.triangle_tests,
         )?;
@@ -879,7 +815,7 @@ mod tests {
 #[cfg(test)]
 mod packet_tests {
     use super::*;
-    use crate::render::assets::Embedded;
+    use crate::render::loading::assets::Embedded;
     use crate::scene::{Problem, Scene};
 
     /// A mesh in front of two floors, one of them turned, stretched and moved (its rays go into its
@@ -951,45 +887,5 @@ mod packet_tests {
             floor_hits > 600 && turned_hits > 50,
             "{floor_hits} {turned_hits}"
         );
-    }
-}
-
-#[cfg(test)]
-mod four_ray_tests {
-    use super::*;
-    use crate::render::lone::{self, Rays4};
-    use rand::SeedableRng;
-
-    /// The four-ray Möller–Trumbore decides as the one-ray code, bit for bit: its hits and
-    /// (t, β, γ), on random rays near a triangle's edges.
-    #[test]
-    fn four_rays_at_once_decide_as_one_at_a_time() {
-        let mut random = rand_pcg::Pcg64::seed_from_u64(3);
-        let mut hits = 0;
-        for i in 0..20_000 {
-            let draws: [[V3<f64>; 5]; 4] = std::array::from_fn(|_| {
-                crate::geometry::parallelogram::lean::random_ray_near_edges(&mut random, 1e-12)
-            });
-            let [corner, e1, e2, _, _] = draws[i % 4];
-            let four = Rays4 {
-                origin: std::array::from_fn(|k| draws.map(|d| d[3][k])),
-                dir: std::array::from_fn(|k| draws.map(|d| d[4][k])),
-            };
-            let triangle = [
-                corner,
-                std::array::from_fn(|k| corner[k] + e1[k]),
-                std::array::from_fn(|k| corner[k] + e2[k]),
-            ];
-            let (hit, values) = lone::moller_trumbore(&triangle, &four);
-            for lane in 0..4 {
-                let (origin, dir) = (draws[lane][3], draws[lane][4]);
-                let expected = moller_trumbore::hit(&triangle, &origin, &dir);
-                let got = (hit & (1 << lane) != 0).then(|| values.map(|row| row[lane]));
-                let bits = |v: Option<[f64; 3]>| v.map(|v| v.map(f64::to_bits));
-                assert_eq!(bits(got), bits(expected), "{i} {lane}");
-                hits += got.is_some() as usize;
-            }
-        }
-        assert!(hits > 2_000, "{hits}");
     }
 }

@@ -200,6 +200,7 @@ pub fn mesh_scene(
             is_mesh: true,
         }]),
         lighting: Default::default(),
+        simd: crate::render::kernels::Avx2::detect(),
     }
 }
 

@@ -6,25 +6,20 @@
 //! effects: without an effect that needs barycentrics, none are interpolated; without shading, nothing
 //! is shaded. [`Stats`] counts the work so tests can check that an effect not called for costs nothing.
 
-pub mod assets;
-mod batched;
+pub mod bug;
 pub mod bvh;
 pub mod cast;
-pub mod cost;
+mod coverage_rows;
 pub mod crack_free;
-mod crack_free4;
+#[cfg(any(test, feature = "test-meshes"))]
 pub mod generate;
-pub mod light;
-mod lone;
+pub mod inspect;
+pub mod kernels;
+pub mod loading;
 pub mod objects;
-pub mod optics;
-pub mod probe;
-pub mod ray_tree;
 pub mod rays;
-pub mod sampling;
-pub mod scene_load;
-pub mod shade;
-pub mod trace_rays;
+pub mod secondary;
+pub mod shading;
 
 use std::sync::Arc;
 
@@ -35,12 +30,13 @@ use crate::intersect::Method;
 use crate::math::linalg::{V3, cross, dot, sub};
 use crate::platform::{Progress, Sliced, Stopwatch};
 use crate::scene::render::{Camera, Effect, RenderScene};
-use assets::AssetSource;
-pub use cast::{Bug, Hit};
-use light::Lighting;
+pub use bug::Bug;
+pub use cast::Hit;
+use loading::assets::AssetSource;
 use objects::{Geometry, PreparedObject, unit};
 pub use objects::{ObjectError, PrepareError};
-use shade::Shader;
+use shading::light::Lighting;
+use shading::shade::Shader;
 
 /// A ray: origin and direction (not normalised).
 pub type Ray = (V3<f64>, V3<f64>);
@@ -195,6 +191,9 @@ pub struct Prepared {
     pub objects: Arc<[PreparedObject]>,
     /// Lights, materials and the parameters of the effects past ray casting.
     pub lighting: Lighting,
+    /// The proof that this processor runs the AVX2 kernels ([`kernels`]), detected when the scene
+    /// is prepared; `None` renders with the scalar paths alone (the same image to the bit).
+    pub simd: Option<kernels::Avx2>,
 }
 
 impl Prepared {
@@ -221,6 +220,7 @@ impl Prepared {
             bug: None,
             objects,
             lighting: Lighting::of(scene),
+            simd: kernels::Avx2::detect(),
         })
     }
 
@@ -260,11 +260,11 @@ impl Prepared {
     /// Renders rows `first..first + pixels.len() / width` into the given slices of the image.
     fn render_rows(&self, first: usize, pixels: &mut [[f32; 3]], covered: &mut [bool]) -> Stats {
         let width = self.width;
-        if trace_rays::applies(self) {
-            return trace_rays::Tracer::new(self).render_rows(first, pixels, covered);
+        if secondary::applies(self) {
+            return secondary::SecondaryCaster::new(self).render_rows(first, pixels, covered);
         }
-        if batched::applies(self) {
-            return batched::render_rows(self, first, pixels, covered);
+        if coverage_rows::applies(self) {
+            return coverage_rows::render_rows(self, first, pixels, covered);
         }
         let shader = Shader::new(&self.effects);
         // The pinhole's frame once, not once a pixel.
@@ -622,7 +622,7 @@ mod tests {
             materials: vec![],
             settings: Default::default(),
         };
-        Prepared::new(&scene, &assets::Embedded).unwrap()
+        Prepared::new(&scene, &loading::assets::Embedded).unwrap()
     }
 
     #[test]

@@ -4,8 +4,8 @@
 
 use glam::{DAffine3, DMat3};
 
-use super::assets::{AssetError, AssetSource, Texture, load_mesh};
 use super::bvh::Bvh;
+use super::loading::assets::{AssetError, AssetSource, Texture, load_mesh};
 use crate::math::linalg::{V3, cross, sub};
 use crate::scene::render::{Object, Shape};
 

@@ -22,7 +22,7 @@ use raylab::cli::input::{Coords, Literal, ReadNumber};
 use raylab::files::FileKind;
 use raylab::geometry::{Precision, Real};
 use raylab::math::exact::Exact;
-use raylab::render::assets::{AssetSource, FetchError, Texture, load_mesh};
+use raylab::render::loading::assets::{AssetSource, FetchError, Texture, load_mesh};
 
 /// The longest one input may run (debug build, a loaded machine) before the run counts it as a hang.
 const INPUT_LIMIT: Duration = Duration::from_secs(10);

@@ -2,7 +2,7 @@
 //! shipped scene, and each effect gives the answer known analytically: a shadow's edge at the pixel
 //! the light's projection predicts, ambient occlusion of an open plane = 1, k×k antialiasing samples, the pixel their mean.
 //! (The reflected direction, Snell's angle and total internal reflection at the critical angle are
-//! unit tests of `render::optics`.)
+//! unit tests of `render::shading::optics`.)
 
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -12,10 +12,10 @@ use shipped::shipped_render_scenes;
 
 use raylab::math::linalg::V3;
 use raylab::render::cast::nearest_hit;
-use raylab::render::cost::each_left_out;
-use raylab::render::probe::probe;
+use raylab::render::inspect::cost::each_left_out;
+use raylab::render::inspect::probe::probe;
 use raylab::render::rays::RayKind;
-use raylab::render::{Prepared, Stats, assets::Embedded, render};
+use raylab::render::{Prepared, Stats, loading::assets::Embedded, render};
 use raylab::scene::render::{Effect, RenderScene};
 use raylab::scene::{Problem, Scene};
 

@@ -15,11 +15,11 @@ use raylab::intersect::{Case, Method};
 use raylab::math::linalg::{V3, dot, sub};
 use raylab::render::bvh::Bvh;
 use raylab::render::cast::{nearest_hit, nearest_hits, test_triangle, to_object_space};
-use raylab::render::cost::each_left_out;
 use raylab::render::crack_free::ShearedRay;
 use raylab::render::generate::{grid_box, mesh_scene};
+use raylab::render::inspect::cost::each_left_out;
 use raylab::render::objects::{Geometry, PreparedObject, PreparedTriangle, prepare};
-use raylab::render::{Bug, Image, Prepared, Stats, assets::Embedded, render};
+use raylab::render::{Bug, Image, Prepared, Stats, loading::assets::Embedded, render};
 use raylab::scene::render::{Effect, Object, RenderScene, Shape, Transform};
 use raylab::scene::{Problem, Scene};
 

@@ -16,7 +16,7 @@ use raylab::app::render_view::RenderView;
 use raylab::app::render_view::grouped;
 use raylab::app::triangle_view::TriangleView;
 use raylab::render::rays::RayKind;
-use raylab::render::trace_rays::LightTest;
+use raylab::render::secondary::LightTest;
 
 /// Clicks the widget with this label, scrolled into view first (the probe's column scrolls).
 fn click_label(harness: &mut egui_kittest::Harness<'static, raylab::app::RaylabApp>, label: &str) {

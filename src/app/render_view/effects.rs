@@ -3,7 +3,7 @@
 //! effect off in turn, in the background).
 
 use super::*;
-use crate::render::cost::{CostJob, EffectCost};
+use crate::render::inspect::cost::{CostJob, EffectCost};
 use crate::render::rays::RayKind;
 
 /// A measurement of each effect's cost, for the choices it was started under.

@@ -25,7 +25,7 @@ impl RenderView {
                 let result = probe(&prepared, row, column);
                 let problem = probed_problem(&prepared, &result);
                 // Ray casting alone has no tree: one ray, shown above.
-                self.runtime.tree = crate::render::trace_rays::applies(&prepared)
+                self.runtime.tree = crate::render::secondary::applies(&prepared)
                     .then(|| ray_tree(&prepared, row, column));
                 (Some(result), problem)
             }

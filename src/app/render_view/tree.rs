@@ -1,13 +1,13 @@
 //! The probe's ray tree: the probed pixel's primary ray, how each light reaches its hit (the shadow
 //! ray, lit or blocked), the reflected and refracted rays with their bounce, and the occlusion rays
 //! summarised. A ray that hit a triangle (or parallelogram) opens in its view with its steps.
-//! The tree itself is built in the core ([`crate::render::ray_tree`]); this only draws it.
+//! The tree itself is built in the core ([`crate::render::inspect::ray_tree`]); this only draws it.
 
 use super::*;
 use crate::render::Ray;
-use crate::render::ray_tree::{LightRay, RayTree, TracedRay};
+use crate::render::inspect::ray_tree::{LightRay, RayTree, TracedRay};
 use crate::render::rays::RayKind;
-use crate::render::trace_rays::LightTest;
+use crate::render::secondary::LightTest;
 
 /// A ray the tree asks to open: the problem for its view, and what to call it.
 pub(super) struct Opened {

@@ -25,8 +25,10 @@
 
 use std::cell::RefCell;
 
-use super::{Bvh, EMPTY, Nearest, ShearedRay};
+use super::Avx2;
 use crate::math::linalg::V3;
+use crate::render::bvh::{Bvh, EMPTY, Nearest};
+use crate::render::crack_free::ShearedRay;
 
 /// Rays in a packet: two groups of eight f32 lanes.
 pub const RAYS: usize = 16;
@@ -195,22 +197,39 @@ impl Lanes {
     }
 }
 
-impl Bvh {
-    /// The nearest crack-free hits of sixteen rays, or `None` when their numbers do not allow the
-    /// f32 box test (the caller then takes the one-ray box test).
-    ///
-    /// # Safety
-    /// Only call on a processor with AVX2 and FMA.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn packet_narrow(
-        &self,
-        rays: &[(V3<f64>, V3<f64>); RAYS],
-        mut t_max: [f64; RAYS],
-        box_tests: &mut u64,
-        triangle_tests: &mut u64,
-        best: &mut [Nearest; RAYS],
-    ) -> bool {
+/// The nearest crack-free hits of sixteen rays in `bvh`, written into `best`; false when their
+/// numbers do not allow the f32 box test (the caller then takes the one-ray box test).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub fn nearest(
+    avx2: Avx2,
+    bvh: &Bvh,
+    rays: &[(V3<f64>, V3<f64>); RAYS],
+    t_max: [f64; RAYS],
+    box_tests: &mut u64,
+    triangle_tests: &mut u64,
+    best: &mut [Nearest; RAYS],
+) -> bool {
+    // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+    unsafe { nearest_unchecked(avx2, bvh, rays, t_max, box_tests, triangle_tests, best) }
+}
+
+/// [`nearest`], compiled with AVX2 and FMA.
+///
+/// # Safety
+/// Only call on a processor with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn nearest_unchecked(
+    avx2: Avx2,
+    bvh: &Bvh,
+    rays: &[(V3<f64>, V3<f64>); RAYS],
+    mut t_max: [f64; RAYS],
+    box_tests: &mut u64,
+    triangle_tests: &mut u64,
+    best: &mut [Nearest; RAYS],
+) -> bool {
+    {
         use std::arch::x86_64::*;
         // SAFETY: the caller runs on a processor with AVX2 and FMA.
         let Some(mut lanes) = (unsafe { Lanes::new(rays, &t_max) }) else {
@@ -264,7 +283,8 @@ impl Bvh {
                         }
                         let Some(ray) = &sheared[r] else { continue };
                         *triangle_tests += u64::from(entry.count);
-                        t_max[r] = self.leaf_crack_free::<true>(
+                        t_max[r] = bvh.leaf_crack_free(
+                            avx2,
                             ray,
                             slots.clone(),
                             0.0,
@@ -275,7 +295,7 @@ impl Bvh {
                     }
                     continue;
                 }
-                let node = &self.nodes[entry.child as usize];
+                let node = &bvh.nodes[entry.child as usize];
                 let mut found = [(0u32, 0u32, 0.0f32); 4];
                 let mut n = 0;
                 let mut children = 0;
@@ -368,7 +388,7 @@ impl Bvh {
                     }
                 }
                 for &(lane, hit, near) in &found[..n] {
-                    self.prefetch(node.child[lane as usize], node.count[lane as usize]);
+                    prefetch(bvh, node.child[lane as usize], node.count[lane as usize]);
                     stack.push(Pending {
                         child: node.child[lane as usize],
                         count: node.count[lane as usize],
@@ -382,20 +402,26 @@ impl Bvh {
     }
 }
 
-impl Bvh {
-    /// Asks the processor to start loading a child the traversal will visit: an inner node's two
-    /// cache lines, or a leaf's first four triangles. The children found are pushed farthest first
-    /// and popped nearest first, so the loads of all but the nearest overlap the work on it.
-    #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
-    fn prefetch(&self, child: u32, count: u32) {
+/// Asks the processor to start loading a child the traversal will visit: an inner node's two cache
+/// lines, or a leaf's first four triangles. The children found are pushed farthest first and popped
+/// nearest first, so the loads of all but the nearest overlap the work on it.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn prefetch(bvh: &Bvh, child: u32, count: u32) {
+    {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
         let (start, bytes) = if count == 0 {
-            let node = self.nodes.as_ptr().wrapping_add(child as usize);
-            (node.cast::<i8>(), std::mem::size_of::<super::Node>())
+            let node = bvh.nodes.as_ptr().wrapping_add(child as usize);
+            (
+                node.cast::<i8>(),
+                std::mem::size_of::<crate::render::bvh::Node>(),
+            )
         } else {
-            let quad = self.quads.as_ptr().wrapping_add(child as usize / 4);
-            (quad.cast::<i8>(), std::mem::size_of::<super::Quad>())
+            let quad = bvh.quads.as_ptr().wrapping_add(child as usize / 4);
+            (
+                quad.cast::<i8>(),
+                std::mem::size_of::<super::crack_free4::Quad>(),
+            )
         };
         for line in (0..bytes).step_by(64) {
             // SAFETY: a prefetch changes no memory and no program state, whatever the address

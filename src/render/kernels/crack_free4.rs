@@ -1,4 +1,4 @@
-//! The crack-free test of [`super::crack_free`] for one ray and four triangles at once, with AVX2 on
+//! The crack-free test of [`crate::render::crack_free`] for one ray and four triangles at once, with AVX2 on
 //! four f64 lanes (a BVH leaf's triangles).
 //!
 //! Each lane does the one-triangle test's arithmetic in the same order, without fused multiply-adds,
@@ -17,8 +17,9 @@
 // The AVX2 kernel: its unsafe blocks say in SAFETY comments why they are sound.
 #![allow(unsafe_code)]
 
-use super::crack_free::ShearedRay;
+use super::Avx2;
 use crate::math::linalg::V3;
+use crate::render::crack_free::ShearedRay;
 
 /// Four triangles' vertices as `[vertex][axis][lane]`, aligned for 32-byte loads.
 #[derive(Clone, Debug)]
@@ -72,13 +73,21 @@ struct Edge {
 }
 
 /// Tests the lanes in `lanes` (a bit each) of `quad` against `ray`.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub fn intersect4(_: Avx2, ray: &ShearedRay, quad: &Quad, t_min: f64, lanes: u32) -> QuadHits {
+    // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+    unsafe { intersect4_unchecked(ray, quad, t_min, lanes) }
+}
+
+/// [`intersect4`] without the proof.
 ///
 /// # Safety
 /// Only call on a processor with AVX2 and FMA (the function is compiled for them).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-pub unsafe fn intersect4(ray: &ShearedRay, quad: &Quad, t_min: f64, lanes: u32) -> QuadHits {
+unsafe fn intersect4_unchecked(ray: &ShearedRay, quad: &Quad, t_min: f64, lanes: u32) -> QuadHits {
     use std::arch::x86_64::*;
     let (origin, [kx, ky, kz], [sx, sy, sz]) = ray.parts();
     let (ox, oy, oz) = (
@@ -110,7 +119,7 @@ pub unsafe fn intersect4(ray: &ShearedRay, quad: &Quad, t_min: f64, lanes: u32) 
         let bound = _mm256_mul_pd(_mm256_set1_pd(2.0 * f64::EPSILON), sum);
         let clear = _mm256_and_pd(
             _mm256_cmp_pd::<_CMP_GT_OQ>(magnitude(value), bound),
-            _mm256_cmp_pd::<_CMP_GT_OQ>(sum, _mm256_set1_pd(super::crack_free::TINY)),
+            _mm256_cmp_pd::<_CMP_GT_OQ>(sum, _mm256_set1_pd(crate::render::crack_free::TINY)),
         );
         Edge {
             value,
@@ -255,7 +264,7 @@ unsafe fn settle_exactly(
     };
     // Masks of the lanes where P × Q's exact sign is positive, negative, and known.
     let signs = |e: &Edge, p: &[F4; 3], q: &[F4; 3]| {
-        let tiny = _mm256_set1_pd(super::crack_free::TINY);
+        let tiny = _mm256_set1_pd(crate::render::crack_free::TINY);
         // a·b = left + le and c·d = right + re exactly, where the products fit.
         let le = _mm256_fmsub_pd(p[0], q[1], e.left);
         let re = _mm256_fmsub_pd(p[1], q[0], e.right);
@@ -343,11 +352,10 @@ mod tests {
     /// and the tie rule), and on rays nudged off the grid (clear signs).
     #[test]
     fn four_at_a_time_decides_as_one_at_a_time() {
-        if !(std::arch::is_x86_feature_detected!("avx2")
-            && std::arch::is_x86_feature_detected!("fma"))
-        {
+        let Some(avx2) = Avx2::detect() else {
+            eprintln!("skipped: this processor has no AVX2 and FMA");
             return;
-        }
+        };
         let (camera, side, triangles) = grid_box(6);
         let (mut settled, mut hits) = (0, 0);
         for row in 0..side {
@@ -360,8 +368,7 @@ mod tests {
                     };
                     for group in triangles.chunks(4) {
                         let lanes = (1u32 << group.len()) - 1;
-                        // SAFETY: the processor has AVX2 and FMA, checked above.
-                        let found = unsafe { intersect4(&ray, &Quad::new(group), 0.0, lanes) };
+                        let found = intersect4(avx2, &ray, &Quad::new(group), 0.0, lanes);
                         for (lane, triangle) in group.iter().enumerate() {
                             if found.again & (1 << lane) != 0 {
                                 continue;

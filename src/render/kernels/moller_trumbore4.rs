@@ -8,6 +8,7 @@
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;
 
+use super::Avx2;
 use crate::math::linalg::V3;
 
 /// Four rays, as `[axis][lane]`.
@@ -93,36 +94,21 @@ pub(super) fn store(x: __m256d) -> [f64; 4] {
     out
 }
 
-/// True when the processor runs the four-ray kernels (AVX2 and FMA).
-pub fn available() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    return std::arch::is_x86_feature_detected!("avx2")
-        && std::arch::is_x86_feature_detected!("fma");
-    #[cfg(not(target_arch = "x86_64"))]
-    false
-}
-
 /// [`crate::intersect::moller_trumbore::hit`] for four rays: a bit per ray that hits, and each
-/// ray's (t, β, γ) as `[value][lane]`. Without AVX2, one ray at a time.
-#[inline]
-pub fn moller_trumbore(triangle: &[V3<f64>; 3], rays: &Rays4) -> (u32, [[f64; 4]; 3]) {
+/// ray's (t, β, γ) as `[value][lane]`.
+#[inline(always)]
+pub fn moller_trumbore(avx2: Avx2, triangle: &[V3<f64>; 3], rays: &Rays4) -> (u32, [[f64; 4]; 3]) {
     #[cfg(target_arch = "x86_64")]
-    if available() {
-        // SAFETY: the processor has AVX2 and FMA, checked just above.
-        return unsafe { moller_trumbore4(triangle, rays) };
+    {
+        let _ = avx2;
+        // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+        unsafe { moller_trumbore4(triangle, rays) }
     }
-    let mut out = (0, [[0.0; 4]; 3]);
-    for lane in 0..4 {
-        let origin = rays.origin.map(|row| row[lane]);
-        let dir = rays.dir.map(|row| row[lane]);
-        if let Some(values) = crate::intersect::moller_trumbore::hit(triangle, &origin, &dir) {
-            out.0 |= 1 << lane;
-            for (row, value) in out.1.iter_mut().zip(values) {
-                row[lane] = value;
-            }
-        }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (triangle, rays);
+        avx2.unreachable()
     }
-    out
 }
 
 /// [`moller_trumbore`] with AVX2.
@@ -163,4 +149,48 @@ unsafe fn moller_trumbore4([a, b, c]: &[V3<f64>; 3], rays: &Rays4) -> (u32, [[f6
         return (0, [[0.0; 4]; 3]);
     }
     (hit, [store(t), store(beta), store(gamma)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::intersect::moller_trumbore;
+    use rand::SeedableRng;
+
+    /// The four-ray Möller–Trumbore decides as the one-ray code, bit for bit: its hits and
+    /// (t, β, γ), on random rays near a triangle's edges.
+    #[test]
+    fn four_rays_at_once_decide_as_one_at_a_time() {
+        let Some(avx2) = Avx2::detect() else {
+            eprintln!("skipped: this processor has no AVX2 and FMA");
+            return;
+        };
+        let mut random = rand_pcg::Pcg64::seed_from_u64(3);
+        let mut hits = 0;
+        for i in 0..20_000 {
+            let draws: [[V3<f64>; 5]; 4] = std::array::from_fn(|_| {
+                crate::geometry::parallelogram::lean::random_ray_near_edges(&mut random, 1e-12)
+            });
+            let [corner, e1, e2, _, _] = draws[i % 4];
+            let four = Rays4 {
+                origin: std::array::from_fn(|k| draws.map(|d| d[3][k])),
+                dir: std::array::from_fn(|k| draws.map(|d| d[4][k])),
+            };
+            let triangle = [
+                corner,
+                std::array::from_fn(|k| corner[k] + e1[k]),
+                std::array::from_fn(|k| corner[k] + e2[k]),
+            ];
+            let (hit, values) = moller_trumbore(avx2, &triangle, &four);
+            for lane in 0..4 {
+                let (origin, dir) = (draws[lane][3], draws[lane][4]);
+                let expected = moller_trumbore::hit(&triangle, &origin, &dir);
+                let got = (hit & (1 << lane) != 0).then(|| values.map(|row| row[lane]));
+                let bits = |v: Option<[f64; 3]>| v.map(|v| v.map(f64::to_bits));
+                assert_eq!(bits(got), bits(expected), "{i} {lane}");
+                hits += got.is_some() as usize;
+            }
+        }
+        assert!(hits > 2_000, "{hits}");
+    }
 }

@@ -4,8 +4,8 @@
 
 use std::sync::Arc;
 
-use super::{Prepared, RenderJob, Stats};
 use crate::platform::{Progress, Sliced};
+use crate::render::{Prepared, RenderJob, Stats};
 use crate::scene::render::Effect;
 
 /// One render of the measurement.
@@ -90,7 +90,7 @@ impl Sliced for CostJob {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::assets::Embedded;
+    use crate::render::loading::assets::Embedded;
     use crate::render::rays::RayKind;
     use crate::scene::{Problem, Scene};
 

@@ -10,13 +10,14 @@
 
 use rand_pcg::Pcg32;
 
-use super::cast::{self, Bug, Hit};
-use super::light::{incoming, lambert};
+use super::Bug;
+use super::cast::{self, Hit};
 use super::objects::unit;
-use super::optics::{reflect, refract, schlick};
 use super::rays::RayKind;
-use super::sampling::{cosine_hemisphere, pixel_rng, stratified};
-use super::shade::{Shader, Surface};
+use super::shading::light::{incoming, lambert};
+use super::shading::optics::{reflect, refract, schlick};
+use super::shading::sampling::{cosine_hemisphere, pixel_rng, stratified};
+use super::shading::shade::{Shader, Surface};
 use super::{Basis, Prepared, Ray, Stats, camera_ray_at, pinhole_basis};
 use crate::math::linalg::{V3, dot};
 use crate::scene::render::{Effect, Material};
@@ -53,7 +54,7 @@ pub enum LightTest {
 }
 
 /// What a pixel's rays do, told as they are cast: the probe's ray tree listens
-/// ([`super::ray_tree`]); a render passes [`Silent`], which the compiler removes.
+/// ([`super::inspect::ray_tree`]); a render passes [`Silent`], which the compiler removes.
 pub trait Record {
     /// A reflected, refracted or sample ray of `kind` starts at bounce `depth`.
     fn start(&mut self, _kind: RayKind, _depth: u32, _ray: Ray) {}
@@ -72,20 +73,20 @@ pub struct Silent;
 
 impl Record for Silent {}
 
-/// A render's tracer: the scene, its effects and the shader.
-pub struct Tracer<'a> {
+/// A render's caster of secondary rays: the scene, its effects and the shader.
+pub struct SecondaryCaster<'a> {
     prepared: &'a Prepared,
     shader: Shader,
     on: Effects,
     basis: Option<Basis>,
 }
 
-impl<'a> Tracer<'a> {
-    /// The tracer for a prepared scene.
-    pub fn new(prepared: &'a Prepared) -> Tracer<'a> {
+impl<'a> SecondaryCaster<'a> {
+    /// The caster for a prepared scene.
+    pub fn new(prepared: &'a Prepared) -> SecondaryCaster<'a> {
         let on = |e: Effect| prepared.effects.contains(&e);
         let lit = !prepared.lighting.lights.is_empty();
-        Tracer {
+        SecondaryCaster {
             prepared,
             shader: if lit {
                 Shader::lit(&prepared.effects)

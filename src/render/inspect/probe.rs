@@ -1,11 +1,11 @@
 //! The pixel probe: what happened to one pixel's ray, for loading into the Triangle view.
 
-use super::cast::{Hit, nearest_hit, to_object_space};
-use super::objects::Geometry;
-use super::shade::Shader;
-use super::{Prepared, Stats, world_triangle};
 use crate::intersect::Method;
 use crate::math::linalg::V3;
+use crate::render::cast::{Hit, nearest_hit, to_object_space};
+use crate::render::objects::Geometry;
+use crate::render::shading::shade::Shader;
+use crate::render::{Prepared, Stats, world_triangle};
 
 /// One pixel's story.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,8 +35,8 @@ pub fn probe(prepared: &Prepared, row: usize, column: usize) -> Probe {
     let hit = nearest_hit(prepared, origin, dir, &mut stats);
     // Lit scenes and the effects past ray casting: the render's own pixel, lights, shadows, mirrors,
     // glass, occlusion and antialiasing's mean included.
-    let traced = super::trace_rays::applies(prepared).then(|| {
-        super::trace_rays::Tracer::new(prepared)
+    let traced = crate::render::secondary::applies(prepared).then(|| {
+        crate::render::secondary::SecondaryCaster::new(prepared)
             .pixel((row, column), (origin, dir), hit, &mut stats)
             .map(|c| c as f32)
     });

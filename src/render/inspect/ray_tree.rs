@@ -3,12 +3,12 @@
 //! their bounce depth, and the ambient-occlusion rays summarised: the rays the render traced, in the
 //! order it traced them (the same seeded random numbers), recorded as they were cast.
 
-use super::cast::{self, Hit, nearest_hit};
-use super::rays::RayKind;
-use super::sampling::{pixel_rng, stratified};
-use super::trace_rays::{LightTest, Record, Tracer};
-use super::{Prepared, Ray, Stats};
 use crate::math::linalg::V3;
+use crate::render::cast::{self, Hit, nearest_hit};
+use crate::render::rays::RayKind;
+use crate::render::secondary::{LightTest, Record, SecondaryCaster};
+use crate::render::shading::sampling::{pixel_rng, stratified};
+use crate::render::{Prepared, Ray, Stats};
 use crate::scene::render::Effect;
 
 /// One pixel's rays.
@@ -113,7 +113,7 @@ impl LightRay {
     }
 }
 
-/// Builds the tree from what the tracer tells: a stack of the rays still open.
+/// Builds the tree from what the caster tells: a stack of the rays still open.
 struct Builder<'a> {
     prepared: &'a Prepared,
     open: Vec<TracedRay>,
@@ -171,7 +171,7 @@ impl Record for Builder<'_> {
 
 /// The rays of pixel (row, column), as the render traces them.
 pub fn ray_tree(prepared: &Prepared, row: usize, column: usize) -> RayTree {
-    let tracer = Tracer::new(prepared);
+    let caster = SecondaryCaster::new(prepared);
     let seed = prepared.lighting.settings.seed;
     let pixel = row * prepared.width + column;
     let centre = prepared.ray(row, column);
@@ -187,13 +187,13 @@ pub fn ray_tree(prepared: &Prepared, row: usize, column: usize) -> RayTree {
     let colour = hit.map_or([0.0; 3], |hit| {
         let kind = (RayKind::Primary, 0);
         let mut stats = Stats::default();
-        tracer.radiance(hit, centre, kind, (&mut rng, &mut builder), &mut stats)
+        caster.radiance(hit, centre, kind, (&mut rng, &mut builder), &mut stats)
     });
     builder.end(colour);
     let samples = prepared
         .effects
         .contains(&Effect::Antialiasing)
-        .then(|| samples(prepared, &tracer, (row, column)));
+        .then(|| samples(prepared, &caster, (row, column)));
     RayTree {
         pixel: (row, column),
         root: builder
@@ -204,14 +204,18 @@ pub fn ray_tree(prepared: &Prepared, row: usize, column: usize) -> RayTree {
 }
 
 /// Antialiasing's samples of the pixel, at the positions the render jitters them to.
-fn samples(prepared: &Prepared, tracer: &Tracer, (row, column): (usize, usize)) -> Samples {
+fn samples(
+    prepared: &Prepared,
+    caster: &SecondaryCaster,
+    (row, column): (usize, usize),
+) -> Samples {
     let settings = &prepared.lighting.settings;
     let mut rng = pixel_rng(settings.seed, row * prepared.width + column);
     let positions = stratified(settings.samples_per_side, &mut rng);
     let hit = positions
         .iter()
         .filter(|(x, y)| {
-            let (origin, dir) = tracer.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
+            let (origin, dir) = caster.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
             nearest_hit(prepared, origin, dir, &mut Stats::default()).is_some()
         })
         .count();
@@ -224,7 +228,7 @@ fn samples(prepared: &Prepared, tracer: &Tracer, (row, column): (usize, usize)) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::{assets::Embedded, render};
+    use crate::render::{loading::assets::Embedded, render};
     use crate::scene::{Problem, Scene};
 
     fn prepared(body: &str) -> Prepared {

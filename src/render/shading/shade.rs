@@ -1,9 +1,9 @@
 //! The colour of a hit, computing only what the scene's effects call for (seed 003, seed 004).
 
-use super::cast::Hit;
-use super::objects::{Geometry, PreparedObject, unit};
-use super::{Effect, Stats};
 use crate::math::linalg::{V3, dot};
+use crate::render::cast::Hit;
+use crate::render::objects::{Geometry, PreparedObject, unit};
+use crate::render::{Effect, Stats};
 
 /// Which effects are on, decided once per render.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -13,7 +13,7 @@ pub struct Shader {
     texture: bool,
     smooth: bool,
     facing: bool,
-    /// Lights shade the scene (see [`super::trace_rays`]): an object without another colour shows its
+    /// Lights shade the scene (see [`crate::render::secondary`]): an object without another colour shows its
     /// own, not white.
     lit: bool,
 }

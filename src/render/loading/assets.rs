@@ -6,19 +6,19 @@
 use std::io::BufReader;
 use std::path::PathBuf;
 
-use super::objects::{PreparedTriangle, mesh_triangle};
 use crate::files::{FileKind, MESH, ReadError, TEXTURE, read_regular};
 use crate::math::linalg::V3;
+use crate::render::objects::{PreparedTriangle, mesh_triangle};
 
 /// The meshes and textures under `assets/`, by their name relative to it.
 const EMBEDDED: [(&str, &[u8]); 2] = [
     (
         "meshes/octasphere.obj",
-        include_bytes!("../../assets/meshes/octasphere.obj"),
+        include_bytes!("../../../assets/meshes/octasphere.obj"),
     ),
     (
         "textures/checker.png",
-        include_bytes!("../../assets/textures/checker.png"),
+        include_bytes!("../../../assets/textures/checker.png"),
     ),
 ];
 

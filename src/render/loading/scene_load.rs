@@ -2,9 +2,9 @@
 //! (a 1 M-triangle OBJ takes seconds), then the scene is prepared. It is a [`Sliced`] job, so the app
 //! runs it on a thread (or, on the web, in slices of its frames) and can cancel it.
 
-use super::assets::{AssetSource, MeshLoad, Preloaded, load_mesh_with_progress};
-use super::{PrepareError, Prepared};
 use crate::platform::{Progress, Sliced, Stopwatch};
+use crate::render::loading::assets::{AssetSource, MeshLoad, Preloaded, load_mesh_with_progress};
+use crate::render::{PrepareError, Prepared};
 use crate::scene::render::{RenderScene, Shape};
 
 /// The mesh files a scene names, each once, in the order of its objects.
@@ -120,7 +120,7 @@ impl<S: AssetSource + Send + 'static> Sliced for SceneLoad<S> {
 pub fn prepare_with_progress(
     scene: &RenderScene,
     assets: impl AssetSource,
-    progress: &mut dyn FnMut(&str, super::assets::MeshProgress) -> bool,
+    progress: &mut dyn FnMut(&str, crate::render::loading::assets::MeshProgress) -> bool,
 ) -> Result<Prepared, PrepareError> {
     scene.check().map_err(PrepareError::Scene)?;
     let mut assets = Preloaded::new(assets);
@@ -139,7 +139,7 @@ pub fn prepare_with_progress(
 mod tests {
     use super::*;
     use crate::files::FileKind;
-    use crate::render::assets::{CANCELLED, FetchError};
+    use crate::render::loading::assets::{CANCELLED, FetchError};
     use crate::scene::render::Object;
 
     /// One generated OBJ file, `meshes/grid.obj`: a grid of `n` × `n` squares (2n² triangles).
@@ -211,7 +211,7 @@ mod tests {
         // The same triangles as the plain load.
         assert_eq!(
             triangles,
-            crate::render::assets::load_mesh(&Grid(n), "meshes/grid.obj").unwrap()
+            crate::render::loading::assets::load_mesh(&Grid(n), "meshes/grid.obj").unwrap()
         );
     }
 

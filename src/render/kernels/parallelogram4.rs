@@ -12,9 +12,10 @@
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;
 
-use crate::math::linalg::V3;
+use super::Avx2;
 #[cfg(target_arch = "x86_64")]
-use crate::render::lone::{Lanes3, splat, store};
+use super::moller_trumbore4::{Lanes3, splat, store};
+use crate::math::linalg::V3;
 
 /// Four rays (origin, direction), one a lane.
 pub type Rays4 = [(V3<f64>, V3<f64>); 4];
@@ -36,6 +37,8 @@ pub struct Found4 {
 
 /// The solver for one parallelogram, four rays at a time.
 pub struct Parallelogram4 {
+    /// The proof that the processor runs the kernel.
+    avx2: Avx2,
     corner: V3<f64>,
     e1: V3<f64>,
     e2: V3<f64>,
@@ -44,15 +47,13 @@ pub struct Parallelogram4 {
 }
 
 impl Parallelogram4 {
-    /// `None` when the processor lacks AVX2 and FMA, or when the parallelogram itself takes one of
-    /// the solver's rare paths (non-finite, or edges that may be parallel): then one ray at a time.
+    /// `None` when the parallelogram takes one of the solver's rare paths (non-finite, or edges
+    /// that may be parallel): then one ray at a time.
     #[inline]
-    pub fn new([corner, e1, e2]: [&V3<f64>; 3]) -> Option<Parallelogram4> {
-        if !crate::render::lone::available() {
-            return None;
-        }
+    pub fn new(avx2: Avx2, [corner, e1, e2]: [&V3<f64>; 3]) -> Option<Parallelogram4> {
         let normal = crate::geometry::parallelogram::lean::regular_normal([corner, e1, e2])?;
         Some(Parallelogram4 {
+            avx2,
             corner: *corner,
             e1: *e1,
             e2: *e2,
@@ -64,12 +65,13 @@ impl Parallelogram4 {
     /// t ≤ `t_max` (per lane).
     #[inline]
     pub fn solve(&self, rays: &Rays4, t_max: &[f64; 4]) -> Found4 {
+        let _: Avx2 = self.avx2;
         #[cfg(target_arch = "x86_64")]
-        // SAFETY: `new` made `self` only on a processor with AVX2 and FMA.
+        // SAFETY: `self` holds an `Avx2`, which exists only on a processor with AVX2 and FMA.
         return unsafe { solve4(self, rays, t_max) };
         #[cfg(not(target_arch = "x86_64"))]
         {
-            // Never built: `new` needs AVX2.
+            // Never built: no `Avx2` exists off x86-64.
             let _ = (
                 rays,
                 t_max,
@@ -372,9 +374,10 @@ mod tests {
     /// leaves to the one-ray solver must be rare: only on the draws made unusual.
     #[test]
     fn four_lanes_solve_as_one_ray_at_a_time() {
-        if !crate::render::lone::available() {
+        let Some(avx2) = Avx2::detect() else {
+            eprintln!("skipped: this processor has no AVX2 and FMA");
             return;
-        }
+        };
         let mut random = rand_pcg::Pcg64::seed_from_u64(12);
         let (mut hits, mut culled, mut rare) = (0, 0, 0);
         for i in 0..40_000 {
@@ -397,7 +400,7 @@ mod tests {
                 let t = solve_inside(shape, &rays[lane][0], &rays[lane][1]);
                 t_max_for(&mut random, t.map(|x| x.alpha_beta_t[2]))
             });
-            let Some(solver) = Parallelogram4::new(shape) else {
+            let Some(solver) = Parallelogram4::new(avx2, shape) else {
                 panic!("{shape:?}: a usual parallelogram left to the one-ray solver");
             };
             let found = solver.solve(&rays.map(|[o, d]| (o, d)), &t_max);
@@ -436,13 +439,14 @@ mod tests {
     /// solver; a usual one is not.
     #[test]
     fn unusual_parallelograms_are_left_to_one_ray() {
-        if !crate::render::lone::available() {
+        let Some(avx2) = Avx2::detect() else {
+            eprintln!("skipped: this processor has no AVX2 and FMA");
             return;
-        }
+        };
         let mut random = rand_pcg::Pcg64::seed_from_u64(13);
         for i in 0..1_000 {
             let [corner, e1, e2, ..] = random_ray_near_edges(&mut random, 1e-13);
-            assert!(Parallelogram4::new([&corner, &e1, &e2]).is_some());
+            assert!(Parallelogram4::new(avx2, [&corner, &e1, &e2]).is_some());
             let unusual: [[V3<f64>; 3]; 5] = [
                 [corner, e2.map(|x| x * 3.0), e2],
                 [
@@ -456,7 +460,7 @@ mod tests {
             ];
             for [c, a, b] in unusual {
                 assert!(
-                    Parallelogram4::new([&c, &a, &b]).is_none(),
+                    Parallelogram4::new(avx2, [&c, &a, &b]).is_none(),
                     "{i}: {c:?} {a:?} {b:?}"
                 );
             }

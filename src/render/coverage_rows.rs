@@ -1,4 +1,4 @@
-//! The batched coverage path: when every object is an untransformed triangle tested by
+//! The coverage rows: when every object is an untransformed triangle tested by
 //! Möller–Trumbore, a row's rays go through the vectorised f32 kernel
 //! ([`crate::intersect::batch::intersect_rays`]) one triangle at a time, and only the hits are shaded.
 
@@ -6,7 +6,7 @@ use std::cell::RefCell;
 
 use super::cast::Hit;
 use super::objects::Geometry;
-use super::shade::Shader;
+use super::shading::shade::Shader;
 use std::ops::Range;
 
 use super::{Basis, Camera, Prepared, Stats, camera_ray, pinhole_basis};
@@ -14,7 +14,7 @@ use crate::intersect::Method;
 use crate::intersect::batch::{Nearest, RayBatch, intersect_rays};
 use crate::math::linalg::dot;
 
-/// True when the scene can take the batched path.
+/// True when the scene can take the coverage rows.
 pub fn applies(prepared: &Prepared) -> bool {
     prepared.bug.is_none()
         && prepared.objects.iter().all(|object| {
@@ -245,26 +245,29 @@ fn inverse_lengths(rays: &mut RowBuffers) {
 }
 
 /// Renders rows from `first` into `pixels` and `covered` (whole rows): with 8-wide AVX2 vectors where
-/// the processor has them (the same arithmetic, so the same image), else with the baseline's 4-wide.
+/// [`Prepared::simd`] proves the processor has them (the same arithmetic, so the same image), else
+/// with the baseline's 4-wide.
 pub fn render_rows(
     prepared: &Prepared,
     first: usize,
     pixels: &mut [[f32; 3]],
     covered: &mut [bool],
 ) -> Stats {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2, checked just above.
+    match prepared.simd {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: an `Avx2` exists only on a processor with AVX2 (and FMA).
         #[allow(unsafe_code)]
-        return unsafe { render_rows_avx2(prepared, first, pixels, covered) };
+        Some(avx2) => unsafe { render_rows_avx2(avx2, prepared, first, pixels, covered) },
+        _ => render_rows_inlined(prepared, first, pixels, covered),
     }
-    render_rows_inlined(prepared, first, pixels, covered)
 }
 
-/// The row loop compiled with AVX2 (only called when the processor has it).
+/// The row loop compiled with AVX2 (a kernel: see [`super::kernels`]). FMA is left off, as it
+/// always was here: the loop's arithmetic is the baseline's.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn render_rows_avx2(
+    _: super::kernels::Avx2,
     prepared: &Prepared,
     first: usize,
     pixels: &mut [[f32; 3]],

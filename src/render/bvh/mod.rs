@@ -23,13 +23,10 @@ use std::cell::RefCell;
 
 use super::crack_free::ShearedRay;
 
-mod narrow;
 mod split;
-#[cfg_attr(
-    not(target_arch = "x86_64"),
-    allow(dead_code, unused_imports, reason = "used by the x86-64 kernels only")
-)]
-use super::crack_free4::{self, Quad};
+use super::kernels::{Avx2, Isa, Scalar, crack_free4::Quad, narrow};
+#[cfg(target_arch = "x86_64")]
+use super::kernels::{boxes4, crack_free4};
 use super::objects::PreparedTriangle;
 use crate::math::linalg::V3;
 
@@ -43,7 +40,7 @@ const SAH_DEPTH: usize = 40;
 /// The cost of a box test relative to a triangle test, for the SAH.
 const BOX_COST: f64 = 1.0;
 /// Marks an unused child slot.
-const EMPTY: u32 = u32::MAX;
+pub(in crate::render) const EMPTY: u32 = u32::MAX;
 
 /// An axis-aligned box in f64, during the build.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -160,15 +157,15 @@ struct BinaryNode {
 /// 128 bytes, aligned to a cache line: a node is read in two lines, not three.
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
-struct Node {
+pub(in crate::render) struct Node {
     /// Box minima per axis, one lane per child.
-    min: [[f32; 4]; 3],
+    pub(in crate::render) min: [[f32; 4]; 3],
     /// Box maxima per axis.
-    max: [[f32; 4]; 3],
+    pub(in crate::render) max: [[f32; 4]; 3],
     /// Inner: the node's index; leaf: its first slot; empty: [`EMPTY`].
-    child: [u32; 4],
+    pub(in crate::render) child: [u32; 4],
     /// Leaf: its slot count; inner and empty: 0.
-    count: [u32; 4],
+    pub(in crate::render) count: [u32; 4],
 }
 
 /// A child to visit later, with the distance at which the ray enters its box.
@@ -201,12 +198,12 @@ thread_local! {
     not(target_arch = "x86_64"),
     allow(dead_code, unused_imports, reason = "used by the x86-64 kernels only")
 )]
-type Nearest = Option<(usize, [f64; 3])>;
+pub(in crate::render) type Nearest = Option<(usize, [f64; 3])>;
 
 /// The hierarchy: 4-wide nodes (the root first), and the triangles in leaf order ("slots").
 #[derive(Clone, Debug)]
 pub struct Bvh {
-    nodes: Vec<Node>,
+    pub(in crate::render) nodes: Vec<Node>,
     /// Slot → triangle index.
     order: Vec<u32>,
     /// Slot → the triangle's vertices, stored in leaf order so a leaf's triangles are contiguous.
@@ -214,47 +211,19 @@ pub struct Bvh {
     /// to no leaf.
     vertices: Vec<[V3<f64>; 3]>,
     /// The slots four at a time (slot / 4), for the four-triangle test.
-    quads: Vec<Quad>,
+    pub(in crate::render) quads: Vec<Quad>,
     /// Triangles held (those with finite coordinates).
     triangles: usize,
     /// True when every box is within the f32 packet test's range ([`narrow::BOX_LIMIT`]).
-    narrow: bool,
+    pub(in crate::render) narrow: bool,
 }
 
 /// Per-ray constants of the box test.
-struct BoxRay {
-    origin: V3<f64>,
-    inverse_dir: V3<f64>,
+pub(in crate::render) struct BoxRay {
+    pub(in crate::render) origin: V3<f64>,
+    pub(in crate::render) inverse_dir: V3<f64>,
     /// True where the direction component is zero (or so small its inverse overflows).
-    parallel: [bool; 3],
-}
-
-/// A query compiled twice: `$name` runs `$avx2` (the same body compiled with AVX2 and FMA) where
-/// the processor has them, else the baseline; both inline `$inlined::<AVX2>`.
-macro_rules! compiled_twice {
-    (
-        $(#[$doc:meta])*
-        pub fn $name:ident / $avx2:ident => $inlined:ident($($arg:ident: $ty:ty),* $(,)?) -> $out:ty
-    ) => {
-        $(#[$doc])*
-        pub fn $name(&self, $($arg: $ty),*) -> $out {
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2")
-                && std::arch::is_x86_feature_detected!("fma")
-            {
-                // SAFETY: the processor has AVX2 and FMA, checked just above.
-                return unsafe { self.$avx2($($arg),*) };
-            }
-            self.$inlined::<false>($($arg),*)
-        }
-
-        #[doc = concat!("[`Bvh::", stringify!($name), "`] compiled with AVX2 and FMA (only called when the processor has them).")]
-        #[cfg(target_arch = "x86_64")]
-        #[target_feature(enable = "avx2,fma")]
-        fn $avx2(&self, $($arg: $ty),*) -> $out {
-            self.$inlined::<true>($($arg),*)
-        }
-    };
+    pub(in crate::render) parallel: [bool; 3],
 }
 
 impl Bvh {
@@ -412,102 +381,165 @@ impl Bvh {
         box_tests: &mut u64,
         mut test: impl FnMut(usize) -> Option<f64>,
     ) {
-        self.walk::<false>(origin, dir, t_min, t_max, box_tests, |slots, mut t_max| {
-            for slot in slots {
-                if let Some(t) = test(self.order[slot] as usize) {
-                    t_max = t_max.min(t);
+        self.walk(
+            Scalar,
+            origin,
+            dir,
+            (t_min, t_max),
+            box_tests,
+            |slots, mut t_max| {
+                for slot in slots {
+                    if let Some(t) = test(self.order[slot] as usize) {
+                        t_max = t_max.min(t);
+                    }
                 }
-            }
-            t_max
-        });
+                t_max
+            },
+        );
     }
 
-    compiled_twice! {
-        /// The nearest triangle the crack-free watertight test hits with `t_min < t ≤ t_max` (ties
-        /// to the lower triangle index): its index and (t, β, γ). Counts box and triangle tests.
-        ///
-        /// Compiled twice, as the batched path is: with AVX2 and FMA where the processor has them
-        /// (the same arithmetic, as Rust never fuses a multiply and an add on its own, so the same
-        /// answers), else for the baseline.
-        pub fn nearest_crack_free / nearest_crack_free_avx2 => nearest_crack_free_inlined(
-            origin: &V3<f64>,
-            dir: &V3<f64>,
-            t_min: f64,
-            t_max: f64,
-            box_tests: &mut u64,
-            triangle_tests: &mut u64,
-        ) -> Option<(usize, [f64; 3])>
+    /// The nearest triangle the crack-free watertight test hits with `t_min < t ≤ t_max` (ties to
+    /// the lower triangle index): its index and (t, β, γ). Counts box and triangle tests.
+    ///
+    /// Compiled twice: with AVX2 and FMA where `simd` proves the processor has them (the same
+    /// arithmetic, as Rust never fuses a multiply and an add on its own, so the same answers),
+    /// else for the baseline.
+    pub fn nearest_crack_free(
+        &self,
+        simd: Option<Avx2>,
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        (t_min, t_max): (f64, f64),
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> Option<(usize, [f64; 3])> {
+        let range = (t_min, t_max);
+        let counts = (box_tests, triangle_tests);
+        match simd {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+            Some(avx2) => unsafe { self.nearest_crack_free_avx2(avx2, origin, dir, range, counts) },
+            _ => self.nearest_crack_free_in(Scalar, origin, dir, range, counts),
+        }
+    }
+
+    /// [`Bvh::nearest_crack_free`] compiled with AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn nearest_crack_free_avx2(
+        &self,
+        avx2: Avx2,
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        range: (f64, f64),
+        counts: (&mut u64, &mut u64),
+    ) -> Option<(usize, [f64; 3])> {
+        self.nearest_crack_free_in(avx2, origin, dir, range, counts)
     }
 
     /// The traversal and tests themselves, inlined into each of the two builds above.
     #[inline(always)]
-    fn nearest_crack_free_inlined<const AVX2: bool>(
+    fn nearest_crack_free_in<I: Isa>(
         &self,
+        isa: I,
         origin: &V3<f64>,
         dir: &V3<f64>,
-        t_min: f64,
-        t_max: f64,
-        box_tests: &mut u64,
-        triangle_tests: &mut u64,
+        (t_min, t_max): (f64, f64),
+        (box_tests, triangle_tests): (&mut u64, &mut u64),
     ) -> Option<(usize, [f64; 3])> {
         let ray = ShearedRay::new(origin, dir)?;
         let mut best: Option<(usize, [f64; 3])> = None;
-        self.walk::<AVX2>(origin, dir, t_min, t_max, box_tests, |slots, t_max| {
-            *triangle_tests += slots.len() as u64;
-            self.leaf_crack_free::<AVX2>(&ray, slots, t_min, t_max, &mut best)
-        });
+        self.walk(
+            isa,
+            origin,
+            dir,
+            (t_min, t_max),
+            box_tests,
+            |slots, t_max| {
+                *triangle_tests += slots.len() as u64;
+                self.leaf_crack_free(isa, &ray, slots, t_min, t_max, &mut best)
+            },
+        );
         best
     }
 
-    compiled_twice! {
-        /// True when the crack-free test hits some triangle with `t_min < t < t_max` (an any-hit,
-        /// or shadow, query: the traversal stops at the first such hit, nearest boxes first).
-        /// Counts box and triangle tests. True exactly when [`Bvh::nearest_crack_free`] finds its
-        /// nearest hit before `t_max`. Compiled twice, as that is: AVX2 and FMA where the
-        /// processor has them, else the baseline.
-        pub fn occluded / occluded_avx2 => occluded_inlined(
-            origin: &V3<f64>,
-            dir: &V3<f64>,
-            t_min: f64,
-            t_max: f64,
-            box_tests: &mut u64,
-            triangle_tests: &mut u64,
-        ) -> bool
+    /// True when the crack-free test hits some triangle with `t_min < t < t_max` (an any-hit, or
+    /// shadow, query: the traversal stops at the first such hit, nearest boxes first). Counts box
+    /// and triangle tests. True exactly when [`Bvh::nearest_crack_free`] finds its nearest hit
+    /// before `t_max`. Compiled twice, as that is.
+    pub fn occluded(
+        &self,
+        simd: Option<Avx2>,
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        (t_min, t_max): (f64, f64),
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> bool {
+        let range = (t_min, t_max);
+        let counts = (box_tests, triangle_tests);
+        match simd {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+            Some(avx2) => unsafe { self.occluded_avx2(avx2, origin, dir, range, counts) },
+            _ => self.occluded_in(Scalar, origin, dir, range, counts),
+        }
+    }
+
+    /// [`Bvh::occluded`] compiled with AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn occluded_avx2(
+        &self,
+        avx2: Avx2,
+        origin: &V3<f64>,
+        dir: &V3<f64>,
+        range: (f64, f64),
+        counts: (&mut u64, &mut u64),
+    ) -> bool {
+        self.occluded_in(avx2, origin, dir, range, counts)
     }
 
     /// The any-hit traversal itself, inlined into each of the two builds above.
     #[inline(always)]
-    fn occluded_inlined<const AVX2: bool>(
+    fn occluded_in<I: Isa>(
         &self,
+        isa: I,
         origin: &V3<f64>,
         dir: &V3<f64>,
-        t_min: f64,
-        t_max: f64,
-        box_tests: &mut u64,
-        triangle_tests: &mut u64,
+        (t_min, t_max): (f64, f64),
+        (box_tests, triangle_tests): (&mut u64, &mut u64),
     ) -> bool {
         let Some(ray) = ShearedRay::new(origin, dir) else {
             return false;
         };
         let mut found = false;
-        self.walk::<AVX2>(origin, dir, t_min, t_max, box_tests, |slots, limit| {
-            *triangle_tests += slots.len() as u64;
-            let mut best = None;
-            self.leaf_crack_free::<AVX2>(&ray, slots, t_min, limit, &mut best);
-            found |= best.is_some_and(|(_, hit)| hit[0] < t_max);
-            // Once found, a limit below every box ends the walk.
-            if found { f64::NEG_INFINITY } else { limit }
-        });
+        self.walk(
+            isa,
+            origin,
+            dir,
+            (t_min, t_max),
+            box_tests,
+            |slots, limit| {
+                *triangle_tests += slots.len() as u64;
+                let mut best = None;
+                self.leaf_crack_free(isa, &ray, slots, t_min, limit, &mut best);
+                found |= best.is_some_and(|(_, hit)| hit[0] < t_max);
+                // Once found, a limit below every box ends the walk.
+                if found { f64::NEG_INFINITY } else { limit }
+            },
+        );
         found
     }
 
     /// Tests a leaf's slots with the crack-free test, keeping in `best` the nearest hit with
-    /// t_min < t ≤ `limit` (ties to the lower triangle index); returns the new limit. With `AVX2`
-    /// (only from a function compiled with AVX2 and FMA) four triangles at a time, with the same
-    /// decisions and numbers (see [`crack_free4`]).
+    /// t_min < t ≤ `limit` (ties to the lower triangle index); returns the new limit. With
+    /// [`Avx2`] (inlined into a function compiled with AVX2 and FMA) four triangles at a time, with
+    /// the same decisions and numbers (see [`crack_free4`]).
     #[inline(always)]
-    fn leaf_crack_free<const AVX2: bool>(
+    pub(in crate::render) fn leaf_crack_free<I: Isa>(
         &self,
+        isa: I,
         ray: &ShearedRay,
         slots: std::ops::Range<usize>,
         t_min: f64,
@@ -526,13 +558,12 @@ impl Bvh {
             }
         };
         #[cfg(target_arch = "x86_64")]
-        if AVX2 {
+        if let Some(avx2) = isa.avx2() {
             // Leaves start at multiples of four (see `append_leaf`).
             for first in slots.clone().step_by(4) {
                 let lanes = (1u32 << (slots.end - first).min(4)) - 1;
-                // SAFETY: AVX2 is only set by callers compiled with AVX2 and FMA.
                 let found =
-                    unsafe { crack_free4::intersect4(ray, &self.quads[first / 4], t_min, lanes) };
+                    crack_free4::intersect4(avx2, ray, &self.quads[first / 4], t_min, lanes);
                 let mut hit = found.hit;
                 while hit != 0 {
                     let lane = hit.trailing_zeros() as usize;
@@ -552,6 +583,8 @@ impl Bvh {
             }
             return limit;
         }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = isa;
         for slot in slots {
             if let Some(hit) = ray.intersect(&self.vertices[slot], t_min) {
                 offer(slot, hit, &mut limit);
@@ -567,6 +600,7 @@ impl Bvh {
     /// Box and triangle tests are counted per ray, as if each ray had made them alone.
     pub fn nearest_crack_free_packet<const P: usize>(
         &self,
+        simd: Option<Avx2>,
         rays: &[(V3<f64>, V3<f64>); P],
         t_max: [f64; P],
         box_tests: &mut u64,
@@ -574,21 +608,23 @@ impl Bvh {
         best: &mut [Option<(usize, [f64; 3])>; P],
     ) {
         *best = [None; P];
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: the processor has AVX2 and FMA, checked just above.
-            return unsafe { self.packet_avx2(rays, t_max, box_tests, triangle_tests, best) };
+        match simd {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+            Some(avx2) => unsafe {
+                self.packet_avx2(avx2, rays, t_max, box_tests, triangle_tests, best)
+            },
+            _ => self.packet_in(Scalar, rays, t_max, box_tests, triangle_tests, best),
         }
-        self.packet_inlined::<P, false>(rays, t_max, box_tests, triangle_tests, best)
     }
 
-    /// The packet traversal compiled with AVX2 and FMA (only called when the processor has them):
-    /// sixteen rays whose numbers allow it take [`narrow`]'s f32 box test of eight rays at once.
+    /// The packet traversal compiled with AVX2 and FMA: sixteen rays whose numbers allow it take
+    /// [`narrow`]'s f32 box test of eight rays at once.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn packet_avx2<const P: usize>(
         &self,
+        avx2: Avx2,
         rays: &[(V3<f64>, V3<f64>); P],
         t_max: [f64; P],
         box_tests: &mut u64,
@@ -603,23 +639,23 @@ impl Bvh {
                 limits,
                 <&mut [Nearest; narrow::RAYS]>::try_from(&mut best[..]),
             ) {
-                // SAFETY: this function is compiled with AVX2 and FMA and runs only where they are.
-                (Ok(packet), Ok(limits), Ok(out)) => unsafe {
-                    self.packet_narrow(packet, limits, box_tests, triangle_tests, out)
-                },
+                (Ok(packet), Ok(limits), Ok(out)) => {
+                    narrow::nearest(avx2, self, packet, limits, box_tests, triangle_tests, out)
+                }
                 _ => false,
             };
             if found {
                 return;
             }
         }
-        self.packet_inlined::<P, true>(rays, t_max, box_tests, triangle_tests, best)
+        self.packet_in(avx2, rays, t_max, box_tests, triangle_tests, best)
     }
 
     /// The packet traversal itself, inlined into each of the two builds above.
     #[inline(always)]
-    fn packet_inlined<const P: usize, const AVX2: bool>(
+    fn packet_in<const P: usize, I: Isa>(
         &self,
+        isa: I,
         rays: &[(V3<f64>, V3<f64>); P],
         mut t_max: [f64; P],
         box_tests: &mut u64,
@@ -677,7 +713,8 @@ impl Bvh {
                         each &= each - 1;
                         let Some(ray) = &sheared[r] else { continue };
                         *triangle_tests += u64::from(entry.count);
-                        t_max[r] = self.leaf_crack_free::<AVX2>(
+                        t_max[r] = self.leaf_crack_free(
+                            isa,
                             ray,
                             slots.clone(),
                             0.0,
@@ -694,17 +731,7 @@ impl Bvh {
                 while each != 0 {
                     let r = each.trailing_zeros() as usize;
                     each &= each - 1;
-                    let (hit, nears) = {
-                        #[cfg(target_arch = "x86_64")]
-                        if AVX2 {
-                            // SAFETY: AVX2 is only set by callers compiled with AVX2 and FMA.
-                            unsafe { node.test_avx2(&box_rays[r], 0.0, t_max[r]) }
-                        } else {
-                            node.test(&box_rays[r], 0.0, t_max[r])
-                        }
-                        #[cfg(not(target_arch = "x86_64"))]
-                        node.test(&box_rays[r], 0.0, t_max[r])
-                    };
+                    let (hit, nears) = node.test(isa, &box_rays[r], 0.0, t_max[r]);
                     *box_tests += children(node);
                     // Lanes the ray misses enter at +∞ (see `test`), so `min` needs no branch.
                     for lane in 0..4 {
@@ -738,15 +765,15 @@ impl Bvh {
         });
     }
 
-    /// The traversal: `leaf(slots, t_max)` tests a leaf's slots and returns the new t_max. `AVX2`:
-    /// test boxes with AVX2 intrinsics (only from a function compiled with AVX2).
+    /// The traversal: `leaf(slots, t_max)` tests a leaf's slots and returns the new t_max. With
+    /// [`Avx2`], boxes are tested with AVX2 intrinsics (inlined into a function compiled with them).
     #[inline(always)]
-    fn walk<const AVX2: bool>(
+    fn walk<I: Isa>(
         &self,
+        isa: I,
         origin: &V3<f64>,
         dir: &V3<f64>,
-        t_min: f64,
-        mut t_max: f64,
+        (t_min, mut t_max): (f64, f64),
         box_tests: &mut u64,
         mut leaf: impl FnMut(std::ops::Range<usize>, f64) -> f64,
     ) {
@@ -775,18 +802,7 @@ impl Bvh {
                     continue;
                 }
                 let node = &self.nodes[child as usize];
-                let (mut hit, nears) = {
-                    #[cfg(target_arch = "x86_64")]
-                    if AVX2 {
-                        // SAFETY: AVX2 is only set by callers compiled with AVX2 and FMA, which
-                        // run only on processors that have them.
-                        unsafe { node.test_avx2(&ray, t_min, t_max) }
-                    } else {
-                        node.test(&ray, t_min, t_max)
-                    }
-                    #[cfg(not(target_arch = "x86_64"))]
-                    node.test(&ray, t_min, t_max)
-                };
+                let (mut hit, nears) = node.test(isa, &ray, t_min, t_max);
                 *box_tests += node.child.iter().filter(|c| **c != EMPTY).count() as u64;
                 // Push the hit children farthest first, so the nearest is popped next.
                 let mut lanes = [0usize; 4];
@@ -820,7 +836,19 @@ impl Node {
     /// Which of the four boxes the ray meets within [t_min, t_max] (a bit a lane), and where it enters
     /// each (+∞ for the boxes it misses).
     #[inline(always)]
-    fn test(&self, ray: &BoxRay, t_min: f64, t_max: f64) -> (u32, [f64; 4]) {
+    fn test<I: Isa>(&self, isa: I, ray: &BoxRay, t_min: f64, t_max: f64) -> (u32, [f64; 4]) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = isa.avx2() {
+            return boxes4::test(avx2, (&self.min, &self.max), ray, t_min, t_max);
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = isa;
+        self.test_portable(ray, t_min, t_max)
+    }
+
+    /// The box test in portable code, which [`boxes4`] does four lanes at once.
+    #[inline(always)]
+    fn test_portable(&self, ray: &BoxRay, t_min: f64, t_max: f64) -> (u32, [f64; 4]) {
         // Widen the distances by 2γ₃ so a rounded slab cannot cut off a touching ray; by multiplying,
         // so an infinite distance stays infinite.
         const WIDEN: f64 = 2.0 * 3.0 * f64::EPSILON;
@@ -861,64 +889,6 @@ impl Node {
             }
         }
         (hit, near)
-    }
-
-    /// [`Node::test`] with AVX2 intrinsics, four f64 lanes at once: the same arithmetic (no NaN can
-    /// arise outside parallel axes, which are tested by comparisons, so `max`/`min` agree).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    #[inline]
-    fn test_avx2(&self, ray: &BoxRay, t_min: f64, t_max: f64) -> (u32, [f64; 4]) {
-        use std::arch::x86_64::*;
-        const WIDEN: f64 = 2.0 * 3.0 * f64::EPSILON;
-        let mut near = _mm256_set1_pd(t_min);
-        let mut far = _mm256_set1_pd(t_max);
-        let mut outside = _mm256_setzero_pd();
-        let zero = _mm256_setzero_pd();
-        let (shrink, grow) = (_mm256_set1_pd(1.0 - WIDEN), _mm256_set1_pd(1.0 + WIDEN));
-        for k in 0..3 {
-            // SAFETY: each row is four f32s, read unaligned.
-            let (lo, hi) = unsafe {
-                (
-                    _mm256_cvtps_pd(_mm_loadu_ps(self.min[k].as_ptr())),
-                    _mm256_cvtps_pd(_mm_loadu_ps(self.max[k].as_ptr())),
-                )
-            };
-            let o = _mm256_set1_pd(ray.origin[k]);
-            if ray.parallel[k] {
-                // Outside the slab: o < lo or o > hi (NaN-free: the boxes and the ray are finite).
-                let out = _mm256_or_pd(
-                    _mm256_cmp_pd::<_CMP_LT_OQ>(o, lo),
-                    _mm256_cmp_pd::<_CMP_GT_OQ>(o, hi),
-                );
-                outside = _mm256_or_pd(outside, out);
-                continue;
-            }
-            let inv = _mm256_set1_pd(ray.inverse_dir[k]);
-            let (entry, exit) = if ray.inverse_dir[k] >= 0.0 {
-                (lo, hi)
-            } else {
-                (hi, lo)
-            };
-            let t0 = _mm256_mul_pd(_mm256_sub_pd(entry, o), inv);
-            let t1 = _mm256_mul_pd(_mm256_sub_pd(exit, o), inv);
-            let t0_positive = _mm256_cmp_pd::<_CMP_GE_OQ>(t0, zero);
-            let t1_positive = _mm256_cmp_pd::<_CMP_GE_OQ>(t1, zero);
-            let t0 = _mm256_mul_pd(t0, _mm256_blendv_pd(grow, shrink, t0_positive));
-            let t1 = _mm256_mul_pd(t1, _mm256_blendv_pd(shrink, grow, t1_positive));
-            near = _mm256_max_pd(near, t0);
-            far = _mm256_min_pd(far, t1);
-        }
-        let reached = _mm256_and_pd(
-            _mm256_cmp_pd::<_CMP_LE_OQ>(near, far),
-            _mm256_cmp_pd::<_CMP_LT_OQ>(near, _mm256_set1_pd(f64::INFINITY)),
-        );
-        let hit = _mm256_andnot_pd(outside, reached);
-        let near = _mm256_blendv_pd(_mm256_set1_pd(f64::INFINITY), near, hit);
-        let mut nears = [0.0; 4];
-        // SAFETY: four f64s into a four-f64 array.
-        unsafe { _mm256_storeu_pd(nears.as_mut_ptr(), near) };
-        (_mm256_movemask_pd(hit) as u32, nears)
     }
 }
 
@@ -1097,7 +1067,7 @@ impl Builder<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::assets::{Embedded, load_mesh};
+    use crate::render::loading::assets::{Embedded, load_mesh};
 
     fn ray_of(origin: V3<f64>, dir: V3<f64>) -> BoxRay {
         let inverse_dir = dir.map(|d| 1.0 / d);
@@ -1125,14 +1095,20 @@ mod tests {
         }
         // Along the box's face (a zero direction component), through it, and past it.
         let (hit, _) = node.test(
+            Scalar,
             &ray_of([0.1, 0.5, -1.0], [0.0, 0.0, 1.0]),
             0.0,
             f64::INFINITY,
         );
         assert_eq!(hit, 0b10);
-        let (hit, _) = node.test(&ray_of([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]), 0.0, 0.2);
+        let (hit, _) = node.test(Scalar, &ray_of([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]), 0.0, 0.2);
         assert_eq!(hit, 0);
-        let (hit, _) = node.test(&ray_of([5.0, 0.5, 0.5], [-1.0, 0.0, 0.0]), 0.0, 10.0);
+        let (hit, _) = node.test(
+            Scalar,
+            &ray_of([5.0, 0.5, 0.5], [-1.0, 0.0, 0.0]),
+            0.0,
+            10.0,
+        );
         assert_eq!(hit, 0b10);
     }
 
@@ -1141,11 +1117,10 @@ mod tests {
     #[test]
     fn the_avx2_box_test_agrees_with_the_portable_one() {
         use rand::{Rng, SeedableRng};
-        if !(std::arch::is_x86_feature_detected!("avx2")
-            && std::arch::is_x86_feature_detected!("fma"))
-        {
+        let Some(avx2) = Avx2::detect() else {
+            eprintln!("skipped: this processor has no AVX2 and FMA");
             return;
-        }
+        };
         let mut random = rand_pcg::Pcg64::seed_from_u64(7);
         for i in 0..20_000 {
             let mut node = Bvh::empty_node();
@@ -1166,9 +1141,8 @@ mod tests {
             }
             let ray = ray_of(origin, dir);
             let t_max = if i % 5 == 0 { 1.0 } else { f64::INFINITY };
-            let (hit, near) = node.test(&ray, 0.0, t_max);
-            // SAFETY: checked above.
-            let (hit_avx, near_avx) = unsafe { node.test_avx2(&ray, 0.0, t_max) };
+            let (hit, near) = node.test(Scalar, &ray, 0.0, t_max);
+            let (hit_avx, near_avx) = node.test(avx2, &ray, 0.0, t_max);
             assert_eq!(hit, hit_avx, "{origin:?} {dir:?}");
             for lane in 0..4 {
                 if hit & (1 << lane) != 0 {
@@ -1352,6 +1326,7 @@ mod tests {
                 let packet: &[(V3<f64>, V3<f64>); 16] = packet.try_into().unwrap();
                 let mut found = [None; 16];
                 bvh.nearest_crack_free_packet(
+                    Avx2::detect(),
                     packet,
                     [f64::INFINITY; 16],
                     &mut 0,
@@ -1359,7 +1334,8 @@ mod tests {
                     &mut found,
                 );
                 for (r, (o, d)) in packet.iter().enumerate() {
-                    let alone = bvh.nearest_crack_free(o, d, 0.0, f64::INFINITY, &mut 0, &mut 0);
+                    let alone =
+                        bvh.nearest_crack_free(None, o, d, (0.0, f64::INFINITY), &mut 0, &mut 0);
                     assert_eq!(found[r], alone, "{o:?} {d:?}");
                     assert_eq!(alone, brute(*o, *d), "{o:?} {d:?}");
                     if origin == [0.0; 3] {
@@ -1418,9 +1394,16 @@ mod tests {
             let t_max: [f64; 16] =
                 std::array::from_fn(|r| if r % 5 == 0 { 2.9 } else { f64::INFINITY });
             let mut packet = [None; 16];
-            bvh.nearest_crack_free_packet(&rays, t_max, &mut 0, &mut 0, &mut packet);
+            bvh.nearest_crack_free_packet(
+                Avx2::detect(),
+                &rays,
+                t_max,
+                &mut 0,
+                &mut 0,
+                &mut packet,
+            );
             for (r, (o, d)) in rays.iter().enumerate() {
-                let alone = bvh.nearest_crack_free(o, d, 0.0, t_max[r], &mut 0, &mut 0);
+                let alone = bvh.nearest_crack_free(None, o, d, (0.0, t_max[r]), &mut 0, &mut 0);
                 assert_eq!(packet[r], alone, "packet {p}, ray {r}: {o:?} {d:?}");
                 hits += alone.is_some() as usize;
             }
@@ -1446,10 +1429,11 @@ mod tests {
             };
             let dir = std::array::from_fn(|k| target[k] - origin[k]);
             let t_max = [f64::INFINITY, 1.0, 0.999_999, 0.5][i % 4];
-            let nearest = bvh.nearest_crack_free(&origin, &dir, 0.0, f64::INFINITY, &mut 0, &mut 0);
+            let nearest =
+                bvh.nearest_crack_free(None, &origin, &dir, (0.0, f64::INFINITY), &mut 0, &mut 0);
             let expected = nearest.is_some_and(|(_, hit)| hit[0] < t_max);
             assert_eq!(
-                bvh.occluded(&origin, &dir, 0.0, t_max, &mut 0, &mut 0),
+                bvh.occluded(Avx2::detect(), &origin, &dir, (0.0, t_max), &mut 0, &mut 0),
                 expected,
                 "{origin:?} {dir:?} {t_max}"
             );
@@ -1511,7 +1495,7 @@ mod tests {
                 let brute = nearest(origin, dir, false);
                 assert_eq!(nearest(origin, dir, true), brute, "ray {dir:?}");
                 let fast = bvh
-                    .nearest_crack_free(&origin, &dir, 0.0, f64::INFINITY, &mut 0, &mut 0)
+                    .nearest_crack_free(None, &origin, &dir, (0.0, f64::INFINITY), &mut 0, &mut 0)
                     .map(|(i, v)| (v[0], i));
                 assert_eq!(fast, crack_free(origin, dir), "ray {dir:?}");
                 assert_eq!(fast.is_some(), brute.is_some(), "ray {dir:?}");
