@@ -137,23 +137,30 @@ fn the_answer_is_the_exact_solvers() {
     assert_eq!(problem.answer.text(), "hit; β = 1/4, γ = 1/2, t = 5/2");
 }
 
-#[test]
-fn the_checker_accepts_right_fractions_and_close_decimals() {
-    let problem = known_triangle();
-    for right in [
-        "1/4, 1/2, 5/2",
-        "β = 1/4, γ = 2/4, t = 5/2",
-        "t = 2.5, beta = 0.25, gamma = 0.5",
-        "0.2504, 0.4996, 2.5009",
-        "hit",
-        "HIT; 1/4, 1/2, 5/2",
-    ] {
+/// Fails, naming the answer and its verdict, unless `check` calls every one of `answers` right.
+fn assert_right(problem: &Problem, answers: &[&str]) {
+    for right in answers {
         assert!(
-            matches!(check(&problem, right, 0), Verdict::Right { .. }),
+            matches!(check(problem, right, 0), Verdict::Right { .. }),
             "{right}: {:?}",
-            check(&problem, right, 0)
+            check(problem, right, 0)
         );
     }
+}
+
+#[test]
+fn the_checker_accepts_right_fractions_and_close_decimals() {
+    assert_right(
+        &known_triangle(),
+        &[
+            "1/4, 1/2, 5/2",
+            "β = 1/4, γ = 2/4, t = 5/2",
+            "t = 2.5, beta = 0.25, gamma = 0.5",
+            "0.2504, 0.4996, 2.5009",
+            "hit",
+            "HIT; 1/4, 1/2, 5/2",
+        ],
+    );
     // 17/22 = 0.772727…: 0.773 is within 1e-3, 0.77 is not.
     let segments = Problem::new(
         1,
@@ -242,21 +249,17 @@ fn a_changed_answer_gets_the_hint_of_its_own_first_wrong_step_with_its_value() {
 
 #[test]
 fn answers_are_read_forgivingly() {
-    let problem = known_triangle();
-    for right in [
-        "(1/4, 1/2, 5/2)",
-        "[1/4, 1/2, 5/2]",
-        "1/4; 1/2; 5/2",
-        "t=5/2 beta=1/4 gamma=1/2",
-        "t = 5/2 β = 1/4 γ = 1/2",
-        "hit; (β = 1/4; γ = 1/2; t = 5/2)",
-    ] {
-        assert!(
-            matches!(check(&problem, right, 0), Verdict::Right { .. }),
-            "{right}: {:?}",
-            check(&problem, right, 0)
-        );
-    }
+    assert_right(
+        &known_triangle(),
+        &[
+            "(1/4, 1/2, 5/2)",
+            "[1/4, 1/2, 5/2]",
+            "1/4; 1/2; 5/2",
+            "t=5/2 beta=1/4 gamma=1/2",
+            "t = 5/2 β = 1/4 γ = 1/2",
+            "hit; (β = 1/4; γ = 1/2; t = 5/2)",
+        ],
+    );
 }
 
 #[test]
