@@ -218,32 +218,36 @@ fn a_wrong_answer_gets_the_first_differing_step_then_the_next() {
     assert_eq!(practice.wrong_answers, 2);
 }
 
+/// The text of the hint of a verdict that must be wrong, checked to be on `step` and to say `says`.
+fn hint_saying(verdict: Verdict, step: &str, says: &str) -> String {
+    match verdict {
+        Verdict::Wrong { hint } => {
+            assert_eq!(hint.step_id, step);
+            assert!(hint.text.contains(says), "{}", hint.text);
+            hint.text
+        }
+        other => panic!("not wrong at {step}: {other:?}"),
+    }
+}
+
 #[test]
 fn a_changed_answer_gets_the_hint_of_its_own_first_wrong_step_with_its_value() {
     let mut practice = Practice::new(known_triangle());
-    let Verdict::Wrong { hint } = practice.check("1/4, 1/3, 5/2") else {
-        panic!("γ is wrong")
-    };
-    assert_eq!(hint.step_id, "gamma");
-    assert!(
-        hint.text.contains("Your answer gives γ = 1/3."),
-        "{}",
-        hint.text
+    let hint = hint_saying(
+        practice.check("1/4, 1/3, 5/2"),
+        "gamma",
+        "Your answer gives γ = 1/3.",
     );
-    assert!(hint.text.contains("with |M2| = "), "{}", hint.text);
+    assert!(hint.contains("with |M2| = "), "{hint}");
     // γ mended, t now wrong: the t step, not the next step of the earlier answer (check γ ≥ 0).
     assert_eq!(hint_step(practice.check("1/4, 1/2, 3")), "t");
     // The same answer again moves on.
     assert_ne!(hint_step(practice.check("1/4,1/2,3")), "t");
     // β + γ past 1: the check says what the student's numbers give.
-    let Verdict::Wrong { hint } = check(&known_triangle(), "3/4, 1/2, 5/2", 2) else {
-        panic!("β is wrong")
-    };
-    assert_eq!(hint.step_id, "check_bc");
-    assert!(
-        hint.text.contains("Your answer gives β + γ = 5/4."),
-        "{}",
-        hint.text
+    hint_saying(
+        check(&known_triangle(), "3/4, 1/2, 5/2", 2),
+        "check_bc",
+        "Your answer gives β + γ = 5/4.",
     );
 }
 
