@@ -297,20 +297,14 @@ fn the_web_page_draws_the_app_and_its_url_opens_a_preset_and_a_view() {
     assert_drawn(&first, "first visit");
 
     // A link to a preset opens the Triangle view with that ray; a link to a view opens it.
-    let preset = screenshot(
-        &format!("{base}/?preset=triangle-outside"),
-        &profile("preset"),
-        10_000,
-        "preset",
-    );
-    assert_drawn(&preset, "?preset=triangle-outside");
-    let accuracy = screenshot(
-        &format!("{base}/?view=accuracy"),
-        &profile("accuracy"),
-        10_000,
-        "accuracy",
-    );
-    assert_drawn(&accuracy, "?view=accuracy");
+    // A first visit to `base/query`, in its own profile `name`, which must draw the app.
+    let visit = |query: &str, name: &str| {
+        let image = screenshot(&format!("{base}/{query}"), &profile(name), 10_000, name);
+        assert_drawn(&image, query);
+        image
+    };
+    let preset = visit("?preset=triangle-outside", "preset");
+    let accuracy = visit("?view=accuracy", "accuracy");
     for (image, what) in [(&preset, "the preset"), (&accuracy, "the Accuracy view")] {
         let difference = view_difference(&first, image);
         println!(
@@ -323,13 +317,7 @@ fn the_web_page_draws_the_app_and_its_url_opens_a_preset_and_a_view() {
 
     // The Render view renders in the page (in frame slices: a page has one thread): seed 003's blue
     // triangle, shaded by its facing ratio, fills a good part of the screen.
-    let render = screenshot(
-        &format!("{base}/?preset=seed003-facing"),
-        &profile("render"),
-        10_000,
-        "render",
-    );
-    assert_drawn(&render, "?preset=seed003-facing");
+    let render = visit("?preset=seed003-facing", "render");
     let blue = render
         .pixels()
         .filter(|p| {

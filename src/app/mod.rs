@@ -388,22 +388,10 @@ impl RaylabApp {
         egui::Panel::top("top-bar").show(ui, |ui| self.top_bar(ui));
         if self.class.is_some() {
             // A live class: its panel takes the steps' place (the steps would give the answer away).
-            let full = ui.available_width();
-            let width = (full * 0.3).clamp(240.0, 380.0).min(full * 0.45);
-            egui::Panel::right("class")
-                .resizable(true)
-                .default_size(width)
-                .size_range(width.min(240.0)..=full * 0.45)
-                .show(ui, |ui| self.class_panel_ui(ui));
+            side_panel(ui, "class", 0.3, 380.0, 0.45).show(ui, |ui| self.class_panel_ui(ui));
         } else if self.state.show_steps {
             // About 40% of the window, never more than half: the view keeps at least half the width.
-            let full = ui.available_width();
-            let width = (full * 0.4).clamp(240.0, 420.0).min(full * 0.5);
-            egui::Panel::right("steps")
-                .resizable(true)
-                .default_size(width)
-                .size_range(width.min(240.0)..=full * 0.5)
-                .show(ui, |ui| match solved.trace() {
+            side_panel(ui, "steps", 0.4, 420.0, 0.5).show(ui, |ui| match solved.trace() {
                     Some(trace) => {
                         let triangle = self.state.view == ViewKind::Triangle;
                         let shown = self.state.find::<TriangleView>();
@@ -487,6 +475,17 @@ impl RaylabApp {
             tab.view.emphasise(&elements);
         }
     }
+}
+
+/// A resizable panel on the right that opens at `share` of the window's width, at least 240 points
+/// and at most `widest`, and never grows past `most` of the window (the view keeps the rest).
+fn side_panel(ui: &Ui, id: &'static str, share: f32, widest: f32, most: f32) -> egui::Panel {
+    let full = ui.available_width();
+    let width = (full * share).clamp(240.0, widest).min(full * most);
+    egui::Panel::right(id)
+        .resizable(true)
+        .default_size(width)
+        .size_range(width.min(240.0)..=full * most)
 }
 
 #[cfg(test)]

@@ -605,21 +605,22 @@ mod tests {
     use super::*;
     use serde_json::Value;
 
+    /// Runs a batch over `input` without traces: how many lines were bad, then what it wrote to
+    /// standard output and to standard error.
+    fn batch(input: impl BufRead, default: Precision) -> (usize, String, String) {
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let bad = run_batch(input, &mut out, &mut err, default, false).unwrap();
+        let err = String::from_utf8_lossy(&err).into_owned();
+        (bad, String::from_utf8(out).unwrap(), err)
+    }
+
     #[test]
     fn a_byte_order_mark_before_the_first_line_is_not_part_of_it() {
         let line = r#"{"kind":"segments","a1":"0,0","a2":"4,4","b1":"0,4","b2":"4,0"}"#;
         let input = format!("\u{feff}{line}\n{line}\n");
-        let (mut out, mut errors) = (Vec::new(), Vec::new());
-        let bad = run_batch(
-            input.as_bytes(),
-            &mut out,
-            &mut errors,
-            Precision::F64,
-            false,
-        )
-        .unwrap();
-        assert_eq!(bad, 0, "{}", String::from_utf8_lossy(&errors));
-        assert_eq!(String::from_utf8(out).unwrap().lines().count(), 2);
+        let (bad, out, errors) = batch(input.as_bytes(), Precision::F64);
+        assert_eq!(bad, 0, "{errors}");
+        assert_eq!(out.lines().count(), 2);
     }
 
     #[test]
@@ -671,18 +672,9 @@ mod tests {
     #[test]
     fn keeps_going_after_a_bad_line() {
         let input = "{\"kind\":\"segments\",\"a1\":\"1,2\",\"a2\":\"6,1\",\"b1\":\"2,6\",\"b2\":\"5,1\"}\n\nnonsense\n{\"kind\":\"segments\",\"a1\":\"1,1\",\"a2\":\"6,3\",\"b1\":\"2,6\",\"b2\":\"4,3\"}\n";
-        let (mut out, mut err) = (Vec::new(), Vec::new());
-        let bad = run_batch(
-            input.as_bytes(),
-            &mut out,
-            &mut err,
-            Precision::Exact,
-            false,
-        )
-        .unwrap();
+        let (bad, out, err) = batch(input.as_bytes(), Precision::Exact);
         assert_eq!(bad, 1);
-        let lines: Vec<Value> = String::from_utf8(out)
-            .unwrap()
+        let lines: Vec<Value> = out
             .lines()
             .map(|l| serde_json::from_str(l).unwrap())
             .collect();
@@ -692,18 +684,12 @@ mod tests {
         assert_eq!(lines[1]["line"], 3);
         assert_eq!(lines[1]["status"], "error");
         assert_eq!(lines[2]["status"], "lines-cross-outside");
-        assert!(
-            String::from_utf8(err)
-                .unwrap()
-                .starts_with("raylab: line 3: not valid JSON")
-        );
+        assert!(err.starts_with("raylab: line 3: not valid JSON"), "{err}");
     }
 
     fn statuses(input: &[u8]) -> (usize, Vec<Value>) {
-        let (mut out, mut err) = (Vec::new(), Vec::new());
-        let bad = run_batch(input, &mut out, &mut err, Precision::F64, false).unwrap();
-        let lines = String::from_utf8(out)
-            .unwrap()
+        let (bad, out, _) = batch(input, Precision::F64);
+        let lines = out
             .lines()
             .map(|l| serde_json::from_str(l).unwrap())
             .collect();
@@ -734,10 +720,8 @@ mod tests {
         input.extend_from_slice(good);
         // A reader that hands out small chunks, as a pipe does.
         let reader = std::io::BufReader::with_capacity(1000, input.as_slice());
-        let (mut out, mut err) = (Vec::new(), Vec::new());
-        let bad = run_batch(reader, &mut out, &mut err, Precision::F64, false).unwrap();
+        let (bad, out, _) = batch(reader, Precision::F64);
         assert_eq!(bad, 1);
-        let out = String::from_utf8(out).unwrap();
         let lines: Vec<&str> = out.lines().collect();
         assert_eq!(lines.len(), 2);
         assert!(lines[0].contains("longer than"), "{}", lines[0]);

@@ -137,23 +137,30 @@ fn the_answer_is_the_exact_solvers() {
     assert_eq!(problem.answer.text(), "hit; β = 1/4, γ = 1/2, t = 5/2");
 }
 
-#[test]
-fn the_checker_accepts_right_fractions_and_close_decimals() {
-    let problem = known_triangle();
-    for right in [
-        "1/4, 1/2, 5/2",
-        "β = 1/4, γ = 2/4, t = 5/2",
-        "t = 2.5, beta = 0.25, gamma = 0.5",
-        "0.2504, 0.4996, 2.5009",
-        "hit",
-        "HIT; 1/4, 1/2, 5/2",
-    ] {
+/// Fails, naming the answer and its verdict, unless `check` calls every one of `answers` right.
+fn assert_right(problem: &Problem, answers: &[&str]) {
+    for right in answers {
         assert!(
-            matches!(check(&problem, right, 0), Verdict::Right { .. }),
+            matches!(check(problem, right, 0), Verdict::Right { .. }),
             "{right}: {:?}",
-            check(&problem, right, 0)
+            check(problem, right, 0)
         );
     }
+}
+
+#[test]
+fn the_checker_accepts_right_fractions_and_close_decimals() {
+    assert_right(
+        &known_triangle(),
+        &[
+            "1/4, 1/2, 5/2",
+            "β = 1/4, γ = 2/4, t = 5/2",
+            "t = 2.5, beta = 0.25, gamma = 0.5",
+            "0.2504, 0.4996, 2.5009",
+            "hit",
+            "HIT; 1/4, 1/2, 5/2",
+        ],
+    );
     // 17/22 = 0.772727…: 0.773 is within 1e-3, 0.77 is not.
     let segments = Problem::new(
         1,
@@ -211,52 +218,52 @@ fn a_wrong_answer_gets_the_first_differing_step_then_the_next() {
     assert_eq!(practice.wrong_answers, 2);
 }
 
+/// The text of the hint of a verdict that must be wrong, checked to be on `step` and to say `says`.
+fn hint_saying(verdict: Verdict, step: &str, says: &str) -> String {
+    match verdict {
+        Verdict::Wrong { hint } => {
+            assert_eq!(hint.step_id, step);
+            assert!(hint.text.contains(says), "{}", hint.text);
+            hint.text
+        }
+        other => panic!("not wrong at {step}: {other:?}"),
+    }
+}
+
 #[test]
 fn a_changed_answer_gets_the_hint_of_its_own_first_wrong_step_with_its_value() {
     let mut practice = Practice::new(known_triangle());
-    let Verdict::Wrong { hint } = practice.check("1/4, 1/3, 5/2") else {
-        panic!("γ is wrong")
-    };
-    assert_eq!(hint.step_id, "gamma");
-    assert!(
-        hint.text.contains("Your answer gives γ = 1/3."),
-        "{}",
-        hint.text
+    let hint = hint_saying(
+        practice.check("1/4, 1/3, 5/2"),
+        "gamma",
+        "Your answer gives γ = 1/3.",
     );
-    assert!(hint.text.contains("with |M2| = "), "{}", hint.text);
+    assert!(hint.contains("with |M2| = "), "{hint}");
     // γ mended, t now wrong: the t step, not the next step of the earlier answer (check γ ≥ 0).
     assert_eq!(hint_step(practice.check("1/4, 1/2, 3")), "t");
     // The same answer again moves on.
     assert_ne!(hint_step(practice.check("1/4,1/2,3")), "t");
     // β + γ past 1: the check says what the student's numbers give.
-    let Verdict::Wrong { hint } = check(&known_triangle(), "3/4, 1/2, 5/2", 2) else {
-        panic!("β is wrong")
-    };
-    assert_eq!(hint.step_id, "check_bc");
-    assert!(
-        hint.text.contains("Your answer gives β + γ = 5/4."),
-        "{}",
-        hint.text
+    hint_saying(
+        check(&known_triangle(), "3/4, 1/2, 5/2", 2),
+        "check_bc",
+        "Your answer gives β + γ = 5/4.",
     );
 }
 
 #[test]
 fn answers_are_read_forgivingly() {
-    let problem = known_triangle();
-    for right in [
-        "(1/4, 1/2, 5/2)",
-        "[1/4, 1/2, 5/2]",
-        "1/4; 1/2; 5/2",
-        "t=5/2 beta=1/4 gamma=1/2",
-        "t = 5/2 β = 1/4 γ = 1/2",
-        "hit; (β = 1/4; γ = 1/2; t = 5/2)",
-    ] {
-        assert!(
-            matches!(check(&problem, right, 0), Verdict::Right { .. }),
-            "{right}: {:?}",
-            check(&problem, right, 0)
-        );
-    }
+    assert_right(
+        &known_triangle(),
+        &[
+            "(1/4, 1/2, 5/2)",
+            "[1/4, 1/2, 5/2]",
+            "1/4; 1/2; 5/2",
+            "t=5/2 beta=1/4 gamma=1/2",
+            "t = 5/2 β = 1/4 γ = 1/2",
+            "hit; (β = 1/4; γ = 1/2; t = 5/2)",
+        ],
+    );
 }
 
 #[test]

@@ -178,9 +178,14 @@ fn presentation_screenshot(folder: &str, write: bool) {
     prepare(&mut harness, VIEWS[1].1, None);
     harness.key_press(egui::Key::F5);
     harness.run();
-    press(&mut harness, [egui::Key::Space; 4]);
-    assert!(harness.query_by_label("Step 5 of 23").is_some());
-    save_shot(&mut harness, folder, "presentation", write);
+    advance_and_save(
+        &mut harness,
+        4,
+        "Step 5 of 23",
+        folder,
+        "presentation",
+        write,
+    );
 }
 
 /// A lesson on the projector at 150%: seed 000's slide on β = |M1|/|M|, with its narration and step.
@@ -191,9 +196,7 @@ fn lesson_screenshot(folder: &str, write: bool) {
         .state_mut()
         .start_lesson("seed000-segments-and-triangle")
         .expect("a shipped lesson");
-    press(&mut harness, [egui::Key::Space; 8]);
-    assert!(harness.query_by_label("Slide 9 of 14").is_some());
-    save_shot(&mut harness, folder, "lesson", write);
+    advance_and_save(&mut harness, 8, "Slide 9 of 14", folder, "lesson", write);
 }
 
 /// Practice at 150%: a triangle problem beyond an edge, after a wrong answer and its hint.
@@ -212,6 +215,24 @@ fn practice_screenshot(folder: &str, write: bool) {
     harness.get_by_label("Check").click();
     harness.run();
     save_shot(&mut harness, folder, "practice", write);
+}
+
+/// Presses Space `presses` times, as the clicker's "next" does, checks that the screen has come to
+/// `shown` (a step or slide counter), and saves it as [`save_shot`] does.
+fn advance_and_save(
+    harness: &mut Harness<'static, RaylabApp>,
+    presses: usize,
+    shown: &str,
+    folder: &str,
+    name: &str,
+    write: bool,
+) {
+    press(harness, std::iter::repeat_n(egui::Key::Space, presses));
+    assert!(
+        harness.query_by_label(shown).is_some(),
+        "{shown:?} not shown"
+    );
+    save_shot(harness, folder, name, write);
 }
 
 /// The picture of a 1280-pixel-wide screen as it stands, with the pointer away, saved as

@@ -593,7 +593,10 @@ fn every_subcommand_exits_cleanly_with_standard_error_closed() {
         "solve", "triangle", "--a", "1,0,0", "--b", "0,1,0", "--c", "0,0,1", "--origin", "0,0,0",
         "--dir", "1,1,1",
     ];
-    let with = |base: &[&'static str], extra: &[&'static str]| [base, extra].concat();
+    fn with<'a>(base: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
+        [base, extra].concat()
+    }
+    let worksheet = ["worksheet", "--seed", "1", "--count", "2", "-o"];
     let good_line =
         br#"{"kind": "segments", "a1": [0, 0], "a2": [4, 4], "b1": [0, 4], "b2": [4, 0]}"#;
     let bad_lines = b"{\"kind\": \"segments\"}\nnot json\n";
@@ -674,46 +677,9 @@ fn every_subcommand_exits_cleanly_with_standard_error_closed() {
             1,
         ),
         // worksheet
-        (
-            vec![
-                "worksheet",
-                "--seed",
-                "1",
-                "--count",
-                "2",
-                "-o",
-                &sheets,
-                "--force",
-            ],
-            b"",
-            0,
-        ),
-        (
-            vec![
-                "worksheet",
-                "--seed",
-                "1",
-                "--count",
-                "2",
-                "-o",
-                &sheets_there,
-            ],
-            b"",
-            1,
-        ),
-        (
-            vec![
-                "worksheet",
-                "--seed",
-                "1",
-                "--count",
-                "2",
-                "-o",
-                "/proc/no-such",
-            ],
-            b"",
-            1,
-        ),
+        (with(&worksheet, &[&sheets, "--force"]), b"", 0),
+        (with(&worksheet, &[&sheets_there]), b"", 1),
+        (with(&worksheet, &["/proc/no-such"]), b"", 1),
         (
             vec!["worksheet", "--seed", "1", "--count", "0", "-o", &sheets],
             b"",
