@@ -39,6 +39,14 @@ pub enum InputError {
         /// The float precision that cannot hold it.
         precision: Precision,
     },
+    /// A nonzero number that a float precision would round to 0.
+    #[error("{text} is too small for {}: it would become 0; exact precision reads it", float_name(*.precision))]
+    TooSmall {
+        /// The number as written.
+        text: String,
+        /// The float precision that cannot hold it.
+        precision: Precision,
+    },
     /// A vector with the wrong number of components.
     #[error(
         "expected {expected} numbers separated by commas ({}), got {got}",
@@ -115,6 +123,19 @@ pub fn read_exact(text: &str) -> Result<Exact, InputError> {
 }
 
 /// The refusal of a number that a float precision cannot hold.
+/// True if a decimal's digits before its exponent are not all zero (its value is not 0).
+fn nonzero_mantissa(text: &str) -> bool {
+    let mantissa = text.split(['e', 'E']).next().unwrap_or_default();
+    mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b))
+}
+
+fn too_small(quoted_text: &str, precision: Precision) -> InputError {
+    InputError::TooSmall {
+        text: quoted_text.to_string(),
+        precision,
+    }
+}
+
 fn too_large(quoted_text: &str, precision: Precision) -> InputError {
     InputError::TooLarge {
         text: quoted_text.to_string(),
@@ -194,23 +215,28 @@ macro_rules! read_float {
                 // reader agree on, so the full checks below are not needed.
                 if is_plain_decimal(trimmed)
                     && let Ok(value) = trimmed.parse::<$t>()
+                    && (value != 0.0 || !nonzero_mantissa(trimmed))
                 {
                     return Ok(value);
                 }
                 refuse_non_numbers(trimmed)?;
-                let value = if trimmed.contains('/') {
+                let (value, nonzero) = if trimmed.contains('/') {
                     // A fraction: rounded once, from its exact value.
-                    <$t>::from_exact(&read_exact(trimmed)?)
+                    let exact = read_exact(trimmed)?;
+                    (<$t>::from_exact(&exact), !exact.is_zero())
                 } else {
                     crate::math::exact::check_decimal(trimmed)?;
-                    trimmed.parse::<$t>().map_err(|_| {
+                    let value = trimmed.parse::<$t>().map_err(|_| {
                         crate::math::exact::ParseExactError::NotANumber(quoted(trimmed))
-                    })?
+                    })?;
+                    (value, nonzero_mantissa(trimmed))
                 };
-                if value.is_finite() {
-                    Ok(value)
-                } else {
+                if !value.is_finite() {
                     Err(too_large(&quoted(trimmed), <$t>::PRECISION))
+                } else if value == 0.0 && nonzero {
+                    Err(too_small(&quoted(trimmed), <$t>::PRECISION))
+                } else {
+                    Ok(value)
                 }
             }
         }
@@ -252,15 +278,18 @@ impl Literal {
 
     /// Ok if `precision` can hold the number (exact holds any), else the refusal.
     pub fn fits(&self, precision: Precision) -> Result<(), InputError> {
-        let finite = match precision {
-            Precision::Exact => true,
-            Precision::F64 => self.value.is_finite(),
-            Precision::F32 => f32::from_exact(&self.exact).is_finite(),
+        let rounded = match precision {
+            Precision::Exact => return Ok(()),
+            Precision::F64 => self.value,
+            Precision::F32 => f64::from(f32::from_exact(&self.exact)),
         };
-        if finite {
-            Ok(())
-        } else {
+        if !rounded.is_finite() {
             Err(too_large(&self.quoted, precision))
+        } else if rounded == 0.0 && !self.exact.is_zero() {
+            // 1e-400 in f64, 1e-50 in f32: refused as overflow is, not silently 0.
+            Err(too_small(&self.quoted, precision))
+        } else {
+            Ok(())
         }
     }
 }
@@ -323,6 +352,53 @@ impl Coords<3> {
     /// As a glam vector.
     pub fn dvec3(&self) -> DVec3 {
         DVec3::from_array(self.values())
+    }
+}
+
+#[cfg(test)]
+mod underflow {
+    use super::{InputError, Literal, ReadNumber};
+    use crate::geometry::Precision;
+
+    #[test]
+    fn a_nonzero_number_a_float_would_round_to_zero_is_refused_like_one_too_large() {
+        let small = |text: &str, precision| {
+            Literal::parse(text)
+                .unwrap()
+                .fits(precision)
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(small("1e-400", Precision::F64).contains("too small for"));
+        assert!(small("1e-50", Precision::F32).contains("it would become 0"));
+        assert!(small("1/1e400", Precision::F64).contains("too small"));
+        assert_eq!(
+            Literal::parse("1e-400").unwrap().fits(Precision::Exact),
+            Ok(())
+        );
+        assert_eq!(
+            Literal::parse("0e-400").unwrap().fits(Precision::F64),
+            Ok(())
+        );
+        // The batch's readers refuse it too, on every path (plain decimal, exponent, fraction).
+        let plain = format!("0.{}1", "0".repeat(400));
+        for text in [plain.as_str(), "1e-400", "1/1e400", "-2.5e-330"] {
+            assert!(
+                matches!(
+                    <f64 as ReadNumber>::read(text),
+                    Err(InputError::TooSmall { .. })
+                ),
+                "{text}"
+            );
+        }
+        assert!(matches!(
+            <f32 as ReadNumber>::read("1e-50"),
+            Err(InputError::TooSmall { .. })
+        ));
+        // Subnormals are not 0: read as they are; and a written zero stays zero.
+        assert!(<f64 as ReadNumber>::read("1e-310").is_ok_and(|v| v > 0.0));
+        assert_eq!(<f64 as ReadNumber>::read("0.000"), Ok(0.0));
+        assert_eq!(<f64 as ReadNumber>::read("-0e-999"), Ok(-0.0));
     }
 }
 
@@ -423,9 +499,9 @@ mod tests {
             "-2.5e-3",
             "1/3",
             "123456789012345678901234567890",
-            "1e-400",
             ".5",
         ] {
+            // (1e-400, which both floats would round to 0, is refused: see the underflow tests.)
             let exact: Exact = text.parse().unwrap();
             assert_eq!(f64::read(text).unwrap(), exact.to_f64(), "{text}");
             assert_eq!(f32::read(text).unwrap(), f32::from_exact(&exact), "{text}");
