@@ -85,6 +85,19 @@ pub enum Command {
     Class(class::ClassArgs),
 }
 
+impl Command {
+    /// The subcommand's name, as typed.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Command::Solve(_) => "solve",
+            Command::Bench(_) => "bench",
+            Command::Render(_) => "render",
+            Command::Worksheet(_) => "worksheet",
+            Command::Class(_) => "class",
+        }
+    }
+}
+
 /// `raylab render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
@@ -314,6 +327,11 @@ pub enum CliError {
     /// `raylab --lesson NAME` names no built-in lesson.
     #[error(transparent)]
     Lesson(#[from] crate::lesson::UnknownLesson),
+    /// `raylab --lesson NAME` with a subcommand, which does not open the app.
+    #[error(
+        "--lesson opens the app at a lesson; it does not apply to `raylab {0}` (drop one of them)"
+    )]
+    LessonWithCommand(&'static str),
     /// `raylab` with no subcommand: the window could not open.
     #[error("could not open the window: {0}")]
     Window(String),
@@ -323,7 +341,7 @@ impl CliError {
     /// The exit status: 2 where what the user typed is refused before any work, 1 where the work failed.
     pub fn status(&self) -> u8 {
         match self {
-            CliError::Usage(_) | CliError::Lesson(_) => 2,
+            CliError::Usage(_) | CliError::Lesson(_) | CliError::LessonWithCommand(_) => 2,
             CliError::Solve(error) => error.status(),
             CliError::Bench(error) => error.status(),
             CliError::Render(error) => error.status(),
@@ -368,10 +386,28 @@ fn usage_line(error: &clap::Error) -> String {
         .take_while(|line| !line.starts_with("Usage:"))
         .filter(|line| !line.is_empty() && !line.starts_with("For more information"))
         .collect();
-    format!(
-        "{} (see --help)",
-        message.join(" ").trim_start_matches("error: ")
-    )
+    let message = shorten_quoted(&message.join(" "));
+    format!("{} (see --help)", message.trim_start_matches("error: "))
+}
+
+/// Shortens every quoted value of a message past 200 characters to its start, its end and its length:
+/// clap quotes a refused argument whole, and a 100 KB argument must not become a 100 KB message.
+fn shorten_quoted(message: &str) -> String {
+    let parts: Vec<&str> = message.split('\'').collect();
+    let mut out = String::with_capacity(message.len().min(1024));
+    for (i, part) in parts.iter().enumerate() {
+        let quoted_value = i % 2 == 1;
+        let closed = i + 1 < parts.len();
+        match (quoted_value, closed) {
+            (true, true) if part.chars().count() > 200 => {
+                out.push_str(&crate::math::exact::quoted(part));
+            }
+            (true, true) => out.push_str(&format!("'{part}'")),
+            (true, false) => out.push_str(&format!("'{part}")),
+            (false, _) => out.push_str(part),
+        }
+    }
+    out
 }
 
 /// Parses the process's arguments and runs them: `--help` and `--version` print and succeed; a usage
@@ -395,6 +431,9 @@ pub fn run_command_line() -> Result<ExitCode, CliError> {
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
+    if let (Some(_), Some(command)) = (&cli.lesson, &cli.command) {
+        return Err(CliError::LessonWithCommand(command.name()));
+    }
     match cli.command {
         Some(Command::Solve(args)) => Ok(run_solve(*args)?),
         Some(Command::Bench(args)) => Ok(run_bench(args)?),
@@ -781,6 +820,9 @@ pub enum SolveCommandError {
         "--precision symbolic derives the triangle's solution (seed 002); use it with `solve triangle`"
     )]
     SymbolicNeedsTriangle,
+    /// A flag `--precision symbolic` has no use for (its derivation is in symbols, of one triangle).
+    #[error("--precision symbolic derives the triangle's solution in symbols; {0} does not apply")]
+    SymbolicFlag(&'static str),
     /// A number the precision cannot hold, or a flag the method does not take.
     #[error(transparent)]
     Case(#[from] solve::SolveError),
@@ -816,19 +858,45 @@ fn run_symbolic(problem: &Problem, format: Format) -> Result<ExitCode, SolveComm
         c,
         origin,
         dir,
-        ..
+        tmin,
+        method,
     } = problem
     else {
         return Err(SolveCommandError::SymbolicNeedsTriangle);
     };
+    if method.is_some() {
+        return Err(SolveCommandError::SymbolicFlag("--method"));
+    }
+    if !tmin.exact.is_zero() {
+        return Err(SolveCommandError::SymbolicFlag("--tmin"));
+    }
     let numbers = [a, b, c, origin, dir].map(|v| v.exact());
     let trace = crate::symbolic::trace(Some(&numbers));
     let output = match format {
         Format::Text => trace::to_text(&trace),
-        Format::Json => format!("{}\n", pretty_json(&trace)),
+        Format::Json => format!("{}\n", pretty_json(&symbolic_json(&trace))),
         Format::Latex => trace::to_latex(&trace),
     };
     write_stdout(&output)
+}
+
+/// The symbolic trace as JSON, with a `status` as every other solve has: `identities-hold` when each
+/// merge of seed 002 holds (as polynomials and on the numbers), else `identity-fails`.
+fn symbolic_json(trace: &trace::Trace) -> serde_json::Value {
+    let fails = trace
+        .steps
+        .iter()
+        .any(|step| matches!(&step.payload, trace::Payload::Symbolic(s) if s.holds == Some(false)));
+    let mut value = serde_json::to_value(trace).unwrap_or_default();
+    if let serde_json::Value::Object(fields) = &mut value {
+        let status = if fails {
+            "identity-fails"
+        } else {
+            "identities-hold"
+        };
+        fields.insert("status".into(), status.into());
+    }
+    value
 }
 
 fn run_solve(args: SolveArgs) -> Result<ExitCode, SolveCommandError> {
@@ -857,6 +925,9 @@ fn run_solve(args: SolveArgs) -> Result<ExitCode, SolveCommandError> {
         return Err(SolveCommandError::NoProblem);
     };
     if args.precision == PrecisionArg::Symbolic {
+        if args.no_trace {
+            return Err(SolveCommandError::SymbolicFlag("--no-trace"));
+        }
         return run_symbolic(&problem, args.format.unwrap_or(Format::Text));
     }
     let report = match &problem {

@@ -783,3 +783,65 @@ fn a_report_that_cannot_be_written_fails() {
         }
     }
 }
+
+#[test]
+fn flags_that_would_be_ignored_are_refused_with_a_reason() {
+    let mut symbolic = LECTURE_TRIANGLE.to_vec();
+    symbolic.extend(["--precision", "symbolic"]);
+    for (extra, says) in [
+        (&["--tmin", "1/2"][..], "--tmin does not apply"),
+        (
+            &["--method", "moller-trumbore"][..],
+            "--method does not apply",
+        ),
+        (
+            &["--format", "json", "--no-trace"][..],
+            "--no-trace does not apply",
+        ),
+    ] {
+        let output = raylab(&[&symbolic[..], extra].concat());
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains(says), "{extra:?}: {stderr}");
+    }
+    // The symbolic JSON says whether every identity held, as other solves give a status.
+    let json = [&symbolic[..], &["--format", "json"]].concat();
+    let json: serde_json::Value = serde_json::from_str(&stdout(&raylab(&json))).unwrap();
+    assert_eq!(json["status"], "identities-hold");
+    // --lesson opens the app; with a subcommand it would be silently ignored.
+    let output = raylab(
+        &[
+            &["--lesson", "seed000-segments-and-triangle"][..],
+            &LECTURE_TRIANGLE,
+        ]
+        .concat(),
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("does not apply to `raylab solve`"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_huge_refused_argument_is_quoted_short() {
+    let huge = "x".repeat(100_000);
+    let output = raylab(&[
+        "solve", "segments", "--a1", &huge, "--a2", "1,1", "--b1", "0,1", "--b2", "1,0",
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(
+        output.status.code(),
+        Some(2),
+        "{}",
+        &stderr[..stderr.len().min(300)]
+    );
+    assert!(
+        stderr.len() < 400,
+        "{} bytes: {}",
+        stderr.len(),
+        &stderr[..300]
+    );
+    assert!(stderr.contains("(100000 characters)"), "{stderr}");
+}
