@@ -116,6 +116,14 @@ pub enum MeshError {
         /// How many vertices came before.
         vertices: u64,
     },
+    /// A face with fewer than three corners (`f 1 2`), which has no area to hit.
+    #[error("line {line}: a face needs at least 3 corners, this one has {corners}")]
+    TooFewCorners {
+        /// The line, from 1.
+        line: usize,
+        /// How many corners it names.
+        corners: u64,
+    },
     /// An index tobj would wrap around.
     #[error(
         "not a readable OBJ mesh: line {line}: index {index} is out of range ({known} {} before it)",
@@ -640,6 +648,12 @@ impl FaceCheck {
             Some("v") => self.vertices += 1,
             Some("f") => {
                 let corners = tokens.clone().count() as u64;
+                if corners < 3 {
+                    return Err(MeshError::TooFewCorners {
+                        line: number,
+                        corners,
+                    });
+                }
                 self.triangles += corners.saturating_sub(2);
                 if self.triangles > MAX_MESH_TRIANGLES {
                     return Err(MeshError::TooManyTriangles { line: number });
@@ -751,7 +765,10 @@ impl IndexCheck {
                             continue; // empty (v//vn) or malformed: tobj reports those itself
                         };
                         let known = self.counts[slot];
-                        if index == 0 || index < -known || index > LARGEST_INDEX {
+                        // A texture coordinate or normal, like a vertex, must come before the face
+                        // that uses it (a later one, or none, is read as nothing by tobj).
+                        let past_known = slot > 0 && index > known;
+                        if index == 0 || index < -known || index > LARGEST_INDEX || past_known {
                             return Err(MeshError::IndexOutOfRange {
                                 line: number,
                                 index,
@@ -796,5 +813,38 @@ mod tests {
         }
         let broken = Texture::load(&Garbage, "t.png").unwrap_err().to_string();
         assert!(broken.contains("t.png: not a readable PNG"), "{broken}");
+    }
+
+    #[test]
+    fn faces_with_two_corners_or_indices_past_the_uvs_and_normals_are_refused() {
+        struct Obj(&'static str);
+        impl AssetSource for Obj {
+            fn read(&self, _: &str, _: FileKind) -> Result<Vec<u8>, FetchError> {
+                Ok(self.0.as_bytes().to_vec())
+            }
+        }
+        let square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n";
+        let refusal = |faces: &str| {
+            let text: &'static str = Box::leak(format!("{square}{faces}").into_boxed_str());
+            load_mesh(&Obj(text), "m.obj")
+                .map(|t| t.len())
+                .map_err(|e| e.to_string())
+        };
+        assert_eq!(refusal("f 1/1/1 2/2/1 3/3/1\n"), Ok(1));
+        let two = refusal("f 1/1/1 2/2/1 3/3/1\nf 1 2\n").unwrap_err();
+        assert!(
+            two.contains("line 10: a face needs at least 3 corners, this one has 2"),
+            "{two}"
+        );
+        let uv = refusal("f 1/1 2/2 3/9\n").unwrap_err();
+        assert!(
+            uv.contains("index 9 is out of range (3 texture coordinates"),
+            "{uv}"
+        );
+        let normal = refusal("f 1//1 2//1 3//2\n").unwrap_err();
+        assert!(
+            normal.contains("index 2 is out of range (1 normals"),
+            "{normal}"
+        );
     }
 }
