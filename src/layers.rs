@@ -31,14 +31,9 @@ pub const LAYERS: &[&[&str]] = &[
 /// The one import allowed within a layer: the command line opens the app's window.
 pub const SIDEWAYS: &[(&str, &str)] = &[("cli", "app")];
 
-/// Unit tests that import upwards, known and to be moved to an integration test (`tests/`) or given a
-/// fixture of their own layer (issue 27): (file under src/, the module it refers to). The check fails on
-/// any other upward reference, and on an entry here that no longer happens, so the list only shrinks.
-pub const KNOWN_TEST_IMPORTS: &[(&str, &str)] = &[];
-
 #[cfg(test)]
 mod tests {
-    use super::{KNOWN_TEST_IMPORTS, LAYERS, SIDEWAYS};
+    use super::{LAYERS, SIDEWAYS};
     use std::path::{Path, PathBuf};
     use syn::visit::Visit;
 
@@ -281,7 +276,6 @@ mod tests {
         let mut files = Vec::new();
         rust_files(&src, &mut files);
         let mut wrong = Vec::new();
-        let mut known_seen = Vec::new();
         let mut checked = 0;
         for file in &files {
             let relative = file.strip_prefix(&src).expect("under src");
@@ -297,27 +291,7 @@ mod tests {
                 .unwrap_or_else(|error| panic!("{}: {error}", relative.display()));
             checked += found.len();
             let name = relative.display().to_string();
-            let known = |r: &Reference| {
-                r.in_test && KNOWN_TEST_IMPORTS.contains(&(name.as_str(), r.module.as_str()))
-            };
-            known_seen.extend(
-                KNOWN_TEST_IMPORTS
-                    .iter()
-                    .filter(|(file, module)| {
-                        *file == name && found.iter().any(|r| known(r) && r.module == *module)
-                    })
-                    .copied(),
-            );
-            let unknown: Vec<Reference> = found.into_iter().filter(|r| !known(r)).collect();
-            wrong.extend(against_the_layers(&name, top, &unknown));
-        }
-        for known in KNOWN_TEST_IMPORTS {
-            if !known_seen.contains(known) {
-                wrong.push(format!(
-                    "{}: no longer refers to {}: remove it from KNOWN_TEST_IMPORTS",
-                    known.0, known.1
-                ));
-            }
+            wrong.extend(against_the_layers(&name, top, &found));
         }
         wrong.sort();
         wrong.dedup();

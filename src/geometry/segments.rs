@@ -7,7 +7,8 @@
 use glam::DVec2;
 
 use super::steps::{
-    SystemWords, check, det_check, record_quotient, record_replaced, record_system, record_verdict,
+    SystemWords, check, det_check, length, record_quotient, record_replaced, record_system,
+    record_verdict,
 };
 use super::{
     InvalidInput, Lecture, Reading, SegmentsLecture, check_finite, check_size, negligible, read_vec,
@@ -486,7 +487,7 @@ fn length_check<R: Real>(shorter: &V2<R>, passed: bool) -> Step {
             "min(|A2−A1|, |B2−B1|) > 0",
             "\\min(|A_2-A_1|, |B_2-B_1|) > 0",
         ],
-        Number::length(shorter, 1.0),
+        length(shorter, 1.0),
         passed,
         "a segment has zero length",
     )

@@ -3,6 +3,8 @@
 //! gives its own names and words; the layout of a step is written once, here.
 
 use crate::math::Real;
+use crate::math::exact::{Exact, SignedRoot};
+use crate::math::linalg::{dot, norm_f64};
 use crate::trace::{
     Check, Formula, Matrix, Number, Operand, Payload, Scalar, Status, Step, StepSink, Vector,
     Verdict,
@@ -156,4 +158,28 @@ pub(super) fn record_verdict(
             }),
         )
     });
+}
+
+/// The length |v| of a solver vector divided by `divisor` (|n| / 2 for a triangle's area), as a check
+/// shows it: the float where it is a normal number; past the float range, in an exact solve, the exact
+/// root √(v·v) / divisor, so it reads `≈1.7e400` rather than ∞, or `≈1e-400` rather than 0.
+pub(super) fn length<R: Real, const N: usize>(v: &[R; N], divisor: f64) -> Number {
+    let value = norm_f64(v) / divisor;
+    if value.is_normal() {
+        return Number::float(value, R::PRECISION);
+    }
+    let exact_root = dot(v, v)
+        .to_exact()
+        .filter(|square| !square.is_zero())
+        .and_then(|square| {
+            let divisor = Exact::from_f64(divisor * divisor)?;
+            Some(SignedRoot {
+                negative: false,
+                square: square.checked_div(&divisor)?,
+            })
+        });
+    match exact_root {
+        Some(root) => Number::root(&root),
+        None => Number::float(value, R::PRECISION),
+    }
 }

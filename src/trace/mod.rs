@@ -64,25 +64,6 @@ impl Number {
         }
     }
 
-    /// The length |v| of a solver vector, divided by `divisor` (|n| / 2 for a triangle's area). The
-    /// float is the value; an exact solve whose length leaves the float range keeps its exact root,
-    /// so it reads `≈1.7e400` rather than ∞, or `≈1e-400` rather than 0.
-    pub fn length<R: Real, const N: usize>(v: &[R; N], divisor: f64) -> Number {
-        let value = crate::math::linalg::norm_f64(v) / divisor;
-        let square = crate::math::linalg::dot(v, v).to_exact();
-        match square {
-            Some(square) if !value.is_normal() && !square.is_zero() => {
-                let divisor =
-                    Exact::from_f64(divisor * divisor).unwrap_or_else(|| Exact::from_int(1));
-                Number::root(&SignedRoot {
-                    negative: false,
-                    square: square.checked_div(&divisor).unwrap_or(square),
-                })
-            }
-            _ => Number::float(value, R::PRECISION),
-        }
-    }
-
     /// An exact root (a length): its nearest float, shown as [`SignedRoot::display`] writes it.
     pub fn root(root: &SignedRoot) -> Number {
         Number {

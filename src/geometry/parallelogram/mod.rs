@@ -12,7 +12,7 @@ pub mod lean;
 
 use glam::DVec3;
 
-use super::steps::{SystemWords, check, det_check, record_system, record_verdict};
+use super::steps::{SystemWords, check, det_check, length, record_system, record_verdict};
 use super::{
     InvalidInput, Lecture, ParallelogramLecture, Reading, check_finite, check_size, negligible,
     read_vec,
@@ -460,7 +460,7 @@ fn area_check<R: Real>(normal: &V3<R>, degenerate: bool) -> Step {
             "Its area is |e1 × e2|; seed 001 requires e1 and e2 not parallel and not zero.",
         ],
         ["|e1 × e2| > 0", "|e_1 \\times e_2| > 0"],
-        Number::length(normal, 1.0),
+        length(normal, 1.0),
         !degenerate,
         "e1 and e2 are parallel or zero: the parallelogram is flat",
     )

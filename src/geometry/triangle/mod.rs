@@ -13,7 +13,8 @@ use glam::DVec3;
 use std::array::from_ref;
 
 use super::steps::{
-    SystemWords, check, det_check, record_quotient, record_replaced, record_system, record_verdict,
+    SystemWords, check, det_check, length, record_quotient, record_replaced, record_system,
+    record_verdict,
 };
 use super::{
     InvalidInput, Lecture, Reading, TriangleLecture, check_finite, check_size, negligible, read,
@@ -533,7 +534,7 @@ fn area_check<R: Real>(normal: &V3<R>, degenerate: bool) -> Step {
             area_explanation::<R>(),
         ],
         ["|(A−B)×(A−C)| / 2 > 0", "\\tfrac12 |(A-B)\\times(A-C)| > 0"],
-        Number::length(normal, 2.0),
+        length(normal, 2.0),
         !degenerate,
         "A, B and C are collinear: the triangle is a segment or a point",
     )
