@@ -13,17 +13,17 @@
 //! AVX2 and the rays' numbers allow: each child box tested against eight rays at once in f32, with a
 //! proven widening in place of the f64 test. Leaves start at multiples of four slots, so their
 //! triangles are tested four at a time with one ray ([`crack_free4`]), with the one-triangle test's
-//! decisions and numbers to the bit.
+//! decisions and numbers to the bit. Every query walks the nodes through one loop, [`traverse`].
 
 // The AVX2 box tests: each unsafe block says in a SAFETY comment why it is sound (the CPU feature
 // was checked, or the caller was compiled for it).
 #![allow(unsafe_code)]
 
-use std::cell::RefCell;
-
 use super::crack_free::ShearedRay;
+use traverse::{Met, Query, children};
 
 mod split;
+pub(in crate::render) mod traverse;
 use super::kernels::{Avx2, Isa, Scalar, crack_free4::Quad, narrow};
 #[cfg(target_arch = "x86_64")]
 use super::kernels::{boxes4, crack_free4};
@@ -166,31 +166,6 @@ pub(in crate::render) struct Node {
     pub(in crate::render) child: [u32; 4],
     /// Leaf: its slot count; inner and empty: 0.
     pub(in crate::render) count: [u32; 4],
-}
-
-/// A child to visit later, with the distance at which the ray enters its box.
-#[derive(Clone, Copy)]
-struct Pending {
-    child: u32,
-    count: u32,
-    near: f64,
-}
-
-/// A child to visit later for a packet of rays: those of them that meet its box, and the nearest
-/// distance at which one of them enters it.
-#[derive(Clone, Copy)]
-struct PacketPending {
-    child: u32,
-    count: u32,
-    rays: u32,
-    near: f64,
-}
-
-thread_local! {
-    /// The traversal stack, reused by each thread's rays.
-    static STACK: RefCell<Vec<Pending>> = const { RefCell::new(Vec::new()) };
-    /// The packet traversal's stack.
-    static PACKET_STACK: RefCell<Vec<PacketPending>> = const { RefCell::new(Vec::new()) };
 }
 
 /// A ray's nearest hit in a hierarchy: the triangle's index and (t, β, γ).
@@ -657,21 +632,13 @@ impl Bvh {
         &self,
         isa: I,
         rays: &[(V3<f64>, V3<f64>); P],
-        mut t_max: [f64; P],
+        t_max: [f64; P],
         box_tests: &mut u64,
         triangle_tests: &mut u64,
         best: &mut [Nearest; P],
     ) {
         let sheared: [Option<ShearedRay>; P] =
             std::array::from_fn(|r| ShearedRay::new(&rays[r].0, &rays[r].1));
-        let box_rays: [BoxRay; P] = std::array::from_fn(|r| {
-            let inverse_dir = rays[r].1.map(|d| 1.0 / d);
-            BoxRay {
-                origin: rays[r].0,
-                inverse_dir,
-                parallel: inverse_dir.map(|i| !i.is_finite()),
-            }
-        });
         // Rays with a direction and finite numbers take part (ShearedRay checks both).
         let mut all = 0u32;
         for (r, ray) in sheared.iter().enumerate() {
@@ -679,93 +646,20 @@ impl Bvh {
                 all |= 1 << r;
             }
         }
-        if self.nodes.is_empty() || all == 0 {
-            return;
-        }
-        let children = |node: &Node| node.child.iter().filter(|c| **c != EMPTY).count() as u64;
-        PACKET_STACK.with_borrow_mut(|stack| {
-            stack.clear();
-            stack.push(PacketPending {
-                child: 0,
-                count: 0,
-                rays: all,
-                near: 0.0,
-            });
-            while let Some(entry) = stack.pop() {
-                // Rays whose nearest hit so far is before the box have nothing left to find in it.
-                let mut rays_in = entry.rays;
-                let mut live = 0u32;
-                while rays_in != 0 {
-                    let r = rays_in.trailing_zeros() as usize;
-                    rays_in &= rays_in - 1;
-                    if entry.near <= t_max[r] {
-                        live |= 1 << r;
-                    }
-                }
-                if live == 0 {
-                    continue;
-                }
-                if entry.count > 0 {
-                    let slots = entry.child as usize..(entry.child + entry.count) as usize;
-                    let mut each = live;
-                    while each != 0 {
-                        let r = each.trailing_zeros() as usize;
-                        each &= each - 1;
-                        let Some(ray) = &sheared[r] else { continue };
-                        *triangle_tests += u64::from(entry.count);
-                        t_max[r] = self.leaf_crack_free(
-                            isa,
-                            ray,
-                            slots.clone(),
-                            0.0,
-                            t_max[r],
-                            &mut best[r],
-                        );
-                    }
-                    continue;
-                }
-                let node = &self.nodes[entry.child as usize];
-                let mut lane_rays = [0u32; 4];
-                let mut lane_near = [f64::INFINITY; 4];
-                let mut each = live;
-                while each != 0 {
-                    let r = each.trailing_zeros() as usize;
-                    each &= each - 1;
-                    let (hit, nears) = node.test(isa, &box_rays[r], 0.0, t_max[r]);
-                    *box_tests += children(node);
-                    // Lanes the ray misses enter at +∞ (see `test`), so `min` needs no branch.
-                    for lane in 0..4 {
-                        lane_rays[lane] |= ((hit >> lane) & 1) << r;
-                        lane_near[lane] = lane_near[lane].min(nears[lane]);
-                    }
-                }
-                // Push the children some ray meets, farthest first.
-                let mut lanes = [0usize; 4];
-                let mut n = 0;
-                for (lane, _) in lane_rays.iter().enumerate().filter(|(_, r)| **r != 0) {
-                    lanes[n] = lane;
-                    n += 1;
-                }
-                for i in 1..n {
-                    let mut j = i;
-                    while j > 0 && lane_near[lanes[j - 1]] < lane_near[lanes[j]] {
-                        lanes.swap(j - 1, j);
-                        j -= 1;
-                    }
-                }
-                for &lane in &lanes[..n] {
-                    stack.push(PacketPending {
-                        child: node.child[lane],
-                        count: node.count[lane],
-                        rays: lane_rays[lane],
-                        near: lane_near[lane],
-                    });
-                }
-            }
-        });
+        let mut query = Packet {
+            bvh: self,
+            isa,
+            sheared,
+            box_rays: std::array::from_fn(|r| BoxRay::new(&rays[r].0, &rays[r].1)),
+            t_max,
+            box_tests,
+            triangle_tests,
+            best,
+        };
+        self.visit(&mut query, all, 0.0);
     }
 
-    /// The traversal: `leaf(slots, t_max)` tests a leaf's slots and returns the new t_max. With
+    /// One ray's walk: `leaf(slots, t_max)` tests a leaf's slots and returns the new t_max. With
     /// [`Avx2`], boxes are tested with AVX2 intrinsics (inlined into a function compiled with them).
     #[inline(always)]
     fn walk<I: Isa>(
@@ -773,62 +667,142 @@ impl Bvh {
         isa: I,
         origin: &V3<f64>,
         dir: &V3<f64>,
-        (t_min, mut t_max): (f64, f64),
+        (t_min, t_max): (f64, f64),
         box_tests: &mut u64,
-        mut leaf: impl FnMut(std::ops::Range<usize>, f64) -> f64,
+        leaf: impl FnMut(std::ops::Range<usize>, f64) -> f64,
     ) {
-        if self.nodes.is_empty() || !origin.iter().chain(dir).all(|c| c.is_finite()) {
+        if !origin.iter().chain(dir).all(|c| c.is_finite()) {
             return;
         }
+        let mut query = OneRay {
+            isa,
+            ray: BoxRay::new(origin, dir),
+            t_min,
+            t_max,
+            box_tests,
+            leaf,
+        };
+        self.visit(&mut query, 1, t_min);
+    }
+}
+
+/// One ray's query: its box test and its nearest hit so far (`t_max`), which `leaf` lowers.
+struct OneRay<'a, I, L> {
+    isa: I,
+    ray: BoxRay,
+    t_min: f64,
+    t_max: f64,
+    box_tests: &'a mut u64,
+    leaf: L,
+}
+
+impl<I: Isa, L: FnMut(std::ops::Range<usize>, f64) -> f64> Query for OneRay<'_, I, L> {
+    type Near = f64;
+
+    #[inline(always)]
+    fn live(&self, rays: u32, near: f64) -> u32 {
+        if near > self.t_max { 0 } else { rays }
+    }
+
+    #[inline(always)]
+    fn boxes(&mut self, node: &Node, _: u32) -> Met<f64> {
+        let (hit, near) = node.test(self.isa, &self.ray, self.t_min, self.t_max);
+        *self.box_tests += children(node);
+        Met {
+            rays: std::array::from_fn(|lane| (hit >> lane) & 1),
+            near,
+        }
+    }
+
+    #[inline(always)]
+    fn leaf(&mut self, slots: std::ops::Range<usize>, _: u32) {
+        self.t_max = (self.leaf)(slots, self.t_max);
+    }
+}
+
+/// A packet's query with the f64 box test, one ray at a time: each ray's sheared ray, box ray and
+/// nearest hit so far.
+struct Packet<'a, I, const P: usize> {
+    bvh: &'a Bvh,
+    isa: I,
+    sheared: [Option<ShearedRay>; P],
+    box_rays: [BoxRay; P],
+    t_max: [f64; P],
+    box_tests: &'a mut u64,
+    triangle_tests: &'a mut u64,
+    best: &'a mut [Nearest; P],
+}
+
+impl<I: Isa, const P: usize> Query for Packet<'_, I, P> {
+    type Near = f64;
+
+    #[inline(always)]
+    fn live(&self, rays: u32, near: f64) -> u32 {
+        let mut rays_in = rays;
+        let mut live = 0u32;
+        while rays_in != 0 {
+            let r = rays_in.trailing_zeros() as usize;
+            rays_in &= rays_in - 1;
+            if near <= self.t_max[r] {
+                live |= 1 << r;
+            }
+        }
+        live
+    }
+
+    #[inline(always)]
+    fn boxes(&mut self, node: &Node, live: u32) -> Met<f64> {
+        let mut met = Met {
+            rays: [0u32; 4],
+            near: [f64::INFINITY; 4],
+        };
+        let mut each = live;
+        while each != 0 {
+            let r = each.trailing_zeros() as usize;
+            each &= each - 1;
+            let (hit, nears) = node.test(self.isa, &self.box_rays[r], 0.0, self.t_max[r]);
+            *self.box_tests += children(node);
+            // Lanes the ray misses enter at +∞ (see `test`), so `min` needs no branch.
+            for (lane, near) in nears.iter().enumerate() {
+                met.rays[lane] |= ((hit >> lane) & 1) << r;
+                met.near[lane] = met.near[lane].min(*near);
+            }
+        }
+        met
+    }
+
+    #[inline(always)]
+    fn leaf(&mut self, slots: std::ops::Range<usize>, live: u32) {
+        let mut each = live;
+        while each != 0 {
+            let r = each.trailing_zeros() as usize;
+            each &= each - 1;
+            let Some(ray) = &self.sheared[r] else {
+                continue;
+            };
+            *self.triangle_tests += slots.len() as u64;
+            self.t_max[r] = self.bvh.leaf_crack_free(
+                self.isa,
+                ray,
+                slots.clone(),
+                0.0,
+                self.t_max[r],
+                &mut self.best[r],
+            );
+        }
+    }
+}
+
+impl BoxRay {
+    /// The box test's constants for the ray o + t d.
+    #[inline(always)]
+    pub(in crate::render) fn new(origin: &V3<f64>, dir: &V3<f64>) -> BoxRay {
         let inverse_dir = dir.map(|d| 1.0 / d);
-        let ray = BoxRay {
+        BoxRay {
             origin: *origin,
             inverse_dir,
             parallel: inverse_dir.map(|i| !i.is_finite()),
-        };
-        STACK.with_borrow_mut(|stack| {
-            stack.clear();
-            stack.push(Pending {
-                child: 0,
-                count: 0,
-                near: t_min,
-            });
-            while let Some(Pending { child, count, near }) = stack.pop() {
-                if near > t_max {
-                    continue;
-                }
-                if count > 0 {
-                    t_max = leaf(child as usize..(child + count) as usize, t_max);
-                    continue;
-                }
-                let node = &self.nodes[child as usize];
-                let (mut hit, nears) = node.test(isa, &ray, t_min, t_max);
-                *box_tests += node.child.iter().filter(|c| **c != EMPTY).count() as u64;
-                // Push the hit children farthest first, so the nearest is popped next.
-                let mut lanes = [0usize; 4];
-                let mut n = 0;
-                while hit != 0 {
-                    lanes[n] = hit.trailing_zeros() as usize;
-                    hit &= hit - 1;
-                    n += 1;
-                }
-                // At most four: an insertion sort, farthest first.
-                for i in 1..n {
-                    let mut j = i;
-                    while j > 0 && nears[lanes[j - 1]] < nears[lanes[j]] {
-                        lanes.swap(j - 1, j);
-                        j -= 1;
-                    }
-                }
-                for &lane in &lanes[..n] {
-                    stack.push(Pending {
-                        child: node.child[lane],
-                        count: node.count[lane],
-                        near: nears[lane],
-                    });
-                }
-            }
-        });
+        }
     }
 }
 
@@ -1503,5 +1477,47 @@ mod tests {
             }
         }
         assert!(hits > 400, "{hits}");
+    }
+
+    /// Inner levels below `node` (0 for a node whose children are all leaves or empty).
+    fn depth(bvh: &Bvh, node: usize) -> usize {
+        let inner = (0..4).filter(|&lane| {
+            let n = &bvh.nodes[node];
+            n.child[lane] != EMPTY && n.count[lane] == 0
+        });
+        let deepest = inner.map(|lane| depth(bvh, bvh.nodes[node].child[lane] as usize));
+        1 + deepest.max().unwrap_or(0)
+    }
+
+    /// Triangles spaced ever wider apart (x = 1.05ⁱ) make SAH cut a few off at a time, so the
+    /// hierarchy is far deeper than a balanced one (5 levels for 1 500 triangles): its depth stays
+    /// within [`traverse::MAX_DEPTH`], which sizes the traversal's fixed stack, and rays through
+    /// them all find the nearest.
+    #[test]
+    fn the_depth_stays_within_the_traversal_stack() {
+        let triangles: Vec<PreparedTriangle> = (0..1500)
+            .map(|i| {
+                let x = 1.05f64.powi(i);
+                PreparedTriangle::new([[x, -1.0, -1.0], [x, 2.0, -1.0], [x, -1.0, 2.0]])
+            })
+            .collect();
+        let bvh = Bvh::build(&triangles);
+        let levels = depth(&bvh, 0);
+        assert!(levels >= 20, "{levels}");
+        assert!(levels <= traverse::MAX_DEPTH, "{levels}");
+        for (origin, dir, nearest) in [
+            ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 0),
+            ([1e33, 0.0, 0.0], [-1.0, 0.0, 0.0], 1499),
+        ] {
+            let found = bvh.nearest_crack_free(
+                Avx2::detect(),
+                &origin,
+                &dir,
+                (0.0, f64::INFINITY),
+                &mut 0,
+                &mut 0,
+            );
+            assert_eq!(found.map(|(i, _)| i), Some(nearest));
+        }
     }
 }

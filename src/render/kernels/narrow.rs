@@ -23,11 +23,10 @@
 // The AVX2 kernel: each unsafe block says in a SAFETY comment why it is sound.
 #![allow(unsafe_code)]
 
-use std::cell::RefCell;
-
 use super::Avx2;
 use crate::math::linalg::V3;
-use crate::render::bvh::{Bvh, EMPTY, Nearest};
+use crate::render::bvh::traverse::{Met, Query, children};
+use crate::render::bvh::{Bvh, EMPTY, Nearest, Node};
 use crate::render::crack_free::ShearedRay;
 
 /// Rays in a packet: two groups of eight f32 lanes.
@@ -36,19 +35,6 @@ pub const RAYS: usize = 16;
 pub const BOX_LIMIT: f64 = 4.611_686_018_427_388e18;
 /// The relative widening of the distances, 2⁻¹⁹.
 const RELATIVE: f32 = 1.0 / 524_288.0;
-
-/// A child to visit: the rays that meet its box and the nearest (lowered) entry among them.
-#[derive(Clone, Copy)]
-struct Pending {
-    child: u32,
-    count: u32,
-    rays: u32,
-    near: f32,
-}
-
-thread_local! {
-    static STACK: RefCell<Vec<Pending>> = const { RefCell::new(Vec::new()) };
-}
 
 /// The packet's rays as f32 lanes (lane r is ray r).
 #[repr(C, align(32))]
@@ -224,182 +210,217 @@ unsafe fn nearest_unchecked(
     avx2: Avx2,
     bvh: &Bvh,
     rays: &[(V3<f64>, V3<f64>); RAYS],
-    mut t_max: [f64; RAYS],
+    t_max: [f64; RAYS],
     box_tests: &mut u64,
     triangle_tests: &mut u64,
     best: &mut [Nearest; RAYS],
 ) -> bool {
-    {
-        use std::arch::x86_64::*;
-        // SAFETY: the caller runs on a processor with AVX2 and FMA.
-        let Some(mut lanes) = (unsafe { Lanes::new(rays, &t_max) }) else {
-            return false;
-        };
-        // Made when a ray first reaches a leaf (never `None` for rays in range: finite, d ≠ 0).
-        let mut sheared: [Option<ShearedRay>; RAYS] = [None; RAYS];
-        let shrink = _mm256_set1_ps(1.0 - RELATIVE);
-        let relative = _mm256_set1_ps(RELATIVE);
-        let zero = _mm256_setzero_ps();
-        let infinity = _mm256_set1_ps(f32::INFINITY);
-        let sign = _mm256_set1_ps(-0.0);
-        // A macro, not a closure, so that it is always inlined.
-        macro_rules! load {
-            ($row:expr, $group:expr) => {
-                // SAFETY: eight f32s at lane 0 or 8 of a 16-f32 row of the 32-byte aligned
-                // `Lanes`, so in bounds and 32-byte aligned.
-                unsafe { _mm256_load_ps($row.as_ptr().add(8 * $group)) }
-            };
-        }
-        STACK.with_borrow_mut(|stack| {
-            stack.clear();
-            stack.push(Pending {
-                child: 0,
-                count: 0,
-                rays: (1 << RAYS) - 1,
-                near: 0.0,
-            });
-            while let Some(entry) = stack.pop() {
-                // Rays whose nearest hit so far is before the box have nothing left to find in it.
-                let mut live = 0;
-                for group in 0..2 {
-                    let reached = _mm256_cmp_ps::<_CMP_GE_OQ>(
-                        load!(lanes.t_max, group),
-                        _mm256_set1_ps(entry.near),
-                    );
-                    live |= (_mm256_movemask_ps(reached) as u32) << (8 * group);
-                }
-                live &= entry.rays;
-                if live == 0 {
-                    continue;
-                }
-                if entry.count > 0 {
-                    let slots = entry.child as usize..(entry.child + entry.count) as usize;
-                    let mut each = live;
-                    while each != 0 {
-                        let r = each.trailing_zeros() as usize;
-                        each &= each - 1;
-                        if sheared[r].is_none() {
-                            sheared[r] = ShearedRay::new(&rays[r].0, &rays[r].1);
-                        }
-                        let Some(ray) = &sheared[r] else { continue };
-                        *triangle_tests += u64::from(entry.count);
-                        t_max[r] = bvh.leaf_crack_free(
-                            avx2,
-                            ray,
-                            slots.clone(),
-                            0.0,
-                            t_max[r],
-                            &mut best[r],
-                        );
-                        lanes.t_max[r] = up(t_max[r]);
-                    }
-                    continue;
-                }
-                let node = &bvh.nodes[entry.child as usize];
-                let mut found = [(0u32, 0u32, 0.0f32); 4];
-                let mut n = 0;
-                let mut children = 0;
-                for lane in 0..4 {
-                    if node.child[lane] == EMPTY {
-                        continue;
-                    }
-                    children += 1;
-                    // Written out, not mapped through closures, which may be left uninlined.
-                    let lo = [
-                        _mm256_set1_ps(node.min[0][lane]),
-                        _mm256_set1_ps(node.min[1][lane]),
-                        _mm256_set1_ps(node.min[2][lane]),
-                    ];
-                    let hi = [
-                        _mm256_set1_ps(node.max[0][lane]),
-                        _mm256_set1_ps(node.max[1][lane]),
-                        _mm256_set1_ps(node.max[2][lane]),
-                    ];
-                    let mut hit = 0u32;
-                    let mut nearest = infinity;
-                    for group in 0..2 {
-                        let active = (live >> (8 * group)) & 0xff;
-                        if active == 0 {
-                            continue;
-                        }
-                        let mut near = zero;
-                        let mut far = load!(lanes.t_max, group);
-                        let mut outside = zero;
-                        for k in 0..3 {
-                            let inverse = load!(lanes.inverse[k], group);
-                            let offset = load!(lanes.offset[k], group);
-                            // The entry face is the low one where 1/d ≥ 0 (its sign bit picks).
-                            let entry_face = _mm256_blendv_ps(lo[k], hi[k], inverse);
-                            let exit_face = _mm256_blendv_ps(hi[k], lo[k], inverse);
-                            let mut t0 = _mm256_fmsub_ps(entry_face, inverse, offset);
-                            let mut t1 = _mm256_fmsub_ps(exit_face, inverse, offset);
-                            if lanes.any_parallel[k] {
-                                // Parallel lanes: the whole line, or nothing when o is outside.
-                                let parallel = load!(lanes.parallel[k], group);
-                                let minus_infinity = _mm256_set1_ps(f32::NEG_INFINITY);
-                                t0 = _mm256_blendv_ps(t0, minus_infinity, parallel);
-                                t1 = _mm256_blendv_ps(t1, infinity, parallel);
-                                let up = load!(lanes.origin_up[k], group);
-                                let down = load!(lanes.origin_down[k], group);
-                                let beyond = _mm256_or_ps(
-                                    _mm256_cmp_ps::<_CMP_LT_OQ>(up, lo[k]),
-                                    _mm256_cmp_ps::<_CMP_GT_OQ>(down, hi[k]),
-                                );
-                                let is_parallel = _mm256_cmp_ps::<_CMP_LT_OQ>(parallel, zero);
-                                outside = _mm256_or_ps(outside, _mm256_and_ps(is_parallel, beyond));
-                            }
-                            near = _mm256_max_ps(near, t0);
-                            far = _mm256_min_ps(far, t1);
-                        }
-                        // near ≥ 0: lowered as near·(1 − 2⁻¹⁹) − slack; far raised by as much.
-                        let slack = load!(lanes.slack, group);
-                        let near = _mm256_fmsub_ps(near, shrink, slack);
-                        let far_size = _mm256_andnot_ps(sign, far);
-                        let far = _mm256_fmadd_ps(relative, far_size, _mm256_add_ps(far, slack));
-                        let meets =
-                            _mm256_andnot_ps(outside, _mm256_cmp_ps::<_CMP_LE_OQ>(near, far));
-                        let meets_mask = _mm256_movemask_ps(meets) as u32 & active;
-                        if meets_mask == 0 {
-                            continue;
-                        }
-                        hit |= meets_mask << (8 * group);
-                        let active_lanes = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-                            _mm256_and_si256(
-                                _mm256_set1_epi32(meets_mask as i32),
-                                _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128),
-                            ),
-                            _mm256_setzero_si256(),
-                        ));
-                        nearest =
-                            _mm256_min_ps(nearest, _mm256_blendv_ps(infinity, near, active_lanes));
-                    }
-                    if hit != 0 {
-                        found[n] = (lane as u32, hit, horizontal_min(nearest));
-                        n += 1;
-                    }
-                }
-                *box_tests += children * u64::from(live.count_ones());
-                // Farthest first, so the nearest is popped next.
-                for i in 1..n {
-                    let mut j = i;
-                    while j > 0 && found[j - 1].2 < found[j].2 {
-                        found.swap(j - 1, j);
-                        j -= 1;
-                    }
-                }
-                for &(lane, hit, near) in &found[..n] {
-                    prefetch(bvh, node.child[lane as usize], node.count[lane as usize]);
-                    stack.push(Pending {
-                        child: node.child[lane as usize],
-                        count: node.count[lane as usize],
-                        rays: hit,
-                        near,
-                    });
-                }
-            }
-        });
-        true
+    // SAFETY: the caller runs on a processor with AVX2 and FMA.
+    let Some(lanes) = (unsafe { Lanes::new(rays, &t_max) }) else {
+        return false;
+    };
+    let mut query = Narrow {
+        avx2,
+        bvh,
+        rays,
+        lanes,
+        t_max,
+        sheared: [None; RAYS],
+        box_tests,
+        triangle_tests,
+        best,
+    };
+    bvh.visit(&mut query, (1 << RAYS) - 1, 0.0);
+    true
+}
+
+/// The query of sixteen rays with the f32 box test.
+struct Narrow<'a> {
+    avx2: Avx2,
+    bvh: &'a Bvh,
+    rays: &'a [(V3<f64>, V3<f64>); RAYS],
+    lanes: Lanes,
+    /// Each ray's nearest hit so far (`lanes.t_max` holds it rounded up).
+    t_max: [f64; RAYS],
+    /// Made when a ray first reaches a leaf (never `None` for rays in range: finite, d ≠ 0).
+    sheared: [Option<ShearedRay>; RAYS],
+    box_tests: &'a mut u64,
+    triangle_tests: &'a mut u64,
+    best: &'a mut [Nearest; RAYS],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Query for Narrow<'_> {
+    type Near = f32;
+
+    #[inline(always)]
+    fn live(&self, rays: u32, near: f32) -> u32 {
+        let _ = self.avx2;
+        // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+        unsafe { live_unchecked(&self.lanes, rays, near) }
     }
+
+    #[inline(always)]
+    fn boxes(&mut self, node: &Node, live: u32) -> Met<f32> {
+        *self.box_tests += children(node) * u64::from(live.count_ones());
+        // SAFETY: as in `live`.
+        unsafe { boxes_unchecked(&self.lanes, node, live) }
+    }
+
+    #[inline(always)]
+    fn leaf(&mut self, slots: std::ops::Range<usize>, live: u32) {
+        let mut each = live;
+        while each != 0 {
+            let r = each.trailing_zeros() as usize;
+            each &= each - 1;
+            if self.sheared[r].is_none() {
+                self.sheared[r] = ShearedRay::new(&self.rays[r].0, &self.rays[r].1);
+            }
+            let Some(ray) = &self.sheared[r] else {
+                continue;
+            };
+            *self.triangle_tests += slots.len() as u64;
+            self.t_max[r] = self.bvh.leaf_crack_free(
+                self.avx2,
+                ray,
+                slots.clone(),
+                0.0,
+                self.t_max[r],
+                &mut self.best[r],
+            );
+            self.lanes.t_max[r] = up(self.t_max[r]);
+        }
+    }
+
+    #[inline(always)]
+    fn will_visit(&self, child: u32, count: u32) {
+        prefetch(self.bvh, child, count);
+    }
+}
+
+/// Reads eight f32s at lane 0 or 8 of a 16-f32 row of the 32-byte aligned [`Lanes`].
+/// A macro, not a closure, so that it is always inlined.
+#[cfg(target_arch = "x86_64")]
+macro_rules! load {
+    ($row:expr, $group:expr) => {
+        // SAFETY: eight f32s at lane 0 or 8 of a 16-f32 row of the 32-byte aligned `Lanes`, so
+        // in bounds and 32-byte aligned.
+        unsafe { std::arch::x86_64::_mm256_load_ps($row.as_ptr().add(8 * $group)) }
+    };
+}
+
+/// Of `rays`, those whose nearest hit so far is not before `near`.
+///
+/// # Safety
+/// Only call on a processor with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn live_unchecked(lanes: &Lanes, rays: u32, near: f32) -> u32 {
+    use std::arch::x86_64::*;
+    let mut live = 0;
+    for group in 0..2 {
+        let reached = _mm256_cmp_ps::<_CMP_GE_OQ>(load!(lanes.t_max, group), _mm256_set1_ps(near));
+        live |= (_mm256_movemask_ps(reached) as u32) << (8 * group);
+    }
+    live & rays
+}
+
+/// Which of `node`'s boxes each `live` ray meets, and the nearest (lowered) entry among them.
+///
+/// # Safety
+/// Only call on a processor with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn boxes_unchecked(lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
+    use std::arch::x86_64::*;
+    let shrink = _mm256_set1_ps(1.0 - RELATIVE);
+    let relative = _mm256_set1_ps(RELATIVE);
+    let zero = _mm256_setzero_ps();
+    let infinity = _mm256_set1_ps(f32::INFINITY);
+    let sign = _mm256_set1_ps(-0.0);
+    let mut met = Met {
+        rays: [0u32; 4],
+        near: [0.0f32; 4],
+    };
+    for lane in 0..4 {
+        if node.child[lane] == EMPTY {
+            continue;
+        }
+        // Written out, not mapped through closures, which may be left uninlined.
+        let lo = [
+            _mm256_set1_ps(node.min[0][lane]),
+            _mm256_set1_ps(node.min[1][lane]),
+            _mm256_set1_ps(node.min[2][lane]),
+        ];
+        let hi = [
+            _mm256_set1_ps(node.max[0][lane]),
+            _mm256_set1_ps(node.max[1][lane]),
+            _mm256_set1_ps(node.max[2][lane]),
+        ];
+        let mut hit = 0u32;
+        let mut nearest = infinity;
+        for group in 0..2 {
+            let active = (live >> (8 * group)) & 0xff;
+            if active == 0 {
+                continue;
+            }
+            let mut near = zero;
+            let mut far = load!(lanes.t_max, group);
+            let mut outside = zero;
+            for k in 0..3 {
+                let inverse = load!(lanes.inverse[k], group);
+                let offset = load!(lanes.offset[k], group);
+                // The entry face is the low one where 1/d ≥ 0 (its sign bit picks).
+                let entry_face = _mm256_blendv_ps(lo[k], hi[k], inverse);
+                let exit_face = _mm256_blendv_ps(hi[k], lo[k], inverse);
+                let mut t0 = _mm256_fmsub_ps(entry_face, inverse, offset);
+                let mut t1 = _mm256_fmsub_ps(exit_face, inverse, offset);
+                if lanes.any_parallel[k] {
+                    // Parallel lanes: the whole line, or nothing when o is outside.
+                    let parallel = load!(lanes.parallel[k], group);
+                    let minus_infinity = _mm256_set1_ps(f32::NEG_INFINITY);
+                    t0 = _mm256_blendv_ps(t0, minus_infinity, parallel);
+                    t1 = _mm256_blendv_ps(t1, infinity, parallel);
+                    let up = load!(lanes.origin_up[k], group);
+                    let down = load!(lanes.origin_down[k], group);
+                    let beyond = _mm256_or_ps(
+                        _mm256_cmp_ps::<_CMP_LT_OQ>(up, lo[k]),
+                        _mm256_cmp_ps::<_CMP_GT_OQ>(down, hi[k]),
+                    );
+                    let is_parallel = _mm256_cmp_ps::<_CMP_LT_OQ>(parallel, zero);
+                    outside = _mm256_or_ps(outside, _mm256_and_ps(is_parallel, beyond));
+                }
+                near = _mm256_max_ps(near, t0);
+                far = _mm256_min_ps(far, t1);
+            }
+            // near ≥ 0: lowered as near·(1 − 2⁻¹⁹) − slack; far raised by as much.
+            let slack = load!(lanes.slack, group);
+            let near = _mm256_fmsub_ps(near, shrink, slack);
+            let far_size = _mm256_andnot_ps(sign, far);
+            let far = _mm256_fmadd_ps(relative, far_size, _mm256_add_ps(far, slack));
+            let meets = _mm256_andnot_ps(outside, _mm256_cmp_ps::<_CMP_LE_OQ>(near, far));
+            let meets_mask = _mm256_movemask_ps(meets) as u32 & active;
+            if meets_mask == 0 {
+                continue;
+            }
+            hit |= meets_mask << (8 * group);
+            let active_lanes = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                _mm256_and_si256(
+                    _mm256_set1_epi32(meets_mask as i32),
+                    _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128),
+                ),
+                _mm256_setzero_si256(),
+            ));
+            nearest = _mm256_min_ps(nearest, _mm256_blendv_ps(infinity, near, active_lanes));
+        }
+        if hit != 0 {
+            met.rays[lane] = hit;
+            met.near[lane] = horizontal_min(nearest);
+        }
+    }
+    met
 }
 
 /// Asks the processor to start loading a child the traversal will visit: an inner node's two cache
