@@ -121,7 +121,7 @@ fn bvh(c: &mut Criterion) {
 /// effects and one with each of those left out in turn, timed once each and printed as a table with
 /// the rays of each kind (`cargo bench --bench render -- cost-table` prints it and skips the rest).
 fn cost_table(_: &mut Criterion) {
-    use raylab::render::rays::RayKind;
+    use raylab::render::ray_kinds::RayKind;
     let past_casting = Effect::PAST_CASTING;
     println!(
         "| scene | effects | time (ms) | primary | samples | shadow | reflection | refraction | occlusion |"

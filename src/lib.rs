@@ -26,8 +26,9 @@
 //!   watertight test counts a point on an edge as inside too (its edge functions all ≥ 0 or all ≤ 0).
 //! - **X = (β, γ, t).** L + tD = A + β(B−A) + γ(C−A) is solved as M X = Y with M = [A−B | A−C | D],
 //!   X = (β, γ, t) and Y = A − L; for the parallelogram X = (α, β, t), for segments X = (t, s). The
-//!   lecture's solvers, traces and JSON output use this order. Two places still hold the same three
-//!   numbers in another order, (t, β, γ): [`intersect::Answer::values`] and the renderer's hit arrays.
+//!   lecture's solvers, traces and JSON output use this order, and the renderer names them
+//!   ([`render::Ray`], [`render::TriangleHit`], [`render::Hit`]). One place still holds the three
+//!   numbers in another order, (t, β, γ): the accuracy study's [`intersect::Answer::values`].
 //! - **Matrices are row-major.** raylab's own matrices ([`math::linalg::M2`], [`math::linalg::M3`], the
 //!   matrices of a trace) are arrays of rows, `m[row][column]`, as the slides write them, and every
 //!   determinant is expanded along the first row. Images are row-major too (pixel (x, y) at

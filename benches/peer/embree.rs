@@ -18,7 +18,7 @@ use std::process::Command;
 use raylab::math::linalg::V3;
 use raylab::render::generate::{grid_box, irregular_sphere, mesh_scene, to_obj};
 use raylab::render::objects::Geometry;
-use raylab::render::{Prepared, loading::assets::Embedded, render, world_triangle};
+use raylab::render::{Prepared, Ray, loading::assets::Embedded, render, world_triangle};
 use raylab::scene::render::{Camera, Effect};
 use raylab::scene::{Problem, Scene};
 
@@ -212,7 +212,7 @@ fn raylab_occluded(pool: &rayon::ThreadPool, prepared: &Prepared) -> Option<(f64
     let Geometry::Triangles { bvh: Some(bvh), .. } = &prepared.objects.first()?.geometry else {
         return None;
     };
-    let rows: Vec<Vec<(V3<f64>, V3<f64>)>> = (0..prepared.height)
+    let rows: Vec<Vec<Ray>> = (0..prepared.height)
         .map(|row| {
             (0..prepared.width)
                 .map(|column| prepared.ray(row, column))
@@ -223,8 +223,8 @@ fn raylab_occluded(pool: &rayon::ThreadPool, prepared: &Prepared) -> Option<(f64
         rows.par_iter()
             .map(|row| {
                 row.iter()
-                    .filter(|(o, d)| {
-                        bvh.occluded(prepared.simd, o, d, (0.0, f64::INFINITY), &mut 0, &mut 0)
+                    .filter(|ray| {
+                        bvh.occluded(prepared.simd, ray, (0.0, f64::INFINITY), &mut 0, &mut 0)
                     })
                     .count()
             })

@@ -662,7 +662,7 @@ fn run_render(args: RenderArgs) -> Result<ExitCode, RenderError> {
             .map(|(name, value)| format!("{name} {value}"))
             .collect();
         out!("{}", counters.join(", "));
-        out!("{}", crate::render::rays::by_kind_line(&stats));
+        out!("{}", crate::render::ray_kinds::by_kind_line(&stats));
     }
     Ok(ExitCode::SUCCESS)
 }

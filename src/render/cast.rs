@@ -8,40 +8,12 @@ use super::crack_free::ShearedRay;
 use super::kernels::Avx2;
 use super::kernels::parallelogram4::Parallelogram4;
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
-use super::{Prepared, Stats};
+use super::{Hit, ParallelogramHit, Prepared, Ray, Stats, TriangleHit};
 use crate::geometry::parallelogram::lean::solve_inside;
 use crate::intersect::moller_trumbore;
 use crate::intersect::{Case, Method};
 use crate::math::linalg::V3;
 use crate::math::linalg::sub;
-
-/// The nearest hit along a ray.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hit {
-    /// The object's index in the scene.
-    pub object: usize,
-    /// The triangle's index in the object (0 for a parallelogram).
-    pub primitive: usize,
-    /// The ray parameter (world and object space alike).
-    pub t: f64,
-    /// β for a triangle, α for a parallelogram.
-    pub beta: f64,
-    /// γ for a triangle, β for a parallelogram.
-    pub gamma: f64,
-}
-
-impl Hit {
-    /// The hit of triangle (or parallelogram) `primitive` of object `object` at (t, β, γ).
-    fn of(object: usize, primitive: usize, [t, beta, gamma]: [f64; 3]) -> Hit {
-        Hit {
-            object,
-            primitive,
-            t,
-            beta,
-            gamma,
-        }
-    }
-}
 
 /// The ray in an object's space: O' = M⁻¹ O as a point, D' = M⁻¹ D as a direction, not normalised,
 /// so o' + t d' is M⁻¹ (o + t d) and t means the same in both spaces. Inlined: returned through
@@ -49,21 +21,20 @@ impl Hit {
 #[inline(always)]
 pub fn to_object_space(
     object: &PreparedObject,
-    origin: V3<f64>,
-    dir: V3<f64>,
+    ray: Ray,
     bug: Option<Bug>,
     stats: &mut Stats,
-) -> (V3<f64>, V3<f64>) {
+) -> Ray {
     let Some(inverse) = object.object_from_world else {
-        return (origin, dir);
+        return ray;
     };
     stats.transforms += 1;
-    let origin = inverse.transform_point3(origin.into()).to_array();
-    let dir = inverse.transform_vector3(dir.into()).to_array();
+    let origin = inverse.transform_point3(ray.origin.into()).to_array();
+    let dir = inverse.transform_vector3(ray.dir.into()).to_array();
     if bug == Some(Bug::NormalizedDirection) {
-        return (origin, unit(dir));
+        return Ray::new(origin, unit(dir));
     }
-    (origin, dir)
+    Ray::new(origin, dir)
 }
 
 /// Tests one triangle: the method's decision (`watertight`: the crack-free test), or a bug's.
@@ -73,9 +44,8 @@ pub fn test_triangle(
     triangle: &PreparedTriangle,
     method: Method,
     bug: Option<Bug>,
-    origin: V3<f64>,
-    dir: V3<f64>,
-) -> Option<[f64; 3]> {
+    Ray { origin, dir }: Ray,
+) -> Option<TriangleHit> {
     // Built only for the methods and bugs that take it (copying it for each ray costs).
     let case = || Case {
         tri: triangle.vertices,
@@ -83,18 +53,22 @@ pub fn test_triangle(
         dir,
     };
     // The renderer's `watertight` is the crack-free test; every other name runs the core's method.
-    let correct = match method {
-        Method::Watertight => {
-            ShearedRay::new(&origin, &dir).and_then(|ray| ray.intersect(&triangle.vertices, 0.0))
-        }
-        // The core's Möller–Trumbore on the triangle in place (the same bits): the default for
-        // lone triangles, tested by every ray of the image.
-        Method::MollerTrumbore => moller_trumbore::hit(&triangle.vertices, &origin, &dir),
-        _ => {
-            let answer = method.run(&case());
-            answer.values.filter(|_| answer.hit)
-        }
-    };
+    let correct =
+        match method {
+            Method::Watertight => ShearedRay::new(&origin, &dir)
+                .and_then(|ray| ray.intersect(&triangle.vertices, 0.0)),
+            // The core's Möller–Trumbore on the triangle in place (the same bits): the default for
+            // lone triangles, tested by every ray of the image.
+            Method::MollerTrumbore => moller_trumbore::hit(&triangle.vertices, &origin, &dir)
+                .map(TriangleHit::from_values),
+            _ => {
+                let answer = method.run(&case());
+                answer
+                    .values
+                    .filter(|_| answer.hit)
+                    .map(TriangleHit::from_values)
+            }
+        };
     match bug {
         // Each bug accepts more than the correct test does: what the method hits stays hit (so the
         // image differs only by the bug), and the bug's own check, on Cramer's t, β, γ, adds the rest.
@@ -106,7 +80,7 @@ pub fn test_triangle(
                 Bug::NegativeT => t < 0.0 && alpha >= 0.0 && beta >= 0.0 && gamma >= 0.0,
                 _ => t > 0.0 && beta >= 0.0 && gamma >= 0.0 && beta <= 1.0 && gamma <= 1.0,
             };
-            hit.then_some([t, beta, gamma])
+            hit.then_some(TriangleHit { beta, gamma, t })
         }
         _ => correct,
     }
@@ -118,16 +92,16 @@ pub fn test_triangle(
 fn test_parallelogram(
     [corner, e1, e2]: [&V3<f64>; 3],
     bug: Option<Bug>,
-    (origin, dir): (V3<f64>, V3<f64>),
+    Ray { origin, dir }: Ray,
     t_max: f64,
-) -> Option<[f64; 3]> {
+) -> Option<ParallelogramHit> {
     if surely_outside([corner, e1, e2], &origin, &dir, t_max) {
         return None;
     }
     let inside = solve_inside([corner, e1, e2], &origin, &dir)?;
     let [alpha, beta, t] = inside.alpha_beta_t;
     let hit = inside.hit || (bug == Some(Bug::NegativeT) && t != 0.0);
-    hit.then_some([t, alpha, beta])
+    hit.then_some(ParallelogramHit { alpha, beta, t })
 }
 
 /// True when the ray's line meets the parallelogram's plane so far outside it (α or β beyond [0, 1]
@@ -182,28 +156,26 @@ fn nearest_crack_free(
     simd: Option<Avx2>,
     triangles: &[PreparedTriangle],
     bvh: Option<&Bvh>,
-    origin: V3<f64>,
-    dir: V3<f64>,
+    ray: Ray,
     t_max: f64,
     stats: &mut Stats,
 ) -> Option<Hit> {
-    let (primitive, [t, beta, gamma]) = match bvh {
+    let (primitive, hit) = match bvh {
         Some(bvh) => bvh.nearest_crack_free(
             simd,
-            &origin,
-            &dir,
+            &ray,
             (0.0, t_max),
             &mut stats.box_tests,
             &mut stats.triangle_tests,
         )?,
         None => {
-            let ray = ShearedRay::new(&origin, &dir)?;
+            let sheared = ShearedRay::new(&ray.origin, &ray.dir)?;
             stats.triangle_tests += triangles.len() as u64;
-            let mut best: Option<(usize, [f64; 3])> = None;
+            let mut best: Option<(usize, TriangleHit)> = None;
             for (i, triangle) in triangles.iter().enumerate() {
-                if let Some(hit) = ray.intersect(&triangle.vertices, 0.0)
-                    && hit[0] <= best.map_or(t_max, |(_, b)| b[0])
-                    && best.is_none_or(|(_, b)| hit[0] < b[0])
+                if let Some(hit) = sheared.intersect(&triangle.vertices, 0.0)
+                    && hit.t <= best.map_or(t_max, |(_, b)| b.t)
+                    && best.is_none_or(|(_, b)| hit.t < b.t)
                 {
                     best = Some((i, hit));
                 }
@@ -211,25 +183,14 @@ fn nearest_crack_free(
             best?
         }
     };
-    Some(Hit {
-        object: 0,
-        primitive,
-        t,
-        beta,
-        gamma,
-    })
+    Some(Hit::triangle(0, primitive, hit))
 }
 
 /// The nearest hit among all objects; ties go to the earlier object and triangle.
-pub fn nearest_hit(
-    prepared: &Prepared,
-    origin: V3<f64>,
-    dir: V3<f64>,
-    stats: &mut Stats,
-) -> Option<Hit> {
+pub fn nearest_hit(prepared: &Prepared, ray: Ray, stats: &mut Stats) -> Option<Hit> {
     let mut best: Option<Hit> = None;
     for index in 0..prepared.objects.len() {
-        hit_object(prepared, index, origin, dir, &mut best, stats);
+        hit_object(prepared, index, ray, &mut best, stats);
     }
     best
 }
@@ -248,7 +209,7 @@ fn better(hit: &Hit, best: &Option<Hit>) -> bool {
 #[inline]
 pub fn nearest_hits<const P: usize>(
     prepared: &Prepared,
-    rays: &[(V3<f64>, V3<f64>); P],
+    rays: &[Ray; P],
     stats: &mut Stats,
     best: &mut [Option<Hit>; P],
 ) {
@@ -261,20 +222,19 @@ pub fn nearest_hits<const P: usize>(
             _ if lone_hits(prepared, index, rays, best, stats) => continue,
             _ if parallelogram_hits(prepared, index, rays, best, stats) => continue,
             _ => {
-                for (best, (origin, dir)) in best.iter_mut().zip(rays) {
-                    hit_object(prepared, index, *origin, *dir, best, stats);
+                for (best, ray) in best.iter_mut().zip(rays) {
+                    hit_object(prepared, index, *ray, best, stats);
                 }
                 continue;
             }
         };
         // An untransformed mesh takes the packet's own rays, not a copy.
-        let moved: [(V3<f64>, V3<f64>); P];
+        let moved: [Ray; P];
         let local = match object.object_from_world {
             None => rays,
             Some(_) => {
-                moved = std::array::from_fn(|i| {
-                    to_object_space(object, rays[i].0, rays[i].1, prepared.bug, stats)
-                });
+                moved =
+                    std::array::from_fn(|i| to_object_space(object, rays[i], prepared.bug, stats));
                 &moved
             }
         };
@@ -289,8 +249,8 @@ pub fn nearest_hits<const P: usize>(
             &mut hits,
         );
         for (best, hit) in best.iter_mut().zip(&hits) {
-            if let Some((primitive, [t, beta, gamma])) = *hit {
-                offer(best, Hit::of(index, primitive, [t, beta, gamma]));
+            if let Some((primitive, hit)) = *hit {
+                offer(best, Hit::triangle(index, primitive, hit));
             }
         }
     }
@@ -307,18 +267,18 @@ fn test_bug(prepared: &Prepared) -> Option<Bug> {
 #[inline(always)]
 fn each_four<const P: usize>(
     object: &PreparedObject,
-    rays: &[(V3<f64>, V3<f64>); P],
+    rays: &[Ray; P],
     best: &mut [Option<Hit>; P],
     stats: &mut Stats,
-    mut four: impl FnMut(&[(V3<f64>, V3<f64>); 4], &mut [Option<Hit>], &mut Stats),
+    mut four: impl FnMut(&[Ray; 4], &mut [Option<Hit>], &mut Stats),
 ) {
     let (groups, _) = rays.as_chunks::<4>();
     for (group, world) in groups.iter().enumerate() {
-        let moved: [(V3<f64>, V3<f64>); 4];
+        let moved: [Ray; 4];
         let local = match object.object_from_world {
             None => world,
             Some(_) => {
-                moved = world.map(|(o, d)| to_object_space(object, o, d, None, stats));
+                moved = world.map(|ray| to_object_space(object, ray, None, stats));
                 &moved
             }
         };
@@ -332,7 +292,7 @@ fn each_four<const P: usize>(
 fn lone_hits<const P: usize>(
     prepared: &Prepared,
     index: usize,
-    rays: &[(V3<f64>, V3<f64>); P],
+    rays: &[Ray; P],
     best: &mut [Option<Hit>; P],
     stats: &mut Stats,
 ) -> bool {
@@ -356,8 +316,8 @@ fn lone_hits<const P: usize>(
     }
     each_four(object, rays, best, stats, |local, best, stats| {
         let four = Rays4 {
-            origin: std::array::from_fn(|k| local.map(|(o, _)| o[k])),
-            dir: std::array::from_fn(|k| local.map(|(_, d)| d[k])),
+            origin: std::array::from_fn(|k| local.map(|ray| ray.origin[k])),
+            dir: std::array::from_fn(|k| local.map(|ray| ray.dir[k])),
         };
         for (primitive, triangle) in triangles.iter().enumerate() {
             stats.triangle_tests += 4;
@@ -365,8 +325,12 @@ fn lone_hits<const P: usize>(
             while hit != 0 {
                 let lane = hit.trailing_zeros() as usize;
                 hit &= hit - 1;
-                let values = [t[lane], beta[lane], gamma[lane]];
-                offer(&mut best[lane], Hit::of(index, primitive, values));
+                let hit = TriangleHit {
+                    beta: beta[lane],
+                    gamma: gamma[lane],
+                    t: t[lane],
+                };
+                offer(&mut best[lane], Hit::triangle(index, primitive, hit));
             }
         }
     });
@@ -381,7 +345,7 @@ fn lone_hits<const P: usize>(
 fn parallelogram_hits<const P: usize>(
     prepared: &Prepared,
     index: usize,
-    rays: &[(V3<f64>, V3<f64>); P],
+    rays: &[Ray; P],
     best: &mut [Option<Hit>; P],
     stats: &mut Stats,
 ) -> bool {
@@ -403,14 +367,18 @@ fn parallelogram_hits<const P: usize>(
         stats.parallelogram_tests += 4;
         let found = solver.solve(local, &t_max);
         for (lane, best) in best.iter_mut().enumerate() {
-            let values = if found.rare & (1 << lane) != 0 {
+            let hit = if found.rare & (1 << lane) != 0 {
                 test_parallelogram([corner, e1, e2], None, local[lane], t_max[lane])
             } else {
                 let hit = found.hit & (1 << lane) != 0;
-                hit.then(|| [found.t[lane], found.alpha[lane], found.beta[lane]])
+                hit.then(|| ParallelogramHit {
+                    alpha: found.alpha[lane],
+                    beta: found.beta[lane],
+                    t: found.t[lane],
+                })
             };
-            if let Some(values) = values {
-                offer(best, Hit::of(index, 0, values));
+            if let Some(hit) = hit {
+                offer(best, Hit::parallelogram(index, hit));
             }
         }
     });
@@ -432,33 +400,32 @@ fn keep_nearer(
     (index, primitive): (usize, usize),
     method: Method,
     bug: Option<Bug>,
-    (o, d): (&V3<f64>, &V3<f64>),
+    ray: &Ray,
     best: &mut Option<Hit>,
     stats: &mut Stats,
 ) -> Option<f64> {
     stats.triangle_tests += 1;
-    let [t, beta, gamma] = test_triangle(triangle, method, bug, *o, *d)?;
-    offer(best, Hit::of(index, primitive, [t, beta, gamma]));
-    Some(t)
+    let hit = test_triangle(triangle, method, bug, *ray)?;
+    offer(best, Hit::triangle(index, primitive, hit));
+    Some(hit.t)
 }
 
 /// Tests object `index` against the ray (world space), keeping the nearer hit in `best`.
 fn hit_object(
     prepared: &Prepared,
     index: usize,
-    origin: V3<f64>,
-    dir: V3<f64>,
+    ray: Ray,
     best: &mut Option<Hit>,
     stats: &mut Stats,
 ) {
     let object = &prepared.objects[index];
     {
-        let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
+        let local = to_object_space(object, ray, prepared.bug, stats);
         match &object.geometry {
             Geometry::Triangles { triangles, bvh } if crack_free_applies(prepared, object) => {
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
                 if let Some(hit) =
-                    nearest_crack_free(prepared.simd, triangles, bvh.as_ref(), o, d, t_max, stats)
+                    nearest_crack_free(prepared.simd, triangles, bvh.as_ref(), local, t_max, stats)
                 {
                     offer(
                         best,
@@ -480,7 +447,7 @@ fn hit_object(
                         (index, primitive),
                         method,
                         bug,
-                        (&o, &d),
+                        &local,
                         best,
                         stats,
                     )
@@ -497,20 +464,19 @@ fn hit_object(
                             _ => 0.0,
                         };
                         let mut box_tests = 0;
-                        bvh.traverse(&o, &d, t_min, t_max, &mut box_tests, &mut test);
+                        bvh.traverse(&local, t_min, t_max, &mut box_tests, &mut test);
                         stats.box_tests += box_tests;
                     }
                     // Lone triangles: called in place, not through `test` (whose captured ray
                     // was read back from memory at a stall on each call).
                     None => {
                         for (primitive, triangle) in triangles.iter().enumerate() {
-                            let ray = (&o, &d);
                             keep_nearer(
                                 triangle,
                                 (index, primitive),
                                 method,
                                 bug,
-                                ray,
+                                &local,
                                 best,
                                 stats,
                             );
@@ -521,19 +487,9 @@ fn hit_object(
             Geometry::Parallelogram { corner, e1, e2, .. } => {
                 stats.parallelogram_tests += 1;
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
-                if let Some([t, alpha, beta]) =
-                    test_parallelogram([corner, e1, e2], prepared.bug, (o, d), t_max)
+                if let Some(hit) = test_parallelogram([corner, e1, e2], prepared.bug, local, t_max)
                 {
-                    offer(
-                        best,
-                        Hit {
-                            object: index,
-                            primitive: 0,
-                            t,
-                            beta: alpha,
-                            gamma: beta,
-                        },
-                    );
+                    offer(best, Hit::parallelogram(index, hit));
                 }
             }
         }
@@ -552,15 +508,13 @@ enum Find {
 /// rays, through the same transforms, methods and BVHs as primary rays.
 pub fn nearest_hit_between(
     prepared: &Prepared,
-    origin: V3<f64>,
-    dir: V3<f64>,
+    ray: Ray,
     (t_min, t_max): (f64, f64),
     stats: &mut Stats,
 ) -> Option<Hit> {
     let mut best: Option<Hit> = None;
     for index in 0..prepared.objects.len() {
         let range = (t_min, best.map_or(t_max, |b| b.t));
-        let ray = (origin, dir);
         if let Some(hit) = object_hit_between(prepared, index, ray, range, Find::Nearest, stats) {
             offer(&mut best, hit);
         }
@@ -570,15 +524,8 @@ pub fn nearest_hit_between(
 
 /// True when anything is hit with `t_min < t < t_max`: an any-hit query that stops at the first hit
 /// (shadow and occlusion rays; a surface exactly at the light does not hide it).
-pub fn any_hit(
-    prepared: &Prepared,
-    origin: V3<f64>,
-    dir: V3<f64>,
-    range: (f64, f64),
-    stats: &mut Stats,
-) -> bool {
-    (0..prepared.objects.len())
-        .any(|index| object_blocks(prepared, index, (origin, dir), range, stats))
+pub fn any_hit(prepared: &Prepared, ray: Ray, range: (f64, f64), stats: &mut Stats) -> bool {
+    (0..prepared.objects.len()).any(|index| object_blocks(prepared, index, ray, range, stats))
 }
 
 /// True when object `index` is hit in (t_min, t_max): a mesh taking the crack-free test asks its
@@ -587,7 +534,7 @@ pub fn any_hit(
 fn object_blocks(
     prepared: &Prepared,
     index: usize,
-    (origin, dir): (V3<f64>, V3<f64>),
+    ray: Ray,
     (t_min, t_max): (f64, f64),
     stats: &mut Stats,
 ) -> bool {
@@ -595,26 +542,26 @@ fn object_blocks(
     if let Geometry::Triangles { bvh: Some(bvh), .. } = &object.geometry
         && crack_free_applies(prepared, object)
     {
-        let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
+        let local = to_object_space(object, ray, prepared.bug, stats);
         let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
-        return bvh.occluded(prepared.simd, &o, &d, (t_min, t_max), boxes, triangles);
+        return bvh.occluded(prepared.simd, &local, (t_min, t_max), boxes, triangles);
     }
     // The largest float below t_max: the same open interval.
     let range = (t_min, t_max.next_down());
-    object_hit_between(prepared, index, (origin, dir), range, Find::Any, stats).is_some()
+    object_hit_between(prepared, index, ray, range, Find::Any, stats).is_some()
 }
 
 /// Object `index`'s nearest hit in (t_min, t_max], or with [`Find::Any`] the first one found.
 fn object_hit_between(
     prepared: &Prepared,
     index: usize,
-    (origin, dir): (V3<f64>, V3<f64>),
+    ray: Ray,
     (t_min, t_max): (f64, f64),
     find: Find,
     stats: &mut Stats,
 ) -> Option<Hit> {
     let object = &prepared.objects[index];
-    let (o, d) = to_object_space(object, origin, dir, prepared.bug, stats);
+    let local = to_object_space(object, ray, prepared.bug, stats);
     let in_range = |t: f64| t > t_min && t <= t_max;
     match &object.geometry {
         Geometry::Triangles { triangles, bvh } => {
@@ -622,7 +569,7 @@ fn object_hit_between(
                 prepared,
                 object,
                 (triangles, bvh.as_ref()),
-                (o, d),
+                local,
                 (t_min, t_max),
                 find,
                 stats,
@@ -634,9 +581,8 @@ fn object_hit_between(
         }
         Geometry::Parallelogram { corner, e1, e2, .. } => {
             stats.parallelogram_tests += 1;
-            let [t, alpha, beta] =
-                test_parallelogram([corner, e1, e2], prepared.bug, (o, d), t_max)?;
-            in_range(t).then_some(Hit::of(index, 0, [t, alpha, beta]))
+            let hit = test_parallelogram([corner, e1, e2], prepared.bug, local, t_max)?;
+            in_range(hit.t).then_some(Hit::parallelogram(index, hit))
         }
     }
 }
@@ -647,7 +593,7 @@ fn triangles_between(
     prepared: &Prepared,
     object: &PreparedObject,
     (triangles, bvh): (&[PreparedTriangle], Option<&Bvh>),
-    (o, d): (V3<f64>, V3<f64>),
+    ray: Ray,
     (t_min, t_max): (f64, f64),
     find: Find,
     stats: &mut Stats,
@@ -657,18 +603,17 @@ fn triangles_between(
         && find == Find::Nearest
         && let Some(bvh) = bvh
     {
-        let (primitive, values) = bvh.nearest_crack_free(
+        let (primitive, hit) = bvh.nearest_crack_free(
             prepared.simd,
-            &o,
-            &d,
+            &ray,
             (t_min, t_max),
             &mut stats.box_tests,
             &mut stats.triangle_tests,
         )?;
-        return Some(Hit::of(0, primitive, values));
+        return Some(Hit::triangle(0, primitive, hit));
     }
     let sheared = if crack_free {
-        ShearedRay::new(&o, &d)
+        ShearedRay::new(&ray.origin, &ray.dir)
     } else {
         None
     };
@@ -677,8 +622,8 @@ fn triangles_between(
     }
     let method = prepared.method_for(object);
     let decide = |triangle: &PreparedTriangle| match &sheared {
-        Some(ray) => ray.intersect(&triangle.vertices, t_min),
-        None => test_triangle(triangle, method, prepared.bug, o, d).filter(|h| h[0] > t_min),
+        Some(sheared) => sheared.intersect(&triangle.vertices, t_min),
+        None => test_triangle(triangle, method, prepared.bug, ray).filter(|h| h.t > t_min),
     };
     let mut best: Option<Hit> = None;
     let mut tests = 0;
@@ -687,19 +632,18 @@ fn triangles_between(
             return None;
         }
         tests += 1;
-        let values =
-            decide(&triangles[primitive]).filter(|h| h[0] <= best.map_or(t_max, |b| b.t))?;
-        offer(&mut best, Hit::of(0, primitive, values));
+        let hit = decide(&triangles[primitive]).filter(|h| h.t <= best.map_or(t_max, |b| b.t))?;
+        offer(&mut best, Hit::triangle(0, primitive, hit));
         // An any-hit query is done: no box can be nearer than −∞, so the walk ends.
         Some(if find == Find::Any {
             f64::NEG_INFINITY
         } else {
-            values[0]
+            hit.t
         })
     };
     let culls = !matches!(prepared.bug, Some(Bug::AndForOr | Bug::VInsteadOfSum));
     match bvh.filter(|_| culls) {
-        Some(bvh) => bvh.traverse(&o, &d, t_min, t_max, &mut stats.box_tests, consider),
+        Some(bvh) => bvh.traverse(&ray, t_min, t_max, &mut stats.box_tests, consider),
         None => {
             for primitive in 0..triangles.len() {
                 // −∞: an any-hit query found its hit.
@@ -851,18 +795,18 @@ mod packet_tests {
             let (mut packet_stats, mut single_stats) = (Stats::default(), Stats::default());
             for row in 0..prepared.height {
                 for start in (0..prepared.width).step_by(16) {
-                    let rays: [(V3<f64>, V3<f64>); 16] =
-                        std::array::from_fn(|k| prepared.ray(row, start + k));
+                    let rays: [Ray; 16] = std::array::from_fn(|k| prepared.ray(row, start + k));
                     let mut packet = [None; 16];
                     nearest_hits(&prepared, &rays, &mut packet_stats, &mut packet);
-                    for (k, (origin, dir)) in rays.iter().enumerate() {
-                        let single = nearest_hit(&prepared, *origin, *dir, &mut single_stats);
+                    for (k, ray) in rays.iter().enumerate() {
+                        let single = nearest_hit(&prepared, *ray, &mut single_stats);
                         let bits = |h: Option<Hit>| {
                             h.map(|h| {
                                 (
                                     h.object,
                                     h.primitive,
-                                    [h.t, h.beta, h.gamma].map(f64::to_bits),
+                                    h.t.to_bits(),
+                                    h.coordinates().map(f64::to_bits),
                                 )
                             })
                         };

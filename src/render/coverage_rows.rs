@@ -4,9 +4,9 @@
 
 use std::cell::RefCell;
 
-use super::cast::Hit;
 use super::objects::Geometry;
 use super::shading::shade::Shader;
+use super::{At, Hit, Ray};
 use std::ops::Range;
 
 use super::{Basis, Camera, Prepared, Stats, camera_ray, pinhole_basis};
@@ -134,7 +134,7 @@ fn fill_row_rays(
         }
         Camera::Pinhole { .. } => {
             for column in columns {
-                let (origin, dir) = camera_ray(camera, width, height, row, column);
+                let Ray { origin, dir } = camera_ray(camera, width, height, row, column);
                 for k in 0..3 {
                     rays.origin[k][column] = origin[k] as f32;
                     rays.dir[k][column] = dir[k] as f32;
@@ -355,8 +355,10 @@ fn render_rows_inlined(
                     object,
                     primitive,
                     t: t[column] as f64,
-                    beta: beta[column] as f64,
-                    gamma: gamma[column] as f64,
+                    at: At::Triangle {
+                        beta: beta[column] as f64,
+                        gamma: gamma[column] as f64,
+                    },
                 };
                 let ray_dir = [dir[0][column], dir[1][column], dir[2][column]].map(f64::from);
                 let object = &prepared.objects[object];

@@ -21,6 +21,7 @@
 //! study, the probe and `--method watertight-exact` use.
 
 use crate::math::linalg::V3;
+use crate::render::TriangleHit;
 
 /// A ray prepared for the sheared test: its origin, the permutation and the shear constants.
 #[derive(Clone, Copy, Debug)]
@@ -87,9 +88,9 @@ impl ShearedRay {
         ]
     }
 
-    /// Tests a triangle: (t, β, γ) when the ray hits it with `t_min < t`, else `None`.
+    /// Tests a triangle: X = (β, γ, t) when the ray hits it with `t_min < t`, else `None`.
     #[inline(always)]
-    pub fn intersect(&self, [a, b, c]: &[V3<f64>; 3], t_min: f64) -> Option<[f64; 3]> {
+    pub fn intersect(&self, [a, b, c]: &[V3<f64>; 3], t_min: f64) -> Option<TriangleHit> {
         let (a, b, c) = (self.shear(a), self.shear(b), self.shear(c));
         // U for edge C→B, V for A→C, W for B→A: each from its edge's two vertices alone.
         let u = edge_sign_and_value(&c, &b);
@@ -118,12 +119,18 @@ impl ShearedRay {
         let scaled_t = u * a[2] + v * b[2] + w * c[2];
         let t = scaled_t / det;
         if det != 0.0 && t.is_finite() {
-            return (t > t_min).then_some([t, v / det, w / det]);
+            let (beta, gamma) = (v / det, w / det);
+            return (t > t_min).then_some(TriangleHit { beta, gamma, t });
         }
         // The edge functions' floats all underflowed to zero while their exact signs agree: a
         // sliver far below the pixel's size. Its t from the plane, its centre as the barycentrics.
         let t = plane_t(&a, &b, &c);
-        (t.is_finite() && t > t_min).then_some([t, 1.0 / 3.0, 1.0 / 3.0])
+        let centre = TriangleHit {
+            beta: 1.0 / 3.0,
+            gamma: 1.0 / 3.0,
+            t,
+        };
+        (t.is_finite() && t > t_min).then_some(centre)
     }
 }
 

@@ -28,7 +28,7 @@ pub fn grid_box(cells: usize) -> (Camera, usize, Vec<[V3<f64>; 3]>) {
         target: [0.0, 1.0, 0.0],
         fov_y: 60.0,
     };
-    let grid = |column: usize, row: usize| camera_ray(&camera, side, side, row, column).1;
+    let grid = |column: usize, row: usize| camera_ray(&camera, side, side, row, column).dir;
     let mut triangles = Vec::with_capacity(4 * cells * cells + 12 * cells);
     for a in 0..cells {
         for b in 0..cells {

@@ -17,7 +17,8 @@ pub mod inspect;
 pub mod kernels;
 pub mod loading;
 pub mod objects;
-pub mod rays;
+pub mod ray;
+pub mod ray_kinds;
 pub mod secondary;
 pub mod shading;
 
@@ -31,15 +32,12 @@ use crate::math::linalg::{V3, cross, dot, sub};
 use crate::platform::{Progress, Sliced, Stopwatch};
 use crate::scene::render::{Camera, Effect, RenderScene};
 pub use bug::Bug;
-pub use cast::Hit;
 use loading::assets::AssetSource;
 use objects::{Geometry, PreparedObject, unit};
 pub use objects::{ObjectError, PrepareError};
+pub use ray::{At, Hit, ParallelogramHit, Ray, TriangleHit};
 use shading::light::Lighting;
 use shading::shade::Shader;
-
-/// A ray: origin and direction (not normalised).
-pub type Ray = (V3<f64>, V3<f64>);
 
 /// Rays traced together through a mesh's BVH: neighbouring pixels, a tile of [`TILE_ROWS`] rows by
 /// [`TILE_COLUMNS`] columns, or of one row.
@@ -76,21 +74,21 @@ pub struct Stats {
     pub depth_fades: u64,
     /// The effects past ray casting: their rays by kind and the work those rays did (the counters
     /// above count only the primary ray through each pixel's centre).
-    pub secondary: rays::Secondary,
+    pub secondary: ray_kinds::Secondary,
 }
 
 impl Stats {
     /// The rays of `kind` the render cast (the primary rays are [`Stats::rays`]).
-    pub fn rays_of(&self, kind: rays::RayKind) -> u64 {
+    pub fn rays_of(&self, kind: ray_kinds::RayKind) -> u64 {
         match kind {
-            rays::RayKind::Primary => self.rays,
+            ray_kinds::RayKind::Primary => self.rays,
             _ => self.secondary.rays(kind),
         }
     }
 
     /// Every ray the render cast, of every kind.
     pub fn all_rays(&self) -> u64 {
-        rays::RayKind::ALL
+        ray_kinds::RayKind::ALL
             .iter()
             .map(|&kind| self.rays_of(kind))
             .sum()
@@ -253,7 +251,7 @@ impl Prepared {
     }
 
     /// The ray through pixel (row, column).
-    pub fn ray(&self, row: usize, column: usize) -> (V3<f64>, V3<f64>) {
+    pub fn ray(&self, row: usize, column: usize) -> Ray {
         camera_ray(&self.camera, self.width, self.height, row, column)
     }
 
@@ -276,7 +274,7 @@ impl Prepared {
             rows,
             basis.as_ref(),
             &mut stats,
-            |(row, column), (_, dir), hit, stats| {
+            |(row, column), Ray { dir, .. }, hit, stats| {
                 let at = (row - first) * width + column;
                 (pixels[at], covered[at]) = self.shade(&shader, hit, &dir, stats);
             },
@@ -295,7 +293,7 @@ impl Prepared {
         stats: &mut Stats,
     ) -> Vec<(Ray, Option<Hit>)> {
         let (first, width) = (rows.start, self.width);
-        let mut out = vec![(([0.0; 3], [0.0; 3]), None); rows.len() * width];
+        let mut out = vec![(Ray::new([0.0; 3], [0.0; 3]), None); rows.len() * width];
         self.cast_rows_each(rows, basis, stats, |(row, column), ray, hit, _| {
             out[(row - first) * width + column] = (ray, hit);
         });
@@ -356,9 +354,9 @@ impl Prepared {
                 }
             }
             for column in packed..width {
-                let (origin, dir) = ray((row, column));
-                let hit = cast::nearest_hit(self, origin, dir, stats);
-                deliver((row, column), (origin, dir), hit, stats);
+                let ray = ray((row, column));
+                let hit = cast::nearest_hit(self, ray, stats);
+                deliver((row, column), ray, hit, stats);
             }
         }
         stats.rays += (rows.len() * width) as u64;
@@ -513,13 +511,7 @@ pub fn pinhole_basis(camera: &Camera, width: usize, height: usize) -> Option<Bas
 }
 
 /// The ray through pixel (row, column): origin and direction.
-pub fn camera_ray(
-    camera: &Camera,
-    width: usize,
-    height: usize,
-    row: usize,
-    column: usize,
-) -> (V3<f64>, V3<f64>) {
+pub fn camera_ray(camera: &Camera, width: usize, height: usize, row: usize, column: usize) -> Ray {
     let basis = pinhole_basis(camera, width, height);
     camera_ray_in(camera, basis.as_ref(), (width, height), row, column)
 }
@@ -533,7 +525,7 @@ pub fn camera_ray_in(
     (width, height): (usize, usize),
     row: usize,
     column: usize,
-) -> (V3<f64>, V3<f64>) {
+) -> Ray {
     camera_ray_at(camera, basis, (width, height), row as f64, column as f64)
 }
 
@@ -546,7 +538,7 @@ pub fn camera_ray_at(
     (width, height): (usize, usize),
     row: f64,
     column: f64,
-) -> (V3<f64>, V3<f64>) {
+) -> Ray {
     // Pixel centres at both ends, as numpy's mgrid with a complex step count places them.
     let along = |from: f64, to: f64, i: f64, n: usize| {
         if n <= 1 {
@@ -562,18 +554,18 @@ pub fn camera_ray_at(
                 along(y.0, y.1, row, height),
                 *z,
             ];
-            (point, unit(point))
+            Ray::new(point, unit(point))
         }
         Camera::Pinhole { .. } => {
             let Some(b) = basis else {
-                return ([0.0; 3], [0.0; 3]);
+                return Ray::new([0.0; 3], [0.0; 3]);
             };
             let u = (column + 0.5) / width as f64 * 2.0 - 1.0;
             let v = 1.0 - (row + 0.5) / height as f64 * 2.0;
             let dir: V3<f64> = std::array::from_fn(|k| {
                 b.forward[k] + b.right[k] * u * b.half_width + b.up[k] * v * b.half_height
             });
-            (b.origin, dir)
+            Ray::new(b.origin, dir)
         }
     }
 }
@@ -662,10 +654,10 @@ mod tests {
             y: (0.5, -0.5),
             z: 1.0,
         };
-        let (origin, dir) = camera_ray(&camera, 512, 256, 0, 0);
+        let Ray { origin, dir } = camera_ray(&camera, 512, 256, 0, 0);
         assert_eq!(origin, [1.0, 0.5, 1.0]);
         assert!((crate::math::linalg::dot(&dir, &dir).sqrt() - 1.0).abs() < 1e-15);
-        let (origin, _) = camera_ray(&camera, 512, 256, 255, 511);
+        let Ray { origin, .. } = camera_ray(&camera, 512, 256, 255, 511);
         assert_eq!(origin, [-1.0, -0.5, 1.0]);
     }
 

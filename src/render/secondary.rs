@@ -11,9 +11,10 @@
 use rand_pcg::Pcg32;
 
 use super::Bug;
-use super::cast::{self, Hit};
+use super::Hit;
+use super::cast;
 use super::objects::unit;
-use super::rays::RayKind;
+use super::ray_kinds::RayKind;
 use super::shading::light::{incoming, lambert};
 use super::shading::optics::{reflect, refract, schlick};
 use super::shading::sampling::{cosine_hemisphere, pixel_rng, stratified};
@@ -169,9 +170,9 @@ impl<'a> SecondaryCaster<'a> {
     /// The surface a ray hit, with its shading work counted in `stats`.
     fn surface_at(&self, hit: &Hit, ray: &Ray, stats: &mut Stats) -> Surface {
         let object = &self.prepared.objects[hit.object];
-        let inverse_length = 1.0 / dot(&ray.1, &ray.1).sqrt();
+        let inverse_length = 1.0 / dot(&ray.dir, &ray.dir).sqrt();
         self.shader
-            .surface(object, hit, &ray.1, inverse_length, stats)
+            .surface(object, hit, &ray.dir, inverse_length, stats)
     }
 
     /// The ray through the fractional pixel position (row, column), centres at whole numbers.
@@ -197,7 +198,7 @@ impl<'a> SecondaryCaster<'a> {
         stats.secondary.count(kind);
         rec.start(kind, depth, ray);
         let hit = secondary_work(stats, |s| {
-            cast::nearest_hit_between(self.prepared, ray.0, ray.1, (0.0, f64::INFINITY), s)
+            cast::nearest_hit_between(self.prepared, ray, (0.0, f64::INFINITY), s)
         });
         rec.met(hit);
         let colour = match hit {
@@ -215,7 +216,7 @@ impl<'a> SecondaryCaster<'a> {
     fn blocked(&self, ray: Ray, t_max: f64, kind: RayKind, stats: &mut Stats) -> bool {
         stats.secondary.count(kind);
         let blocked = secondary_work(stats, |s| {
-            cast::any_hit(self.prepared, ray.0, ray.1, (0.0, t_max), s)
+            cast::any_hit(self.prepared, ray, (0.0, t_max), s)
         });
         stats.secondary.blocked += u64::from(blocked);
         blocked
@@ -237,9 +238,9 @@ impl<'a> SecondaryCaster<'a> {
         } else {
             self.surface_at(&hit, &ray, &mut Stats::default())
         };
-        let point: V3<f64> = std::array::from_fn(|k| ray.0[k] + hit.t * ray.1[k]);
+        let point = ray.at(hit.t);
         // The normal on the side the ray came from.
-        let front = if dot(&surface.normal, &ray.1) > 0.0 {
+        let front = if dot(&surface.normal, &ray.dir) > 0.0 {
             surface.normal.map(|c| -c)
         } else {
             surface.normal
@@ -251,7 +252,7 @@ impl<'a> SecondaryCaster<'a> {
             Material::Mirror { reflectance } if self.on.reflections && bounce => {
                 let mirrored = self.mirrored(
                     (&point, &front),
-                    &ray.1,
+                    &ray.dir,
                     (RayKind::Reflection, depth),
                     (rng, rec),
                     stats,
@@ -259,12 +260,12 @@ impl<'a> SecondaryCaster<'a> {
                 mix(&local, &mirrored, reflectance)
             }
             Material::Glass { ior } if self.on.refraction && bounce => {
-                let entering = dot(&surface.normal, &ray.1) < 0.0;
+                let entering = dot(&surface.normal, &ray.dir) < 0.0;
                 let etas = if entering { (1.0, ior) } else { (ior, 1.0) };
                 self.glass(
                     &local,
                     (&point, &front),
-                    (&ray.1, depth),
+                    (&ray.dir, depth),
                     etas,
                     (rng, rec),
                     stats,
@@ -307,7 +308,7 @@ impl<'a> SecondaryCaster<'a> {
             } else {
                 let from = self.off_surface(point, front, 1.0);
                 let t_max = seen.t_max;
-                let ray = (from, seen.toward_from(point, &from));
+                let ray = Ray::new(from, seen.toward_from(point, &from));
                 if self.blocked(ray, t_max, RayKind::Shadow, stats) {
                     rec.light(index, LightTest::Blocked(ray, t_max));
                     continue;
@@ -336,7 +337,7 @@ impl<'a> SecondaryCaster<'a> {
         let open = (0..settings.occlusion_rays)
             .filter(|_| {
                 let dir = cosine_hemisphere(front, rng);
-                !self.blocked((from, dir), reach, RayKind::Occlusion, stats)
+                !self.blocked(Ray::new(from, dir), reach, RayKind::Occlusion, stats)
             })
             .count();
         let cast = settings.occlusion_rays;
@@ -355,7 +356,7 @@ impl<'a> SecondaryCaster<'a> {
     ) -> V3<f64> {
         let reflected = reflect(dir, front);
         let from = self.off_surface(point, front, 1.0);
-        self.trace((from, reflected), (kind, depth + 1), rng_rec, stats)
+        self.trace(Ray::new(from, reflected), (kind, depth + 1), rng_rec, stats)
     }
 
     /// Glass: the refracted ray mixed with the reflected one by Schlick's Fresnel term (the surface's
@@ -379,7 +380,7 @@ impl<'a> SecondaryCaster<'a> {
         let fresnel = schlick(-dot(&d, front), from_eta, to_eta);
         let from = self.off_surface(point, front, -1.0);
         let kind = (RayKind::Refraction, depth + 1);
-        let refracted = self.trace((from, through), kind, (&mut *rng, &mut *rec), stats);
+        let refracted = self.trace(Ray::new(from, through), kind, (&mut *rng, &mut *rec), stats);
         let reflected = if self.on.reflections {
             self.mirrored(at, &d, (RayKind::Reflection, depth), (rng, rec), stats)
         } else {

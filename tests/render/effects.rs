@@ -14,8 +14,8 @@ use raylab::math::linalg::V3;
 use raylab::render::cast::nearest_hit;
 use raylab::render::inspect::cost::each_left_out;
 use raylab::render::inspect::probe::probe;
-use raylab::render::rays::RayKind;
-use raylab::render::{Prepared, Stats, loading::assets::Embedded, render};
+use raylab::render::ray_kinds::RayKind;
+use raylab::render::{Prepared, Ray, Stats, loading::assets::Embedded, render};
 use raylab::scene::render::{Effect, RenderScene};
 use raylab::scene::{Problem, Scene};
 
@@ -105,8 +105,8 @@ fn a_shadow_edge_falls_on_the_pixel_the_light_projects_it_to() {
     for row in 0..prepared.height {
         let mut before: Option<bool> = None;
         for column in 0..prepared.width {
-            let (origin, dir) = prepared.ray(row, column);
-            let hit = nearest_hit(&prepared, origin, dir, &mut Stats::default());
+            let Ray { origin, dir } = prepared.ray(row, column);
+            let hit = nearest_hit(&prepared, Ray::new(origin, dir), &mut Stats::default());
             // Only the floor, where the strip's shadow falls (its y range seen from the light).
             let Some(hit) = hit.filter(|h| h.object == 0) else {
                 before = None;
@@ -219,7 +219,7 @@ fn a_mirror_shows_what_the_reflected_ray_hits() {
     )"#,
     );
     let prepared = Prepared::new(&scene, &Embedded).unwrap();
-    let (origin, dir) = prepared.ray(0, 0);
+    let Ray { origin, dir } = prepared.ray(0, 0);
     // The scene's precondition: the pixel's ray meets the floor at (0, 0, 0); its reflection climbs
     // the wall at y = 2.
     let t = -origin[2] / dir[2];

@@ -19,7 +19,9 @@ use raylab::render::crack_free::ShearedRay;
 use raylab::render::generate::{grid_box, mesh_scene};
 use raylab::render::inspect::cost::each_left_out;
 use raylab::render::objects::{Geometry, PreparedObject, PreparedTriangle, prepare};
-use raylab::render::{Bug, Image, Prepared, Stats, loading::assets::Embedded, render};
+use raylab::render::{
+    Bug, Image, Prepared, Ray, Stats, TriangleHit, loading::assets::Embedded, render,
+};
 use raylab::scene::render::{Effect, Object, RenderScene, Shape, Transform};
 use raylab::scene::{Problem, Scene};
 
@@ -169,9 +171,9 @@ fn hit_targets(prepared: &Prepared, covered: &[bool]) -> Vec<(usize, usize)> {
             if !covered[row * prepared.width + column] {
                 continue;
             }
-            let (origin, dir) = prepared.ray(row, column);
+            let Ray { origin, dir } = prepared.ray(row, column);
             targets.push(
-                match nearest_hit(prepared, origin, dir, &mut Stats::default()) {
+                match nearest_hit(prepared, Ray::new(origin, dir), &mut Stats::default()) {
                     Some(hit) => (hit.object, hit.primitive),
                     // The batched f32 coverage kernel (seed 003's scenes) may cover an edge pixel
                     // the f64 cast misses; those scenes hold one triangle, so the hit is on it.
@@ -326,20 +328,19 @@ struct TransformCheck {
 /// For each ray and each triangle of a transformed object near it: the object-space decision and t (the ray
 /// taken in by `to_object_space`, the object's own triangle, the renderer's method) against the exact
 /// decision and t of the world-space problem (world ray, triangle moved by M).
-fn same_t_in_both_spaces(
-    object: &PreparedObject,
-    method: Method,
-    rays: &[(V3<f64>, V3<f64>)],
-) -> TransformCheck {
+fn same_t_in_both_spaces(object: &PreparedObject, method: Method, rays: &[Ray]) -> TransformCheck {
     let world = world_triangles(object);
     let spheres = bounding_spheres(triangles(object));
     let mut check = TransformCheck::default();
-    for &(origin, dir) in rays {
-        let (o, d) = to_object_space(object, origin, dir, None, &mut Stats::default());
-        let (o_n, d_n) = to_object_space(
+    for &ray in rays {
+        let Ray { origin, dir } = ray;
+        let Ray { origin: o, dir: d } = to_object_space(object, ray, None, &mut Stats::default());
+        let Ray {
+            origin: o_n,
+            dir: d_n,
+        } = to_object_space(
             object,
-            origin,
-            dir,
+            ray,
             Some(Bug::NormalizedDirection),
             &mut Stats::default(),
         );
@@ -348,8 +349,8 @@ fn same_t_in_both_spaces(
         let candidates: Vec<usize> = near_triangles(&spheres, o, d, 1e-9).collect();
         for i in candidates {
             let (triangle, world_triangle) = (&triangles(object)[i], &world[i]);
-            let in_object = test_triangle(triangle, method, None, o, d);
-            let in_world = test_triangle(world_triangle, method, None, origin, dir);
+            let in_object = test_triangle(triangle, method, None, Ray::new(o, d));
+            let in_world = test_triangle(world_triangle, method, None, ray);
             let exact = reference(&Case {
                 tri: world_triangle.vertices,
                 origin,
@@ -371,7 +372,7 @@ fn same_t_in_both_spaces(
             );
             assert_eq!(in_object.is_some(), exact.hit, "object space: {what}");
             assert_eq!(in_world.is_some(), exact.hit, "world space: {what}");
-            let Some([t_object, _, _]) = in_object else {
+            let Some(TriangleHit { t: t_object, .. }) = in_object else {
                 continue;
             };
             check.hits += 1;
@@ -385,8 +386,8 @@ fn same_t_in_both_spaces(
             check.worst_share = check.worst_share.max(error / tolerance);
             check.largest_tolerance = check.largest_tolerance.max(tolerance);
             // Normalising D' after the transform: the same point, reached at t·|D'|.
-            let [t_normalised, _, _] =
-                test_triangle(triangle, method, None, o_n, d_n).expect("the same line, a hit");
+            let normalised = test_triangle(triangle, method, None, Ray::new(o_n, d_n));
+            let t_normalised = normalised.expect("the same line, a hit").t;
             let factor = length(&d);
             assert!(
                 (t_normalised - t * factor).abs() <= 2.0 * tolerance * t * factor,
@@ -402,7 +403,7 @@ fn same_t_in_both_spaces(
 }
 
 /// Camera rays on a grid of every `step`-th pixel.
-fn camera_rays(prepared: &Prepared, step: usize) -> Vec<(V3<f64>, V3<f64>)> {
+fn camera_rays(prepared: &Prepared, step: usize) -> Vec<Ray> {
     (0..prepared.height)
         .step_by(step)
         .flat_map(|row| (0..prepared.width).step_by(step).map(move |c| (row, c)))
@@ -469,7 +470,7 @@ fn transformed_rays_give_the_same_t_as_world_space_intersection() {
         seed ^= seed << 17;
         (seed >> 11) as f64 / (1u64 << 53) as f64
     };
-    let rays: Vec<(V3<f64>, V3<f64>)> = (0..2000)
+    let rays: Vec<Ray> = (0..2000)
         .map(|_| {
             let (beta, gamma) = (uniform() * 1.4 - 0.2, uniform() * 1.4 - 0.2);
             let target: V3<f64> =
@@ -477,7 +478,7 @@ fn transformed_rays_give_the_same_t_as_world_space_intersection() {
             let origin: V3<f64> = std::array::from_fn(|_| uniform() * 20.0 - 10.0);
             // Not unit length: t is in units of |D|, as the world ray has it.
             let scale = 0.5 + uniform() * 2.0;
-            (origin, sub(&target, &origin).map(|x| x * scale))
+            Ray::new(origin, sub(&target, &origin).map(|x| x * scale))
         })
         .collect();
     let check = same_t_in_both_spaces(&prepared, Method::MollerTrumbore, &rays);
@@ -524,8 +525,8 @@ fn normalising_the_object_space_direction_changes_the_depth_image() {
     // Pixels whose nearest hit is the mesh, in the correct render.
     let mesh_pixels: Vec<usize> = (0..correct.height * correct.width)
         .filter(|i| {
-            let (origin, dir) = correct.ray(i / correct.width, i % correct.width);
-            nearest_hit(&correct, origin, dir, &mut Stats::default())
+            let Ray { origin, dir } = correct.ray(i / correct.width, i % correct.width);
+            nearest_hit(&correct, Ray::new(origin, dir), &mut Stats::default())
                 .is_some_and(|h| h.object == mesh)
         })
         .collect();
@@ -635,7 +636,7 @@ fn crack_pixels(
             if image.covered[row * prepared.width + column] {
                 continue;
             }
-            let (origin, dir) = prepared.ray(row, column);
+            let Ray { origin, dir } = prepared.ray(row, column);
             if distance_to_line(&[0.0; 3], &origin, &dir) > 1.0 + 1e-9 {
                 continue;
             }
@@ -660,7 +661,7 @@ fn uncovered_inside(prepared: &Prepared, image: &Image, radius: f64) -> Vec<(usi
     (0..prepared.height)
         .flat_map(|row| (0..prepared.width).map(move |column| (row, column)))
         .filter(|&(row, column)| {
-            let (origin, dir) = prepared.ray(row, column);
+            let Ray { origin, dir } = prepared.ray(row, column);
             !image.covered[row * prepared.width + column]
                 && distance_to_line(&[0.0; 3], &origin, &dir) < radius
         })
@@ -708,7 +709,7 @@ fn a_watertight_mesh_render_has_no_crack_pixels_where_the_mesh_is_closed() {
     ] {
         let mut inside = Vec::new();
         for &(r, c) in &pixels {
-            let (origin, dir) = prepared.ray(r, c);
+            let Ray { origin, dir } = prepared.ray(r, c);
             assert_eq!((origin[plane_axis], dir[plane_axis]), (0.0, 0.0), "{name}");
             inside.push(distance_to_line(&[0.0; 3], &origin, &dir) < inradius - 1e-9);
         }
@@ -731,7 +732,7 @@ fn a_watertight_mesh_render_has_no_crack_pixels_where_the_mesh_is_closed() {
         }
     }
     // The centre pixel's ray is the y axis itself, through the vertex (0, −1, 0).
-    assert_eq!(prepared.ray(centre_row, centre_column).1, [0.0, 1.0, 0.0]);
+    assert_eq!(prepared.ray(centre_row, centre_column).dir, [0.0, 1.0, 0.0]);
 
     // For comparison: Möller–Trumbore in f64 as the renderer runs it, and the same method in f32 on the
     // centre row and column (the rays along edges), counted the same way. The scene is built so they
@@ -749,7 +750,7 @@ fn a_watertight_mesh_render_has_no_crack_pixels_where_the_mesh_is_closed() {
         .map(|c| (centre_row, c))
         .chain((0..height).map(|r| (r, centre_column)));
     for (r, c) in centre_pixels {
-        let (origin, dir) = prepared.ray(r, c);
+        let Ray { origin, dir } = prepared.ray(r, c);
         if distance_to_line(&[0.0; 3], &origin, &dir) >= inradius - 1e-6 {
             continue;
         }
@@ -818,11 +819,16 @@ fn the_bvh_render_equals_a_brute_force_render() {
     let (w, h) = (prepared.width, prepared.height);
     let mut hits = 0;
     for (r, c) in (0..w).map(|c| (h / 2, c)).chain((0..h).map(|r| (r, w / 2))) {
-        let (origin, dir) = prepared.ray(r, c);
+        let Ray { origin, dir } = prepared.ray(r, c);
         let brute = near_triangles(&spheres, origin, dir, 1e-9)
-            .filter_map(|i| Some((test_triangle(&mesh[i], method, None, origin, dir)?[0], i)))
+            .filter_map(|i| {
+                Some((
+                    test_triangle(&mesh[i], method, None, Ray::new(origin, dir))?.t,
+                    i,
+                ))
+            })
             .min_by(|a, b| a.partial_cmp(b).unwrap());
-        let through_bvh = nearest_hit(&prepared, origin, dir, &mut Stats::default());
+        let through_bvh = nearest_hit(&prepared, Ray::new(origin, dir), &mut Stats::default());
         assert_eq!(
             through_bvh.map(|hit| (hit.t, hit.primitive)),
             brute,
@@ -896,7 +902,7 @@ fn rays_along_every_edge_and_through_every_vertex_of_a_closed_box_hit_exactly_on
     let (mut through_vertices, mut along_edges) = (0, 0);
     for row in 0..side {
         for column in 0..side {
-            let (origin, dir) = prepared.ray(row, column);
+            let Ray { origin, dir } = prepared.ray(row, column);
             let exact = (0..mesh.len())
                 .filter(|&i| {
                     reference(&Case {
@@ -949,7 +955,7 @@ fn seam_rays_through_the_closed_octasphere_hit_an_even_number_of_triangles() {
     let (w, h) = (prepared.width, prepared.height);
     let mut entering = 0;
     for (r, c) in (0..w).map(|c| (h / 2, c)).chain((0..h).map(|r| (r, w / 2))) {
-        let (origin, dir) = prepared.ray(r, c);
+        let Ray { origin, dir } = prepared.ray(r, c);
         let hits = crack_free_hits(&mesh, origin, dir).len();
         let distance = distance_to_line(&[0.0; 3], &origin, &dir);
         assert_eq!(hits % 2, 0, "pixel ({r}, {c}) hits {hits}");
@@ -1069,12 +1075,11 @@ fn packets_of_rays_hit_what_single_rays_hit() {
         let mut hits = 0;
         for row in 0..prepared.height {
             for start in (0..prepared.width.saturating_sub(7)).step_by(8) {
-                let rays: [(V3<f64>, V3<f64>); 8] =
-                    std::array::from_fn(|k| prepared.ray(row, start + k));
+                let rays: [Ray; 8] = std::array::from_fn(|k| prepared.ray(row, start + k));
                 let mut packet = [None; 8];
                 nearest_hits(prepared, &rays, &mut Stats::default(), &mut packet);
-                for (k, (origin, dir)) in rays.iter().enumerate() {
-                    let single = nearest_hit(prepared, *origin, *dir, &mut Stats::default());
+                for (k, ray) in rays.iter().enumerate() {
+                    let single = nearest_hit(prepared, *ray, &mut Stats::default());
                     assert_eq!(packet[k], single, "pixel ({row}, {})", start + k);
                     hits += usize::from(single.is_some());
                 }

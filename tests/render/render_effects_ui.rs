@@ -15,7 +15,7 @@ use raylab::app::parallelogram_view::ParallelogramView;
 use raylab::app::render_view::RenderView;
 use raylab::app::render_view::grouped;
 use raylab::app::triangle_view::TriangleView;
-use raylab::render::rays::RayKind;
+use raylab::render::ray_kinds::RayKind;
 use raylab::render::secondary::LightTest;
 
 /// Clicks the widget with this label, scrolled into view first (the probe's column scrolls).
@@ -105,7 +105,10 @@ fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
     let state = &harness.state().state;
     assert_eq!(state.view, ViewKind::Triangle);
     let triangle = &state.get::<TriangleView>().scene;
-    assert_eq!((triangle.origin, triangle.dir), shadow_ray);
+    assert_eq!(
+        (triangle.origin, triangle.dir),
+        (shadow_ray.origin, shadow_ray.dir)
+    );
     assert!(
         state
             .title(ViewKind::Triangle)
@@ -128,9 +131,12 @@ fn shadows_toggle_their_rays_and_a_shadowed_pixel_opens_its_shadow_ray() {
     assert_eq!(state.view, ViewKind::Parallelogram);
     assert_eq!(
         state.get::<ParallelogramView>().scene.origin,
-        tree.root.ray.0
+        tree.root.ray.origin
     );
-    assert_eq!(state.get::<ParallelogramView>().scene.dir, tree.root.ray.1);
+    assert_eq!(
+        state.get::<ParallelogramView>().scene.dir,
+        tree.root.ray.dir
+    );
 }
 
 #[test]

@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::render::inspect::cost::{CostJob, EffectCost};
-use crate::render::rays::RayKind;
+use crate::render::ray_kinds::RayKind;
 
 /// A measurement of each effect's cost, for the choices it was started under.
 pub(super) struct Cost {

@@ -2,6 +2,7 @@
 //! Triangle or Parallelogram view with its steps.
 
 use super::*;
+use crate::render::{At, Ray};
 
 impl RenderView {
     /// The choices a probe depends on.
@@ -50,7 +51,7 @@ impl RenderView {
     }
 
     /// The problem of a ray of the tree and what it hit, for its view.
-    pub(super) fn hit_problem(&self, ray: crate::render::Ray, hit: Hit) -> Option<Action> {
+    pub(super) fn hit_problem(&self, ray: Ray, hit: Hit) -> Option<Action> {
         let (_, Ok(prepared)) = self.runtime.prepared.as_ref()? else {
             return None;
         };
@@ -130,21 +131,20 @@ impl RenderView {
         ui.horizontal_wrapped(|ui| {
             match probe.hit {
                 Some(hit) => {
-                    let kind = self.object_kind(hit.object);
-                    let names = if kind == "parallelogram" {
-                        ("α", "β")
-                    } else {
-                        ("β", "γ")
+                    let names = match hit.at {
+                        At::Parallelogram { .. } => ("α", "β"),
+                        At::Triangle { .. } => ("β", "γ"),
                     };
+                    let [first, second] = hit.coordinates();
                     ui.label(
                         RichText::new(format!(
                             "hit {}: t = {:.6}, {} = {:.6}, {} = {:.6}",
                             self.hit_object_text(&hit),
                             hit.t,
                             names.0,
-                            hit.beta,
+                            first,
                             names.1,
-                            hit.gamma
+                            second
                         ))
                         .color(palette::INSIDE.readable(ui)),
                     );
@@ -225,11 +225,11 @@ pub(super) fn probed_problem(prepared: &Prepared, result: &Probe) -> Option<Acti
             t_min: 0.0,
         }));
     }
-    problem_of(prepared, (result.origin, result.dir), result.hit?)
+    problem_of(prepared, Ray::new(result.origin, result.dir), result.hit?)
 }
 
 /// The ray with the triangle or parallelogram it hit, in world space.
-fn problem_of(prepared: &Prepared, (origin, dir): crate::render::Ray, hit: Hit) -> Option<Action> {
+fn problem_of(prepared: &Prepared, Ray { origin, dir }: Ray, hit: Hit) -> Option<Action> {
     let object = prepared.objects.get(hit.object)?;
     if let Some([a, b, c]) = crate::render::world_triangle(object, hit.primitive) {
         return Some(Action::Triangle(TriangleScene {

@@ -37,8 +37,11 @@ impl RenderView {
                 .to_array()
         });
         let mut stats = crate::render::Stats::default();
-        let (object_origin, object_dir) =
-            crate::render::cast::to_object_space(object, probe.origin, probe.dir, None, &mut stats);
+        let world_ray = crate::render::Ray::new(probe.origin, probe.dir);
+        let crate::render::Ray {
+            origin: object_origin,
+            dir: object_dir,
+        } = crate::render::cast::to_object_space(object, world_ray, None, &mut stats);
         let t = probe.hit.map(|h| h.t);
         let transformed = object.object_from_world.is_some();
         ui.label(if transformed {

@@ -6,7 +6,7 @@
 use super::*;
 use crate::render::Ray;
 use crate::render::inspect::ray_tree::{LightRay, RayTree, TracedRay};
-use crate::render::rays::RayKind;
+use crate::render::ray_kinds::RayKind;
 use crate::render::secondary::LightTest;
 
 /// A ray the tree asks to open: the problem for its view, and what to call it.

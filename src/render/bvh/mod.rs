@@ -29,6 +29,7 @@ use super::kernels::{Avx2, Isa, Scalar, crack_free4::Quad, narrow};
 use super::kernels::{boxes4, crack_free4};
 use super::objects::PreparedTriangle;
 use crate::math::linalg::V3;
+use crate::render::{Ray, TriangleHit};
 
 /// Triangles per leaf, at most.
 const MAX_LEAF: usize = 8;
@@ -168,12 +169,12 @@ pub(in crate::render) struct Node {
     pub(in crate::render) count: [u32; 4],
 }
 
-/// A ray's nearest hit in a hierarchy: the triangle's index and (t, β, γ).
+/// A ray's nearest hit in a hierarchy: the triangle's index and its (β, γ, t).
 #[cfg_attr(
     not(target_arch = "x86_64"),
     allow(dead_code, unused_imports, reason = "used by the x86-64 kernels only")
 )]
-pub(in crate::render) type Nearest = Option<(usize, [f64; 3])>;
+pub(in crate::render) type Nearest = Option<(usize, TriangleHit)>;
 
 /// The hierarchy: 4-wide nodes (the root first), and the triangles in leaf order ("slots").
 #[derive(Clone, Debug)]
@@ -349,8 +350,7 @@ impl Bvh {
     /// `box_tests` counts box tests (one per child box looked at).
     pub fn traverse(
         &self,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
+        ray: &Ray,
         t_min: f64,
         t_max: f64,
         box_tests: &mut u64,
@@ -358,8 +358,7 @@ impl Bvh {
     ) {
         self.walk(
             Scalar,
-            origin,
-            dir,
+            ray,
             (t_min, t_max),
             box_tests,
             |slots, mut t_max| {
@@ -374,7 +373,7 @@ impl Bvh {
     }
 
     /// The nearest triangle the crack-free watertight test hits with `t_min < t ≤ t_max` (ties to
-    /// the lower triangle index): its index and (t, β, γ). Counts box and triangle tests.
+    /// the lower triangle index): its index and (β, γ, t). Counts box and triangle tests.
     ///
     /// Compiled twice: with AVX2 and FMA where `simd` proves the processor has them (the same
     /// arithmetic, as Rust never fuses a multiply and an add on its own, so the same answers),
@@ -382,19 +381,18 @@ impl Bvh {
     pub fn nearest_crack_free(
         &self,
         simd: Option<Avx2>,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
+        ray: &Ray,
         (t_min, t_max): (f64, f64),
         box_tests: &mut u64,
         triangle_tests: &mut u64,
-    ) -> Option<(usize, [f64; 3])> {
+    ) -> Nearest {
         let range = (t_min, t_max);
         let counts = (box_tests, triangle_tests);
         match simd {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
-            Some(avx2) => unsafe { self.nearest_crack_free_avx2(avx2, origin, dir, range, counts) },
-            _ => self.nearest_crack_free_in(Scalar, origin, dir, range, counts),
+            Some(avx2) => unsafe { self.nearest_crack_free_avx2(avx2, ray, range, counts) },
+            _ => self.nearest_crack_free_in(Scalar, ray, range, counts),
         }
     }
 
@@ -404,12 +402,11 @@ impl Bvh {
     fn nearest_crack_free_avx2(
         &self,
         avx2: Avx2,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
+        ray: &Ray,
         range: (f64, f64),
         counts: (&mut u64, &mut u64),
-    ) -> Option<(usize, [f64; 3])> {
-        self.nearest_crack_free_in(avx2, origin, dir, range, counts)
+    ) -> Nearest {
+        self.nearest_crack_free_in(avx2, ray, range, counts)
     }
 
     /// The traversal and tests themselves, inlined into each of the two builds above.
@@ -417,24 +414,16 @@ impl Bvh {
     fn nearest_crack_free_in<I: Isa>(
         &self,
         isa: I,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
+        ray: &Ray,
         (t_min, t_max): (f64, f64),
         (box_tests, triangle_tests): (&mut u64, &mut u64),
-    ) -> Option<(usize, [f64; 3])> {
-        let ray = ShearedRay::new(origin, dir)?;
-        let mut best: Option<(usize, [f64; 3])> = None;
-        self.walk(
-            isa,
-            origin,
-            dir,
-            (t_min, t_max),
-            box_tests,
-            |slots, t_max| {
-                *triangle_tests += slots.len() as u64;
-                self.leaf_crack_free(isa, &ray, slots, t_min, t_max, &mut best)
-            },
-        );
+    ) -> Nearest {
+        let sheared = ShearedRay::new(&ray.origin, &ray.dir)?;
+        let mut best: Nearest = None;
+        self.walk(isa, ray, (t_min, t_max), box_tests, |slots, t_max| {
+            *triangle_tests += slots.len() as u64;
+            self.leaf_crack_free(isa, &sheared, slots, t_min, t_max, &mut best)
+        });
         best
     }
 
@@ -445,8 +434,7 @@ impl Bvh {
     pub fn occluded(
         &self,
         simd: Option<Avx2>,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
+        ray: &Ray,
         (t_min, t_max): (f64, f64),
         box_tests: &mut u64,
         triangle_tests: &mut u64,
@@ -456,8 +444,8 @@ impl Bvh {
         match simd {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
-            Some(avx2) => unsafe { self.occluded_avx2(avx2, origin, dir, range, counts) },
-            _ => self.occluded_in(Scalar, origin, dir, range, counts),
+            Some(avx2) => unsafe { self.occluded_avx2(avx2, ray, range, counts) },
+            _ => self.occluded_in(Scalar, ray, range, counts),
         }
     }
 
@@ -467,12 +455,11 @@ impl Bvh {
     fn occluded_avx2(
         &self,
         avx2: Avx2,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
+        ray: &Ray,
         range: (f64, f64),
         counts: (&mut u64, &mut u64),
     ) -> bool {
-        self.occluded_in(avx2, origin, dir, range, counts)
+        self.occluded_in(avx2, ray, range, counts)
     }
 
     /// The any-hit traversal itself, inlined into each of the two builds above.
@@ -480,30 +467,22 @@ impl Bvh {
     fn occluded_in<I: Isa>(
         &self,
         isa: I,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
+        ray: &Ray,
         (t_min, t_max): (f64, f64),
         (box_tests, triangle_tests): (&mut u64, &mut u64),
     ) -> bool {
-        let Some(ray) = ShearedRay::new(origin, dir) else {
+        let Some(sheared) = ShearedRay::new(&ray.origin, &ray.dir) else {
             return false;
         };
         let mut found = false;
-        self.walk(
-            isa,
-            origin,
-            dir,
-            (t_min, t_max),
-            box_tests,
-            |slots, limit| {
-                *triangle_tests += slots.len() as u64;
-                let mut best = None;
-                self.leaf_crack_free(isa, &ray, slots, t_min, limit, &mut best);
-                found |= best.is_some_and(|(_, hit)| hit[0] < t_max);
-                // Once found, a limit below every box ends the walk.
-                if found { f64::NEG_INFINITY } else { limit }
-            },
-        );
+        self.walk(isa, ray, (t_min, t_max), box_tests, |slots, limit| {
+            *triangle_tests += slots.len() as u64;
+            let mut best = None;
+            self.leaf_crack_free(isa, &sheared, slots, t_min, limit, &mut best);
+            found |= best.is_some_and(|(_, hit)| hit.t < t_max);
+            // Once found, a limit below every box ends the walk.
+            if found { f64::NEG_INFINITY } else { limit }
+        });
         found
     }
 
@@ -519,17 +498,17 @@ impl Bvh {
         slots: std::ops::Range<usize>,
         t_min: f64,
         mut limit: f64,
-        best: &mut Option<(usize, [f64; 3])>,
+        best: &mut Nearest,
     ) -> f64 {
-        let mut offer = |slot: usize, hit: [f64; 3], limit: &mut f64| {
+        let mut offer = |slot: usize, hit: TriangleHit, limit: &mut f64| {
             let index = self.order[slot] as usize;
             let closer = match *best {
-                None => hit[0] <= *limit,
-                Some((b, bh)) => hit[0] < bh[0] || (hit[0] == bh[0] && index < b),
+                None => hit.t <= *limit,
+                Some((b, bh)) => hit.t < bh.t || (hit.t == bh.t && index < b),
             };
             if closer {
                 *best = Some((index, hit));
-                *limit = hit[0];
+                *limit = hit.t;
             }
         };
         #[cfg(target_arch = "x86_64")]
@@ -544,8 +523,12 @@ impl Bvh {
                     let lane = hit.trailing_zeros() as usize;
                     hit &= hit - 1;
                     let det = found.det[lane];
-                    let values = [found.t[lane], found.v[lane] / det, found.w[lane] / det];
-                    offer(first + lane, values, &mut limit);
+                    let hit = TriangleHit {
+                        beta: found.v[lane] / det,
+                        gamma: found.w[lane] / det,
+                        t: found.t[lane],
+                    };
+                    offer(first + lane, hit, &mut limit);
                 }
                 let mut again = found.again;
                 while again != 0 {
@@ -576,11 +559,11 @@ impl Bvh {
     pub fn nearest_crack_free_packet<const P: usize>(
         &self,
         simd: Option<Avx2>,
-        rays: &[(V3<f64>, V3<f64>); P],
+        rays: &[Ray; P],
         t_max: [f64; P],
         box_tests: &mut u64,
         triangle_tests: &mut u64,
-        best: &mut [Option<(usize, [f64; 3])>; P],
+        best: &mut [Nearest; P],
     ) {
         *best = [None; P];
         match simd {
@@ -600,14 +583,14 @@ impl Bvh {
     fn packet_avx2<const P: usize>(
         &self,
         avx2: Avx2,
-        rays: &[(V3<f64>, V3<f64>); P],
+        rays: &[Ray; P],
         t_max: [f64; P],
         box_tests: &mut u64,
         triangle_tests: &mut u64,
         best: &mut [Nearest; P],
     ) {
         if P == narrow::RAYS && self.narrow && !self.nodes.is_empty() {
-            let packet = <&[(V3<f64>, V3<f64>); narrow::RAYS]>::try_from(rays.as_slice());
+            let packet = <&[Ray; narrow::RAYS]>::try_from(rays.as_slice());
             let limits = <[f64; narrow::RAYS]>::try_from(t_max.as_slice());
             let found = match (
                 packet,
@@ -631,14 +614,14 @@ impl Bvh {
     fn packet_in<const P: usize, I: Isa>(
         &self,
         isa: I,
-        rays: &[(V3<f64>, V3<f64>); P],
+        rays: &[Ray; P],
         t_max: [f64; P],
         box_tests: &mut u64,
         triangle_tests: &mut u64,
         best: &mut [Nearest; P],
     ) {
         let sheared: [Option<ShearedRay>; P] =
-            std::array::from_fn(|r| ShearedRay::new(&rays[r].0, &rays[r].1));
+            std::array::from_fn(|r| ShearedRay::new(&rays[r].origin, &rays[r].dir));
         // Rays with a direction and finite numbers take part (ShearedRay checks both).
         let mut all = 0u32;
         for (r, ray) in sheared.iter().enumerate() {
@@ -650,7 +633,7 @@ impl Bvh {
             bvh: self,
             isa,
             sheared,
-            box_rays: std::array::from_fn(|r| BoxRay::new(&rays[r].0, &rays[r].1)),
+            box_rays: std::array::from_fn(|r| BoxRay::new(&rays[r])),
             t_max,
             box_tests,
             triangle_tests,
@@ -665,18 +648,17 @@ impl Bvh {
     fn walk<I: Isa>(
         &self,
         isa: I,
-        origin: &V3<f64>,
-        dir: &V3<f64>,
+        ray: &Ray,
         (t_min, t_max): (f64, f64),
         box_tests: &mut u64,
         leaf: impl FnMut(std::ops::Range<usize>, f64) -> f64,
     ) {
-        if !origin.iter().chain(dir).all(|c| c.is_finite()) {
+        if !ray.origin.iter().chain(&ray.dir).all(|c| c.is_finite()) {
             return;
         }
         let mut query = OneRay {
             isa,
-            ray: BoxRay::new(origin, dir),
+            ray: BoxRay::new(ray),
             t_min,
             t_max,
             box_tests,
@@ -794,12 +776,12 @@ impl<I: Isa, const P: usize> Query for Packet<'_, I, P> {
 }
 
 impl BoxRay {
-    /// The box test's constants for the ray o + t d.
+    /// The box test's constants for `ray`.
     #[inline(always)]
-    pub(in crate::render) fn new(origin: &V3<f64>, dir: &V3<f64>) -> BoxRay {
-        let inverse_dir = dir.map(|d| 1.0 / d);
+    pub(in crate::render) fn new(ray: &Ray) -> BoxRay {
+        let inverse_dir = ray.dir.map(|d| 1.0 / d);
         BoxRay {
-            origin: *origin,
+            origin: ray.origin,
             inverse_dir,
             parallel: inverse_dir.map(|i| !i.is_finite()),
         }
@@ -1135,8 +1117,7 @@ mod tests {
         let mut box_tests = 0;
         let origin = [-1e308, -1e308, -1e308];
         bvh.traverse(
-            &origin,
-            &[1e-300, 1.0, 1e-300],
+            &Ray::new(origin, [1e-300, 1.0, 1e-300]),
             0.0,
             f64::INFINITY,
             &mut box_tests,
@@ -1177,8 +1158,7 @@ mod tests {
                 let mut box_tests = 0;
                 let mut tests = 0;
                 bvh.traverse(
-                    &[o, 0.5, -o],
-                    &[d, 1.0, -d],
+                    &Ray::new([o, 0.5, -o], [d, 1.0, -d]),
                     0.0,
                     f64::INFINITY,
                     &mut box_tests,
@@ -1272,10 +1252,10 @@ mod tests {
         assert!(split_up > 40 && in_several > 40, "{split_up} {in_several}");
         let brute = |origin: V3<f64>, dir: V3<f64>| {
             let ray = ShearedRay::new(&origin, &dir)?;
-            let mut best: Option<(usize, [f64; 3])> = None;
+            let mut best: Nearest = None;
             for (i, t) in mesh.iter().enumerate() {
                 if let Some(hit) = ray.intersect(&t.vertices, 0.0)
-                    && best.is_none_or(|(_, b)| hit[0] < b[0])
+                    && best.is_none_or(|(_, b)| hit.t < b.t)
                 {
                     best = Some((i, hit));
                 }
@@ -1292,12 +1272,12 @@ mod tests {
         // From outside, and from the centre: the hedgehog is star-shaped about its centre (its
         // vertices moved along their radii), so a ray from there leaves it once, at the target.
         for origin in [[0.3, -9.0, 0.5], [0.0; 3]] {
-            let rays: Vec<(V3<f64>, V3<f64>)> = targets
+            let rays: Vec<Ray> = targets
                 .iter()
-                .map(|p| (origin, std::array::from_fn(|k| p[k] - origin[k])))
+                .map(|p| Ray::new(origin, std::array::from_fn(|k| p[k] - origin[k])))
                 .collect();
             for packet in rays.chunks_exact(16) {
-                let packet: &[(V3<f64>, V3<f64>); 16] = packet.try_into().unwrap();
+                let packet: &[Ray; 16] = packet.try_into().unwrap();
                 let mut found = [None; 16];
                 bvh.nearest_crack_free_packet(
                     Avx2::detect(),
@@ -1307,14 +1287,14 @@ mod tests {
                     &mut 0,
                     &mut found,
                 );
-                for (r, (o, d)) in packet.iter().enumerate() {
+                for (r, ray) in packet.iter().enumerate() {
                     let alone =
-                        bvh.nearest_crack_free(None, o, d, (0.0, f64::INFINITY), &mut 0, &mut 0);
-                    assert_eq!(found[r], alone, "{o:?} {d:?}");
-                    assert_eq!(alone, brute(*o, *d), "{o:?} {d:?}");
+                        bvh.nearest_crack_free(None, ray, (0.0, f64::INFINITY), &mut 0, &mut 0);
+                    assert_eq!(found[r], alone, "{ray:?}");
+                    assert_eq!(alone, brute(ray.origin, ray.dir), "{ray:?}");
                     if origin == [0.0; 3] {
-                        let t = alone.map(|(_, hit)| hit[0]);
-                        assert!(t.is_some_and(|t| (t - 1.0).abs() < 1e-9), "{d:?} {t:?}");
+                        let t = alone.map(|(_, hit)| hit.t);
+                        assert!(t.is_some_and(|t| (t - 1.0).abs() < 1e-9), "{ray:?} {t:?}");
                     }
                 }
             }
@@ -1342,7 +1322,7 @@ mod tests {
                 random.random_range(-0.4..0.4),
                 random.random_range(-0.4..0.4),
             ];
-            let rays: [(V3<f64>, V3<f64>); 16] = std::array::from_fn(|r| {
+            let rays: [Ray; 16] = std::array::from_fn(|r| {
                 let target: V3<f64> = match p % 4 {
                     0 => [base[0] + r as f64 / 64.0, 0.0, base[1]],
                     1 => std::array::from_fn(|_| random.random_range(-1.2..1.2)),
@@ -1363,7 +1343,7 @@ mod tests {
                 } else {
                     origin
                 };
-                (origin, std::array::from_fn(|k| target[k] - origin[k]))
+                Ray::new(origin, std::array::from_fn(|k| target[k] - origin[k]))
             });
             let t_max: [f64; 16] =
                 std::array::from_fn(|r| if r % 5 == 0 { 2.9 } else { f64::INFINITY });
@@ -1376,9 +1356,9 @@ mod tests {
                 &mut 0,
                 &mut packet,
             );
-            for (r, (o, d)) in rays.iter().enumerate() {
-                let alone = bvh.nearest_crack_free(None, o, d, (0.0, t_max[r]), &mut 0, &mut 0);
-                assert_eq!(packet[r], alone, "packet {p}, ray {r}: {o:?} {d:?}");
+            for (r, ray) in rays.iter().enumerate() {
+                let alone = bvh.nearest_crack_free(None, ray, (0.0, t_max[r]), &mut 0, &mut 0);
+                assert_eq!(packet[r], alone, "packet {p}, ray {r}: {ray:?}");
                 hits += alone.is_some() as usize;
             }
         }
@@ -1403,11 +1383,11 @@ mod tests {
             };
             let dir = std::array::from_fn(|k| target[k] - origin[k]);
             let t_max = [f64::INFINITY, 1.0, 0.999_999, 0.5][i % 4];
-            let nearest =
-                bvh.nearest_crack_free(None, &origin, &dir, (0.0, f64::INFINITY), &mut 0, &mut 0);
-            let expected = nearest.is_some_and(|(_, hit)| hit[0] < t_max);
+            let ray = Ray::new(origin, dir);
+            let nearest = bvh.nearest_crack_free(None, &ray, (0.0, f64::INFINITY), &mut 0, &mut 0);
+            let expected = nearest.is_some_and(|(_, hit)| hit.t < t_max);
             assert_eq!(
-                bvh.occluded(Avx2::detect(), &origin, &dir, (0.0, t_max), &mut 0, &mut 0),
+                bvh.occluded(Avx2::detect(), &ray, (0.0, t_max), &mut 0, &mut 0),
                 expected,
                 "{origin:?} {dir:?} {t_max}"
             );
@@ -1440,7 +1420,7 @@ mod tests {
                 Some(t)
             };
             if through_bvh {
-                bvh.traverse(&origin, &dir, 0.0, f64::INFINITY, &mut 0, test);
+                bvh.traverse(&Ray::new(origin, dir), 0.0, f64::INFINITY, &mut 0, test);
             } else {
                 (0..mesh.len()).for_each(|i| {
                     test(i);
@@ -1452,7 +1432,7 @@ mod tests {
             let ray = ShearedRay::new(&origin, &dir)?;
             let mut best: Option<(f64, usize)> = None;
             for (i, t) in mesh.iter().enumerate() {
-                if let Some([t, _, _]) = ray.intersect(&t.vertices, 0.0)
+                if let Some(TriangleHit { t, .. }) = ray.intersect(&t.vertices, 0.0)
                     && best.is_none_or(|(b, bi)| t < b || (t == b && i < bi))
                 {
                     best = Some((t, i));
@@ -1469,8 +1449,14 @@ mod tests {
                 let brute = nearest(origin, dir, false);
                 assert_eq!(nearest(origin, dir, true), brute, "ray {dir:?}");
                 let fast = bvh
-                    .nearest_crack_free(None, &origin, &dir, (0.0, f64::INFINITY), &mut 0, &mut 0)
-                    .map(|(i, v)| (v[0], i));
+                    .nearest_crack_free(
+                        None,
+                        &Ray::new(origin, dir),
+                        (0.0, f64::INFINITY),
+                        &mut 0,
+                        &mut 0,
+                    )
+                    .map(|(i, hit)| (hit.t, i));
                 assert_eq!(fast, crack_free(origin, dir), "ray {dir:?}");
                 assert_eq!(fast.is_some(), brute.is_some(), "ray {dir:?}");
                 hits += brute.is_some() as usize;
@@ -1511,8 +1497,7 @@ mod tests {
         ] {
             let found = bvh.nearest_crack_free(
                 Avx2::detect(),
-                &origin,
-                &dir,
+                &Ray::new(origin, dir),
                 (0.0, f64::INFINITY),
                 &mut 0,
                 &mut 0,

@@ -91,7 +91,7 @@ impl Sliced for CostJob {
 mod tests {
     use super::*;
     use crate::render::loading::assets::Embedded;
-    use crate::render::rays::RayKind;
+    use crate::render::ray_kinds::RayKind;
     use crate::scene::{Problem, Scene};
 
     #[test]

@@ -2,9 +2,10 @@
 
 use crate::intersect::Method;
 use crate::math::linalg::V3;
-use crate::render::cast::{Hit, nearest_hit, to_object_space};
+use crate::render::cast::{nearest_hit, to_object_space};
 use crate::render::objects::Geometry;
 use crate::render::shading::shade::Shader;
+use crate::render::{Hit, Ray};
 use crate::render::{Prepared, Stats, world_triangle};
 
 /// One pixel's story.
@@ -30,14 +31,15 @@ pub struct Probe {
 
 /// Casts the ray through (row, column) and reports what it met.
 pub fn probe(prepared: &Prepared, row: usize, column: usize) -> Probe {
-    let (origin, dir) = prepared.ray(row, column);
+    let ray = prepared.ray(row, column);
+    let Ray { origin, dir } = ray;
     let mut stats = Stats::default();
-    let hit = nearest_hit(prepared, origin, dir, &mut stats);
+    let hit = nearest_hit(prepared, ray, &mut stats);
     // Lit scenes and the effects past ray casting: the render's own pixel, lights, shadows, mirrors,
     // glass, occlusion and antialiasing's mean included.
     let traced = crate::render::secondary::applies(prepared).then(|| {
         crate::render::secondary::SecondaryCaster::new(prepared)
-            .pixel((row, column), (origin, dir), hit, &mut stats)
+            .pixel((row, column), ray, hit, &mut stats)
             .map(|c| c as f32)
     });
     let shading = hit.map(|hit| {
@@ -52,7 +54,7 @@ pub fn probe(prepared: &Prepared, row: usize, column: usize) -> Probe {
     });
     let nearest_miss = match hit {
         Some(_) => None,
-        None => nearest_missed(prepared, origin, dir),
+        None => nearest_missed(prepared, ray),
     };
     let target = hit.map(|h| (h.object, h.primitive)).or(nearest_miss);
     Probe {
@@ -69,18 +71,18 @@ pub fn probe(prepared: &Prepared, row: usize, column: usize) -> Probe {
 
 /// The triangle whose plane the ray meets closest to the triangle (in barycentric terms: how far
 /// β, γ and 1 − β − γ are below zero), preferring ones in front of the ray.
-fn nearest_missed(prepared: &Prepared, origin: V3<f64>, dir: V3<f64>) -> Option<(usize, usize)> {
+fn nearest_missed(prepared: &Prepared, ray: Ray) -> Option<(usize, usize)> {
     let mut best: Option<((bool, f64), (usize, usize))> = None;
     for (o, object) in prepared.objects.iter().enumerate() {
         let Geometry::Triangles { triangles, .. } = &object.geometry else {
             continue;
         };
-        let (ro, rd) = to_object_space(object, origin, dir, None, &mut Stats::default());
+        let local = to_object_space(object, ray, None, &mut Stats::default());
         for (p, triangle) in triangles.iter().enumerate() {
             let case = crate::intersect::Case {
                 tri: triangle.vertices,
-                origin: ro,
-                dir: rd,
+                origin: local.origin,
+                dir: local.dir,
             };
             let Some([t, beta, gamma]) = Method::Cramer.run(&case).values else {
                 continue;

@@ -4,8 +4,9 @@
 //! order it traced them (the same seeded random numbers), recorded as they were cast.
 
 use crate::math::linalg::V3;
-use crate::render::cast::{self, Hit, nearest_hit};
-use crate::render::rays::RayKind;
+use crate::render::Hit;
+use crate::render::cast::{self, nearest_hit};
+use crate::render::ray_kinds::RayKind;
 use crate::render::secondary::{LightTest, Record, SecondaryCaster};
 use crate::render::shading::sampling::{pixel_rng, stratified};
 use crate::render::{Prepared, Ray, Stats};
@@ -144,13 +145,9 @@ impl Record for Builder<'_> {
 
     fn light(&mut self, light: usize, test: LightTest) {
         let blocker = match test {
-            LightTest::Blocked((origin, dir), t_max) => cast::nearest_hit_between(
-                self.prepared,
-                origin,
-                dir,
-                (0.0, t_max),
-                &mut Stats::default(),
-            ),
+            LightTest::Blocked(ray, t_max) => {
+                cast::nearest_hit_between(self.prepared, ray, (0.0, t_max), &mut Stats::default())
+            }
             _ => None,
         };
         if let Some(top) = self.open.last_mut() {
@@ -175,7 +172,7 @@ pub fn ray_tree(prepared: &Prepared, row: usize, column: usize) -> RayTree {
     let seed = prepared.lighting.settings.seed;
     let pixel = row * prepared.width + column;
     let centre = prepared.ray(row, column);
-    let hit = nearest_hit(prepared, centre.0, centre.1, &mut Stats::default());
+    let hit = nearest_hit(prepared, centre, &mut Stats::default());
     let mut builder = Builder {
         prepared,
         open: Vec::new(),
@@ -215,8 +212,8 @@ fn samples(
     let hit = positions
         .iter()
         .filter(|(x, y)| {
-            let (origin, dir) = caster.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
-            nearest_hit(prepared, origin, dir, &mut Stats::default()).is_some()
+            let ray = caster.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
+            nearest_hit(prepared, ray, &mut Stats::default()).is_some()
         })
         .count();
     Samples {
@@ -312,8 +309,8 @@ mod tests {
         assert_eq!((mirrored.kind, mirrored.depth), (RayKind::Reflection, 1));
         assert_eq!(mirrored.hit.map(|h| h.object), Some(1));
         // r = d − 2(d·n)n off the floor z = 0: the vertical component flips.
-        let d = tree.root.ray.1;
-        let r = mirrored.ray.1;
+        let d = tree.root.ray.dir;
+        let r = mirrored.ray.dir;
         assert!((r[2] + d[2]).abs() < 1e-12 && (r[1] - d[1]).abs() < 1e-12);
         // The wall faces the light travelling +y: its shadow ray to the light is cast and lit.
         assert!(matches!(mirrored.lights[0].test, LightTest::Lit(..)));
@@ -354,8 +351,8 @@ mod tests {
             let length = crate::math::linalg::dot(d, d).sqrt();
             (d[0] * d[0] + d[2] * d[2]).sqrt() / length
         };
-        let into = sine(&tree.root.ray.1);
-        let through = sine(&tree.root.children[0].ray.1);
+        let into = sine(&tree.root.ray.dir);
+        let through = sine(&tree.root.children[0].ray.dir);
         assert!(into > 0.001, "a slanted ray: {into}");
         assert!((through - into / 1.5).abs() < 1e-12, "{into} {through}");
         // The depth limit: no ray below bounce 1.

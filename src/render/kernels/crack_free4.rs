@@ -360,7 +360,8 @@ mod tests {
         let (mut settled, mut hits) = (0, 0);
         for row in 0..side {
             for column in 0..side {
-                let (origin, dir) = camera_ray(&camera, side, side, row, column);
+                let crate::render::Ray { origin, dir } =
+                    camera_ray(&camera, side, side, row, column);
                 for nudge in [0.0, 1e-3] {
                     let dir = [dir[0] + nudge, dir[1], dir[2] - nudge];
                     let Some(ray) = ShearedRay::new(&origin, &dir) else {
@@ -376,8 +377,9 @@ mod tests {
                             settled += 1;
                             let det = found.det[lane];
                             let got = (found.hit & (1 << lane) != 0)
-                                .then(|| [found.t[lane], found.v[lane] / det, found.w[lane] / det]);
-                            let expected = ray.intersect(triangle, 0.0);
+                                .then(|| [found.v[lane] / det, found.w[lane] / det, found.t[lane]]);
+                            let expected =
+                                ray.intersect(triangle, 0.0).map(|h| [h.beta, h.gamma, h.t]);
                             let bits = |v: Option<[f64; 3]>| v.map(|v| v.map(f64::to_bits));
                             assert_eq!(bits(got), bits(expected), "({row}, {column}) {lane}");
                             hits += got.is_some() as usize;

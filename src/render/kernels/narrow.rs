@@ -24,7 +24,7 @@
 #![allow(unsafe_code)]
 
 use super::Avx2;
-use crate::math::linalg::V3;
+use crate::render::Ray;
 use crate::render::bvh::traverse::{Met, Query, children};
 use crate::render::bvh::{Bvh, EMPTY, Nearest, Node};
 use crate::render::crack_free::ShearedRay;
@@ -71,7 +71,7 @@ impl Lanes {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     #[inline]
-    unsafe fn new(rays: &[(V3<f64>, V3<f64>); RAYS], t_max: &[f64; RAYS]) -> Option<Lanes> {
+    unsafe fn new(rays: &[Ray; RAYS], t_max: &[f64; RAYS]) -> Option<Lanes> {
         use std::arch::x86_64::*;
         let mut lanes = Lanes {
             inverse: [[0.0; RAYS]; 3],
@@ -92,16 +92,16 @@ impl Lanes {
             for (quarter, slack) in slack.iter_mut().enumerate() {
                 let r = 4 * quarter;
                 let dir = _mm256_setr_pd(
-                    rays[r].1[k],
-                    rays[r + 1].1[k],
-                    rays[r + 2].1[k],
-                    rays[r + 3].1[k],
+                    rays[r].dir[k],
+                    rays[r + 1].dir[k],
+                    rays[r + 2].dir[k],
+                    rays[r + 3].dir[k],
                 );
                 let origin = _mm256_setr_pd(
-                    rays[r].0[k],
-                    rays[r + 1].0[k],
-                    rays[r + 2].0[k],
-                    rays[r + 3].0[k],
+                    rays[r].origin[k],
+                    rays[r + 1].origin[k],
+                    rays[r + 2].origin[k],
+                    rays[r + 3].origin[k],
                 );
                 let parallel = _mm256_cmp_pd::<_CMP_EQ_OQ>(dir, _mm256_setzero_pd());
                 all_parallel = _mm256_and_pd(all_parallel, parallel);
@@ -190,7 +190,7 @@ impl Lanes {
 pub fn nearest(
     avx2: Avx2,
     bvh: &Bvh,
-    rays: &[(V3<f64>, V3<f64>); RAYS],
+    rays: &[Ray; RAYS],
     t_max: [f64; RAYS],
     box_tests: &mut u64,
     triangle_tests: &mut u64,
@@ -209,7 +209,7 @@ pub fn nearest(
 unsafe fn nearest_unchecked(
     avx2: Avx2,
     bvh: &Bvh,
-    rays: &[(V3<f64>, V3<f64>); RAYS],
+    rays: &[Ray; RAYS],
     t_max: [f64; RAYS],
     box_tests: &mut u64,
     triangle_tests: &mut u64,
@@ -238,7 +238,7 @@ unsafe fn nearest_unchecked(
 struct Narrow<'a> {
     avx2: Avx2,
     bvh: &'a Bvh,
-    rays: &'a [(V3<f64>, V3<f64>); RAYS],
+    rays: &'a [Ray; RAYS],
     lanes: Lanes,
     /// Each ray's nearest hit so far (`lanes.t_max` holds it rounded up).
     t_max: [f64; RAYS],
@@ -274,7 +274,7 @@ impl Query for Narrow<'_> {
             let r = each.trailing_zeros() as usize;
             each &= each - 1;
             if self.sheared[r].is_none() {
-                self.sheared[r] = ShearedRay::new(&self.rays[r].0, &self.rays[r].1);
+                self.sheared[r] = ShearedRay::new(&self.rays[r].origin, &self.rays[r].dir);
             }
             let Some(ray) = &self.sheared[r] else {
                 continue;

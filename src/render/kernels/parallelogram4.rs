@@ -16,9 +16,10 @@ use super::Avx2;
 #[cfg(target_arch = "x86_64")]
 use super::moller_trumbore4::{Lanes3, splat, store};
 use crate::math::linalg::V3;
+use crate::render::Ray;
 
 /// Four rays (origin, direction), one a lane.
-pub type Rays4 = [(V3<f64>, V3<f64>); 4];
+pub type Rays4 = [Ray; 4];
 
 /// What four rays found: lanes are bits (lane i is bit i), values are `[lane]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -109,9 +110,9 @@ fn gather(x: [f64; 4]) -> __m256d {
 fn rays_lanes(rays: &Rays4, which: usize) -> Lanes3 {
     let part = |lane: usize| {
         if which == 0 {
-            &rays[lane].0
+            &rays[lane].origin
         } else {
-            &rays[lane].1
+            &rays[lane].dir
         }
     };
     let axis = |k: usize| [part(0)[k], part(1)[k], part(2)[k], part(3)[k]];
@@ -403,7 +404,7 @@ mod tests {
             let Some(solver) = Parallelogram4::new(avx2, shape) else {
                 panic!("{shape:?}: a usual parallelogram left to the one-ray solver");
             };
-            let found = solver.solve(&rays.map(|[o, d]| (o, d)), &t_max);
+            let found = solver.solve(&rays.map(|[o, d]| Ray::new(o, d)), &t_max);
             assert_eq!(found.hit & found.rare, 0);
             if scale == 1.0 {
                 assert_eq!(found.rare & !unusual, 0, "{i}: {rays:?} left to one ray");

@@ -1,7 +1,7 @@
 //! The colour of a hit, computing only what the scene's effects call for (seed 003, seed 004).
 
 use crate::math::linalg::{V3, dot};
-use crate::render::cast::Hit;
+use crate::render::Hit;
 use crate::render::objects::{Geometry, PreparedObject, unit};
 use crate::render::{Effect, Stats};
 
@@ -134,7 +134,7 @@ impl Shader {
             Geometry::Triangles { triangles, .. } => Some(&triangles[hit.primitive]),
             Geometry::Parallelogram { .. } => None,
         };
-        let weights = [1.0 - hit.beta - hit.gamma, hit.beta, hit.gamma];
+        let weights = hit.weights();
         if self.texture
             && let Some(texture) = &object.texture
         {
@@ -142,7 +142,7 @@ impl Shader {
             // A parallelogram's (α, β) are its texture coordinates; a triangle without UVs uses (β, γ).
             let [u, v] = match triangle.and_then(|t| t.uvs) {
                 Some(uvs) => interpolate(&weights, &uvs),
-                None => [hit.beta, hit.gamma],
+                None => hit.coordinates(),
             };
             return texture.sample(u, v).map(f64::from);
         }
@@ -169,7 +169,7 @@ impl Shader {
                 match triangle.normals.filter(|_| self.smooth) {
                     Some(normals) => {
                         stats.normal_interpolations += 1;
-                        let weights = [1.0 - hit.beta - hit.gamma, hit.beta, hit.gamma];
+                        let weights = hit.weights();
                         interpolate(&weights, &normals)
                     }
                     None => triangle.face_normal,
