@@ -11,7 +11,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use raylab::accuracy::families::{Family, generate};
-use raylab::intersect::batch::{self, TrianglesSoA};
+use raylab::intersect::soa::{self, TrianglesSoA};
 use raylab::intersect::{Case, Float, InverseSolve, Method};
 
 const BATCH: usize = 4096;
@@ -69,7 +69,7 @@ fn kernel(c: &mut Criterion) {
     group.throughput(Throughput::Elements(BATCH as u64));
     group.bench_function("soa-moller-trumbore/f32", |b| {
         b.iter(|| {
-            batch::intersect(
+            soa::intersect(
                 black_box(ray.origin),
                 black_box(ray.dir),
                 black_box(&soa),

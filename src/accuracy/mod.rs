@@ -6,13 +6,13 @@ pub mod families;
 pub mod hard_cases;
 pub mod study;
 
-/// The struct-of-arrays kernel (intersect/batch.rs) against the scalar method, on the study's random
+/// The struct-of-arrays kernel (intersect/soa.rs) against the scalar method, on the study's random
 /// family (tested here, above both, as the layers ask).
 #[cfg(test)]
 mod struct_of_arrays_kernel {
     use crate::accuracy::families::{Family, generate};
-    use crate::intersect::batch::{Nearest, RayBatch, TrianglesSoA, intersect, intersect_rays};
     use crate::intersect::moller_trumbore;
+    use crate::intersect::soa::{Nearest, RaysSoA, TrianglesSoA, intersect, intersect_rays};
 
     #[test]
     fn agrees_with_the_scalar_method() {
@@ -38,7 +38,7 @@ mod struct_of_arrays_kernel {
         };
         let origin = columns(&|c| c.origin);
         let dir = columns(&|c| c.dir);
-        let rays = RayBatch {
+        let rays = RaysSoA {
             origin: [&origin[0], &origin[1], &origin[2]],
             dir: [&dir[0], &dir[1], &dir[2]],
         };

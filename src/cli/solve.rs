@@ -167,13 +167,11 @@ fn pose<R: Real>(case: &Case) -> Posed<R> {
             dir: convert(&vectors[4]),
             t_min: R::from_exact(&t_min.exact),
         }),
-        Case::Parallelogram { vectors } => Posed::Parallelogram(RayParallelogram {
-            corner: convert(&vectors[0]),
-            e1: convert(&vectors[1]),
-            e2: convert(&vectors[2]),
-            origin: convert(&vectors[3]),
-            dir: convert(&vectors[4]),
-        }),
+        Case::Parallelogram { vectors } => {
+            Posed::Parallelogram(RayParallelogram::new(std::array::from_fn(|i| {
+                convert(&vectors[i])
+            })))
+        }
     }
 }
 

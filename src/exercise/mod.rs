@@ -334,16 +334,8 @@ fn solve_triangle(
     (outcome, values, trace)
 }
 
-fn solve_parallelogram(
-    [corner, e1, e2, origin, dir]: &[[Exact; 3]; 5],
-) -> (Option<Outcome>, Vec<Exact>, Trace) {
-    let problem = RayParallelogram {
-        corner: corner.clone(),
-        e1: e1.clone(),
-        e2: e2.clone(),
-        origin: origin.clone(),
-        dir: dir.clone(),
-    };
+fn solve_parallelogram(vectors: &[[Exact; 3]; 5]) -> (Option<Outcome>, Vec<Exact>, Trace) {
+    let problem = RayParallelogram::new(vectors.clone());
     let (solved, trace) = ParallelogramLecture::traced(&problem);
     let outcome = match solved.outcome {
         ParallelogramOutcome::Hit => Some(Outcome::Hit),

@@ -7,13 +7,13 @@
 //! β ≥ 0, γ ≥ 0, β + γ ≤ 1 and t > t_min, edges included — so any disagreement with the exact reference
 //! is a rounding error, never a difference of convention.
 
-pub mod batch;
 pub mod cramer;
 pub mod inverse;
 pub mod moller_trumbore;
 pub mod normal_equations;
 pub mod plane;
 pub mod reference;
+pub mod soa;
 pub mod watertight;
 
 use serde::{Deserialize, Serialize};

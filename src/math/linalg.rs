@@ -107,16 +107,19 @@ pub fn mul_vec<R: Real, const N: usize>(m: &[[R; N]; N], v: &[R; N]) -> [R; N] {
     std::array::from_fn(|row| dot(&m[row], v))
 }
 
+/// The two indices of 0, 1, 2 other than `skip`, in order: the rows or columns a minor keeps.
+#[inline(always)]
+pub fn other_two(skip: usize) -> [usize; 2] {
+    match skip {
+        0 => [1, 2],
+        1 => [0, 2],
+        _ => [0, 1],
+    }
+}
+
 /// The minor of a 3x3 matrix: delete `row` and `col`.
 pub fn minor3<R: Real>(m: &M3<R>, row: usize, col: usize) -> M2<R> {
-    let keep = |skip: usize| -> [usize; 2] {
-        match skip {
-            0 => [1, 2],
-            1 => [0, 2],
-            _ => [0, 1],
-        }
-    };
-    let (rows, cols) = (keep(row), keep(col));
+    let (rows, cols) = (other_two(row), other_two(col));
     std::array::from_fn(|i| std::array::from_fn(|j| m[rows[i]][cols[j]].clone()))
 }
 

@@ -214,13 +214,29 @@ pub fn nearest_hits<const P: usize>(
     best: &mut [Option<Hit>; P],
 ) {
     *best = [None; P];
+    let four = four_lanes::<P>(prepared);
     for (index, object) in prepared.objects.iter().enumerate() {
         let bvh = match &object.geometry {
             Geometry::Triangles { bvh: Some(bvh), .. } if crack_free_applies(prepared, object) => {
                 bvh
             }
-            _ if lone_hits(prepared, index, rays, best, stats) => continue,
-            _ if parallelogram_hits(prepared, index, rays, best, stats) => continue,
+            Geometry::Triangles {
+                triangles,
+                bvh: None,
+            } if four.is_some_and(|avx2| {
+                lone_hits(avx2, prepared, (index, triangles), rays, best, stats)
+            }) =>
+            {
+                continue;
+            }
+            Geometry::Parallelogram { corner, e1, e2, .. }
+                if four.is_some_and(|avx2| {
+                    let shape = [corner, e1, e2];
+                    parallelogram_hits(avx2, prepared, (index, shape), rays, best, stats)
+                }) =>
+            {
+                continue;
+            }
             _ => {
                 for (best, ray) in best.iter_mut().zip(rays) {
                     hit_object(prepared, index, *ray, best, stats);
@@ -286,32 +302,29 @@ fn each_four<const P: usize>(
     }
 }
 
-/// Lone triangles (Möller–Trumbore), without a bug that changes the test, four rays at a time with
-/// AVX2 ([`super::kernels::moller_trumbore4`]: the same arithmetic, so the same hits as [`hit_object`]). False when the
-/// object, the bug or the processor does not allow it (then nothing was done).
+/// The AVX2 proof when a packet of `P` rays may take the four-lane kernels: the processor has AVX2,
+/// the packet splits into fours, and no bug changes the test.
+#[inline(always)]
+fn four_lanes<const P: usize>(prepared: &Prepared) -> Option<Avx2> {
+    let allowed = P.is_multiple_of(4) && test_bug(prepared).is_none();
+    prepared.simd.filter(|_| allowed)
+}
+
+/// Object `index`'s lone triangles by Möller–Trumbore, four rays at a time
+/// ([`super::kernels::moller_trumbore4`]: the same arithmetic, so the same hits as [`hit_object`]),
+/// where [`four_lanes`] allows. False when the object takes another method (then nothing was done).
+#[inline(always)]
 fn lone_hits<const P: usize>(
+    avx2: Avx2,
     prepared: &Prepared,
-    index: usize,
+    (index, triangles): (usize, &[PreparedTriangle]),
     rays: &[Ray; P],
     best: &mut [Option<Hit>; P],
     stats: &mut Stats,
 ) -> bool {
     use super::kernels::moller_trumbore4::{Rays4, moller_trumbore};
     let object = &prepared.objects[index];
-    let Geometry::Triangles {
-        triangles,
-        bvh: None,
-    } = &object.geometry
-    else {
-        return false;
-    };
-    let Some(avx2) = prepared.simd else {
-        return false;
-    };
-    if !P.is_multiple_of(4)
-        || test_bug(prepared).is_some()
-        || prepared.method_for(object) != Method::MollerTrumbore
-    {
+    if prepared.method_for(object) != Method::MollerTrumbore {
         return false;
     }
     each_four(object, rays, best, stats, |local, best, stats| {
@@ -337,28 +350,22 @@ fn lone_hits<const P: usize>(
     true
 }
 
-/// A parallelogram, without a bug that changes its test, four rays at a time with AVX2
-/// ([`super::kernels::parallelogram4`]: seed 001's solver in lanes, the same bits, so the same hits as
-/// [`hit_object`]); a ray whose t is beyond its nearest hit so far is dropped before its α and β are
-/// computed. Rays the kernel leaves to the one-ray solver go through [`test_parallelogram`]. False
-/// when the object, the bug or the processor does not allow it (then nothing was done).
+/// Object `index`, a parallelogram, four rays at a time where [`four_lanes`] allows
+/// ([`super::kernels::parallelogram4`]: seed 001's solver in lanes, the same bits, so the same hits
+/// as [`hit_object`]); a ray whose t is beyond its nearest hit so far is dropped before its α and β
+/// are computed. Rays the kernel leaves to the one-ray solver go through [`test_parallelogram`].
+/// False when the parallelogram is one the kernel leaves to the one-ray solver whatever the ray
+/// (then nothing was done).
+#[inline(always)]
 fn parallelogram_hits<const P: usize>(
+    avx2: Avx2,
     prepared: &Prepared,
-    index: usize,
+    (index, [corner, e1, e2]): (usize, [&V3<f64>; 3]),
     rays: &[Ray; P],
     best: &mut [Option<Hit>; P],
     stats: &mut Stats,
 ) -> bool {
     let object = &prepared.objects[index];
-    let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
-        return false;
-    };
-    let Some(avx2) = prepared.simd else {
-        return false;
-    };
-    if !P.is_multiple_of(4) || test_bug(prepared).is_some() {
-        return false;
-    }
     let Some(solver) = Parallelogram4::new(avx2, [corner, e1, e2]) else {
         return false;
     };
@@ -393,20 +400,26 @@ fn offer(best: &mut Option<Hit>, hit: Hit) {
     }
 }
 
-/// Tests one triangle of object `index` and keeps the hit in `best` if nearer; the hit's t.
-#[inline(always)]
-fn keep_nearer(
-    triangle: &PreparedTriangle,
-    (index, primitive): (usize, usize),
+/// How an object's triangles are tested one at a time: the object, its method, the bug, and the
+/// ray in its space.
+struct TriangleTest<'a> {
+    index: usize,
     method: Method,
     bug: Option<Bug>,
-    ray: &Ray,
+    ray: &'a Ray,
+}
+
+/// Tests triangle `primitive` and keeps the hit in `best` if nearer; the hit's t.
+#[inline(always)]
+fn keep_nearer(
+    test: &TriangleTest,
+    (primitive, triangle): (usize, &PreparedTriangle),
     best: &mut Option<Hit>,
     stats: &mut Stats,
 ) -> Option<f64> {
     stats.triangle_tests += 1;
-    let hit = test_triangle(triangle, method, bug, *ray)?;
-    offer(best, Hit::triangle(index, primitive, hit));
+    let hit = test_triangle(triangle, test.method, test.bug, *test.ray)?;
+    offer(best, Hit::triangle(test.index, primitive, hit));
     Some(hit.t)
 }
 
@@ -437,22 +450,16 @@ fn hit_object(
                 }
             }
             Geometry::Triangles { triangles, bvh } => {
-                let method = prepared.method_for(object);
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
-                let bug = prepared.bug;
-                let keep = |primitive, best: &mut Option<Hit>, stats: &mut Stats| {
-                    let triangle = &triangles[primitive];
-                    keep_nearer(
-                        triangle,
-                        (index, primitive),
-                        method,
-                        bug,
-                        &local,
-                        best,
-                        stats,
-                    )
+                let one = TriangleTest {
+                    index,
+                    method: prepared.method_for(object),
+                    bug: prepared.bug,
+                    ray: &local,
                 };
-                let mut test = |primitive: usize| keep(primitive, best, stats);
+                let mut test = |primitive: usize| {
+                    keep_nearer(&one, (primitive, &triangles[primitive]), best, stats)
+                };
                 // The BVH culls by the triangles' boxes; `and`-for-`or` and v ≤ 1 accept points
                 // outside them, so those bugs test every triangle.
                 let culls = !matches!(prepared.bug, Some(Bug::AndForOr | Bug::VInsteadOfSum));
@@ -470,16 +477,8 @@ fn hit_object(
                     // Lone triangles: called in place, not through `test` (whose captured ray
                     // was read back from memory at a stall on each call).
                     None => {
-                        for (primitive, triangle) in triangles.iter().enumerate() {
-                            keep_nearer(
-                                triangle,
-                                (index, primitive),
-                                method,
-                                bug,
-                                &local,
-                                best,
-                                stats,
-                            );
+                        for each in triangles.iter().enumerate() {
+                            keep_nearer(&one, each, best, stats);
                         }
                     }
                 }
@@ -677,13 +676,7 @@ mod tests {
                 let n = crate::math::linalg::cross(&e1, &e2);
                 dir = std::array::from_fn(|k| e1[k] + 1e-9 * n[k]);
             }
-            let problem = RayParallelogram {
-                corner,
-                e1,
-                e2,
-                origin,
-                dir,
-            };
+            let problem = RayParallelogram::new([corner, e1, e2, origin, dir]);
             if !surely_outside([&corner, &e1, &e2], &origin, &dir, f64::INFINITY) {
                 continue;
             }
@@ -717,13 +710,7 @@ mod tests {
             let scale = [1e-150, 1e-20, 1e20, 1e150, 1.0, 1.0][i % 6];
             let (corner, e1) = (corner.map(|x| x * scale), e1.map(|x| x * scale));
             let (origin, dir) = (origin.map(|x| x * scale), dir.map(|x| x * scale));
-            let problem = RayParallelogram {
-                corner,
-                e1,
-                e2,
-                origin,
-                dir,
-            };
+            let problem = RayParallelogram::new([corner, e1, e2, origin, dir]);
             let Some([alpha, beta, t]) = solve(&problem, &mut ()).alpha_beta_t else {
                 continue;
             };

@@ -1,6 +1,6 @@
 //! The coverage rows: when every object is an untransformed triangle tested by
 //! Möller–Trumbore, a row's rays go through the vectorised f32 kernel
-//! ([`crate::intersect::batch::intersect_rays`]) one triangle at a time, and only the hits are shaded.
+//! ([`crate::intersect::soa::intersect_rays`]) one triangle at a time, and only the hits are shaded.
 
 use std::cell::RefCell;
 
@@ -11,7 +11,7 @@ use std::ops::Range;
 
 use super::{Basis, Camera, Prepared, Stats, camera_ray, pinhole_basis};
 use crate::intersect::Method;
-use crate::intersect::batch::{Nearest, RayBatch, intersect_rays};
+use crate::intersect::soa::{Nearest, RaysSoA, intersect_rays};
 use crate::math::linalg::dot;
 
 /// True when the scene can take the coverage rows.
@@ -43,7 +43,7 @@ impl RowBuffers {
     fn intersect(&mut self, triangle: [[f32; 3]; 3], k: u32, columns: Range<usize>) {
         let s = columns;
         let (origin, dir) = (&self.origin, &self.dir);
-        let batch = RayBatch {
+        let rays = RaysSoA {
             origin: [
                 &origin[0][s.clone()],
                 &origin[1][s.clone()],
@@ -57,7 +57,7 @@ impl RowBuffers {
             gamma: &mut self.gamma[s.clone()],
             index: &mut self.index[s],
         };
-        intersect_rays(triangle, k, &batch, &mut nearest);
+        intersect_rays(triangle, k, &rays, &mut nearest);
     }
 
     /// Sized for `width` rays, with no hits yet.

@@ -312,9 +312,10 @@ impl Prepared {
         stats: &mut Stats,
         mut each: impl FnMut((usize, usize), Ray, Option<Hit>, &mut Stats),
     ) {
-        let width = self.width;
-        let ray =
-            |(row, column)| camera_ray_in(&self.camera, basis, (width, self.height), row, column);
+        let (width, size) = (self.width, (self.width, self.height));
+        // The rays are made in place, each inlined (`camera_ray_in`), in plain loops: through a
+        // closure or `array::from_fn` they were left as calls, a pixel at a time.
+        let mut rays = [Ray::new([0.0; 3], [0.0; 3]); PACKET];
         let packets = self
             .objects
             .iter()
@@ -335,8 +336,10 @@ impl Prepared {
         if tiles {
             for start in (0..packed).step_by(TILE_COLUMNS) {
                 let pixel = |k| (rows.start + k / TILE_COLUMNS, start + k % TILE_COLUMNS);
-                // The rays made in place (`from_fn`, inlined), not mapped from the pixels.
-                let rays: [Ray; PACKET] = std::array::from_fn(|k| ray(pixel(k)));
+                for (k, ray) in rays.iter_mut().enumerate() {
+                    let (row, column) = pixel(k);
+                    *ray = camera_ray_in(&self.camera, basis, size, row, column);
+                }
                 cast::nearest_hits(self, &rays, stats, &mut found);
                 for (k, hit) in found.iter().enumerate() {
                     deliver(pixel(k), rays[k], *hit, stats);
@@ -346,7 +349,9 @@ impl Prepared {
         for row in rows.clone() {
             if !tiles {
                 for start in (0..packed).step_by(PACKET) {
-                    let rays: [Ray; PACKET] = std::array::from_fn(|k| ray((row, start + k)));
+                    for (k, ray) in rays.iter_mut().enumerate() {
+                        *ray = camera_ray_in(&self.camera, basis, size, row, start + k);
+                    }
                     cast::nearest_hits(self, &rays, stats, &mut found);
                     for (k, hit) in found.iter().enumerate() {
                         deliver((row, start + k), rays[k], *hit, stats);
@@ -354,7 +359,7 @@ impl Prepared {
                 }
             }
             for column in packed..width {
-                let ray = ray((row, column));
+                let ray = camera_ray_in(&self.camera, basis, size, row, column);
                 let hit = cast::nearest_hit(self, ray, stats);
                 deliver((row, column), ray, hit, stats);
             }

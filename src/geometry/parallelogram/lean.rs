@@ -191,13 +191,7 @@ mod tests {
             };
             let (corner, e1, e2) = (corner.map(|x| x * scale), e1.map(|x| x * scale), e2);
             let (origin, dir) = (origin.map(|x| x * scale), dir.map(|x| x * scale));
-            let problem = RayParallelogram {
-                corner,
-                e1,
-                e2,
-                origin,
-                dir,
-            };
+            let problem = RayParallelogram::new([corner, e1, e2, origin, dir]);
             let expected = reference(&problem);
             let got = solve_inside([&corner, &e1, &e2], &origin, &dir);
             let bits = |x: Option<Inside>| x.map(|x| (x.alpha_beta_t.map(f64::to_bits), x.hit));

@@ -41,16 +41,23 @@ pub struct RayParallelogram<R> {
     pub dir: V3<R>,
 }
 
+impl<R> RayParallelogram<R> {
+    /// The problem from its five vectors in the slide's order: c, e1, e2, o, d.
+    pub fn new([corner, e1, e2, origin, dir]: [V3<R>; 5]) -> RayParallelogram<R> {
+        RayParallelogram {
+            corner,
+            e1,
+            e2,
+            origin,
+            dir,
+        }
+    }
+}
+
 impl RayParallelogram<f64> {
     /// The problem in f64, which holds every input as it is.
-    pub fn from_floats([corner, e1, e2, origin, dir]: [DVec3; 5]) -> RayParallelogram<f64> {
-        RayParallelogram {
-            corner: corner.to_array(),
-            e1: e1.to_array(),
-            e2: e2.to_array(),
-            origin: origin.to_array(),
-            dir: dir.to_array(),
-        }
+    pub fn from_floats(vectors: [DVec3; 5]) -> RayParallelogram<f64> {
+        RayParallelogram::new(vectors.map(|v| v.to_array()))
     }
 }
 

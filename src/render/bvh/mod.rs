@@ -374,63 +374,21 @@ impl Bvh {
 
     /// The nearest triangle the crack-free watertight test hits with `t_min < t ≤ t_max` (ties to
     /// the lower triangle index): its index and (β, γ, t). Counts box and triangle tests.
-    ///
-    /// Compiled twice: with AVX2 and FMA where `simd` proves the processor has them (the same
-    /// arithmetic, as Rust never fuses a multiply and an add on its own, so the same answers),
-    /// else for the baseline.
     pub fn nearest_crack_free(
         &self,
         simd: Option<Avx2>,
         ray: &Ray,
-        (t_min, t_max): (f64, f64),
+        range: (f64, f64),
         box_tests: &mut u64,
         triangle_tests: &mut u64,
     ) -> Nearest {
-        let range = (t_min, t_max);
-        let counts = (box_tests, triangle_tests);
-        match simd {
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
-            Some(avx2) => unsafe { self.nearest_crack_free_avx2(avx2, ray, range, counts) },
-            _ => self.nearest_crack_free_in(Scalar, ray, range, counts),
-        }
-    }
-
-    /// [`Bvh::nearest_crack_free`] compiled with AVX2 and FMA.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn nearest_crack_free_avx2(
-        &self,
-        avx2: Avx2,
-        ray: &Ray,
-        range: (f64, f64),
-        counts: (&mut u64, &mut u64),
-    ) -> Nearest {
-        self.nearest_crack_free_in(avx2, ray, range, counts)
-    }
-
-    /// The traversal and tests themselves, inlined into each of the two builds above.
-    #[inline(always)]
-    fn nearest_crack_free_in<I: Isa>(
-        &self,
-        isa: I,
-        ray: &Ray,
-        (t_min, t_max): (f64, f64),
-        (box_tests, triangle_tests): (&mut u64, &mut u64),
-    ) -> Nearest {
-        let sheared = ShearedRay::new(&ray.origin, &ray.dir)?;
-        let mut best: Nearest = None;
-        self.walk(isa, ray, (t_min, t_max), box_tests, |slots, t_max| {
-            *triangle_tests += slots.len() as u64;
-            self.leaf_crack_free(isa, &sheared, slots, t_min, t_max, &mut best)
-        });
-        best
+        self.one_ray::<false>(simd, ray, range, (box_tests, triangle_tests))
     }
 
     /// True when the crack-free test hits some triangle with `t_min < t < t_max` (an any-hit, or
     /// shadow, query: the traversal stops at the first such hit, nearest boxes first). Counts box
     /// and triangle tests. True exactly when [`Bvh::nearest_crack_free`] finds its nearest hit
-    /// before `t_max`. Compiled twice, as that is.
+    /// before `t_max`.
     pub fn occluded(
         &self,
         simd: Option<Avx2>,
@@ -439,51 +397,68 @@ impl Bvh {
         box_tests: &mut u64,
         triangle_tests: &mut u64,
     ) -> bool {
-        let range = (t_min, t_max);
         let counts = (box_tests, triangle_tests);
+        let found = self.one_ray::<true>(simd, ray, (t_min, t_max), counts);
+        found.is_some_and(|(_, hit)| hit.t < t_max)
+    }
+
+    /// One ray's crack-free query: the nearest hit, or with `ANY` a hit before t_max as soon as
+    /// one is found.
+    ///
+    /// Compiled twice: with AVX2 and FMA where `simd` proves the processor has them (the same
+    /// arithmetic, as Rust never fuses a multiply and an add on its own, so the same answers),
+    /// else for the baseline.
+    fn one_ray<const ANY: bool>(
+        &self,
+        simd: Option<Avx2>,
+        ray: &Ray,
+        range: (f64, f64),
+        counts: (&mut u64, &mut u64),
+    ) -> Nearest {
         match simd {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
-            Some(avx2) => unsafe { self.occluded_avx2(avx2, ray, range, counts) },
-            _ => self.occluded_in(Scalar, ray, range, counts),
+            Some(avx2) => unsafe { self.one_ray_avx2::<ANY>(avx2, ray, range, counts) },
+            _ => self.one_ray_in::<ANY, _>(Scalar, ray, range, counts),
         }
     }
 
-    /// [`Bvh::occluded`] compiled with AVX2 and FMA.
+    /// [`Bvh::one_ray`] compiled with AVX2 and FMA.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    fn occluded_avx2(
+    fn one_ray_avx2<const ANY: bool>(
         &self,
         avx2: Avx2,
         ray: &Ray,
         range: (f64, f64),
         counts: (&mut u64, &mut u64),
-    ) -> bool {
-        self.occluded_in(avx2, ray, range, counts)
+    ) -> Nearest {
+        self.one_ray_in::<ANY, _>(avx2, ray, range, counts)
     }
 
-    /// The any-hit traversal itself, inlined into each of the two builds above.
+    /// The traversal and tests themselves, inlined into each of the two builds above.
     #[inline(always)]
-    fn occluded_in<I: Isa>(
+    fn one_ray_in<const ANY: bool, I: Isa>(
         &self,
         isa: I,
         ray: &Ray,
         (t_min, t_max): (f64, f64),
         (box_tests, triangle_tests): (&mut u64, &mut u64),
-    ) -> bool {
-        let Some(sheared) = ShearedRay::new(&ray.origin, &ray.dir) else {
-            return false;
-        };
-        let mut found = false;
+    ) -> Nearest {
+        let sheared = ShearedRay::new(&ray.origin, &ray.dir)?;
+        let mut best: Nearest = None;
         self.walk(isa, ray, (t_min, t_max), box_tests, |slots, limit| {
             *triangle_tests += slots.len() as u64;
-            let mut best = None;
-            self.leaf_crack_free(isa, &sheared, slots, t_min, limit, &mut best);
-            found |= best.is_some_and(|(_, hit)| hit.t < t_max);
-            // Once found, a limit below every box ends the walk.
-            if found { f64::NEG_INFINITY } else { limit }
+            let limit = self.leaf_crack_free(isa, &sheared, slots, t_min, limit, &mut best);
+            // An any-hit query is done at its first hit before t_max: a limit below every box
+            // ends the walk.
+            if ANY && best.is_some_and(|(_, hit)| hit.t < t_max) {
+                f64::NEG_INFINITY
+            } else {
+                limit
+            }
         });
-        found
+        best
     }
 
     /// Tests a leaf's slots with the crack-free test, keeping in `best` the nearest hit with
@@ -549,6 +524,39 @@ impl Bvh {
             }
         }
         limit
+    }
+
+    /// Tests a leaf's slots for each of a packet's `live` rays, lowering its t_max to its nearest
+    /// hit (`lowered(r, t_max)` is told of each ray's new t_max). A ray's sheared form is made when
+    /// it first reaches a leaf; a ray without one (no direction, a number not finite) finds
+    /// nothing.
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "a packet's parallel arrays, each by name"
+    )]
+    #[inline(always)]
+    pub(in crate::render) fn packet_leaf<I: Isa>(
+        &self,
+        isa: I,
+        slots: std::ops::Range<usize>,
+        live: u32,
+        (sheared, rays): (&mut [Option<ShearedRay>], &[Ray]),
+        (t_max, best): (&mut [f64], &mut [Nearest]),
+        triangle_tests: &mut u64,
+        mut lowered: impl FnMut(usize, f64),
+    ) {
+        let mut each = live;
+        while each != 0 {
+            let r = each.trailing_zeros() as usize;
+            each &= each - 1;
+            if sheared[r].is_none() {
+                sheared[r] = ShearedRay::new(&rays[r].origin, &rays[r].dir);
+            }
+            let Some(ray) = &sheared[r] else { continue };
+            *triangle_tests += slots.len() as u64;
+            t_max[r] = self.leaf_crack_free(isa, ray, slots.clone(), 0.0, t_max[r], &mut best[r]);
+            lowered(r, t_max[r]);
+        }
     }
 
     /// [`Bvh::nearest_crack_free`] for `P` rays at once (neighbouring pixels), each with its own
@@ -632,6 +640,7 @@ impl Bvh {
         let mut query = Packet {
             bvh: self,
             isa,
+            rays,
             sheared,
             box_rays: std::array::from_fn(|r| BoxRay::new(&rays[r])),
             t_max,
@@ -707,6 +716,7 @@ impl<I: Isa, L: FnMut(std::ops::Range<usize>, f64) -> f64> Query for OneRay<'_, 
 struct Packet<'a, I, const P: usize> {
     bvh: &'a Bvh,
     isa: I,
+    rays: &'a [Ray; P],
     sheared: [Option<ShearedRay>; P],
     box_rays: [BoxRay; P],
     t_max: [f64; P],
@@ -755,23 +765,11 @@ impl<I: Isa, const P: usize> Query for Packet<'_, I, P> {
 
     #[inline(always)]
     fn leaf(&mut self, slots: std::ops::Range<usize>, live: u32) {
-        let mut each = live;
-        while each != 0 {
-            let r = each.trailing_zeros() as usize;
-            each &= each - 1;
-            let Some(ray) = &self.sheared[r] else {
-                continue;
-            };
-            *self.triangle_tests += slots.len() as u64;
-            self.t_max[r] = self.bvh.leaf_crack_free(
-                self.isa,
-                ray,
-                slots.clone(),
-                0.0,
-                self.t_max[r],
-                &mut self.best[r],
-            );
-        }
+        let hits = (&mut self.t_max[..], &mut self.best[..]);
+        let rays = (&mut self.sheared[..], &self.rays[..]);
+        let tests = &mut *self.triangle_tests;
+        self.bvh
+            .packet_leaf(self.isa, slots, live, rays, hits, tests, |_, _| {});
     }
 }
 
@@ -1073,10 +1071,7 @@ mod tests {
     #[test]
     fn the_avx2_box_test_agrees_with_the_portable_one() {
         use rand::{Rng, SeedableRng};
-        let Some(avx2) = Avx2::detect() else {
-            eprintln!("skipped: this processor has no AVX2 and FMA");
-            return;
-        };
+        let avx2 = crate::render::kernels::avx2_or_skip!();
         let mut random = rand_pcg::Pcg64::seed_from_u64(7);
         for i in 0..20_000 {
             let mut node = Bvh::empty_node();

@@ -352,10 +352,7 @@ mod tests {
     /// and the tie rule), and on rays nudged off the grid (clear signs).
     #[test]
     fn four_at_a_time_decides_as_one_at_a_time() {
-        let Some(avx2) = Avx2::detect() else {
-            eprintln!("skipped: this processor has no AVX2 and FMA");
-            return;
-        };
+        let avx2 = crate::render::kernels::avx2_or_skip!();
         let (camera, side, triangles) = grid_box(6);
         let (mut settled, mut hits) = (0, 0);
         for row in 0..side {

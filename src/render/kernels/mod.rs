@@ -20,6 +20,23 @@
 //! `#[target_feature]` function) are generic over [`Isa`]: [`Scalar`] or [`Avx2`], chosen at
 //! compile time, so the choice costs nothing inside the loop.
 
+/// In a test: the processor's [`Avx2`], or on a processor without AVX2 and FMA a note on stderr
+/// and a return, so the test says it was skipped.
+#[cfg(test)]
+macro_rules! avx2_or_skip {
+    () => {
+        match $crate::render::kernels::Avx2::detect() {
+            Some(avx2) => avx2,
+            None => {
+                eprintln!("skipped: this processor has no AVX2 and FMA");
+                return;
+            }
+        }
+    };
+}
+#[cfg(test)]
+pub(in crate::render) use avx2_or_skip;
+
 pub mod boxes4;
 pub mod crack_free4;
 pub mod moller_trumbore4;
@@ -109,10 +126,7 @@ mod tests {
     /// test (the meshes; the grid box's rays run along its edges and through its vertices).
     #[test]
     fn every_kernel_renders_as_the_scalar_path_on_the_same_rays() {
-        let Some(avx2) = Avx2::detect() else {
-            eprintln!("skipped: this processor has no AVX2 and FMA, so only the scalar paths run");
-            return;
-        };
+        let avx2 = crate::render::kernels::avx2_or_skip!();
         let folder = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes");
         let mut files: Vec<_> = std::fs::read_dir(folder)
             .unwrap()

@@ -161,10 +161,7 @@ mod tests {
     /// (t, β, γ), on random rays near a triangle's edges.
     #[test]
     fn four_rays_at_once_decide_as_one_at_a_time() {
-        let Some(avx2) = Avx2::detect() else {
-            eprintln!("skipped: this processor has no AVX2 and FMA");
-            return;
-        };
+        let avx2 = crate::render::kernels::avx2_or_skip!();
         let mut random = rand_pcg::Pcg64::seed_from_u64(3);
         let mut hits = 0;
         for i in 0..20_000 {

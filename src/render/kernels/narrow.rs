@@ -185,8 +185,12 @@ impl Lanes {
 
 /// The nearest crack-free hits of sixteen rays in `bvh`, written into `best`; false when their
 /// numbers do not allow the f32 box test (the caller then takes the one-ray box test).
+///
+/// # Safety
+/// Compiled with AVX2 and FMA: safe to call from code compiled with them (the packet traversal);
+/// `avx2` proves the processor has them.
 #[cfg(target_arch = "x86_64")]
-#[inline(always)]
+#[target_feature(enable = "avx2,fma")]
 pub fn nearest(
     avx2: Avx2,
     bvh: &Bvh,
@@ -197,25 +201,6 @@ pub fn nearest(
     best: &mut [Nearest; RAYS],
 ) -> bool {
     // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
-    unsafe { nearest_unchecked(avx2, bvh, rays, t_max, box_tests, triangle_tests, best) }
-}
-
-/// [`nearest`], compiled with AVX2 and FMA.
-///
-/// # Safety
-/// Only call on a processor with AVX2 and FMA.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn nearest_unchecked(
-    avx2: Avx2,
-    bvh: &Bvh,
-    rays: &[Ray; RAYS],
-    t_max: [f64; RAYS],
-    box_tests: &mut u64,
-    triangle_tests: &mut u64,
-    best: &mut [Nearest; RAYS],
-) -> bool {
-    // SAFETY: the caller runs on a processor with AVX2 and FMA.
     let Some(lanes) = (unsafe { Lanes::new(rays, &t_max) }) else {
         return false;
     };
@@ -269,27 +254,14 @@ impl Query for Narrow<'_> {
 
     #[inline(always)]
     fn leaf(&mut self, slots: std::ops::Range<usize>, live: u32) {
-        let mut each = live;
-        while each != 0 {
-            let r = each.trailing_zeros() as usize;
-            each &= each - 1;
-            if self.sheared[r].is_none() {
-                self.sheared[r] = ShearedRay::new(&self.rays[r].origin, &self.rays[r].dir);
-            }
-            let Some(ray) = &self.sheared[r] else {
-                continue;
-            };
-            *self.triangle_tests += slots.len() as u64;
-            self.t_max[r] = self.bvh.leaf_crack_free(
-                self.avx2,
-                ray,
-                slots.clone(),
-                0.0,
-                self.t_max[r],
-                &mut self.best[r],
-            );
-            self.lanes.t_max[r] = up(self.t_max[r]);
-        }
+        let hits = (&mut self.t_max[..], &mut self.best[..]);
+        let rays = (&mut self.sheared[..], &self.rays[..]);
+        let lanes = &mut self.lanes;
+        let tests = &mut *self.triangle_tests;
+        self.bvh
+            .packet_leaf(self.avx2, slots, live, rays, hits, tests, |r, t_max| {
+                lanes.t_max[r] = up(t_max);
+            });
     }
 
     #[inline(always)]

@@ -16,6 +16,8 @@ use super::Avx2;
 #[cfg(target_arch = "x86_64")]
 use super::moller_trumbore4::{Lanes3, splat, store};
 use crate::math::linalg::V3;
+#[cfg(target_arch = "x86_64")]
+use crate::math::linalg::other_two;
 use crate::render::Ray;
 
 /// Four rays (origin, direction), one a lane.
@@ -186,14 +188,7 @@ fn det2(m: &[[__m256d; 2]; 2]) -> __m256d {
 #[target_feature(enable = "avx2,fma")]
 #[inline]
 fn minor3(m: &[Lanes3; 3], row: usize, col: usize) -> [[__m256d; 2]; 2] {
-    let keep = |skip: usize| -> [usize; 2] {
-        match skip {
-            0 => [1, 2],
-            1 => [0, 2],
-            _ => [0, 1],
-        }
-    };
-    let (rows, cols) = (keep(row), keep(col));
+    let (rows, cols) = (other_two(row), other_two(col));
     [
         [m[rows[0]][cols[0]], m[rows[0]][cols[1]]],
         [m[rows[1]][cols[0]], m[rows[1]][cols[1]]],
@@ -375,10 +370,7 @@ mod tests {
     /// leaves to the one-ray solver must be rare: only on the draws made unusual.
     #[test]
     fn four_lanes_solve_as_one_ray_at_a_time() {
-        let Some(avx2) = Avx2::detect() else {
-            eprintln!("skipped: this processor has no AVX2 and FMA");
-            return;
-        };
+        let avx2 = crate::render::kernels::avx2_or_skip!();
         let mut random = rand_pcg::Pcg64::seed_from_u64(12);
         let (mut hits, mut culled, mut rare) = (0, 0, 0);
         for i in 0..40_000 {
@@ -440,10 +432,7 @@ mod tests {
     /// solver; a usual one is not.
     #[test]
     fn unusual_parallelograms_are_left_to_one_ray() {
-        let Some(avx2) = Avx2::detect() else {
-            eprintln!("skipped: this processor has no AVX2 and FMA");
-            return;
-        };
+        let avx2 = crate::render::kernels::avx2_or_skip!();
         let mut random = rand_pcg::Pcg64::seed_from_u64(13);
         for i in 0..1_000 {
             let [corner, e1, e2, ..] = random_ray_near_edges(&mut random, 1e-13);

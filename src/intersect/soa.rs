@@ -1,4 +1,4 @@
-//! A batched, SIMD-friendly f32 Möller–Trumbore: one ray against many triangles stored as a structure
+//! A structure-of-arrays, SIMD-friendly f32 Möller–Trumbore: one ray against many triangles stored as a structure
 //! of arrays, with no branches in the loop, so the compiler vectorises it (4 or 8 lanes).
 //!
 //! Per triangle it costs 27 multiplications and 18 additions or subtractions (45 flops) and one
@@ -80,7 +80,7 @@ fn cut(v: &[Vec<f32>; 3], n: usize) -> [&[f32]; 3] {
 /// Many rays (structure of arrays) against one triangle: for each ray whose test hits and is nearer
 /// than `nearest[i]`, writes t, β, γ and `index` into the outputs. The loop has no branches, so it
 /// vectorises over the rays (the renderer's coverage pass).
-pub struct RayBatch<'a> {
+pub struct RaysSoA<'a> {
     /// Origins' x, y, z.
     pub origin: [&'a [f32]; 3],
     /// Directions' x, y, z.
@@ -99,7 +99,7 @@ pub struct Nearest<'a> {
     pub index: &'a mut [u32],
 }
 
-/// Tests every ray of the batch against one triangle (A, B, C) and keeps the nearest hits.
+/// Tests every ray of `rays` against one triangle (A, B, C) and keeps the nearest hits.
 ///
 /// Always inlined, so a caller compiled for wider vectors (the renderer's AVX2 row loop) vectorises
 /// it at that width.
@@ -107,7 +107,7 @@ pub struct Nearest<'a> {
 pub fn intersect_rays(
     triangle: [[f32; 3]; 3],
     index: u32,
-    rays: &RayBatch<'_>,
+    rays: &RaysSoA<'_>,
     nearest: &mut Nearest<'_>,
 ) {
     let n = rays.origin[0].len().min(nearest.t.len());
