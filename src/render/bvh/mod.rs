@@ -535,13 +535,13 @@ impl Bvh {
         reason = "a packet's parallel arrays, each by name"
     )]
     #[inline(always)]
-    pub(in crate::render) fn packet_leaf<I: Isa>(
+    pub(in crate::render) fn packet_leaf<I: Isa, const P: usize>(
         &self,
         isa: I,
         slots: std::ops::Range<usize>,
         live: u32,
-        (sheared, rays): (&mut [Option<ShearedRay>], &[Ray]),
-        (t_max, best): (&mut [f64], &mut [Nearest]),
+        (sheared, rays): (&mut [Option<ShearedRay>; P], &[Ray; P]),
+        (t_max, best): (&mut [f64; P], &mut [Nearest; P]),
         triangle_tests: &mut u64,
         mut lowered: impl FnMut(usize, f64),
     ) {
@@ -765,8 +765,8 @@ impl<I: Isa, const P: usize> Query for Packet<'_, I, P> {
 
     #[inline(always)]
     fn leaf(&mut self, slots: std::ops::Range<usize>, live: u32) {
-        let hits = (&mut self.t_max[..], &mut self.best[..]);
-        let rays = (&mut self.sheared[..], &self.rays[..]);
+        let hits = (&mut self.t_max, &mut *self.best);
+        let rays = (&mut self.sheared, self.rays);
         let tests = &mut *self.triangle_tests;
         self.bvh
             .packet_leaf(self.isa, slots, live, rays, hits, tests, |_, _| {});

@@ -254,8 +254,8 @@ impl Query for Narrow<'_> {
 
     #[inline(always)]
     fn leaf(&mut self, slots: std::ops::Range<usize>, live: u32) {
-        let hits = (&mut self.t_max[..], &mut self.best[..]);
-        let rays = (&mut self.sheared[..], &self.rays[..]);
+        let hits = (&mut self.t_max, &mut *self.best);
+        let rays = (&mut self.sheared, self.rays);
         let lanes = &mut self.lanes;
         let tests = &mut *self.triangle_tests;
         self.bvh
