@@ -238,20 +238,23 @@ impl<'a> SecondaryCaster<'a> {
         } else {
             self.surface_at(&hit, &ray, &mut Stats::default())
         };
-        let point = ray.at(hit.t);
-        // The normal on the side the ray came from.
-        let front = if dot(&surface.normal, &ray.dir) > 0.0 {
-            surface.normal.map(|c| -c)
-        } else {
-            surface.normal
+        let spot = Spot {
+            point: ray.at(hit.t),
+            // The normal on the side the ray came from.
+            front: if dot(&surface.normal, &ray.dir) > 0.0 {
+                surface.normal.map(|c| -c)
+            } else {
+                surface.normal
+            },
+            face: surface.face,
         };
-        let local = self.local(&surface, (&point, &front), (&mut *rng, &mut *rec), stats);
+        let local = self.local(&surface, &spot, (&mut *rng, &mut *rec), stats);
         let local = local.map(|c| c * surface.fade);
         let bounce = depth < self.prepared.lighting.settings.max_depth;
         match self.prepared.lighting.material(hit.object) {
             Material::Mirror { reflectance } if self.on.reflections && bounce => {
                 let mirrored = self.mirrored(
-                    (&point, &front),
+                    &spot,
                     &ray.dir,
                     (RayKind::Reflection, depth),
                     (rng, rec),
@@ -262,14 +265,7 @@ impl<'a> SecondaryCaster<'a> {
             Material::Glass { ior } if self.on.refraction && bounce => {
                 let entering = dot(&surface.normal, &ray.dir) < 0.0;
                 let etas = if entering { (1.0, ior) } else { (ior, 1.0) };
-                self.glass(
-                    &local,
-                    (&point, &front),
-                    (&ray.dir, depth),
-                    etas,
-                    (rng, rec),
-                    stats,
-                )
+                self.glass(&local, &spot, (&ray.dir, depth), etas, (rng, rec), stats)
             }
             _ => local,
         }
@@ -280,13 +276,14 @@ impl<'a> SecondaryCaster<'a> {
     fn local<R: Record>(
         &self,
         surface: &Surface,
-        (point, front): (&V3<f64>, &V3<f64>),
+        spot: &Spot,
         (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> V3<f64> {
         let lighting = &self.prepared.lighting;
+        let (point, front) = (&spot.point, &spot.front);
         let open = if self.on.occlusion {
-            self.openness(point, front, (rng, &mut *rec), stats)
+            self.openness(spot, (rng, &mut *rec), stats)
         } else {
             1.0
         };
@@ -306,7 +303,7 @@ impl<'a> SecondaryCaster<'a> {
             if !self.on.shadows {
                 rec.light(index, LightTest::Untested);
             } else {
-                let from = self.off_surface(point, front, 1.0);
+                let from = self.off_surface(spot, &seen.toward);
                 let t_max = seen.t_max;
                 let ray = Ray::new(from, seen.toward_from(point, &from));
                 if self.blocked(ray, t_max, RayKind::Shadow, stats) {
@@ -326,17 +323,17 @@ impl<'a> SecondaryCaster<'a> {
     /// `occlusion_distance`): 1 for an open plane.
     fn openness<R: Record>(
         &self,
-        point: &V3<f64>,
-        front: &V3<f64>,
+        spot: &Spot,
         (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> f64 {
         let settings = &self.prepared.lighting.settings;
         let reach = settings.occlusion_distance.unwrap_or(f64::INFINITY);
-        let from = self.off_surface(point, front, 1.0);
+        // The rays go over the hemisphere about the shading normal: they leave from its side.
+        let from = self.off_surface(spot, &spot.front);
         let open = (0..settings.occlusion_rays)
             .filter(|_| {
-                let dir = cosine_hemisphere(front, rng);
+                let dir = cosine_hemisphere(&spot.front, rng);
                 !self.blocked(Ray::new(from, dir), reach, RayKind::Occlusion, stats)
             })
             .count();
@@ -348,14 +345,14 @@ impl<'a> SecondaryCaster<'a> {
     /// The colour along the mirror direction of `dir` about `front`.
     fn mirrored<R: Record>(
         &self,
-        (point, front): (&V3<f64>, &V3<f64>),
+        spot: &Spot,
         dir: &V3<f64>,
         (kind, depth): (RayKind, u32),
         rng_rec: (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> V3<f64> {
-        let reflected = reflect(dir, front);
-        let from = self.off_surface(point, front, 1.0);
+        let reflected = reflect(dir, &spot.front);
+        let from = self.off_surface(spot, &reflected);
         self.trace(Ray::new(from, reflected), (kind, depth + 1), rng_rec, stats)
     }
 
@@ -365,40 +362,55 @@ impl<'a> SecondaryCaster<'a> {
     fn glass<R: Record>(
         &self,
         local: &V3<f64>,
-        (point, front): (&V3<f64>, &V3<f64>),
+        spot: &Spot,
         (dir, depth): (&V3<f64>, u32),
         (from_eta, to_eta): (f64, f64),
         (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> V3<f64> {
         let d = unit(*dir);
-        let at = (point, front);
-        let Some(through) = refract(&d, front, from_eta, to_eta) else {
+        let Some(through) = refract(&d, &spot.front, from_eta, to_eta) else {
             let kind = (RayKind::Refraction, depth);
-            return self.mirrored(at, &d, kind, (rng, rec), stats);
+            return self.mirrored(spot, &d, kind, (rng, rec), stats);
         };
-        let fresnel = schlick(-dot(&d, front), from_eta, to_eta);
-        let from = self.off_surface(point, front, -1.0);
+        let fresnel = schlick(-dot(&d, &spot.front), from_eta, to_eta);
+        let from = self.off_surface(spot, &through);
         let kind = (RayKind::Refraction, depth + 1);
         let refracted = self.trace(Ray::new(from, through), kind, (&mut *rng, &mut *rec), stats);
         let reflected = if self.on.reflections {
-            self.mirrored(at, &d, (RayKind::Reflection, depth), (rng, rec), stats)
+            self.mirrored(spot, &d, (RayKind::Reflection, depth), (rng, rec), stats)
         } else {
             *local
         };
         mix(&refracted, &reflected, fresnel)
     }
 
-    /// A secondary ray's origin: the hit point moved `offset` along the normal to the side
-    /// `side` (+1 the side the ray came from, −1 through the surface); the point itself under the
-    /// shadow-acne bug.
-    fn off_surface(&self, point: &V3<f64>, front: &V3<f64>, side: f64) -> V3<f64> {
+    /// The origin of a secondary ray going along `toward`: the hit point moved `offset` along the
+    /// face's normal, to the side of the face the ray goes to, so the ray cannot meet the face it
+    /// leaves (along an interpolated normal it could: the shadow acne the app shows as a bug). The
+    /// point itself under the shadow-acne bug.
+    fn off_surface(&self, spot: &Spot, toward: &V3<f64>) -> V3<f64> {
         if self.prepared.bug == Some(Bug::ShadowAcne) {
-            return *point;
+            return spot.point;
         }
+        let side = if dot(&spot.face, toward) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
         let offset = self.prepared.lighting.settings.offset * side;
-        std::array::from_fn(|k| point[k] + offset * front[k])
+        std::array::from_fn(|k| spot.point[k] + offset * spot.face[k])
     }
+}
+
+/// Where secondary rays leave a hit.
+struct Spot {
+    /// The hit point.
+    point: V3<f64>,
+    /// The shading normal, turned to the side the ray came from.
+    front: V3<f64>,
+    /// The flat face's unit normal, as the geometry orients it (see [`Surface::face`]).
+    face: V3<f64>,
 }
 
 /// (1 − w)·a + w·b.

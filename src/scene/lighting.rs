@@ -70,7 +70,8 @@ pub struct EffectSettings {
     pub samples_per_side: u32,
     /// Seeds the occlusion rays and the samples' jitter (the same image every run).
     pub seed: u64,
-    /// How far a secondary ray's origin moves off the surface along the normal, against shadow acne.
+    /// How far a secondary ray's origin moves off the surface along the face's normal, to the side
+    /// the ray goes to, against shadow acne.
     pub offset: f64,
     /// The light every lit surface gets without a light (scaled by `ambient-occlusion`).
     pub ambient: f64,

@@ -268,3 +268,48 @@ fn the_probe_reports_the_rendered_pixels_colour_in_every_shipped_scene() {
         }
     }
 }
+
+/// Every shadow ray of the correct Cornell box (at 60x60, every pixel, every bounce) leaves its
+/// surface on the face's side it goes to, so none is blocked by the very triangle its ray hit. Moved
+/// along the interpolated normal (as the render did), a sphere pixel's shadow ray met its own
+/// triangle at t ≈ 1.5e-5: the shadow acne the app teaches as a bug, in the correct image.
+#[test]
+fn no_shadow_ray_of_the_cornell_box_is_blocked_by_its_own_triangle() {
+    use raylab::render::inspect::ray_tree::{TracedRay, ray_tree};
+    use raylab::render::secondary::LightTest;
+    let (_, mut scene) = shipped_render_scenes()
+        .into_iter()
+        .find(|(name, _)| name.contains("render-cornell-box"))
+        .expect("the Cornell box ships");
+    (scene.width, scene.height) = (60, 60);
+    let prepared = Prepared::new(&scene, &Embedded).unwrap();
+    let (mut blocked, mut lit) = (0, 0);
+    for row in 0..prepared.height {
+        for column in 0..prepared.width {
+            let tree = ray_tree(&prepared, row, column);
+            let mut stack: Vec<&TracedRay> = vec![&tree.root];
+            while let Some(traced) = stack.pop() {
+                stack.extend(&traced.children);
+                let Some(hit) = traced.hit else { continue };
+                for light in &traced.lights {
+                    match (light.test, light.blocker) {
+                        (LightTest::Blocked(..), Some(blocker)) => {
+                            blocked += 1;
+                            assert!(
+                                (blocker.object, blocker.primitive) != (hit.object, hit.primitive),
+                                "pixel ({row}, {column}), {:?} ray: its shadow ray is blocked by \
+                                 its own triangle at t = {}",
+                                traced.kind,
+                                blocker.t
+                            );
+                        }
+                        (LightTest::Lit(..), _) => lit += 1,
+                        _ => {}
+                    }
+                }
+            }
+        }
+    }
+    // The box's spheres and blocks do cast shadows, and most shadow rays reach the light.
+    assert!(blocked > 100 && lit > 1000, "{blocked} blocked, {lit} lit");
+}

@@ -25,6 +25,10 @@ pub struct Surface {
     pub base: V3<f64>,
     /// The world-space unit normal (interpolated under `smooth-normals`), as the geometry orients it.
     pub normal: V3<f64>,
+    /// The flat face's world-space unit normal, as the geometry orients it: `normal` itself unless
+    /// that was interpolated. Secondary rays leave the surface along it, so that they start on the
+    /// face's side they go to and cannot meet the face itself.
+    pub face: V3<f64>,
     /// n̂ · (−ê), when a shading effect asked for it.
     pub facing: Option<f64>,
     /// The `depth` fade factor (1 without it).
@@ -86,9 +90,23 @@ impl Shader {
             stats.depth_fades += 1;
             fade = 1.0 / depth_divisor(hit, inverse_length);
         }
+        let normal = unit(normal);
+        let interpolated = self.smooth
+            && matches!(&object.geometry,
+                Geometry::Triangles { triangles, .. } if triangles[hit.primitive].normals.is_some());
+        let face = if interpolated {
+            let flat = Shader {
+                smooth: false,
+                ..*self
+            };
+            unit(flat.world_normal(object, hit, &mut Stats::default()))
+        } else {
+            normal
+        };
         Surface {
             base,
-            normal: unit(normal),
+            normal,
+            face,
             facing,
             fade,
         }
