@@ -7,8 +7,9 @@
 //! Scenes: each shipped scene with a mesh (its objects written to a temporary OBJ in world space, with
 //! their transforms applied; a parallelogram as its two triangles), an 81 920-triangle irregular sphere,
 //! and a 40 000-triangle box seen from inside whose every ray runs along an edge or through a vertex.
-//! Then shadow rays: `Bvh::occluded` (any hit) against Embree's occlusion queries
-//! (`benches/peer/embree_occluded.py`) on the same camera rays, for the sphere and the box. Then the
+//! Then shadow rays: `Bvh::occluded` (any hit, one ray at a time) and `Bvh::occluded_packet` (4x4
+//! tiles of neighbouring rays) against Embree's occlusion queries (`benches/peer/embree_occluded.py`)
+//! on the same camera rays, for the sphere and the box. Then the
 //! scaling: irregular spheres from 1 280 to 1 310 720 triangles. Set `RAYLAB_PEER_REPEATS`
 //! to change the 21 renders, `RAYLAB_PEER_MAX_LEVEL` (3 to 8) to cut the scaling series short, and
 //! `RAYLAB_PEER_ONLY` (comma-separated parts of row names, e.g. `level 8,box`) to run only those rows.
@@ -204,32 +205,67 @@ fn row(
     Ok(())
 }
 
+/// How raylab casts the shadow rows' rays.
+#[derive(Clone, Copy)]
+enum Casting {
+    /// `Bvh::occluded`, one ray at a time.
+    OneRay,
+    /// `Bvh::occluded_packet`, tiles of 4x4 neighbouring rays (the rest one at a time).
+    Packets,
+}
+
+/// Rows of rays in a packet tile.
+const TILE: usize = 4;
+
 /// raylab's any-hit queries on every camera ray of a one-mesh scene, in a pool of [`THREADS`]
-/// threads (rows in parallel): (median ms, occluded rays). The rays are made before the clock
-/// starts, as the script's are.
-fn raylab_occluded(pool: &rayon::ThreadPool, prepared: &Prepared) -> Option<(f64, usize)> {
+/// threads (bands of [`TILE`] rows in parallel): (median ms, occluded rays). The rays are made
+/// before the clock starts, as the script's are.
+fn raylab_occluded(
+    pool: &rayon::ThreadPool,
+    prepared: &Prepared,
+    casting: Casting,
+) -> Option<(f64, usize)> {
     use rayon::prelude::*;
     let Geometry::Triangles { bvh: Some(bvh), .. } = &prepared.objects.first()?.geometry else {
         return None;
     };
-    let rows: Vec<Vec<Ray>> = (0..prepared.height)
-        .map(|row| {
-            (0..prepared.width)
-                .map(|column| prepared.ray(row, column))
+    let bands: Vec<Vec<Vec<Ray>>> = (0..prepared.height)
+        .step_by(TILE)
+        .map(|top| {
+            (top..(top + TILE).min(prepared.height))
+                .map(|row| {
+                    (0..prepared.width)
+                        .map(|column| prepared.ray(row, column))
+                        .collect()
+                })
                 .collect()
         })
         .collect();
-    let count = || {
-        rows.par_iter()
-            .map(|row| {
-                row.iter()
-                    .filter(|ray| {
-                        bvh.occluded(prepared.simd, ray, (0.0, f64::INFINITY), &mut 0, &mut 0)
-                    })
-                    .count()
-            })
-            .sum::<usize>()
+    let one = |ray: &Ray| bvh.occluded(prepared.simd, ray, (0.0, f64::INFINITY), &mut 0, &mut 0);
+    let band_count = |band: &Vec<Vec<Ray>>| -> usize {
+        let tiles = match casting {
+            Casting::Packets if band.len() == TILE => prepared.width / TILE,
+            _ => 0,
+        };
+        let mut occluded = 0;
+        for tile in 0..tiles {
+            let rays: [Ray; TILE * TILE] =
+                std::array::from_fn(|k| band[k / TILE][tile * TILE + k % TILE]);
+            let found = bvh.occluded_packet(
+                prepared.simd,
+                &rays,
+                [f64::INFINITY; TILE * TILE],
+                &mut 0,
+                &mut 0,
+            );
+            occluded += found.count_ones() as usize;
+        }
+        for row in band {
+            occluded += row[tiles * TILE..].iter().filter(|ray| one(ray)).count();
+        }
+        occluded
     };
+    let count = || bands.par_iter().map(band_count).sum::<usize>();
     Some(pool.install(|| {
         let occluded = count();
         let ms = super::median_ms(repeats(), || {
@@ -259,20 +295,32 @@ fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
          {THREADS} threads each"
     );
     for (name, prepared, triangles) in scenes.iter().skip(3) {
-        if !wanted(&format!("shadow {name}")) {
+        // Rows named e.g. "shadow box from inside: 4x4 packets".
+        let ways: Vec<_> = [
+            (Casting::OneRay, "one ray at a time"),
+            (Casting::Packets, "4x4 packets"),
+        ]
+        .into_iter()
+        .filter(|(_, how)| wanted(&format!("shadow {name}: {how}")))
+        .collect();
+        if ways.is_empty() {
             continue;
         }
-        let Some((ours_ms, ours)) = raylab_occluded(pool, prepared) else {
+        let Ok((peer_ms, peer)) = embree_occluded(triangles, prepared, name)
+            .inspect_err(|why| println!("Embree shadow peer skipped: {why}"))
+        else {
             continue;
         };
-        match embree_occluded(triangles, prepared, name) {
-            Ok((peer_ms, peer)) => println!(
+        for (casting, how) in ways {
+            let Some((ours_ms, ours)) = raylab_occluded(pool, prepared, casting) else {
+                continue;
+            };
+            println!(
                 "{name:>24} {:>9}   Embree {peer_ms:8.3} ms   raylab {ours_ms:8.3} ms   \
-                 raylab/Embree speed {:5.2}x   occluded: Embree {peer}, raylab {ours}",
+                 raylab/Embree speed {:5.2}x   occluded: Embree {peer}, raylab {ours}   ({how})",
                 triangles.len(),
                 peer_ms / ours_ms,
-            ),
-            Err(why) => println!("Embree shadow peer skipped: {why}"),
+            );
         }
     }
 }

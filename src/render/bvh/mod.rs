@@ -573,14 +573,51 @@ impl Bvh {
         triangle_tests: &mut u64,
         best: &mut [Nearest; P],
     ) {
+        self.packet::<P, false>(simd, rays, t_max, (box_tests, triangle_tests), best);
+    }
+
+    /// [`Bvh::occluded`] for `P` rays at once (neighbouring pixels, or the shadow rays of their
+    /// hits), each with its own t_max and t_min = 0: a bit set of the rays with a crack-free hit at
+    /// 0 < t < t_max. A ray leaves the packet at its first such hit; the walk ends when none is
+    /// left. Counts box and triangle tests per ray.
+    pub fn occluded_packet<const P: usize>(
+        &self,
+        simd: Option<Avx2>,
+        rays: &[Ray; P],
+        t_max: [f64; P],
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> u32 {
+        let mut best = [None; P];
+        self.packet::<P, true>(simd, rays, t_max, (box_tests, triangle_tests), &mut best);
+        let mut occluded = 0;
+        for (r, found) in best.iter().enumerate() {
+            if found.is_some_and(|(_, hit)| hit.t < t_max[r]) {
+                occluded |= 1 << r;
+            }
+        }
+        occluded
+    }
+
+    /// The packet queries' entry: the nearest hits, or with `ANY` hits before t_max.
+    #[inline(always)]
+    fn packet<const P: usize, const ANY: bool>(
+        &self,
+        simd: Option<Avx2>,
+        rays: &[Ray; P],
+        t_max: [f64; P],
+        (box_tests, triangle_tests): (&mut u64, &mut u64),
+        best: &mut [Nearest; P],
+    ) {
+        const { assert!(P <= 32, "a packet is a 32-bit set") };
         *best = [None; P];
         match simd {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
             Some(avx2) => unsafe {
-                self.packet_avx2(avx2, rays, t_max, box_tests, triangle_tests, best)
+                self.packet_avx2::<P, ANY>(avx2, rays, t_max, box_tests, triangle_tests, best)
             },
-            _ => self.packet_in(Scalar, rays, t_max, box_tests, triangle_tests, best),
+            _ => self.packet_in::<P, ANY, _>(Scalar, rays, t_max, box_tests, triangle_tests, best),
         }
     }
 
@@ -588,7 +625,7 @@ impl Bvh {
     /// [`narrow`]'s f32 box test of eight rays at once.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    fn packet_avx2<const P: usize>(
+    fn packet_avx2<const P: usize, const ANY: bool>(
         &self,
         avx2: Avx2,
         rays: &[Ray; P],
@@ -606,7 +643,8 @@ impl Bvh {
                 <&mut [Nearest; narrow::RAYS]>::try_from(&mut best[..]),
             ) {
                 (Ok(packet), Ok(limits), Ok(out)) => {
-                    narrow::nearest(avx2, self, packet, limits, box_tests, triangle_tests, out)
+                    let tests = (&mut *box_tests, &mut *triangle_tests);
+                    narrow::traverse::<ANY>(avx2, self, packet, limits, tests, out)
                 }
                 _ => false,
             };
@@ -614,12 +652,12 @@ impl Bvh {
                 return;
             }
         }
-        self.packet_in(avx2, rays, t_max, box_tests, triangle_tests, best)
+        self.packet_in::<P, ANY, _>(avx2, rays, t_max, box_tests, triangle_tests, best)
     }
 
     /// The packet traversal itself, inlined into each of the two builds above.
     #[inline(always)]
-    fn packet_in<const P: usize, I: Isa>(
+    fn packet_in<const P: usize, const ANY: bool, I: Isa>(
         &self,
         isa: I,
         rays: &[Ray; P],
@@ -637,13 +675,14 @@ impl Bvh {
                 all |= 1 << r;
             }
         }
-        let mut query = Packet {
+        let mut query = Packet::<I, P, ANY> {
             bvh: self,
             isa,
             rays,
             sheared,
             box_rays: std::array::from_fn(|r| BoxRay::new(&rays[r])),
             t_max,
+            open: t_max,
             box_tests,
             triangle_tests,
             best,
@@ -713,19 +752,21 @@ impl<I: Isa, L: FnMut(std::ops::Range<usize>, f64) -> f64> Query for OneRay<'_, 
 
 /// A packet's query with the f64 box test, one ray at a time: each ray's sheared ray, box ray and
 /// nearest hit so far.
-struct Packet<'a, I, const P: usize> {
+struct Packet<'a, I, const P: usize, const ANY: bool> {
     bvh: &'a Bvh,
     isa: I,
     rays: &'a [Ray; P],
     sheared: [Option<ShearedRay>; P],
     box_rays: [BoxRay; P],
     t_max: [f64; P],
+    /// Each ray's t_max at the start (an any-hit query's limit).
+    open: [f64; P],
     box_tests: &'a mut u64,
     triangle_tests: &'a mut u64,
     best: &'a mut [Nearest; P],
 }
 
-impl<I: Isa, const P: usize> Query for Packet<'_, I, P> {
+impl<I: Isa, const P: usize, const ANY: bool> Query for Packet<'_, I, P, ANY> {
     type Near = f64;
 
     #[inline(always)]
@@ -770,6 +811,31 @@ impl<I: Isa, const P: usize> Query for Packet<'_, I, P> {
         let tests = &mut *self.triangle_tests;
         self.bvh
             .packet_leaf(self.isa, slots, live, rays, hits, tests, |_, _| {});
+        if ANY {
+            close_found(live, self.best, &self.open, &mut self.t_max, |_| {});
+        }
+    }
+}
+
+/// An any-hit packet's rays of `live` that have found a hit before their `open` limit are done:
+/// their t_max becomes −∞, which no box is entered before, so the walk passes them by.
+/// `closed(r)` is told of each.
+#[inline(always)]
+pub(in crate::render) fn close_found<const P: usize>(
+    live: u32,
+    best: &[Nearest; P],
+    open: &[f64; P],
+    t_max: &mut [f64; P],
+    mut closed: impl FnMut(usize),
+) {
+    let mut each = live;
+    while each != 0 {
+        let r = each.trailing_zeros() as usize;
+        each &= each - 1;
+        if best[r].is_some_and(|(_, hit)| hit.t < open[r]) {
+            t_max[r] = f64::NEG_INFINITY;
+            closed(r);
+        }
     }
 }
 
@@ -1299,14 +1365,16 @@ mod tests {
     /// Packets of sixteen rays (across whose rays the f32 box test runs where their numbers allow
     /// it) find exactly what each ray finds alone: rows of neighbouring rays, scattered rays, rays
     /// through the mesh's vertices and edge midpoints (on its boxes' faces and corners), with and
-    /// without a t_max, and packets with a zero direction component (the one-ray box test).
+    /// without a t_max (one at the ray's nearest hit), and packets with a zero direction component
+    /// (the one-ray box test). The any-hit packet answers as each ray's any-hit query does, on
+    /// the f32 path and the scalar one.
     #[test]
     fn packets_find_what_single_rays_find() {
         use rand::{Rng, SeedableRng};
         let mesh = load_mesh(&Embedded, "meshes/octasphere.obj").unwrap();
         let bvh = Bvh::build(&mesh);
         let mut random = rand_pcg::Pcg64::seed_from_u64(11);
-        let mut hits = 0;
+        let (mut hits, mut blocked) = (0, 0);
         for p in 0..600 {
             let origin: V3<f64> = [
                 random.random_range(-0.5..0.5),
@@ -1340,8 +1408,14 @@ mod tests {
                 };
                 Ray::new(origin, std::array::from_fn(|k| target[k] - origin[k]))
             });
-            let t_max: [f64; 16] =
-                std::array::from_fn(|r| if r % 5 == 0 { 2.9 } else { f64::INFINITY });
+            // Some rays end before the mesh, some exactly at their nearest hit.
+            let t_max: [f64; 16] = std::array::from_fn(|r| match r % 5 {
+                0 => 2.9,
+                1 => bvh
+                    .nearest_crack_free(None, &rays[r], (0.0, f64::INFINITY), &mut 0, &mut 0)
+                    .map_or(f64::INFINITY, |(_, hit)| hit.t),
+                _ => f64::INFINITY,
+            });
             let mut packet = [None; 16];
             bvh.nearest_crack_free_packet(
                 Avx2::detect(),
@@ -1356,8 +1430,18 @@ mod tests {
                 assert_eq!(packet[r], alone, "packet {p}, ray {r}: {ray:?}");
                 hits += alone.is_some() as usize;
             }
+            // The any-hit packet, through the f32 test and through the scalar path.
+            for simd in [Avx2::detect(), None] {
+                let occluded = bvh.occluded_packet(simd, &rays, t_max, &mut 0, &mut 0);
+                for (r, ray) in rays.iter().enumerate() {
+                    let alone = bvh.occluded(None, ray, (0.0, t_max[r]), &mut 0, &mut 0);
+                    let what = format!("packet {p}, ray {r}, {simd:?}: {ray:?}");
+                    assert_eq!((occluded >> r) & 1 == 1, alone, "{what}");
+                }
+                blocked += occluded.count_ones();
+            }
         }
-        assert!(hits > 4000, "{hits}");
+        assert!(hits > 4000 && blocked > 4000, "{hits} {blocked}");
     }
 
     /// The any-hit query is true exactly when the nearest-hit query finds a hit before t_max, on

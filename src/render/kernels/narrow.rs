@@ -26,7 +26,7 @@
 use super::Avx2;
 use crate::render::Ray;
 use crate::render::bvh::traverse::{Met, Query, children};
-use crate::render::bvh::{Bvh, EMPTY, Nearest, Node};
+use crate::render::bvh::{Bvh, EMPTY, Nearest, Node, close_found};
 use crate::render::crack_free::ShearedRay;
 
 /// Rays in a packet: two groups of eight f32 lanes.
@@ -183,33 +183,34 @@ impl Lanes {
     }
 }
 
-/// The nearest crack-free hits of sixteen rays in `bvh`, written into `best`; false when their
-/// numbers do not allow the f32 box test (the caller then takes the one-ray box test).
+/// The nearest crack-free hits of sixteen rays in `bvh`, written into `best`, or with `ANY` a hit
+/// before each ray's t_max (a ray leaves the walk at its first); false when their numbers do not
+/// allow the f32 box test (the caller then takes the one-ray box test).
 ///
 /// # Safety
 /// Compiled with AVX2 and FMA: safe to call from code compiled with them (the packet traversal);
 /// `avx2` proves the processor has them.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-pub fn nearest(
+pub fn traverse<const ANY: bool>(
     avx2: Avx2,
     bvh: &Bvh,
     rays: &[Ray; RAYS],
     t_max: [f64; RAYS],
-    box_tests: &mut u64,
-    triangle_tests: &mut u64,
+    (box_tests, triangle_tests): (&mut u64, &mut u64),
     best: &mut [Nearest; RAYS],
 ) -> bool {
     // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
     let Some(lanes) = (unsafe { Lanes::new(rays, &t_max) }) else {
         return false;
     };
-    let mut query = Narrow {
+    let mut query = Narrow::<ANY> {
         avx2,
         bvh,
         rays,
         lanes,
         t_max,
+        open: t_max,
         sheared: [None; RAYS],
         box_tests,
         triangle_tests,
@@ -220,13 +221,15 @@ pub fn nearest(
 }
 
 /// The query of sixteen rays with the f32 box test.
-struct Narrow<'a> {
+struct Narrow<'a, const ANY: bool> {
     avx2: Avx2,
     bvh: &'a Bvh,
     rays: &'a [Ray; RAYS],
     lanes: Lanes,
     /// Each ray's nearest hit so far (`lanes.t_max` holds it rounded up).
     t_max: [f64; RAYS],
+    /// Each ray's t_max at the start (an any-hit query's limit).
+    open: [f64; RAYS],
     /// Made when a ray first reaches a leaf (never `None` for rays in range: finite, d ≠ 0).
     sheared: [Option<ShearedRay>; RAYS],
     box_tests: &'a mut u64,
@@ -235,7 +238,7 @@ struct Narrow<'a> {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl Query for Narrow<'_> {
+impl<const ANY: bool> Query for Narrow<'_, ANY> {
     type Near = f32;
 
     #[inline(always)]
@@ -262,6 +265,11 @@ impl Query for Narrow<'_> {
             .packet_leaf(self.avx2, slots, live, rays, hits, tests, |r, t_max| {
                 lanes.t_max[r] = up(t_max);
             });
+        if ANY {
+            close_found(live, self.best, &self.open, &mut self.t_max, |r| {
+                lanes.t_max[r] = f32::NEG_INFINITY;
+            });
+        }
     }
 
     #[inline(always)]
