@@ -410,6 +410,39 @@ pub fn render(prepared: &Prepared) -> (Image, Stats) {
     (image, stats)
 }
 
+/// The time a quick frame aims at while the camera moves (the Render view's orbit): 40 frames a
+/// second, with room left for the app's own drawing.
+pub const QUICK_FRAME_SECONDS: f64 = 0.025;
+
+/// The most a quick frame divides the image's sides by.
+pub const MAX_QUICK_DIVISOR: u32 = 16;
+
+impl Prepared {
+    /// A quick frame of this render, for a moving camera: 1/`n` of its sides (rounded up), one
+    /// sample a pixel; the same scene, effects and method.
+    pub fn quick_frame(&self, n: u32) -> Prepared {
+        let n = n.clamp(1, MAX_QUICK_DIVISOR) as usize;
+        let mut quick = self.clone();
+        quick.width = self.width.div_ceil(n);
+        quick.height = self.height.div_ceil(n);
+        quick.lighting.settings.samples_per_side = 1;
+        quick
+    }
+}
+
+/// The divisor of the next quick frame after a frame that took `seconds`: a quick frame of
+/// divisor `n` (`Some(n)`) moves it one step towards frames of [`QUICK_FRAME_SECONDS`]; a full
+/// frame (`None`) gives the first guess, as a frame's time falls with its pixels (n² fewer).
+pub fn next_quick_divisor(last: Option<u32>, seconds: f64) -> u32 {
+    let n = match last {
+        Some(n) if seconds > 1.3 * QUICK_FRAME_SECONDS => n + 1,
+        Some(n) if seconds < 0.4 * QUICK_FRAME_SECONDS => n.saturating_sub(1),
+        Some(n) => n,
+        None => (seconds / QUICK_FRAME_SECONDS).sqrt().ceil() as u32,
+    };
+    n.clamp(1, MAX_QUICK_DIVISOR)
+}
+
 /// A finished render: the image, the work, and the seconds it took.
 pub struct Rendered {
     /// The image.
@@ -592,6 +625,33 @@ pub fn world_triangle(object: &PreparedObject, primitive: usize) -> Option<[V3<f
 mod tests {
     use super::*;
     use crate::scene::render::{Object, SceneMethod, Shape, Transform};
+
+    /// A quick frame is the render at 1/n of its sides, one sample a pixel; its divisor starts from
+    /// the full frame's time (n² fewer pixels) and moves a step at a time towards the frame time,
+    /// within 1 to 16.
+    #[test]
+    fn quick_frames_divide_the_image_towards_their_frame_time() {
+        let mut prepared = one_triangle(vec![Effect::Coverage, Effect::Antialiasing]);
+        (prepared.width, prepared.height) = (240, 101);
+        prepared.lighting.settings.samples_per_side = 4;
+        let quick = prepared.quick_frame(4);
+        assert_eq!((quick.width, quick.height), (60, 26));
+        assert_eq!(quick.lighting.settings.samples_per_side, 1);
+        assert_eq!(quick.effects, prepared.effects);
+        assert_eq!(render(&quick).0.width, 60);
+        let frame = QUICK_FRAME_SECONDS;
+        assert_eq!(next_quick_divisor(None, 16.0 * frame), 4);
+        assert_eq!(next_quick_divisor(None, 0.5 * frame), 1);
+        assert_eq!(next_quick_divisor(None, 1e6), MAX_QUICK_DIVISOR);
+        assert_eq!(next_quick_divisor(Some(4), 2.0 * frame), 5);
+        assert_eq!(next_quick_divisor(Some(4), 0.2 * frame), 3);
+        assert_eq!(next_quick_divisor(Some(4), frame), 4);
+        assert_eq!(next_quick_divisor(Some(1), 0.0), 1);
+        assert_eq!(
+            next_quick_divisor(Some(MAX_QUICK_DIVISOR), 1.0),
+            MAX_QUICK_DIVISOR
+        );
+    }
 
     fn one_triangle(effects: Vec<Effect>) -> Prepared {
         let scene = RenderScene {

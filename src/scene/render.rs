@@ -247,7 +247,111 @@ impl RenderScene {
     }
 }
 
+/// The steepest a moved pinhole camera looks up or down, in degrees: straight down the z axis its
+/// image would have no "up".
+pub const MAX_PITCH_DEGREES: f64 = 89.0;
+
+/// How near and how far a moved pinhole camera may come to its target, in scene units.
+pub const DOLLY_RANGE: (f64, f64) = (1e-3, 1e6);
+
 impl Camera {
+    /// A pinhole camera's place around its target: (distance, yaw about z, pitch above the xy
+    /// plane), angles in radians; `None` for the image plane.
+    pub fn orbit_angles(&self) -> Option<(f64, f64, f64)> {
+        let Camera::Pinhole {
+            position, target, ..
+        } = self
+        else {
+            return None;
+        };
+        let offset = sub(position, target);
+        let distance = dot(&offset, &offset).sqrt();
+        if !distance.is_finite() || distance == 0.0 {
+            return None;
+        }
+        let yaw = offset[1].atan2(offset[0]);
+        let pitch = (offset[2] / distance).clamp(-1.0, 1.0).asin();
+        Some((distance, yaw, pitch))
+    }
+
+    /// The pinhole camera moved on the sphere about its target to `yaw` and `pitch` (radians; the
+    /// pitch held within ±[`MAX_PITCH_DEGREES`]) at `distance` (held within [`DOLLY_RANGE`]). The
+    /// image plane does not move.
+    pub fn placed(&self, distance: f64, yaw: f64, pitch: f64) -> Camera {
+        let Camera::Pinhole { target, fov_y, .. } = self else {
+            return self.clone();
+        };
+        let limit = MAX_PITCH_DEGREES.to_radians();
+        let pitch = pitch.clamp(-limit, limit);
+        let distance = distance.clamp(DOLLY_RANGE.0, DOLLY_RANGE.1);
+        let along = [
+            pitch.cos() * yaw.cos(),
+            pitch.cos() * yaw.sin(),
+            pitch.sin(),
+        ];
+        Camera::Pinhole {
+            position: std::array::from_fn(|k| target[k] + distance * along[k]),
+            target: *target,
+            fov_y: *fov_y,
+        }
+    }
+
+    /// Orbited about its target by `yaw` and `pitch` radians (drag right: the scene turns left).
+    pub fn orbited(&self, yaw: f64, pitch: f64) -> Camera {
+        match self.orbit_angles() {
+            Some((distance, yaw0, pitch0)) => self.placed(distance, yaw0 + yaw, pitch0 + pitch),
+            None => self.clone(),
+        }
+    }
+
+    /// Moved towards its target (`factor` < 1) or away from it (> 1).
+    pub fn dollied(&self, factor: f64) -> Camera {
+        match self.orbit_angles() {
+            Some((distance, yaw, pitch)) if factor.is_finite() && factor > 0.0 => {
+                self.placed(distance * factor, yaw, pitch)
+            }
+            _ => self.clone(),
+        }
+    }
+
+    /// Moved with its target across the image: `right` and `up` in image heights (a drag of the
+    /// whole image's height moves the scene by its height at the target's distance).
+    pub fn panned(&self, right: f64, up: f64) -> Camera {
+        let (
+            Camera::Pinhole {
+                position,
+                target,
+                fov_y,
+            },
+            Some((distance, yaw, pitch)),
+        ) = (self, self.orbit_angles())
+        else {
+            return self.clone();
+        };
+        // The image's right and up for a camera at (yaw, pitch), z up.
+        let right_axis = [-yaw.sin(), yaw.cos(), 0.0];
+        let up_axis = [
+            -pitch.sin() * yaw.cos(),
+            -pitch.sin() * yaw.sin(),
+            pitch.cos(),
+        ];
+        let height = 2.0 * distance * (fov_y.to_radians() / 2.0).tan();
+        let shift: [f64; 3] =
+            std::array::from_fn(|k| height * (right * right_axis[k] + up * up_axis[k]));
+        let moved = |p: &[f64; 3]| std::array::from_fn(|k| p[k] + shift[k]);
+        let camera = Camera::Pinhole {
+            position: moved(position),
+            target: moved(target),
+            fov_y: *fov_y,
+        };
+        // A pan past the numbers a scene may hold keeps the camera where it was.
+        if camera.numbers().iter().all(|c| c.abs() <= MAX_MAGNITUDE) {
+            camera
+        } else {
+            self.clone()
+        }
+    }
+
     /// Every number the camera holds.
     pub fn numbers(&self) -> Vec<f64> {
         match self {
@@ -509,6 +613,82 @@ fn default_color() -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn pinhole() -> Camera {
+        Camera::Pinhole {
+            position: [0.0, -4.0, 1.0],
+            target: [0.0, 0.0, 1.0],
+            fov_y: 40.0,
+        }
+    }
+
+    fn parts(camera: &Camera) -> ([f64; 3], [f64; 3]) {
+        match camera {
+            Camera::Pinhole {
+                position, target, ..
+            } => (*position, *target),
+            Camera::ImagePlane { .. } => panic!("a pinhole"),
+        }
+    }
+
+    fn close(a: [f64; 3], b: [f64; 3]) -> bool {
+        (0..3).all(|k| (a[k] - b[k]).abs() < 1e-12)
+    }
+
+    /// Orbiting keeps the target and the distance; a quarter turn of yaw takes the eye from −y to
+    /// +x; the pitch stops short of the pole; the image plane does not move.
+    #[test]
+    fn a_pinhole_orbits_about_its_target() {
+        let camera = pinhole();
+        let (distance, yaw, pitch) = camera.orbit_angles().unwrap();
+        assert!(
+            (distance - 4.0).abs() < 1e-12 && pitch.abs() < 1e-12,
+            "{yaw}"
+        );
+        let turned = camera.orbited(std::f64::consts::FRAC_PI_2, 0.0);
+        let (position, target) = parts(&turned);
+        assert!(close(position, [4.0, 0.0, 1.0]), "{position:?}");
+        assert_eq!(target, [0.0, 0.0, 1.0]);
+        let over = camera.orbited(0.0, 10.0);
+        let (_, _, pitch) = over.orbit_angles().unwrap();
+        assert!(
+            (pitch.to_degrees() - MAX_PITCH_DEGREES).abs() < 1e-9,
+            "{pitch}"
+        );
+        let plane = Camera::ImagePlane {
+            x: (-1.0, 1.0),
+            y: (1.0, -1.0),
+            z: 1.0,
+        };
+        assert_eq!(plane.orbited(1.0, 1.0), plane);
+        assert_eq!(plane.dollied(0.5), plane);
+        assert_eq!(plane.panned(0.5, 0.5), plane);
+    }
+
+    /// A dolly moves the eye along its line to the target, within the allowed range; a pan moves
+    /// eye and target together across the image (so the view's direction stays), and refuses to
+    /// leave the numbers a scene may hold.
+    #[test]
+    fn a_pinhole_dollies_and_pans() {
+        let camera = pinhole();
+        let (position, _) = parts(&camera.dollied(0.5));
+        assert!(close(position, [0.0, -2.0, 1.0]), "{position:?}");
+        let (near, _, _) = camera.dollied(1e-9).orbit_angles().unwrap();
+        assert!((near - DOLLY_RANGE.0).abs() < 1e-15, "{near}");
+        assert_eq!(camera.dollied(f64::NAN), camera);
+        // Looking along +y, the image's right is +x and its up +z.
+        let height = 2.0 * 4.0 * 20f64.to_radians().tan();
+        let (position, target) = parts(&camera.panned(0.5, 0.25));
+        assert!(
+            close(target, [0.5 * height, 0.0, 1.0 + 0.25 * height]),
+            "{target:?}"
+        );
+        assert!(
+            close(position, [0.5 * height, -4.0, 1.0 + 0.25 * height]),
+            "{position:?}"
+        );
+        assert_eq!(camera.panned(1e40, 0.0), camera);
+    }
 
     #[test]
     fn the_transform_scales_then_rotates_then_translates() {
