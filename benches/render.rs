@@ -1,6 +1,8 @@
 //! What skipping an effect saves: whole-image renders of the same scene with all its effects, with each
 //! one turned off, and with coverage only; and what the BVH saves over testing every triangle.
 //!
+//! Then the Render view's frames while the camera orbits: the full frame and the quick ones.
+//!
 //! `cargo bench --bench render` (about a minute and a half; renders run in parallel over rows).
 
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
@@ -122,6 +124,9 @@ fn bvh(c: &mut Criterion) {
 /// the rays of each kind (`cargo bench --bench render -- cost-table` prints it and skips the rest).
 fn cost_table(_: &mut Criterion) {
     use raylab::render::ray_kinds::RayKind;
+    if !table_wanted("cost-table") {
+        return;
+    }
     let past_casting = Effect::PAST_CASTING;
     println!(
         "| scene | effects | time (ms) | primary | samples | shadow | reflection | refraction | occlusion |"
@@ -163,12 +168,98 @@ fn cost_table(_: &mut Criterion) {
     }
 }
 
+/// The Render view's frames while the camera orbits: for each shipped render scene, the full
+/// frame, then quick frames as the view makes them (the divisor guessed from the full frame and
+/// moved a step a frame towards [`QUICK_FRAME_SECONDS`]), each from a camera turned a little
+/// further; printed as a table (`cargo bench --bench render -- orbit-table` prints it and skips
+/// the rest). Renders run on the machine's threads, as the app's do.
+fn orbit_table(_: &mut Criterion) {
+    use raylab::render::{QUICK_FRAME_SECONDS, next_quick_divisor};
+    if !table_wanted("orbit-table") {
+        return;
+    }
+    println!(
+        "\n| scene | full frame | full (ms) | quick frame | divisor | quick (ms, median of 9) | \
+         quick frames/s |"
+    );
+    println!("|---|---|---:|---|---:|---:|---:|");
+    let dir = format!("{}/assets/scenes", env!("CARGO_MANIFEST_DIR"));
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|entry| entry.ok()?.file_name().into_string().ok())
+        .filter(|name| name.ends_with(".ron"))
+        .collect();
+    files.sort();
+    for file in files {
+        let Problem::Render(scene) = Scene::load(std::path::Path::new(&format!("{dir}/{file}")))
+            .unwrap()
+            .problem
+        else {
+            continue;
+        };
+        let prepared = Prepared::new(&scene, &Embedded).unwrap();
+        let name = file.trim_end_matches(".ron");
+        let full = timed(&prepared);
+        if scene.camera.orbit_angles().is_none() {
+            println!(
+                "| {name} | {}x{} | {:.1} | (an image plane: the camera stays) | | | |",
+                prepared.width,
+                prepared.height,
+                full * 1e3
+            );
+            continue;
+        }
+        let mut n = next_quick_divisor(None, full);
+        let mut times = Vec::new();
+        for step in 0..15 {
+            let mut quick = prepared.quick_frame(n);
+            quick.camera = scene.camera.orbited(0.02 * f64::from(step), 0.0);
+            let seconds = timed(&quick);
+            if step >= 6 {
+                times.push(seconds);
+            } else {
+                n = next_quick_divisor(Some(n), seconds);
+            }
+        }
+        times.sort_by(f64::total_cmp);
+        let median = times[times.len() / 2];
+        let quick = prepared.quick_frame(n);
+        println!(
+            "| {name} | {}x{} | {:.1} | {}x{} | {n} | {:.1} | {:.0} |",
+            prepared.width,
+            prepared.height,
+            full * 1e3,
+            quick.width,
+            quick.height,
+            median * 1e3,
+            1.0 / median.max(1e-9),
+        );
+    }
+    println!("(quick frames aim at {:.0} ms)", QUICK_FRAME_SECONDS * 1e3);
+}
+
+/// True when the command line names no benchmark filter, or names this table.
+fn table_wanted(name: &str) -> bool {
+    let filters: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|arg| !arg.starts_with('-'))
+        .collect();
+    filters.is_empty() || filters.iter().any(|f| f == name)
+}
+
+/// Seconds one render takes.
+fn timed(prepared: &Prepared) -> f64 {
+    let clock = std::time::Instant::now();
+    std::hint::black_box(render(prepared));
+    clock.elapsed().as_secs_f64()
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default()
         .sample_size(10)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));
-    targets = cost_table, effects, bvh
+    targets = cost_table, orbit_table, effects, bvh
 }
 criterion_main!(benches);

@@ -40,7 +40,8 @@ pub struct Slide {
     /// Show the steps in symbols (seed 002's derivation, for a triangle scene) instead of numbers.
     #[serde(default)]
     pub symbolic: bool,
-    /// Where a 3D view's camera looks from (the scene is framed to fill the view from there).
+    /// Where a 3D view's camera looks from (the scene is framed to fill the view from there); on a
+    /// render scene, where its pinhole camera looks at its target from, at the scene's distance.
     #[serde(default)]
     pub camera: Option<Camera>,
     /// What the teacher says, a line each. Math is written as text (β = |M1| / |M|).
@@ -140,13 +141,16 @@ impl Lesson {
                 continue;
             };
             if let Some(camera) = slide.camera {
-                let three_d = matches!(
-                    scene.problem,
-                    Problem::Triangle(_) | Problem::Parallelogram(_)
-                );
-                if !three_d {
+                let turns = match &scene.problem {
+                    Problem::Triangle(_) | Problem::Parallelogram(_) => true,
+                    // The Render view orbits a pinhole camera about its target.
+                    Problem::Render(render) => render.camera.orbit_angles().is_some(),
+                    _ => false,
+                };
+                if !turns {
                     problems.push(format!(
-                        "{at}: a camera is for the Triangle and Parallelogram views"
+                        "{at}: a camera is for the Triangle and Parallelogram views and a render \
+                         scene's pinhole camera"
                     ));
                 }
                 if !(camera.yaw.is_finite() && (-89.0..=89.0).contains(&camera.pitch)) {
@@ -259,6 +263,17 @@ mod tests {
         );
         assert!(problems[1].contains("no narration"), "{problems:?}");
         assert!(problems[2].contains("has no step “gamma2”"), "{problems:?}");
+        // A camera turns the 3D views and a render scene's pinhole, not seed 003's image plane.
+        let cameras = r#"(title: "x", summary: "y", slides: [
+            (title: "a", scene: "effect-shadows", camera: Some((yaw: 30, pitch: 20)),
+             narration: ["hi"]),
+            (title: "b", scene: "seed003-facing", camera: Some((yaw: 30, pitch: 20)),
+             narration: ["hi"]),
+        ])"#;
+        let problems = Lesson::from_ron(cameras, "cameras.ron").unwrap().problems();
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert!(problems[0].starts_with("slide 2"), "{problems:?}");
+        assert!(problems[0].contains("a camera is for"), "{problems:?}");
         let typo = Lesson::from_ron(r#"(title: "x", summry: "y", slides: [])"#, "typo.ron");
         assert!(typo.unwrap_err().to_string().starts_with("typo.ron:1:"));
     }

@@ -95,10 +95,7 @@ impl RaylabApp {
                     let (yaw, pitch) = (camera.yaw.to_radians(), camera.pitch.to_radians());
                     // The views frame the scene from this direction on their next frame.
                     for tab in &mut self.state.tabs {
-                        if let Some(canvas) = tab.view.canvas_mut() {
-                            canvas.camera.yaw = yaw;
-                            canvas.camera.pitch = pitch;
-                        }
+                        tab.view.aim(yaw, pitch);
                     }
                 }
             }

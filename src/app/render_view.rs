@@ -7,6 +7,7 @@
 
 mod effects;
 mod jobs;
+mod orbit;
 mod probe;
 mod spaces;
 mod tree;
@@ -70,6 +71,9 @@ pub struct RenderView {
     pub probed: Option<(usize, usize)>,
     /// The folder of the scene's file, where its own meshes and textures are (`None`: a preset).
     pub folder: Option<String>,
+    /// The camera as the user moved it (`None`: the scene's own); saved with the scene only when
+    /// the user saves it.
+    pub camera: Option<crate::scene::render::Camera>,
     #[serde(skip)]
     runtime: Runtime,
 }
@@ -86,8 +90,11 @@ impl View for RenderView {
         self.load(scene.clone(), folder)
     }
 
+    /// The scene as the view shows it: through the moved camera, if the user moved it.
     fn problem(&self) -> Option<Problem> {
-        Some(Problem::Render(self.scene.clone()))
+        let mut scene = self.scene.clone();
+        scene.camera = self.view_camera();
+        Some(Problem::Render(scene))
     }
 
     /// The probed pixel's ray against what it met (or came nearest to): the step panel shows its
@@ -127,6 +134,10 @@ impl View for RenderView {
     fn save(&self) -> Option<String> {
         ron::to_string(self).ok()
     }
+
+    fn aim(&mut self, yaw: f64, pitch: f64) {
+        self.look_from(yaw, pitch);
+    }
 }
 
 /// What the view asks the app to do.
@@ -154,6 +165,7 @@ impl Default for RenderView {
             mode: Mode::Image,
             probed: None,
             folder: None,
+            camera: None,
             runtime: Runtime::default(),
         }
     }
@@ -206,6 +218,7 @@ impl RenderView {
             self.runtime.prepared = Some((scene.clone(), Ok(Arc::new(prepared))));
         }
         self.scene = scene;
+        self.camera = None;
         self.probed = None;
         Ok(())
     }
@@ -374,13 +387,11 @@ impl RenderView {
         grid.width * scale * grid.panes + IMAGE_GAP * (grid.panes - 1.0)
     }
 
-    /// The images' layout numbers: the image's size (the one shown, else the scene's), the panes
+    /// The images' layout numbers: the image's size (the scene's), the panes
     /// (two beside a bug) and the caption above each.
     fn image_grid(&self, ui: &Ui) -> ImageGrid {
-        let (width, height) = match &self.runtime.correct.shown {
-            Some(shown) => (shown.rendered.image.width, shown.rendered.image.height),
-            None => (self.scene.width, self.scene.height),
-        };
+        // The scene's size: a quick frame, smaller, is shown enlarged to it.
+        let (width, height) = (self.scene.width, self.scene.height);
         ImageGrid {
             width: width.max(1) as f32,
             height: height.max(1) as f32,
@@ -411,6 +422,7 @@ impl RenderView {
         ui.horizontal_wrapped(|ui| {
             self.bug_ui(ui);
             ui.separator();
+            self.camera_ui(ui);
             ui.selectable_value(&mut self.mode, Mode::Image, "Image")
                 .on_hover_text("The rendered image; click a pixel to probe its ray");
             ui.selectable_value(&mut self.mode, Mode::Spaces, "World vs object space")
@@ -491,7 +503,10 @@ impl RenderView {
                     .color(palette::OUTSIDE.readable(ui)),
             );
         }
-        if let Some((_, job)) = &slot.running {
+        // Quick frames while the camera moves come too fast for a progress bar.
+        if let Some((key, job)) = &slot.running
+            && key.draft.is_none()
+        {
             let (done, total) = job.progress();
             ui.add(
                 egui::ProgressBar::new(done as f32 / total as f32)
@@ -501,11 +516,7 @@ impl RenderView {
         let Some(shown) = &slot.shown else {
             return;
         };
-        let Rendered {
-            image,
-            stats,
-            seconds,
-        } = &shown.rendered;
+        let stats = &shown.rendered.stats;
         let method = self
             .method
             .map_or_else(|| self.scene_method_label(), |m| m.name().to_string());
@@ -518,10 +529,8 @@ impl RenderView {
             .collect();
         // The summary wraps; the counters are one click away below it.
         let summary = format!(
-            "{}×{} in {:.1} ms: {} of {} pixels hit",
-            image.width,
-            image.height,
-            seconds * 1e3,
+            "{}: {} of {} pixels hit",
+            self.frame_summary(&shown.rendered, shown.key.draft),
             stats.hits,
             stats.rays
         );
@@ -562,6 +571,9 @@ impl RenderView {
         let size = Vec2::new(grid.width, grid.height) * scale;
         let probed = self.probed;
         let mut clicked = None;
+        let mut motion = orbit::Motion::default();
+        let movable = self.camera_moves();
+        let moving = self.runtime.orbit.moving();
         ui.horizontal_top(|ui| {
             ui.spacing_mut().item_spacing.x = IMAGE_GAP;
             for (slot, title) in [
@@ -587,9 +599,22 @@ impl RenderView {
                             return;
                         }
                     };
+                    let quick = shown.key.draft.is_some();
+                    let hint = match (movable, quick) {
+                        (_, true) => "A quick frame while the camera moves: the full image follows",
+                        (true, false) => {
+                            "Click a pixel to probe its ray; drag to orbit, Shift-drag to pan, \
+                             scroll to move nearer"
+                        }
+                        (false, false) => "Click a pixel to probe its ray",
+                    };
                     let response = ui
-                        .add(egui::Image::new((shown.texture.id(), size)).sense(Sense::click()))
-                        .on_hover_text("Click a pixel to probe its ray");
+                        .add(
+                            egui::Image::new((shown.texture.id(), size))
+                                .sense(Sense::click_and_drag()),
+                        )
+                        .on_hover_text(hint);
+                    motion.read(ui, &response, movable);
                     let name = format!("{title} render");
                     response
                         .widget_info(|| egui::WidgetInfo::labeled(egui::Role::Image, true, &name));
@@ -602,12 +627,15 @@ impl RenderView {
                             && (row as usize) < height)
                             .then_some((row as usize, column as usize))
                     };
+                    // A quick frame's pixels are not the image's: only a full one is probed.
                     if response.clicked()
+                        && !quick
                         && let Some(pixel) = response.interact_pointer_pos().and_then(to_pixel)
                     {
                         clicked = Some(pixel);
                     }
-                    if stale {
+                    // While the camera moves, every frame is a step behind it: no band.
+                    if stale && !moving && !quick {
                         rendering_band(ui, response.rect);
                     }
                     if let Some((row, column)) = probed {
@@ -620,6 +648,7 @@ impl RenderView {
                 });
             }
         });
+        self.apply_motion(motion, ui.input(|i| i.time));
         if let Some(pixel) = clicked {
             *action = self.probe_pixel(pixel);
         }

@@ -122,6 +122,15 @@ pub trait View: AnyView {
     fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
         None
     }
+
+    /// Turns its camera to look from `yaw` about z and `pitch` above the xy plane (radians), as a
+    /// lesson's slide asks.
+    fn aim(&mut self, yaw: f64, pitch: f64) {
+        if let Some(canvas) = self.canvas_mut() {
+            canvas.camera.yaw = yaw;
+            canvas.camera.pitch = pitch;
+        }
+    }
 }
 
 /// What every view is without writing it: its concrete type (the app reaches a view it knows by

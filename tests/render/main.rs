@@ -15,3 +15,4 @@ mod effects;
 mod render;
 mod render_effects_ui;
 mod render_loading;
+mod render_orbit_ui;

@@ -24,6 +24,8 @@ pub(super) struct Runtime {
     pub(super) pending: Option<Action>,
     /// The measurement of each effect's cost.
     pub(super) cost: Option<effects::Cost>,
+    /// The camera's motion and the frames shown while it moves.
+    pub(super) orbit: orbit::Orbit,
 }
 
 /// A copy starts without images: they render again when it is shown.
@@ -90,30 +92,36 @@ impl Slot {
     }
 
     /// Takes the running render's image when it has finished (as the texture `name`), or its
-    /// failure.
-    fn take_finished(&mut self, ctx: &egui::Context, name: &str) {
-        let Some((key, mut job)) = self.running.take() else {
-            return;
-        };
+    /// failure; returns the finished frame's draft factor and seconds.
+    fn take_finished(&mut self, ctx: &egui::Context, name: &str) -> Option<(Option<u32>, f64)> {
+        let (key, mut job) = self.running.take()?;
         if let Some(failure) = job.failure() {
             self.error = Some(format!(
                 "the render stopped on an internal error: {failure}"
             ));
             self.failed = Some(key);
-            return;
+            return None;
         }
         let Some(rendered) = job.poll() else {
             self.running = Some((key, job));
-            return;
+            return None;
         };
         let image = &rendered.image;
         let pixels = ColorImage::from_rgb([image.width, image.height], &image.to_rgb8());
-        let texture = ctx.load_texture(name, pixels, TextureOptions::NEAREST);
+        // A full image shows its pixels as squares (they are probed one by one); a quick frame,
+        // enlarged, is smoothed.
+        let filter = match key.draft {
+            Some(_) => TextureOptions::LINEAR,
+            None => TextureOptions::NEAREST,
+        };
+        let texture = ctx.load_texture(name, pixels, filter);
+        let frame = (key.draft, rendered.seconds);
         self.shown = Some(Shown {
             key,
             rendered,
             texture,
         });
+        Some(frame)
     }
 }
 
@@ -121,12 +129,16 @@ impl Slot {
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct Choices {
     pub(super) scene: RenderScene,
+    /// The camera the view looks through (the scene's, or moved by the user).
+    pub(super) camera: crate::scene::render::Camera,
     pub(super) effects: Vec<Effect>,
     pub(super) method: Option<Method>,
     /// The bug of the second image; for a probe, none.
     pub(super) bug: Option<Bug>,
     /// The probed pixel (probes only).
     pub(super) pixel: Option<(usize, usize)>,
+    /// A quick frame while the camera moves: the image at 1/n of its sides, one sample a pixel.
+    pub(super) draft: Option<u32>,
 }
 
 /// A finished render on screen.
@@ -137,8 +149,19 @@ pub(super) struct Shown {
 }
 
 impl RenderView {
-    /// The scene prepared with the current choices (and a bug), or why not.
+    /// The scene prepared with the current choices (and a bug), through the view's camera, or why
+    /// not.
     pub(super) fn prepared(&mut self, bug: Option<Bug>) -> Result<Arc<Prepared>, String> {
+        self.prepared_draft(bug, None)
+    }
+
+    /// [`RenderView::prepared`], or with `draft` a quick frame of it: 1/n of its sides (rounded up),
+    /// one sample a pixel.
+    pub(super) fn prepared_draft(
+        &mut self,
+        bug: Option<Bug>,
+        draft: Option<u32>,
+    ) -> Result<Arc<Prepared>, String> {
         let prepared = match &self.runtime.prepared {
             Some((key, prepared)) if *key == self.scene => prepared.clone(),
             _ => {
@@ -161,11 +184,20 @@ impl RenderView {
         prepared.effects = self.effects.clone();
         prepared.method = self.method.or(prepared.method);
         prepared.bug = bug;
-        Ok(Arc::new(prepared))
+        prepared.camera = self.view_camera();
+        Ok(Arc::new(match draft {
+            Some(n) => prepared.quick_frame(n),
+            None => prepared,
+        }))
     }
 
     /// Starts renders whose inputs changed and takes finished ones; asks for frames while running.
     pub fn update(&mut self, ctx: &egui::Context) {
+        // A drag that ended away from the image (or in another mode) ends here.
+        if !ctx.input(|i| i.pointer.any_down()) {
+            self.runtime.orbit.end_drag();
+        }
+        self.runtime.orbit.tick(ctx.input(|i| i.time));
         if self.poll_loading(ctx) {
             return;
         }
@@ -175,10 +207,18 @@ impl RenderView {
             None => self.runtime.buggy = Slot::default(),
         }
         self.poll_cost(ctx);
-        self.runtime.correct.take_finished(ctx, "render");
+        let now = ctx.input(|i| i.time);
+        if let Some(frame) = self.runtime.correct.take_finished(ctx, "render") {
+            self.runtime.orbit.frame_shown(frame, now);
+        }
         self.runtime.buggy.take_finished(ctx, "render-bug");
         if self.is_rendering() {
             ctx.request_repaint();
+        }
+        // The camera stops counting as moving a moment after the last scroll: then the full
+        // image renders.
+        if let Some(wait) = self.runtime.orbit.settles_in(now) {
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(wait));
         }
         // A probe follows the choices it was made under.
         if self.probed.is_some() && self.runtime.probe_key.as_ref() != Some(&self.probe_key()) {
@@ -198,16 +238,28 @@ impl RenderView {
     pub(super) fn start_if_changed(&mut self, ctx: &egui::Context, bug: Option<Bug>) {
         let wanted = Choices {
             scene: self.scene.clone(),
+            camera: self.view_camera(),
             effects: self.effects.clone(),
             method: self.method,
             bug,
             pixel: None,
+            draft: self.runtime.orbit.draft(),
         };
         let slot = self.slot_mut(bug);
         if slot.current() == Some(&wanted) || slot.failed.as_ref() == Some(&wanted) {
             return;
         }
-        let started = self.prepared(bug).and_then(|prepared| {
+        // While the camera moves, a quick frame in flight is finished, not replaced: the next one
+        // starts from wherever the camera is then (replaced at every mouse move, none would end).
+        if wanted.draft.is_some()
+            && slot
+                .running
+                .as_ref()
+                .is_some_and(|(key, _)| key.draft.is_some())
+        {
+            return;
+        }
+        let started = self.prepared_draft(bug, wanted.draft).and_then(|prepared| {
             let waker = ctx.clone();
             Job::start("raylab-render", RenderJob::new(prepared), move || {
                 waker.request_repaint()

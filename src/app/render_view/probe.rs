@@ -9,10 +9,12 @@ impl RenderView {
     pub(super) fn probe_key(&self) -> Choices {
         Choices {
             scene: self.scene.clone(),
+            camera: self.view_camera(),
             effects: self.effects.clone(),
             method: self.method,
             bug: None,
             pixel: self.probed,
+            draft: None,
         }
     }
 
