@@ -78,7 +78,11 @@ fn dragging_the_image_orbits_with_quick_frames_then_the_full_image() {
         quick.height
     );
     assert!(shows_text_containing(&harness, "(quick, 1/"));
-    assert!(shows_text_containing(&harness, "frames/s"));
+    // Frames a second while moving (one, on a slow machine's debug build).
+    assert!(
+        shows_text_containing(&harness, "frames/s")
+            || shows_text_containing(&harness, " 1 frame/s")
+    );
     assert!(frame_number(&harness) > first);
     let shadow_rays = app_view::<RenderView>(&harness)
         .rendered()

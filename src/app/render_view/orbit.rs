@@ -200,6 +200,7 @@ impl RenderView {
             0.0
         };
         let rate = match orbit.frames_per_second() {
+            Some(1) => ", 1 frame/s".to_string(),
             Some(fps) => format!(", {fps} frames/s"),
             None => String::new(),
         };
