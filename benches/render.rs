@@ -238,6 +238,61 @@ fn orbit_table(_: &mut Criterion) {
     println!("(quick frames aim at {:.0} ms)", QUICK_FRAME_SECONDS * 1e3);
 }
 
+/// The app's render job against the command line's render, on the scenes with the most work: the
+/// job renders the same image in bands on a worker thread (the app's way, so the UI stays live), the
+/// command line in one parallel pass. Alternating, five of each, medians (`cargo bench --bench
+/// render -- job-table`).
+fn job_table(_: &mut Criterion) {
+    use raylab::platform::Job;
+    use raylab::render::RenderJob;
+    if !table_wanted("job-table") {
+        return;
+    }
+    println!("\n| scene | `raylab render` (ms) | the app's render job (ms) | job / render |");
+    println!("|---|---:|---:|---:|");
+    for file in [
+        "render-cornell-box.ron",
+        "effect-ambient-occlusion.ron",
+        "render-transformed.ron",
+    ] {
+        let prepared = std::sync::Arc::new(Prepared::new(&scene(file), &Embedded).unwrap());
+        let (mut direct, mut job) = (Vec::new(), Vec::new());
+        for _ in 0..5 {
+            direct.push(timed(&prepared));
+            // As the app runs it: a worker thread stepping the job until it finishes.
+            let clock = std::time::Instant::now();
+            let (done, finished) = std::sync::mpsc::channel();
+            let mut running = Job::start(
+                "bench-render",
+                RenderJob::new(prepared.clone()),
+                move || {
+                    let _ = done.send(());
+                },
+            )
+            .unwrap();
+            loop {
+                if running.poll().is_some() {
+                    break;
+                }
+                let _ = finished.recv_timeout(Duration::from_millis(50));
+            }
+            job.push(clock.elapsed().as_secs_f64());
+        }
+        let median = |mut v: Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        let (direct, job) = (median(direct), median(job));
+        println!(
+            "| {} | {:.1} | {:.1} | {:.2} |",
+            file.trim_end_matches(".ron"),
+            direct * 1e3,
+            job * 1e3,
+            job / direct
+        );
+    }
+}
+
 /// True when the command line names no benchmark filter, or names this table.
 fn table_wanted(name: &str) -> bool {
     let filters: Vec<String> = std::env::args()
@@ -260,6 +315,6 @@ criterion_group! {
         .sample_size(10)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));
-    targets = cost_table, orbit_table, effects, bvh
+    targets = cost_table, orbit_table, job_table, effects, bvh
 }
 criterion_main!(benches);

@@ -508,10 +508,13 @@ impl RenderView {
             && key.draft.is_none()
         {
             let (done, total) = job.progress();
-            ui.add(
-                egui::ProgressBar::new(done as f32 / total as f32)
-                    .text(format!("rendering… row {done} of {total}")),
-            );
+            // Before its first band the job has not said how many rows there are.
+            let text = if done == 0 && total <= 1 {
+                format!("rendering… {} rows", self.scene.height)
+            } else {
+                format!("rendering… row {done} of {total}")
+            };
+            ui.add(egui::ProgressBar::new(done as f32 / total as f32).text(text));
         }
         let Some(shown) = &slot.shown else {
             return;
