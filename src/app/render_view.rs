@@ -213,6 +213,9 @@ impl RenderView {
         };
         self.folder = folder;
         self.effects = scene.effects.clone();
+        // A bug picked for one scene is not carried into the next: its sentence would describe
+        // an image the new scene may not show (the acne text over the antialiasing scene).
+        self.bug = None;
         self.runtime = Runtime::default();
         if let Some(prepared) = prepared {
             self.runtime.prepared = Some((scene.clone(), Ok(Arc::new(prepared))));

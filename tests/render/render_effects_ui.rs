@@ -185,3 +185,30 @@ fn a_mirror_pixel_shows_its_reflected_ray_and_each_effect_has_a_cost() {
     assert!(shows_text_containing(&harness, "all effects on"));
     assert!(shows_text_containing(&harness, "without smooth-normals"));
 }
+
+/// A bug picked for one scene is gone when another scene loads: its sentence is not left over the
+/// new scene's image.
+#[test]
+fn a_bug_is_not_carried_into_the_next_scene() {
+    let mut harness = app_at("Render: common bugs");
+    harness.get_by_label("Compare with a bug:").click();
+    harness.run();
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::Button, "accepting t < 0")
+        .click();
+    wait_for_render(&mut harness);
+    assert!(
+        app_view::<RenderView>(&harness)
+            .rendered_with_bug()
+            .is_some()
+    );
+    common::load_preset(&mut harness, "Effect: shadows");
+    let view = app_view::<RenderView>(&harness);
+    assert_eq!(view.bug, None);
+    assert!(view.rendered_with_bug().is_none());
+    assert!(
+        harness
+            .query_by_label("With the bug: accepting t < 0")
+            .is_none()
+    );
+}
