@@ -580,6 +580,7 @@ impl RenderView {
         let mut motion = orbit::Motion::default();
         let movable = self.camera_moves();
         let moving = self.runtime.orbit.moving();
+        let bug = self.bug;
         ui.horizontal_top(|ui| {
             ui.spacing_mut().item_spacing.x = IMAGE_GAP;
             for (slot, title) in [
@@ -596,10 +597,12 @@ impl RenderView {
                 ui.vertical(|ui| {
                     ui.label(RichText::new(&title).strong());
                     // While a new render runs, the old image belongs to other choices: the bug's
-                    // image of another bug is not shown at all, the correct one is marked.
+                    // image of another bug is not shown at all, the correct one is marked. While
+                    // the camera moves, the bug's image of the same bug stays up, a frame behind.
                     let stale = slot.running.is_some();
+                    let same_bug = slot.shown.as_ref().is_some_and(|s| s.key.bug == bug);
                     let shown = match &slot.shown {
-                        Some(shown) if !(stale && bug_slot) => shown,
+                        Some(shown) if !(stale && bug_slot) || (moving && same_bug) => shown,
                         _ => {
                             rendering_placeholder(ui, size);
                             return;

@@ -162,3 +162,45 @@ fn the_r_key_resets_and_an_image_plane_stays() {
     let harness = app_at("Seed 003: facing ratio");
     assert!(harness.query_by_label("Reset camera").is_none());
 }
+
+/// Orbiting beside a bug's image: both images follow the camera, the bug's never replaced by the
+/// "rendering…" placeholder while the camera moves.
+#[test]
+fn the_bug_image_follows_the_orbit() {
+    let mut harness = app_at("Render: common bugs");
+    harness.get_by_label("Compare with a bug:").click();
+    harness.run();
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::Button, "accepting t < 0")
+        .click();
+    wait_for_render(&mut harness);
+    let width = shown(&harness).width;
+    let centre = harness.get_by_label("Correct render").rect().center();
+    harness.hover_at(centre);
+    harness.run();
+    harness.drag_at(centre);
+    harness.step();
+    for k in 1..=6 {
+        harness.hover_at(centre + Vec2::new(10.0 * k as f32, 3.0 * k as f32));
+        harness.step();
+        // Every frame of the drag shows the bug's image (no placeholder).
+        assert!(
+            harness
+                .query_by_label("With the bug: accepting t < 0 render")
+                .is_some(),
+            "the bug's image stays up at step {k}"
+        );
+    }
+    until_frame(&mut harness, true, width);
+    let view = app_view::<RenderView>(&harness);
+    let bug_image = view.rendered_with_bug().unwrap().image.width;
+    assert!(bug_image <= width);
+    harness.drop_at(centre + Vec2::new(60.0, 18.0));
+    harness.step();
+    wait_for_render(&mut harness);
+    assert_eq!(
+        shown(&harness).width,
+        width,
+        "the full image after the drag"
+    );
+}

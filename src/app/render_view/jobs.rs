@@ -249,6 +249,19 @@ impl RenderView {
         if slot.current() == Some(&wanted) || slot.failed.as_ref() == Some(&wanted) {
             return;
         }
+        // A camera held still in mid-drag: the quick frame shown stays (a new divisor alone is no
+        // reason to render the same view again, and would keep both cores busy).
+        let only_divisor = |key: &Choices| {
+            key.draft.is_some()
+                && wanted.draft.is_some()
+                && Choices {
+                    draft: wanted.draft,
+                    ..key.clone()
+                } == wanted
+        };
+        if slot.current().is_some_and(only_divisor) {
+            return;
+        }
         // While the camera moves, a quick frame in flight is finished, not replaced: the next one
         // starts from wherever the camera is then (replaced at every mouse move, none would end).
         if wanted.draft.is_some()
