@@ -11,7 +11,6 @@ use crate::common;
 
 use common::{app_view, click_image, load_preset, press, wait_for_render};
 use egui::Vec2;
-use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions};
 use raylab::app::RaylabApp;
@@ -140,10 +139,7 @@ fn render_screenshots(folder: &str, write: bool) {
         load_preset(&mut harness, title);
         wait_for_render(&mut harness);
         if let Some(bug) = bug {
-            harness.get_by_label("Compare with a bug:").click();
-            harness.run();
-            harness.get_by_role_and_label(Role::Button, bug).click();
-            wait_for_render(&mut harness);
+            common::pick_bug(&mut harness, bug);
         }
         click_image(&mut harness, "Correct render", at);
         harness.remove_cursor();

@@ -154,3 +154,31 @@ pub fn shows_text_containing(harness: &Harness<'static, RaylabApp>, text: &str) 
 pub fn app_view<'a, V: View>(harness: &'a Harness<'static, RaylabApp>) -> &'a V {
     harness.state().state.get::<V>()
 }
+
+/// Picks a bug in the Render view's "Compare with a bug:" box, by its name, and waits for both
+/// images.
+#[allow(
+    dead_code,
+    reason = "not every test crate that includes common picks a bug"
+)]
+pub fn pick_bug(harness: &mut Harness<'static, RaylabApp>, bug: &str) {
+    harness.get_by_label("Compare with a bug:").click();
+    harness.run();
+    harness.get_by_role_and_label(Role::Button, bug).click();
+    wait_for_render(harness);
+}
+
+/// Presses the mouse on the centre of the image with this label and keeps it down (a drag
+/// begins); returns where.
+#[allow(
+    dead_code,
+    reason = "not every test crate that includes common drags an image"
+)]
+pub fn press_on_image(harness: &mut Harness<'static, RaylabApp>, label: &str) -> egui::Pos2 {
+    let centre = harness.get_by_label(label).rect().center();
+    harness.hover_at(centre);
+    harness.run();
+    harness.drag_at(centre);
+    harness.step();
+    centre
+}

@@ -191,12 +191,7 @@ fn a_mirror_pixel_shows_its_reflected_ray_and_each_effect_has_a_cost() {
 #[test]
 fn a_bug_is_not_carried_into_the_next_scene() {
     let mut harness = app_at("Render: common bugs");
-    harness.get_by_label("Compare with a bug:").click();
-    harness.run();
-    harness
-        .get_by_role_and_label(egui::accesskit::Role::Button, "accepting t < 0")
-        .click();
-    wait_for_render(&mut harness);
+    common::pick_bug(&mut harness, "accepting t < 0");
     assert!(
         app_view::<RenderView>(&harness)
             .rendered_with_bug()

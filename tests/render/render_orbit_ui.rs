@@ -60,11 +60,7 @@ fn dragging_the_image_orbits_with_quick_frames_then_the_full_image() {
     let first = frame_number(&harness);
 
     // Press on the image and move, holding the button: quick frames, smaller, follow the camera.
-    let centre = harness.get_by_label("Correct render").rect().center();
-    harness.hover_at(centre);
-    harness.run();
-    harness.drag_at(centre);
-    harness.step();
+    let centre = common::press_on_image(&mut harness, "Correct render");
     for k in 1..=4 {
         harness.hover_at(centre + Vec2::new(15.0 * k as f32, 4.0 * k as f32));
         harness.step();
@@ -168,18 +164,9 @@ fn the_r_key_resets_and_an_image_plane_stays() {
 #[test]
 fn the_bug_image_follows_the_orbit() {
     let mut harness = app_at("Render: common bugs");
-    harness.get_by_label("Compare with a bug:").click();
-    harness.run();
-    harness
-        .get_by_role_and_label(egui::accesskit::Role::Button, "accepting t < 0")
-        .click();
-    wait_for_render(&mut harness);
+    common::pick_bug(&mut harness, "accepting t < 0");
     let width = shown(&harness).width;
-    let centre = harness.get_by_label("Correct render").rect().center();
-    harness.hover_at(centre);
-    harness.run();
-    harness.drag_at(centre);
-    harness.step();
+    let centre = common::press_on_image(&mut harness, "Correct render");
     for k in 1..=6 {
         harness.hover_at(centre + Vec2::new(10.0 * k as f32, 3.0 * k as f32));
         harness.step();
