@@ -245,8 +245,11 @@ pub(super) struct PresenterKeys {
     pub leave: bool,
 }
 
-/// Reads (and consumes) the presentation keys: presentation mode and lessons share them.
+/// Reads (and consumes) the presentation keys: presentation mode and lessons share them. While a
+/// canvas handle has the focus, the arrows move it and Esc only lets it go: Space and the page keys
+/// still step.
 pub(super) fn presenter_keys(ui: &Ui) -> PresenterKeys {
+    let handle = super::widgets::handles::handle_focused(ui.ctx());
     ui.input_mut(|i| {
         // Consume every key of a group, not just the first pressed.
         let mut pressed = |keys: &[egui::Key]| {
@@ -257,9 +260,17 @@ pub(super) fn presenter_keys(ui: &Ui) -> PresenterKeys {
         };
         use egui::Key;
         PresenterKeys {
-            next: pressed(&[Key::Space, Key::ArrowRight, Key::PageDown]),
-            back: pressed(&[Key::ArrowLeft, Key::PageUp]),
-            leave: pressed(&[Key::Escape]),
+            next: pressed(if handle {
+                &[Key::Space, Key::PageDown]
+            } else {
+                &[Key::Space, Key::ArrowRight, Key::PageDown]
+            }),
+            back: pressed(if handle {
+                &[Key::PageUp]
+            } else {
+                &[Key::ArrowLeft, Key::PageUp]
+            }),
+            leave: !handle && pressed(&[Key::Escape]),
         }
     })
 }

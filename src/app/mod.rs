@@ -6,6 +6,7 @@
 pub mod accuracy_view;
 pub mod class_view;
 pub mod highlight;
+mod keys_help;
 pub mod launch;
 pub mod lesson_view;
 #[cfg(test)]
@@ -119,6 +120,8 @@ pub struct RaylabApp {
     class_dialog: Option<class_view::ClassDialog>,
     /// The saved class was resumed (or there was none) at start.
     class_resumed: bool,
+    /// The Keys window is open.
+    pub keys_open: bool,
 }
 
 impl RaylabApp {
@@ -147,6 +150,7 @@ impl RaylabApp {
             class: None,
             class_dialog: None,
             class_resumed: false,
+            keys_open: false,
         }
     }
 
@@ -338,6 +342,7 @@ impl Default for RaylabApp {
 impl eframe::App for RaylabApp {
     fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
         self.receive_files();
+        self.keys_help_toggle(ui.ctx());
         if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::F5)) {
             if self.lesson.is_some() {
                 self.leave_lesson(ui.ctx());
@@ -370,6 +375,7 @@ impl eframe::App for RaylabApp {
         }
         self.dialog_ui(&ui.ctx().clone());
         self.class_dialog_ui(&ui.ctx().clone());
+        self.keys_help_ui(&ui.ctx().clone());
         // The step panel was drawn before this frame's drags: draw once more so it catches up.
         if self.fingerprint() != before {
             ui.ctx().request_repaint();

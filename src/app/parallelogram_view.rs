@@ -2,7 +2,7 @@
 //! t, and the step panel solving M (α, β, t)ᵀ = o − c with M = [e1 | e2 | −d] through M⁻¹.
 
 use super::widgets::palette::Readable as _;
-use super::widgets::{Part, ShownValue, controls_below, shown_values};
+use super::widgets::{Part, ShownValue, controls_below, handles, shown_values};
 use egui::{FontId, RichText, Sense, Stroke, Ui};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -12,12 +12,24 @@ use super::view::{LectureView, bits_of, first_scene};
 use super::widgets::canvas_state::CanvasState;
 use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette::{self, faded};
-use super::widgets::scene3d::{Canvas, OrbitCamera};
+use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, status_line, vector_editor};
 use crate::geometry::parallelogram::{self, ParallelogramOutcome};
 use crate::geometry::{ParallelogramLecture, Precision, Reading, Shown};
 use crate::scene::ParallelogramScene;
 use crate::trace::format_float;
+
+/// A handle the keyboard moves: a point of the scene, or a parameter's point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Corner {
+    C,
+    E1,
+    E2,
+    O,
+    D,
+    Plane,
+    Ray,
+}
 
 /// Everything the Parallelogram view remembers.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -250,6 +262,12 @@ impl ParallelogramView {
             self.canvas.orbit(response.drag_delta());
         }
         self.canvas.zoom_on_scroll(ui, &response);
+        let keys = handles::canvas_keys(
+            ui,
+            &response,
+            "Parallelogram canvas: the arrows orbit, + and − zoom; Tab reaches its handles",
+        );
+        self.canvas.orbit_by_keys(keys);
         let [c, _, _, o, d] = self.scene.vectors();
         // The corners p(0,0), p(1,0), p(1,1), p(0,1) from the core's parametric form.
         let problem = self.problem();
@@ -324,6 +342,12 @@ impl ParallelogramView {
                 labels.avoid_point(screen, radius + 1.0);
             }
         }
+        // The keyboard's handles at the tips of e1, e2 and d: no label covers them either.
+        for tip in [c_e1, c_e2, o + d] {
+            if let Some(at) = canvas.screen(tip) {
+                labels.avoid_point(at, 6.0);
+            }
+        }
         canvas.place_label(&mut labels, o, "o", palette::RAY, Priority::Key);
         canvas.place_label(&mut labels, p, "p(α, β)", color, Priority::Key);
         canvas.place_label(&mut labels, on_ray, "o + t d", palette::RAY, Priority::Key);
@@ -352,7 +376,121 @@ impl ParallelogramView {
             verdict.paint(&painter);
         }
         self.canvas.labels = labels.paint(ui, &painter, ui.scope_id().with("parallelogram-labels"));
+        self.keyboard_ui(ui, &projector, solved);
         self.canvas.projector = Some(projector);
+    }
+
+    /// The handles as the keyboard and a screen reader reach them, named with their values: c, the
+    /// tips of e1 and e2, o and the tip of d move along the world axes nearest the screen's right
+    /// and up (by 0.25, Shift 0.05, on a 0.05 grid); p(α, β) moves in α (← →) and β (↑ ↓), o + t d
+    /// in t (by 0.05, Shift 0.01, landing on the solution); Enter solves.
+    fn keyboard_ui(&mut self, ui: &Ui, projector: &Projector, solved: &Solved) {
+        let [c, e1, e2, o, d] = self.scene.vectors();
+        let explored = self.exploration();
+        let (p, on_ray) = (
+            DVec3::from(explored.plane_point),
+            DVec3::from(explored.ray_point),
+        );
+        let text = |p: DVec3| handles::point_text(&p.to_array());
+        let value = handles::value_text;
+        let side = if explored.inside { "inside" } else { "outside" };
+        let all = [
+            (Corner::C, c, format!("corner c at {}", text(c))),
+            (
+                Corner::E1,
+                c + e1,
+                format!("edge e1 = {}, its tip at {}", text(e1), text(c + e1)),
+            ),
+            (
+                Corner::E2,
+                c + e2,
+                format!("edge e2 = {}, its tip at {}", text(e2), text(c + e2)),
+            ),
+            (Corner::O, o, format!("ray origin o at {}", text(o))),
+            (
+                Corner::D,
+                o + d,
+                format!(
+                    "direction d = {}, its tip o + d at {}",
+                    text(d),
+                    text(o + d)
+                ),
+            ),
+            (
+                Corner::Plane,
+                p,
+                format!(
+                    "p(α, β) at α = {}, β = {}: {}, {side} the parallelogram",
+                    value(self.alpha),
+                    value(self.beta),
+                    text(p)
+                ),
+            ),
+            (
+                Corner::Ray,
+                on_ray,
+                format!("o + t d at t = {}: {}", value(self.t), text(on_ray)),
+            ),
+        ];
+        let solution = solved.float.alpha_beta_t;
+        for (handle, world, description) in all {
+            let Some(at) = projector.screen_from_world(world) else {
+                continue;
+            };
+            let keys = handles::keyboard_handle(
+                ui,
+                &format!("parallelogram {handle:?}"),
+                at,
+                &description,
+            );
+            if keys.solve
+                && let Some([alpha, beta, t]) = solution
+            {
+                (self.alpha, self.beta, self.t) = (alpha, beta, t);
+            }
+            if keys.moved() {
+                self.move_by_keys(handle, &keys, projector, solution);
+            }
+        }
+    }
+
+    fn move_by_keys(
+        &mut self,
+        handle: Corner,
+        keys: &handles::HandleKeys,
+        projector: &Projector,
+        solution: Option<[f64; 3]>,
+    ) {
+        let [alpha_star, beta_star, t_star] = solution.map_or([None; 3], |s| s.map(Some));
+        let step = keys.step(0.05, 0.01);
+        let moved = |p: DVec3| {
+            let step = keys.step(0.25, 0.05);
+            DVec3::from(handles::step_point(
+                p.to_array(),
+                keys,
+                projector.right,
+                projector.up,
+                step,
+                0.05,
+            ))
+        };
+        let [c, e1, e2, o, d] = self.scene.vectors();
+        let s = &mut self.scene;
+        match handle {
+            Corner::C => s.corner = moved(c).to_array(),
+            Corner::E1 => s.e1 = (moved(c + e1) - c).to_array(),
+            Corner::E2 => s.e2 = (moved(c + e2) - c).to_array(),
+            Corner::O => s.origin = moved(o).to_array(),
+            Corner::D => s.dir = (moved(o + d) - o).to_array(),
+            Corner::Plane => {
+                self.alpha =
+                    handles::step_value(self.alpha, keys.right, step, keys.fine, alpha_star);
+                self.beta = handles::step_value(self.beta, keys.up, step, keys.fine, beta_star);
+            }
+            Corner::Ray => {
+                self.t = handles::step_value(self.t, keys.right + keys.up, step, keys.fine, t_star);
+            }
+        }
     }
 
     /// Emphasises what the step on screen is about.

@@ -89,7 +89,9 @@ impl RaylabApp {
             return;
         };
         let mut new_level = None;
-        let mut leave = ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Escape));
+        // Esc on a focused canvas handle only lets the handle go.
+        let mut leave = !super::widgets::handles::handle_focused(ui.ctx())
+            && ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Escape));
         egui::Panel::top("practice-bar").show(ui, |ui| {
             ui.horizontal_wrapped(|ui| {
                 ui.label(RichText::new(format!("Practice: {}", run.kind.name())).strong());

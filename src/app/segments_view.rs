@@ -6,7 +6,7 @@
 
 use super::widgets::palette::Readable as _;
 use super::widgets::slide::{self, Slide};
-use super::widgets::{Part, ShownValue, controls_below, shown_values};
+use super::widgets::{Part, ShownValue, controls_below, handles, shown_values};
 use egui::{FontId, Pos2, Rect, RichText, Sense, Shape, Stroke, Ui, pos2, vec2};
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
@@ -46,18 +46,20 @@ pub struct Frame2d {
     pub center: DVec2,
     /// Screen points per world unit.
     pub scale: f64,
+    /// Where `center` is drawn: the middle of the plot below the verdict box.
+    pub middle: Pos2,
 }
 
 impl Frame2d {
     /// World to screen.
     pub fn screen_from_world(&self, p: DVec2) -> Pos2 {
         let offset = (p - self.center) * self.scale;
-        self.rect.center() + vec2(offset.x as f32, -offset.y as f32)
+        self.middle + vec2(offset.x as f32, -offset.y as f32)
     }
 
     /// Screen to world.
     pub fn world_from_screen(&self, p: Pos2) -> DVec2 {
-        let offset = p - self.rect.center();
+        let offset = p - self.middle;
         self.center + DVec2::new(offset.x as f64, -offset.y as f64) / self.scale
     }
 }
@@ -382,14 +384,31 @@ impl SegmentsView {
     fn plot_ui(&mut self, ui: &mut Ui, solved: &Solved) {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         let rect = response.rect;
+        // The plot fits below the verdict box, so the box covers no handle.
+        let verdict = if super::widgets::answers_hidden(ui.ctx()) {
+            0.0
+        } else {
+            super::widgets::verdict_height(ui, rect.width(), &solved.trace).min(rect.height() / 2.0)
+        };
+        let plot = Rect::from_min_max(rect.min + vec2(0.0, verdict), rect.max);
         let frame = Frame2d {
             rect,
             center: DVec2::from(self.center),
-            scale: rect.height().min(rect.width()).max(10.0) as f64 / (2.0 * self.half_extent),
+            scale: plot.height().min(plot.width()).max(10.0) as f64 / (2.0 * self.half_extent),
+            middle: plot.center(),
         };
         self.frame = Some(frame.clone());
         self.handle_input(ui, &response, &frame, solved);
+        let keys = handles::canvas_keys(
+            ui,
+            &response,
+            "Segments plot: the arrows pan, + and − zoom; Tab reaches its handles",
+        );
+        self.center[0] += keys.right as f64 * 0.1 * self.half_extent;
+        self.center[1] += keys.up as f64 * 0.1 * self.half_extent;
+        self.half_extent = (self.half_extent * (-keys.zoom as f64 * 0.12).exp()).clamp(0.05, 1e6);
         self.labels = self.draw(ui, &painter, &frame, solved);
+        self.keyboard_ui(ui, solved);
         if self.grab.is_none()
             && let Some(pointer) = response.hover_pos()
             && self.handle_near(pointer).is_some()
@@ -398,6 +417,86 @@ impl SegmentsView {
             response.on_hover_text(
                 "Drag this handle (endpoints snap to a 0.25 grid; hold Shift to move freely)",
             );
+        }
+    }
+
+    /// The handles as the keyboard and a screen reader reach them: named with their values, moved
+    /// by the arrows (endpoints on the drag's 0.25 grid, Shift for 0.01; t and s by 0.05, landing
+    /// on the crossing as a drag does, Shift for 0.01), Enter goes to the intersection.
+    fn keyboard_ui(&mut self, ui: &Ui, solved: &Solved) {
+        let explored = self.exploration();
+        let [a_t, b_s] = [explored.a_at_t, explored.b_at_s].map(|p| handles::point_text(&p));
+        let names = ["A1", "A2", "B1", "B2"];
+        let mut handles: Vec<(Handle, String, String)> = (0..4)
+            .map(|i| {
+                let at = handles::point_text(&self.scene.points()[i].to_array());
+                (
+                    Handle::Endpoint(i),
+                    names[i].to_string(),
+                    format!("endpoint {} at {at}", names[i]),
+                )
+            })
+            .collect();
+        handles.push((
+            Handle::T,
+            "A(t)".into(),
+            format!(
+                "A(t) at t = {}, {a_t}",
+                format_float(self.t, Precision::F64)
+            ),
+        ));
+        handles.push((
+            Handle::S,
+            "B(s)".into(),
+            format!(
+                "B(s) at s = {}, {b_s}",
+                format_float(self.s, Precision::F64)
+            ),
+        ));
+        for (handle, key, description) in handles {
+            let Some(at) = self.handle_on_screen(handle) else {
+                continue;
+            };
+            let keys = handles::keyboard_handle(ui, &format!("segments {key}"), at, &description);
+            if keys.solve
+                && let Some((t, s)) = solved.float.t.zip(solved.float.s)
+            {
+                self.animation = Slide::new([self.t, self.s], [t, s], ui.input(|i| i.time));
+            }
+            if keys.moved() {
+                self.animation = None;
+                self.move_by_keys(handle, &keys, solved);
+            }
+        }
+    }
+
+    fn move_by_keys(&mut self, handle: Handle, keys: &handles::HandleKeys, solved: &Solved) {
+        let along = keys.right + keys.up;
+        match handle {
+            Handle::T => {
+                let step = keys.step(0.05, 0.01);
+                self.t = handles::step_value(self.t, along, step, keys.fine, solved.float.t);
+            }
+            Handle::S => {
+                let step = keys.step(0.05, 0.01);
+                self.s = handles::step_value(self.s, along, step, keys.fine, solved.float.s);
+            }
+            Handle::Endpoint(i) => {
+                let step = keys.step(0.25, 0.01);
+                let point = [
+                    &mut self.scene.a1,
+                    &mut self.scene.a2,
+                    &mut self.scene.b1,
+                    &mut self.scene.b2,
+                ]
+                .into_iter()
+                .nth(i);
+                if let Some(point) = point {
+                    point[0] = snap(point[0] + keys.right * step, step);
+                    point[1] = snap(point[1] + keys.up * step, step);
+                }
+            }
+            Handle::Pan => {}
         }
     }
 

@@ -110,7 +110,7 @@ pub fn step_ui(
     step: &Step,
     marked_column: Option<Column>,
 ) -> egui::Response {
-    egui::Frame::group(ui.style())
+    let card = egui::Frame::group(ui.style())
         .show(ui, |ui| {
             ui.set_width(ui.available_width());
             title_row(ui, number, step);
@@ -118,7 +118,22 @@ pub fn step_ui(
             payload_ui(ui, &step.id, &step.payload, marked_column);
             float_expansions_ui(ui, &step.id, &step.payload);
         })
-        .response
+        .response;
+    // A screen reader reads the step whole, as the text renderer writes it, not cell by cell.
+    card.widget_info(|| {
+        egui::WidgetInfo::labeled(egui::Role::Group, true, spoken_step(number, step))
+    });
+    card
+}
+
+/// A step as one text: "Step 11. t by Cramer's rule", its explanation and its payload's lines.
+pub fn spoken_step(number: usize, step: &Step) -> String {
+    let lines: Vec<String> = trace::step_to_text(step)
+        .lines()
+        .map(|line| line.trim().to_string())
+        .filter(|line| !line.is_empty())
+        .collect();
+    format!("Step {number}. {}", lines.join("\n"))
 }
 
 /// The title, wrapped in what the LaTeX button leaves of the width.

@@ -34,6 +34,15 @@ impl RaylabApp {
             ui.menu_button("View", |ui| self.view_menu(ui))
                 .response
                 .on_hover_text("Step panel, presentation mode, zoom and theme");
+            if ui
+                .button("Keys")
+                .on_hover_text(
+                    "Every key the app reads, and how a screen reader reads it (? or F1)",
+                )
+                .clicked()
+            {
+                self.keys_open = !self.keys_open;
+            }
             ui.separator();
             for kind in self
                 .state
@@ -253,7 +262,7 @@ pub(super) struct QuickGroups {
 impl QuickGroups {
     /// Adds the groups in order of use while the row still fits the window.
     pub(super) fn that_fit(ui: &Ui, tabs: &[&str]) -> QuickGroups {
-        let menus_and_tabs = ["Presets", "Lessons", "Practice", "File", "View"]
+        let menus_and_tabs = ["Presets", "Lessons", "Practice", "File", "View", "Keys"]
             .into_iter()
             .chain(tabs.iter().copied());
         let mut used = row_width(ui, menus_and_tabs) + 24.0;

@@ -6,7 +6,7 @@
 
 use super::widgets::palette::Readable as _;
 use super::widgets::slide::{self, Slide};
-use super::widgets::{Part, ShownValue, controls_below, shown_values};
+use super::widgets::{Part, ShownValue, controls_below, handles, shown_values};
 use egui::{FontId, Pos2, RichText, Sense, Stroke, Ui};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -16,7 +16,7 @@ use super::view::{LectureView, bits_of, first_scene};
 use super::widgets::canvas_state::CanvasState;
 use super::widgets::labels::{LabelLayer, Priority};
 use super::widgets::palette::{self, faded};
-use super::widgets::scene3d::{Canvas, OrbitCamera};
+use super::widgets::scene3d::{Canvas, OrbitCamera, Projector};
 use super::widgets::{ParameterSlider, parameter_sliders, snap, status_line, vector_editor};
 use crate::geometry::triangle::{self, Edge, TriangleMiss, TriangleOutcome};
 use crate::geometry::{Precision, Reading, Shown, TriangleLecture};
@@ -28,6 +28,16 @@ use crate::trace::format_float;
 enum Grab {
     Vertex(usize),
     Orbit,
+}
+
+/// A handle the keyboard moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TriangleHandle {
+    Vertex(usize),
+    Origin,
+    Direction,
+    PlanePoint,
+    RayPoint,
 }
 
 /// Everything the Triangle view remembers.
@@ -411,6 +421,12 @@ impl TriangleView {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         let rect = response.rect;
         self.handle_input(ui, &response);
+        let keys = handles::canvas_keys(
+            ui,
+            &response,
+            "Triangle canvas: the arrows orbit, + and − zoom; Tab reaches its handles",
+        );
+        self.canvas.orbit_by_keys(keys);
         let points = self.points_to_frame(solved);
         let projector = self.canvas.projector_for(
             rect,
@@ -428,10 +444,131 @@ impl TriangleView {
             ui.ctx().set_cursor_icon(egui::CursorIcon::Help);
         }
         self.canvas.labels = self.draw(ui, &canvas, solved);
+        self.keyboard_ui(ui, &projector, solved);
         self.canvas.projector = Some(projector);
         if self.grab.is_none() && self.hovered_vertex(&response).is_some() {
             ui.ctx().set_cursor_icon(egui::CursorIcon::Grab);
             response.on_hover_text("Drag to move this vertex in the plane facing you");
+        }
+    }
+
+    /// The handles as the keyboard and a screen reader reach them, named with their values. The
+    /// arrows move A, B, C, L and D's tip along the world axes nearest the screen's right and up (by
+    /// 0.25, Shift 0.05, on the drag's 0.05 grid), P(β, γ) in β (← →) and γ (↑ ↓), L + tD in t (by
+    /// 0.05, Shift 0.01, landing on the solution as a slide does); Enter solves.
+    fn keyboard_ui(&mut self, ui: &Ui, projector: &Projector, solved: &Solved) {
+        let [a, b, c, l, d] = self.scene.vectors();
+        let explored = self.exploration();
+        let (beta, gamma, t) = (self.beta, self.gamma, self.t);
+        let plane_point = DVec3::from(explored.plane_point);
+        let ray_point = DVec3::from(explored.ray_point);
+        let side = if explored.outside.is_empty() {
+            "inside"
+        } else {
+            "outside"
+        };
+        let text = |p: DVec3| handles::point_text(&p.to_array());
+        let value = handles::value_text;
+        let handles = [
+            (
+                TriangleHandle::Vertex(0),
+                a,
+                format!("vertex A at {}", text(a)),
+            ),
+            (
+                TriangleHandle::Vertex(1),
+                b,
+                format!("vertex B at {}", text(b)),
+            ),
+            (
+                TriangleHandle::Vertex(2),
+                c,
+                format!("vertex C at {}", text(c)),
+            ),
+            (
+                TriangleHandle::Origin,
+                l,
+                format!("ray origin L at {}", text(l)),
+            ),
+            (
+                TriangleHandle::Direction,
+                l + d,
+                format!(
+                    "direction D = {}, its tip L + D at {}",
+                    text(d),
+                    text(l + d)
+                ),
+            ),
+            (
+                TriangleHandle::PlanePoint,
+                plane_point,
+                format!(
+                    "P(β, γ) at β = {}, γ = {}: {}, {side} the triangle",
+                    value(beta),
+                    value(gamma),
+                    text(plane_point)
+                ),
+            ),
+            (
+                TriangleHandle::RayPoint,
+                ray_point,
+                format!("L + tD at t = {}: {}", value(t), text(ray_point)),
+            ),
+        ];
+        let solution = solved
+            .float
+            .solution
+            .as_ref()
+            .map(|s| [s.beta, s.gamma, s.t]);
+        for (handle, world, description) in handles {
+            let Some(at) = projector.screen_from_world(world) else {
+                continue;
+            };
+            let key = format!("triangle {handle:?}");
+            let keys = handles::keyboard_handle(ui, &key, at, &description);
+            if keys.solve
+                && let Some(to) = solution
+            {
+                self.animation = Slide::new([beta, gamma, t], to, ui.input(|i| i.time));
+            }
+            if keys.moved() {
+                self.animation = None;
+                self.move_by_keys(handle, &keys, projector, solution);
+            }
+        }
+    }
+
+    fn move_by_keys(
+        &mut self,
+        handle: TriangleHandle,
+        keys: &handles::HandleKeys,
+        projector: &Projector,
+        solution: Option<[f64; 3]>,
+    ) {
+        let [beta_star, gamma_star, t_star] = solution.map_or([None; 3], |s| s.map(Some));
+        let step = keys.step(0.05, 0.01);
+        let moved = |p: [f64; 3]| {
+            let step = keys.step(0.25, 0.05);
+            handles::step_point(p, keys, projector.right, projector.up, step, 0.05)
+        };
+        let s = &mut self.scene;
+        match handle {
+            TriangleHandle::Vertex(0) => s.a = moved(s.a),
+            TriangleHandle::Vertex(1) => s.b = moved(s.b),
+            TriangleHandle::Vertex(_) => s.c = moved(s.c),
+            TriangleHandle::Origin => s.origin = moved(s.origin),
+            TriangleHandle::Direction => {
+                let tip = moved((DVec3::from(s.origin) + DVec3::from(s.dir)).to_array());
+                s.dir = (DVec3::from(tip) - DVec3::from(s.origin)).to_array();
+            }
+            TriangleHandle::PlanePoint => {
+                self.beta = handles::step_value(self.beta, keys.right, step, keys.fine, beta_star);
+                self.gamma = handles::step_value(self.gamma, keys.up, step, keys.fine, gamma_star);
+            }
+            TriangleHandle::RayPoint => {
+                let along = keys.right + keys.up;
+                self.t = handles::step_value(self.t, along, step, keys.fine, t_star);
+            }
         }
     }
 
@@ -621,6 +758,12 @@ impl TriangleView {
             canvas.dashed(point, on_ray, Stroke::new(1.0, faded(text, 140)));
             canvas.place_label(&mut labels, point, "P(β, γ)", p_color, Priority::Key);
             canvas.place_label(&mut labels, on_ray, "L + tD", palette::RAY, Priority::Key);
+        }
+        // The keyboard's handles at L and D's tip: no label covers them either.
+        for p in [l, l + d] {
+            if let Some(at) = canvas.screen(p) {
+                labels.avoid_point(at, 6.0);
+            }
         }
         self.draw_solution(canvas, solved, [a, b, c, l], &mut labels);
         self.draw_class_cloud(canvas, [a, b, c]);

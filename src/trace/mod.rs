@@ -13,7 +13,9 @@ mod latex;
 mod text;
 
 pub use latex::{number as latex_number, step_to_latex, to_latex};
-pub use text::{check_value, expansion_products, format_float, payload_lines, to_text};
+pub use text::{
+    check_value, expansion_products, format_float, payload_lines, step_to_text, to_text,
+};
 
 /// A number as computed: its float value and, when the solve was exact, its exact value.
 #[derive(Clone, Debug, PartialEq, Serialize)]

@@ -10,5 +10,6 @@
 mod common;
 
 mod app_ui;
+mod keyboard;
 mod projector;
 mod screenshots;

@@ -115,6 +115,7 @@ fn layout_problems(harness: &Harness<'static, RaylabApp>, screen: Rect) -> Vec<S
             ));
         }
     }
+    problems.extend(covered_handles(harness));
     let view = harness.state().view_rect.expect("a view was drawn");
     if view.width() < screen.width() / 2.0 - 1.0 {
         problems.push(format!(
@@ -122,6 +123,46 @@ fn layout_problems(harness: &Harness<'static, RaylabApp>, screen: Rect) -> Vec<S
             view.width(),
             screen.width()
         ));
+    }
+    problems
+}
+
+/// Canvas handles (named in the accessibility tree "vertex A at …") that a canvas label or the
+/// verdict box covers: a student could neither see nor grab them. A handle outside its canvas is
+/// clipped away, not covered.
+fn covered_handles(harness: &Harness<'static, RaylabApp>) -> Vec<String> {
+    use egui::accesskit::Role;
+    let nodes: Vec<_> = harness.root().children_recursive().collect();
+    let named = |node: &egui_kittest::Node<'_>| node.accesskit_node().label().unwrap_or_default();
+    let canvases: Vec<Rect> = nodes
+        .iter()
+        .filter(|n| n.accesskit_node().role() == Role::Canvas)
+        .map(|n| n.rect())
+        .collect();
+    // Canvas labels are named nodes with no value (egui's own labels carry their text as a value).
+    let covers: Vec<(String, Rect)> = nodes
+        .iter()
+        .filter(|n| {
+            let access = n.accesskit_node();
+            (access.role() == Role::Label && access.label().is_some() && access.value().is_none())
+                || access.role() == Role::Status
+        })
+        .map(|n| (named(n), n.rect()))
+        .collect();
+    let mut problems = Vec::new();
+    for handle in nodes
+        .iter()
+        .filter(|n| n.accesskit_node().role() == Role::Slider && named(n).contains(" at "))
+    {
+        let dot = Rect::from_center_size(handle.rect().center(), Vec2::splat(8.0));
+        if !canvases.iter().any(|c| c.contains_rect(dot)) {
+            continue;
+        }
+        for (cover, rect) in &covers {
+            if rect.intersects(dot) {
+                problems.push(format!("“{}” is under “{cover}”", named(handle)));
+            }
+        }
     }
     problems
 }

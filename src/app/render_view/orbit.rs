@@ -88,6 +88,8 @@ pub(super) struct Motion {
     dragging: bool,
     /// The image's height on screen, in points.
     height: f32,
+    /// Keys moved the camera (it counts as moving for a moment, as after a scroll).
+    keyed: bool,
 }
 
 impl Motion {
@@ -105,6 +107,13 @@ impl Motion {
         }
         if response.hovered() {
             self.scroll += ui.input_mut(|i| std::mem::take(&mut i.smooth_scroll_delta.y));
+        }
+        // The image focused (Tab): the arrows orbit as a 30-point drag, + and − dolly as a notch.
+        let keys = crate::app::widgets::handles::focused_keys(ui, response);
+        if keys != crate::app::widgets::handles::CanvasKeys::default() {
+            self.drag += Vec2::new(keys.right, keys.up) * 30.0;
+            self.scroll += keys.zoom * 60.0;
+            self.keyed = true;
         }
     }
 }
@@ -141,6 +150,8 @@ impl RenderView {
         }
         if motion.scroll != 0.0 {
             moved = moved.dollied((-f64::from(motion.scroll) * 0.002).exp());
+        }
+        if motion.scroll != 0.0 || motion.keyed {
             orbit.moving_until = now + SETTLE_SECONDS;
         }
         orbit.tick(now);

@@ -77,6 +77,18 @@ impl CanvasState {
         }
     }
 
+    /// Orbits and zooms by the keys pressed on the focused canvas (an arrow turns as a 30-point drag
+    /// does, + and − zoom as a wheel notch).
+    pub fn orbit_by_keys(&mut self, keys: super::handles::CanvasKeys) {
+        if keys == super::handles::CanvasKeys::default() {
+            return;
+        }
+        self.camera
+            .orbit(egui::vec2(keys.right * 30.0, keys.up * 30.0));
+        self.camera.zoom(keys.zoom * 60.0);
+        self.auto_frame = false;
+    }
+
     /// The projection for this frame's canvas `rect`. While framing on its own, the camera is first
     /// fitted to `points` whenever the canvas has a new size, below the top `reserved` points (the
     /// verdict box); both are only worked out then.

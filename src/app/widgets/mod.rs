@@ -1,6 +1,7 @@
 //! Widgets the views share: the palette, the 3D canvas, and editors for points and vectors.
 
 pub mod canvas_state;
+pub mod handles;
 pub mod labels;
 pub mod palette;
 pub mod scene3d;
@@ -71,12 +72,32 @@ pub fn verdict_overlay(
         (rect.width() - 24.0).max(50.0),
     );
     let at = rect.left_top() + egui::vec2(8.0, 6.0);
+    let covers = egui::Rect::from_min_size(at, galley.size()).expand(4.0);
+    announce_verdict(ui, &verdict.message, covers);
     Some(VerdictOverlay {
-        rect: egui::Rect::from_min_size(at, galley.size()).expand(4.0),
+        rect: covers,
         fill: ui.visuals().extreme_bg_color.gamma_multiply(0.85),
         galley,
         color,
     })
+}
+
+/// Puts the verdict in the accessibility tree as a polite live region: a screen reader announces it
+/// when a drag or a key changes it. Its bounds are the box it covers (tests check no handle is
+/// under it).
+fn announce_verdict(ui: &Ui, message: &str, covers: egui::Rect) {
+    let id = egui::Id::unique("raylab-verdict");
+    ui.ctx().accesskit_node_builder(id, |node| {
+        node.set_role(egui::accesskit::Role::Status);
+        node.set_live(egui::accesskit::Live::Polite);
+        node.set_label(format!("Verdict: {message}"));
+        node.set_bounds(egui::accesskit::Rect {
+            x0: covers.min.x.into(),
+            y0: covers.min.y.into(),
+            x1: covers.max.x.into(),
+            y1: covers.max.y.into(),
+        });
+    });
 }
 
 /// A canvas's verdict, laid out, to be painted over the drawing.
