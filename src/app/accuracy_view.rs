@@ -100,6 +100,25 @@ fn method_color(name: &str) -> Color32 {
 }
 
 /// The plots' shared legend: one colour per method (squares and dashes are f32).
+/// A row of the table as a sentence, for a screen reader.
+fn row_text(r: &crate::accuracy::study::Record) -> String {
+    format!(
+        "{} in {}, {} rays: {} tests, {} wrong, {} cracks, {} double hits, largest relative error \
+         of t {:.1e}, {:.1e} ulps, {} exact fallbacks, {:.1} ns a test",
+        r.method,
+        r.precision,
+        r.family,
+        r.tests,
+        r.wrong_decisions,
+        r.cracks,
+        r.double_hits,
+        r.max_rel_err_t,
+        r.max_ulps_t,
+        r.exact_fallbacks,
+        r.ns_per_test
+    )
+}
+
 fn legend_ui(ui: &mut Ui) {
     ui.horizontal_wrapped(|ui| {
         for method in Method::FLOAT {
@@ -396,7 +415,12 @@ impl AccuracyView {
                         };
                         row.col(|ui| {
                             let colour = method_color(&r.method).readable(ui);
-                            ui.label(RichText::new(&r.method).color(colour));
+                            // A screen reader reads the row whole from its first cell, each
+                            // number with its column's name.
+                            ui.label(RichText::new(&r.method).color(colour))
+                                .widget_info(|| {
+                                    egui::WidgetInfo::labeled(egui::Role::Row, true, row_text(r))
+                                });
                         });
                         row.col(|ui| {
                             ui.label(&r.precision);

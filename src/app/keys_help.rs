@@ -41,6 +41,10 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ),
             ("+ / −", "zoom in / out (the render's camera dollies)"),
             ("R", "reset the render's camera"),
+            (
+                "Enter, Shift + arrows",
+                "on a render: probe a pixel, then the next one over",
+            ),
         ],
     ),
     (

@@ -119,7 +119,10 @@ mod tests {
             |harness: &Harness<'_, RaylabApp>, text: &str| harness.query_all_by_label(text).count();
         assert_eq!(shown(&harness, "M = (3.5, 1.5)"), 2);
         // The step's title, and the step read whole by a screen reader.
-        assert_eq!(harness.query_all_by_label_contains("Midpoint of A").count(), 2);
+        assert_eq!(
+            harness.query_all_by_label_contains("Midpoint of A").count(),
+            2
+        );
         harness.get_by_label("Move A1 right").click();
         harness.run();
         assert_eq!(shown(&harness, "M = (4, 1.5)"), 2);

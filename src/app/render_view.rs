@@ -623,6 +623,13 @@ impl RenderView {
                                 .sense(Sense::click_and_drag()),
                         )
                         .on_hover_text(hint);
+                    // The image focused: Shift + arrows move the probed pixel a pixel at a
+                    // time, Enter probes (first the centre): read before the plain arrows orbit.
+                    if !quick
+                        && let Some(pixel) = probe_keys(ui, &response, probed, (height, width))
+                    {
+                        clicked = Some(pixel);
+                    }
                     motion.read(ui, &response, movable);
                     let name = format!("{title} render");
                     response
@@ -662,6 +669,37 @@ impl RenderView {
             *action = self.probe_pixel(pixel);
         }
     }
+}
+
+/// The pixel the keys probe on a focused image, if any: Shift + arrows step from the probed pixel
+/// (the centre before any), Enter probes it as it stands.
+fn probe_keys(
+    ui: &Ui,
+    response: &egui::Response,
+    probed: Option<(usize, usize)>,
+    (height, width): (usize, usize),
+) -> Option<(usize, usize)> {
+    use egui::{Key, Modifiers};
+    if !response.has_focus() || height == 0 || width == 0 {
+        return None;
+    }
+    let (row, column) = probed.unwrap_or((height / 2, width / 2));
+    ui.input_mut(|i| {
+        let mut count = |key| {
+            let mut n = 0i64;
+            while i.consume_key(Modifiers::SHIFT, key) {
+                n += 1;
+            }
+            n
+        };
+        let right = count(Key::ArrowRight) - count(Key::ArrowLeft);
+        let down = count(Key::ArrowDown) - count(Key::ArrowUp);
+        let enter = i.consume_key(Modifiers::NONE, Key::Enter);
+        let step =
+            |at: usize, by: i64, size: usize| (at as i64 + by).clamp(0, size as i64 - 1) as usize;
+        (right != 0 || down != 0 || enter)
+            .then(|| (step(row, down, height), step(column, right, width)))
+    })
 }
 
 /// Where an image is being rendered and none is right to show yet: an empty frame that says so (the

@@ -27,6 +27,7 @@ macro_rules! note {
 pub mod batch;
 pub mod class;
 pub mod input;
+pub mod render_progress;
 mod scan;
 pub mod solve;
 pub mod worksheet;
@@ -582,6 +583,9 @@ pub enum RenderError {
     /// `--effects` names an effect that does not exist.
     #[error("--effects: {0}")]
     Effects(crate::names::UnknownName),
+    /// Ctrl-C stopped the render (exit status 130, as a shell reports an interrupt).
+    #[error(transparent)]
+    Stopped(render_progress::Stopped),
     /// The image could not be written (an old file is left as it was).
     #[error("could not write {}: {error}", .path.display())]
     Write {
@@ -597,6 +601,7 @@ impl RenderError {
     fn status(&self) -> u8 {
         match self {
             RenderError::OutputName(_) | RenderError::Effects(_) => 2,
+            RenderError::Stopped(_) => 130,
             RenderError::Scene(_)
             | RenderError::NotARenderScene(_)
             | RenderError::Prepare { .. }
@@ -632,12 +637,14 @@ fn run_render(args: RenderArgs) -> Result<ExitCode, RenderError> {
             .collect::<Result<Vec<_>, _>>()
             .map_err(RenderError::Effects)?;
     }
+    let prepared = std::sync::Arc::new(prepared);
     let timed = || {
         let clock = crate::platform::Stopwatch::start();
         let rendered = render(&prepared);
         (clock.seconds(), rendered)
     };
-    let (first, (image, stats)) = timed();
+    // The first render says what it will cost and shows its progress when it takes a while.
+    let (image, stats, first) = render_progress::render(&prepared).map_err(RenderError::Stopped)?;
     let mut times = vec![first];
     times.extend((1..args.repeat).map(|_| timed().0));
     times.sort_by(f64::total_cmp);

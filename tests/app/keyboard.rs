@@ -329,3 +329,67 @@ fn a_practice_problem_is_answered_with_keys_alone() {
             .is_some()
     );
 }
+
+#[test]
+fn a_render_is_probed_with_keys_and_the_probe_reads_as_text() {
+    let mut harness = common::app_at("Seed 003: facing ratio");
+    tab_to(&mut harness, "the render's image", |l| {
+        l == "Correct render"
+    });
+    // Enter probes the centre pixel; Shift + → the next one over.
+    press(&mut harness, egui::Modifiers::NONE, Key::Enter);
+    let view = app_view::<raylab::app::render_view::RenderView>(&harness);
+    let (height, width) = {
+        let image = &view.rendered().expect("a render").image;
+        (image.height, image.width)
+    };
+    assert_eq!(view.probed, Some((height / 2, width / 2)));
+    press(&mut harness, egui::Modifiers::SHIFT, Key::ArrowRight);
+    let view = app_view::<raylab::app::render_view::RenderView>(&harness);
+    assert_eq!(view.probed, Some((height / 2, width / 2 + 1)));
+    let hit = view
+        .probe()
+        .and_then(|p| p.hit)
+        .expect("the centre is on the triangle");
+    // What the probe found is text a screen reader reads.
+    assert!(common::shows_text_containing(
+        &harness,
+        "hit object 1 (triangle)"
+    ));
+    assert!(common::shows_text_containing(
+        &harness,
+        &format!("t = {:.6}", hit.t)
+    ));
+}
+
+#[test]
+fn each_row_of_the_accuracy_table_reads_as_one_sentence() {
+    let mut harness = common::app_harness();
+    harness.run();
+    common::start_study(&mut harness, [40, 40], 1, 0.0);
+    common::step_while(&mut harness, 20, "the study did not finish", |h| {
+        h.state()
+            .state
+            .get::<raylab::app::accuracy_view::AccuracyView>()
+            .is_running()
+    });
+    let records = &app_view::<raylab::app::accuracy_view::AccuracyView>(&harness).records;
+    let first = &records[0];
+    let expected = format!(
+        "{} in {}, {} rays: {} tests, {} wrong, {} cracks",
+        first.method,
+        first.precision,
+        first.family,
+        first.tests,
+        first.wrong_decisions,
+        first.cracks
+    );
+    let rows: Vec<String> = harness
+        .query_all_by(|node| node.role() == Role::Row)
+        .filter_map(|node| node.accesskit_node().label())
+        .collect();
+    assert!(
+        rows.iter().any(|row| row.starts_with(&expected)),
+        "no row reads “{expected}…”: {rows:#?}"
+    );
+}

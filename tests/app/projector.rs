@@ -38,6 +38,8 @@ struct PaintedText {
     rect: Rect,
     visible: Rect,
     clip: Rect,
+    /// Cut short with “…” to fit its width.
+    elided: bool,
 }
 
 /// Every non-empty text egui painted in the last frame.
@@ -60,6 +62,7 @@ fn painted_texts(harness: &Harness<'static, RaylabApp>) -> Vec<PaintedText> {
                         rect,
                         visible: rect.intersect(clip),
                         clip,
+                        elided: text.galley.elided,
                     });
                 }
             }
@@ -93,6 +96,10 @@ fn layout_problems(harness: &Harness<'static, RaylabApp>, screen: Rect) -> Vec<S
                 problems.push(format!("“{}” overprints “{}”", a.text, b.text));
             }
         }
+        // Cut short: a status line that ends in “B(s…” tells the student nothing.
+        if a.elided && !preset_notes().contains(&a.text) {
+            problems.push(format!("“{}” is cut short with …", a.text));
+        }
         // Cut at the side: part of it shows, part is clipped away left or right.
         let cut_right = a.rect.max.x > a.clip.max.x.min(screen.max.x) + 1.0;
         let cut_left = a.rect.min.x < a.clip.min.x.max(screen.min.x) - 1.0;
@@ -125,6 +132,16 @@ fn layout_problems(harness: &Harness<'static, RaylabApp>, screen: Rect) -> Vec<S
         ));
     }
     problems
+}
+
+/// The presets' notes: the heading shows one cut to its rows, read whole on hover and by a screen
+/// reader (its label's text is the whole note).
+fn preset_notes() -> Vec<String> {
+    raylab::scene::preset_names()
+        .iter()
+        .filter_map(|name| raylab::scene::preset(name))
+        .map(|scene| scene.note)
+        .collect()
 }
 
 /// Canvas handles (named in the accessibility tree "vertex A at …") that a canvas label or the

@@ -370,3 +370,67 @@ fn bench_out_must_name_a_folder_and_does_not_apply_to_hard_cases() {
     assert_eq!(names_in(&dir), ["results"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A scene within every limit that would run for hours (the Cornell box at max_depth 16, 16×16
+/// samples a pixel and 256 occlusion rays): `raylab render` says first about how many rays and how
+/// long, then stops cleanly on Ctrl-C with no image written (exit status 130); a second Ctrl-C
+/// stops at once.
+#[test]
+fn a_render_of_hours_says_so_first_and_stops_cleanly_on_ctrl_c() {
+    use std::io::{BufRead as _, BufReader};
+    let dir = scratch("hours");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    std::fs::copy(
+        root.join("meshes/octasphere.obj"),
+        dir.join("meshes/octasphere.obj"),
+    )
+    .unwrap();
+    let scene = std::fs::read_to_string(root.join("scenes/render-cornell-box.ron"))
+        .unwrap()
+        .replace(
+            "max_depth: 5, occlusion_rays: 8",
+            "max_depth: 16, occlusion_rays: 256",
+        )
+        .replace("samples_per_side: 2", "samples_per_side: 16");
+    std::fs::write(dir.join("hours.ron"), scene).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(["render", "hours.ron", "-o", "hours.png"])
+        .current_dir(&dir)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+    let first = lines.next().expect("a line before the render").unwrap();
+    // "about 14.3 G rays, about 2.6 h on 2 threads here": hours, or days on a slower machine.
+    assert!(first.contains(" G rays, about "), "{first}");
+    assert!(first.ends_with("Ctrl-C stops"), "{first}");
+    let hours = first.contains(" h on ") || first.contains(" days on ");
+    assert!(hours, "{first}");
+    let pid = child.id().to_string();
+    let interrupt = || Command::new("kill").args(["-INT", &pid]).status().unwrap();
+    interrupt();
+    // The rows in flight may take a while on a debug build: a second Ctrl-C stops at once, and a
+    // run that outlives both is a hang, killed.
+    let started = std::time::Instant::now();
+    let mut status = None;
+    while status.is_none() && started.elapsed().as_secs() < u64::from(HANG_SECONDS) {
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        status = child.try_wait().unwrap();
+        if status.is_none() && started.elapsed().as_secs() == 3 {
+            interrupt();
+        }
+    }
+    let Some(status) = status else {
+        let _ = child.kill();
+        let _ = child.wait();
+        panic!("raylab render ran past {HANG_SECONDS} s after Ctrl-C: a hang")
+    };
+    let rest: Vec<String> = lines.map_while(Result::ok).collect();
+    assert_eq!(status.code(), Some(130), "{rest:?}");
+    assert!(
+        rest.iter().any(|l| l.contains("no image was written")),
+        "{rest:?}"
+    );
+    assert!(!dir.join("hours.png").exists());
+}

@@ -224,11 +224,11 @@ pub fn parameter_sliders(ui: &mut Ui, sliders: Vec<ParameterSlider<'_>>) {
     }
 }
 
-/// One line of status text that never wraps: labels that do not fit are cut with "…", so the line's
-/// height, and the plot above it, stay put while the numbers change.
+/// A line of status text: what does not fit wraps onto the next row (never cut with "…": on a
+/// zoomed projector "B(s…" told the student nothing).
 pub fn status_line(ui: &mut Ui, add_contents: impl FnOnce(&mut Ui)) {
-    ui.horizontal(|ui| {
-        ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Truncate);
+    ui.horizontal_wrapped(|ui| {
+        ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Wrap);
         add_contents(ui);
     });
 }
