@@ -288,6 +288,7 @@ impl ParallelogramView {
             projector: &projector,
         };
         let mut labels = LabelLayer::new(response.rect);
+        handles::labels_avoid_focus_ring(ui.ctx(), &mut labels);
         let verdict = super::widgets::verdict_overlay(ui, &painter, response.rect, &solved.trace);
         if let Some(verdict) = &verdict {
             labels.avoid(verdict.rect);

@@ -599,6 +599,7 @@ impl SegmentsView {
     ) -> Vec<PlacedLabel> {
         let text = ui.visuals().text_color();
         let mut labels = LabelLayer::new(frame.rect);
+        handles::labels_avoid_focus_ring(ui.ctx(), &mut labels);
         let verdict = super::widgets::verdict_overlay(ui, painter, frame.rect, &solved.trace);
         if let Some(verdict) = &verdict {
             labels.avoid(verdict.rect);

@@ -664,6 +664,7 @@ impl TriangleView {
     ) -> Vec<super::widgets::labels::PlacedLabel> {
         let text = ui.visuals().text_color();
         let mut labels = LabelLayer::new(canvas.projector.rect);
+        handles::labels_avoid_focus_ring(ui.ctx(), &mut labels);
         let verdict = super::widgets::verdict_overlay(
             ui,
             canvas.painter,
@@ -915,6 +916,7 @@ impl TriangleView {
                         Edge::Bc => (b, c),
                     };
                     canvas.line(from, to, Stroke::new(4.0, palette::OUTSIDE));
+                    failed_edge_ticks(canvas, from, to);
                 }
                 let names: Vec<&str> = edges.iter().map(|e| e.name()).collect();
                 (
@@ -940,6 +942,28 @@ impl TriangleView {
 }
 
 /// A drawn line that labels would rather not cross.
+/// Short ticks across a failed edge, every 12 points: the edge reads as a barrier by its shape too,
+/// not by its red alone (under deuteranopia the red edge and the green ray look alike).
+fn failed_edge_ticks(canvas: &Canvas, from: DVec3, to: DVec3) {
+    let Some([p, q]) = canvas.projector.segment(from, to) else {
+        return;
+    };
+    let along = q - p;
+    let length = along.length();
+    if !(length.is_finite() && length > 1.0) {
+        return;
+    }
+    let across = egui::vec2(-along.y, along.x) / length * 6.0;
+    let stroke = Stroke::new(2.5, palette::OUTSIDE);
+    let ticks = (length / 12.0).floor().min(400.0) as usize;
+    for k in 1..ticks {
+        let at = p + along * (k as f32 / ticks as f32);
+        canvas
+            .painter
+            .line_segment([at - across, at + across], stroke);
+    }
+}
+
 fn guide(canvas: &Canvas, labels: &mut LabelLayer, from: DVec3, to: DVec3) {
     if let Some([p, q]) = canvas.projector.segment(from, to) {
         labels.prefer_clear_of(p, q);

@@ -103,12 +103,51 @@ fn readme_screenshots() {
         }
     }
     presentation_screenshot(folder, write);
+    accessibility_screenshots(folder, write);
     lesson_screenshot(folder, write);
     practice_screenshot(folder, write);
     if write {
         accuracy_screenshot(folder);
     }
     render_screenshots(folder, write);
+}
+
+/// The README's Accessibility pictures: the Triangle view with P(β, γ) outside, its handle focused
+/// from the keyboard (the ring), and the same picture as a student with deuteranopia sees it
+/// (Machado et al.'s simulation, pixel by pixel).
+fn accessibility_screenshots(folder: &str, write: bool) {
+    use egui_kittest::kittest::NodeT as _;
+    use raylab::app::widgets::palette::vision::{Deficiency, simulate};
+    let mut harness = harness(Vec2::new(1280.0, 800.0), 1.0, egui::Theme::Light);
+    load_preset(&mut harness, "Ray missing the triangle");
+    harness.remove_cursor();
+    for _ in 0..300 {
+        let focused = harness
+            .query_all_by(|node| node.is_focused())
+            .next()
+            .and_then(|node| node.accesskit_node().label());
+        if focused.is_some_and(|label| label.starts_with("P(β, γ) at")) {
+            break;
+        }
+        harness.key_press(egui::Key::Tab);
+        harness.run();
+    }
+    // Two steps right and up: P moves in β and γ, its name follows.
+    press(&mut harness, [egui::Key::ArrowRight, egui::Key::ArrowUp]);
+    let normal = harness.render().expect("the CPU renderer draws");
+    let mut seen = normal.clone();
+    for pixel in seen.pixels_mut() {
+        let [r, g, b, a] = pixel.0;
+        let shown = simulate(egui::Color32::from_rgb(r, g, b), Deficiency::Deuteranopia);
+        pixel.0 = [shown.r(), shown.g(), shown.b(), a];
+    }
+    // The simulation moved colours: the picture is not the same.
+    assert_ne!(normal.as_raw(), seen.as_raw());
+    if write {
+        normal.save(format!("{folder}/accessibility.png")).unwrap();
+        seen.save(format!("{folder}/accessibility-deuteranopia.png"))
+            .unwrap();
+    }
 }
 
 /// The Render view: the transformed object probed, a common bug beside the correct image, and a probe

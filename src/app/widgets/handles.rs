@@ -10,6 +10,29 @@ use glam::DVec3;
 /// The side of the square a handle's node covers, in points (its dot is drawn smaller).
 const NODE_SIDE: f32 = 22.0;
 
+/// The focus ring's radius, in points.
+pub const RING_RADIUS: f32 = NODE_SIDE / 2.0;
+
+/// Where the focus ring of a canvas handle was drawn last frame, if one has the focus: labels keep
+/// clear of it (a label under the ring loses its first letter).
+pub fn focus_ring(ctx: &egui::Context) -> Option<Pos2> {
+    let frame = ctx.cumulative_pass_nr();
+    ctx.data(|d| d.get_temp::<(u64, Pos2)>(ring_id()))
+        .filter(|(at_frame, _)| at_frame + 1 >= frame)
+        .map(|(_, at)| at)
+}
+
+/// Keeps the labels of `layer` clear of the focus ring, if a handle has the focus.
+pub fn labels_avoid_focus_ring(ctx: &egui::Context, layer: &mut super::labels::LabelLayer) {
+    if let Some(at) = focus_ring(ctx) {
+        layer.avoid_point(at, RING_RADIUS + 4.0);
+    }
+}
+
+fn ring_id() -> Id {
+    Id::unique("raylab-handle-ring")
+}
+
 /// What the keys did to a focused handle this frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct HandleKeys {
@@ -67,14 +90,16 @@ pub fn keyboard_handle(ui: &Ui, key: &str, at: Pos2, description: &str) -> Handl
         )
     });
     mark_focused(ui.ctx());
+    let frame = ui.ctx().cumulative_pass_nr();
+    ui.ctx().data_mut(|d| d.insert_temp(ring_id(), (frame, at)));
     let ring = ui.visuals().selection.stroke.color;
     let painter = ui.painter();
     painter.circle_stroke(
         at,
-        NODE_SIDE / 2.0 + 2.0,
+        RING_RADIUS + 2.0,
         Stroke::new(4.0, ui.visuals().extreme_bg_color),
     );
-    painter.circle_stroke(at, NODE_SIDE / 2.0, Stroke::new(3.0, ring));
+    painter.circle_stroke(at, RING_RADIUS, Stroke::new(3.0, ring));
     read_keys(ui)
 }
 

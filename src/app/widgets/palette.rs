@@ -279,7 +279,9 @@ pub mod vision {
     /// The least ΔE two colours keep for every deficiency.
     pub const MIN_DIFFERENCE: f32 = 15.0;
 
-    /// The pairs a student must tell apart, by name.
+    /// The pairs a student must tell apart, by name. (The ray and a failed edge fall to ΔE 4 under
+    /// deuteranopia: no colour left in the palette keeps them apart in both themes, so a failed edge
+    /// carries ticks across it, and the ray its arrows.)
     pub const PAIRS: [(&str, Color32, &str, Color32); 9] = {
         use super::*;
         [
