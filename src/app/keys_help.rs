@@ -40,6 +40,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
                 "orbit the 3D views and the render's camera; pan the Segments plot",
             ),
             ("+ / −", "zoom in / out (the render's camera dollies)"),
+            ("Ctrl + arrows", "pan the render's camera"),
             ("R", "reset the render's camera"),
             (
                 "Enter, Shift + arrows",
@@ -67,7 +68,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
 impl RaylabApp {
     /// Opens or closes the Keys window on `?` or F1 (not while a text box takes the typing).
     pub(super) fn keys_help_toggle(&mut self, ctx: &egui::Context) {
-        let typing = ctx.egui_wants_keyboard_input();
+        let typing = ctx.text_edit_focused();
         let pressed = ctx.input_mut(|i| {
             i.consume_key(egui::Modifiers::NONE, egui::Key::F1)
                 || (!typing

@@ -617,11 +617,13 @@ impl RenderView {
                         }
                         (false, false) => "Click a pixel to probe its ray",
                     };
+                    // One id whatever the layout around it (it changes while the camera
+                    // moves), so the keyboard focus stays on the image.
+                    let (rect, _) = ui.allocate_exact_size(size, Sense::hover());
+                    egui::Image::new((shown.texture.id(), size)).paint_at(ui, rect);
+                    let id = egui::Id::unique(("raylab-render-image", bug_slot));
                     let response = ui
-                        .add(
-                            egui::Image::new((shown.texture.id(), size))
-                                .sense(Sense::click_and_drag()),
-                        )
+                        .interact(rect, id, Sense::click_and_drag())
                         .on_hover_text(hint);
                     // The image focused: Shift + arrows move the probed pixel a pixel at a
                     // time, Enter probes (first the centre): read before the plain arrows orbit.

@@ -46,6 +46,18 @@ fn press(harness: &mut Harness<'static, RaylabApp>, modifiers: egui::Modifiers, 
     harness.run();
 }
 
+/// Presses a key while renders run on a worker thread: the app asks for frames until they finish, so
+/// it is stepped (the key's frame and one more) rather than run to rest.
+fn press_while_rendering(
+    harness: &mut Harness<'static, RaylabApp>,
+    modifiers: egui::Modifiers,
+    key: Key,
+) {
+    harness.key_press_modifiers(modifiers, key);
+    harness.step();
+    harness.step();
+}
+
 /// The text a screen reader reads for the step whose spoken text starts with `start`.
 fn step_text(harness: &Harness<'static, RaylabApp>, start: &str) -> String {
     harness
@@ -392,4 +404,32 @@ fn each_row_of_the_accuracy_table_reads_as_one_sentence() {
         rows.iter().any(|row| row.starts_with(&expected)),
         "no row reads “{expected}…”: {rows:#?}"
     );
+}
+
+#[test]
+fn the_render_camera_orbits_pans_and_resets_from_the_keyboard() {
+    use raylab::app::render_view::RenderView;
+    let mut harness = common::app_at("Effect: shadows");
+    tab_to(&mut harness, "the render's image", |l| {
+        l == "Correct render"
+    });
+    assert!(app_view::<RenderView>(&harness).camera.is_none());
+    // → orbits: the camera moves about its target, at the same distance.
+    press_while_rendering(&mut harness, egui::Modifiers::NONE, Key::ArrowRight);
+    let scene = app_view::<RenderView>(&harness).scene.camera.clone();
+    let orbited = app_view::<RenderView>(&harness)
+        .camera
+        .clone()
+        .expect("→ moved the camera");
+    let (distance, ..) = scene.orbit_angles().unwrap();
+    let (moved, ..) = orbited.orbit_angles().unwrap();
+    assert!((distance - moved).abs() < 1e-9 * distance);
+    // Ctrl + → pans: the camera moves again, and keeps its distance to its (moved) target.
+    press_while_rendering(&mut harness, egui::Modifiers::CTRL, Key::ArrowRight);
+    let panned = app_view::<RenderView>(&harness).camera.clone().unwrap();
+    assert_ne!(panned, orbited);
+    // R goes back to the scene's camera; every frame rendered meanwhile is a real one.
+    press_while_rendering(&mut harness, egui::Modifiers::NONE, Key::R);
+    assert!(app_view::<RenderView>(&harness).camera.is_none());
+    common::wait_for_render(&mut harness);
 }

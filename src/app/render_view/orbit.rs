@@ -108,7 +108,28 @@ impl Motion {
         if response.hovered() {
             self.scroll += ui.input_mut(|i| std::mem::take(&mut i.smooth_scroll_delta.y));
         }
-        // The image focused (Tab): the arrows orbit as a 30-point drag, + and − dolly as a notch.
+        // The image focused (Tab): Ctrl + arrows pan (as a Shift-drag), the arrows orbit as a
+        // 30-point drag, + and − dolly as a notch.
+        if response.has_focus() {
+            let pan = ui.input_mut(|i| {
+                let mut count = |key| {
+                    let mut n = 0.0;
+                    while i.consume_key(egui::Modifiers::CTRL, key) {
+                        n += 1.0;
+                    }
+                    n
+                };
+                Vec2::new(
+                    count(egui::Key::ArrowRight) - count(egui::Key::ArrowLeft),
+                    count(egui::Key::ArrowDown) - count(egui::Key::ArrowUp),
+                )
+            });
+            if pan != Vec2::ZERO {
+                self.drag += pan * 20.0;
+                self.pan = true;
+                self.keyed = true;
+            }
+        }
         let keys = crate::app::widgets::handles::focused_keys(ui, response);
         if keys != crate::app::widgets::handles::CanvasKeys::default() {
             self.drag += Vec2::new(keys.right, keys.up) * 30.0;
@@ -190,7 +211,7 @@ impl RenderView {
             )
             .clicked();
         // R, unless a text field takes the keys.
-        let key = !ui.ctx().egui_wants_keyboard_input()
+        let key = !ui.ctx().text_edit_focused()
             && ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::R));
         if reset || key {
             self.reset_camera();
