@@ -124,6 +124,10 @@ pub struct RenderArgs {
     /// Render this many times and report the median time (as the peer script does).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub repeat: u32,
+    /// Refuse a render that a trial frame says would take longer than this many seconds on this
+    /// machine (0: no limit).
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32))]
+    pub budget: u32,
 }
 
 /// `raylab bench`.
@@ -583,9 +587,10 @@ pub enum RenderError {
     /// `--effects` names an effect that does not exist.
     #[error("--effects: {0}")]
     Effects(crate::names::UnknownName),
-    /// Ctrl-C stopped the render (exit status 130, as a shell reports an interrupt).
+    /// Ctrl-C stopped the render (exit status 130, as a shell reports an interrupt), or it would
+    /// take past the budget (1).
     #[error(transparent)]
-    Stopped(render_progress::Stopped),
+    NotRendered(render_progress::NotRendered),
     /// The image could not be written (an old file is left as it was).
     #[error("could not write {}: {error}", .path.display())]
     Write {
@@ -601,7 +606,11 @@ impl RenderError {
     fn status(&self) -> u8 {
         match self {
             RenderError::OutputName(_) | RenderError::Effects(_) => 2,
-            RenderError::Stopped(_) => 130,
+            RenderError::NotRendered(render_progress::NotRendered::Interrupted { .. }) => 130,
+            RenderError::NotRendered(
+                render_progress::NotRendered::OverBudget { .. }
+                | render_progress::NotRendered::MayCastTooMany { .. },
+            ) => 1,
             RenderError::Scene(_)
             | RenderError::NotARenderScene(_)
             | RenderError::Prepare { .. }
@@ -644,7 +653,8 @@ fn run_render(args: RenderArgs) -> Result<ExitCode, RenderError> {
         (clock.seconds(), rendered)
     };
     // The first render says what it will cost and shows its progress when it takes a while.
-    let (image, stats, first) = render_progress::render(&prepared).map_err(RenderError::Stopped)?;
+    let (image, stats, first) = render_progress::render(&prepared, f64::from(args.budget))
+        .map_err(RenderError::NotRendered)?;
     let mut times = vec![first];
     times.extend((1..args.repeat).map(|_| timed().0));
     times.sort_by(f64::total_cmp);

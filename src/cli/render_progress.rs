@@ -39,45 +39,169 @@ impl Estimate {
     }
 }
 
-/// Renders a 1/8-size frame with one sample a pixel and scales its rays and time up to the whole
-/// render (pixels × samples), or `None` for a render too small to need it.
+/// The trial frame stops after this long and scales up what it did (a scene whose every ray is
+/// slow, such as an exact method or a bug that tests every triangle, must not hang in the trial).
+const TRIAL_SECONDS: f64 = 1.5;
+
+/// A render that may cast more rays than this (its worst case: every ray of its ray tree hit
+/// something that sends more) is refused before any trial: at a billion rays a second it would take
+/// over a quarter of an hour, and its trial's few rows could take as long.
+const WORST_CASE_RAYS: f64 = 1e12;
+
+/// The most rays a render may cast: per camera sample, a ray tree of max_depth levels (two children
+/// a node with refraction, one with reflections alone), each node with a shadow ray a light and the
+/// occlusion rays when those effects are on.
+pub fn worst_case_rays(prepared: &Prepared) -> f64 {
+    use crate::scene::render::Effect;
+    let on = |effect| prepared.effects.contains(&effect);
+    let settings = &prepared.lighting.settings;
+    let samples_per_side = if on(Effect::Antialiasing) {
+        f64::from(settings.samples_per_side.max(1))
+    } else {
+        1.0
+    };
+    let samples = (prepared.width * prepared.height) as f64 * samples_per_side * samples_per_side;
+    let depth = f64::from(settings.max_depth);
+    let nodes = if on(Effect::Refraction) {
+        2f64.powf(depth + 1.0) - 1.0
+    } else if on(Effect::Reflections) {
+        depth + 1.0
+    } else {
+        1.0
+    };
+    let shadows = if on(Effect::Shadows) {
+        prepared.lighting.lights.len() as f64
+    } else {
+        0.0
+    };
+    let occlusion = if on(Effect::AmbientOcclusion) {
+        f64::from(settings.occlusion_rays)
+    } else {
+        0.0
+    };
+    samples * nodes * (1.0 + shadows + occlusion)
+}
+
+/// Renders a 1/8-size frame with one sample a pixel, a few rows at a time for at most
+/// [`TRIAL_SECONDS`], and scales its rays and time up to the whole render (pixels × samples), or
+/// `None` for a render too small to need it.
 pub fn estimate(prepared: &Prepared) -> Option<Estimate> {
     let samples_per_side = prepared.lighting.settings.samples_per_side.max(1) as usize;
     let samples = prepared.width * prepared.height * samples_per_side * samples_per_side;
     if samples < TRIAL_PAST_SAMPLES {
         return None;
     }
-    let trial = prepared.quick_frame(TRIAL_DIVISOR);
+    let trial = Arc::new(prepared.quick_frame(TRIAL_DIVISOR));
+    let (width, height) = (trial.width, trial.height);
+    // Bands of 8 rows (two tasks a band, for two threads), fewer on a short frame.
+    let mut job = RenderJob::new(trial).rows_per_step((height / 8).clamp(1, 8));
     let clock = Stopwatch::start();
-    let (_, stats) = crate::render::render(&trial);
+    let mut rows = height;
+    while let Progress::Working { done, .. } = job.step() {
+        if clock.seconds() > TRIAL_SECONDS {
+            rows = done;
+            break;
+        }
+    }
     let seconds = clock.seconds();
-    let scale = samples as f64 / (trial.width * trial.height).max(1) as f64;
+    // The share of the trial done, then the trial's share of the render.
+    let scale =
+        height as f64 / rows.max(1) as f64 * samples as f64 / (width * height).max(1) as f64;
     Some(Estimate {
-        rays: stats.all_rays() as f64 * scale,
+        rays: job.stats().all_rays() as f64 * scale,
         seconds: seconds * scale,
     })
 }
 
 /// Why a render wrote nothing.
 #[derive(Debug, thiserror::Error)]
-#[error("render stopped by Ctrl-C after {rows} of {total} rows: no image was written")]
-pub struct Stopped {
-    /// Rows done.
-    pub rows: usize,
-    /// Rows in all.
-    pub total: usize,
+pub enum NotRendered {
+    /// Ctrl-C stopped it.
+    #[error("render stopped by Ctrl-C after {rows} of {total} rows: no image was written")]
+    Interrupted {
+        /// Rows done.
+        rows: usize,
+        /// Rows in all.
+        total: usize,
+    },
+    /// Its worst case is past [`WORST_CASE_RAYS`].
+    #[error(
+        "this render may cast up to {} rays ({}×{} pixels, {} samples each, max_depth {}, {} \
+         occlusion rays), past the budget of {}: lower samples_per_side, max_depth or \
+         occlusion_rays, or pass --budget 0 to render it anyway",
+        count(*.rays),
+        .width,
+        .height,
+        .samples,
+        .max_depth,
+        .occlusion_rays,
+        count(WORST_CASE_RAYS)
+    )]
+    MayCastTooMany {
+        /// The worst case.
+        rays: f64,
+        /// The image's width.
+        width: usize,
+        /// The image's height.
+        height: usize,
+        /// Samples a pixel.
+        samples: u32,
+        /// Bounces.
+        max_depth: u32,
+        /// Occlusion rays a hit.
+        occlusion_rays: u32,
+    },
+    /// The trial frame says it would take longer than the budget.
+    #[error(
+        "this render would take about {} on {} threads here (about {} rays), past the budget of {}: \
+         render a smaller image, fewer samples or effects, another --method or no --bug, or pass \
+         --budget {} (0: no limit) to render it anyway",
+        duration(.estimate.seconds),
+        rayon::current_num_threads(),
+        count(.estimate.rays),
+        duration(*.budget),
+        suggested_budget(.estimate.seconds)
+    )]
+    OverBudget {
+        /// What the trial frame predicts.
+        estimate: Estimate,
+        /// The budget, in seconds.
+        budget: f64,
+    },
+}
+
+/// A budget that lets an estimate through, in round seconds.
+fn suggested_budget(seconds: f64) -> u64 {
+    let needed = (seconds * 1.5).ceil() as u64;
+    needed.next_multiple_of(60)
 }
 
 /// Renders the whole image; past [`SHOW_PAST_SECONDS`] (estimated) it says the estimate first,
-/// shows a progress bar and stops on Ctrl-C. Returns the image, its work and the seconds the render
-/// itself took (not the trial's).
-pub fn render(prepared: &Arc<Prepared>) -> Result<(Image, Stats, f64), Stopped> {
+/// shows a progress bar and stops on Ctrl-C; past `budget` seconds (estimated; 0: no limit) it
+/// refuses with the figures. Returns the image, its work and the seconds the render itself took
+/// (not the trial's).
+pub fn render(prepared: &Arc<Prepared>, budget: f64) -> Result<(Image, Stats, f64), NotRendered> {
+    let rays = worst_case_rays(prepared);
+    if budget > 0.0 && rays > WORST_CASE_RAYS {
+        let settings = &prepared.lighting.settings;
+        return Err(NotRendered::MayCastTooMany {
+            rays,
+            width: prepared.width,
+            height: prepared.height,
+            samples: settings.samples_per_side * settings.samples_per_side,
+            max_depth: settings.max_depth,
+            occlusion_rays: settings.occlusion_rays,
+        });
+    }
     let long = estimate(prepared).filter(|e| e.seconds >= SHOW_PAST_SECONDS);
     let clock = Stopwatch::start();
     let Some(estimate) = long else {
         let (image, stats) = crate::render::render(prepared);
         return Ok((image, stats, clock.seconds()));
     };
+    if budget > 0.0 && estimate.seconds > budget {
+        return Err(NotRendered::OverBudget { estimate, budget });
+    }
     let stop = stop_on_ctrl_c();
     note!("{}", estimate.line());
     let bar = indicatif::ProgressBar::new(prepared.height as u64).with_style(
@@ -93,7 +217,7 @@ pub fn render(prepared: &Arc<Prepared>) -> Result<(Image, Stats, f64), Stopped> 
                 bar.set_position(done as u64);
                 if stop.load(Ordering::SeqCst) {
                     bar.abandon();
-                    return Err(Stopped { rows: done, total });
+                    return Err(NotRendered::Interrupted { rows: done, total });
                 }
             }
             Progress::Finished(rendered) => {
@@ -144,9 +268,10 @@ fn stop_on_ctrl_c() -> Arc<AtomicBool> {
     stop
 }
 
-/// A count a reader takes in at a glance: 5.5 M, 830 k, 2.1 G.
+/// A count a reader takes in at a glance: 5.5 M, 830 k, 2.1 G, 26.0 T.
 fn count(n: f64) -> String {
     match n {
+        n if n >= 1e12 => format!("{:.1} T", n / 1e12),
         n if n >= 1e9 => format!("{:.1} G", n / 1e9),
         n if n >= 1e6 => format!("{:.1} M", n / 1e6),
         n if n >= 1e3 => format!("{:.0} k", n / 1e3),
@@ -171,6 +296,7 @@ mod tests {
     #[test]
     fn counts_and_durations_read_at_a_glance() {
         assert_eq!(count(5.5e6), "5.5 M");
+        assert_eq!(count(2.6e13), "26.0 T");
         assert_eq!(count(830_000.0), "830 k");
         assert_eq!(count(12.0), "12");
         assert_eq!(duration(2.14), "2.1 s");

@@ -461,6 +461,8 @@ pub struct RenderJob {
     stats: Stats,
     next_row: usize,
     seconds: f64,
+    /// Rows a step renders, when set (one band a step); else bands of about 16k pixels for 8 ms.
+    rows_per_step: Option<usize>,
 }
 
 impl RenderJob {
@@ -472,7 +474,20 @@ impl RenderJob {
             stats: Stats::default(),
             next_row: 0,
             seconds: 0.0,
+            rows_per_step: None,
         }
+    }
+
+    /// Each step renders one band of `rows` rows (a trial that must stop on time checks the
+    /// clock between them).
+    pub fn rows_per_step(mut self, rows: usize) -> RenderJob {
+        self.rows_per_step = Some(rows.max(1));
+        self
+    }
+
+    /// The work done so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
     }
 }
 
@@ -482,10 +497,15 @@ impl Sliced for RenderJob {
     fn step(&mut self) -> Progress<Rendered> {
         // Bands of about 16k pixels until about 8 ms have passed: a slice stays short on the web's one
         // thread, and a thread's progress bar moves.
-        let rows = (16_384 / self.prepared.width.max(1)).max(1);
+        let rows = self
+            .rows_per_step
+            .unwrap_or((16_384 / self.prepared.width.max(1)).max(1));
+        let one_band = self.rows_per_step.is_some();
         let clock = Stopwatch::start();
         let mut end = self.next_row;
-        while end < self.prepared.height && (end == self.next_row || clock.seconds() < 0.008) {
+        while end < self.prepared.height
+            && (end == self.next_row || (!one_band && clock.seconds() < 0.008))
+        {
             let band_end = (end + rows).min(self.prepared.height);
             let band = self.prepared.render_band(end..band_end, &mut self.image);
             self.stats = self.stats.add(band);

@@ -395,7 +395,7 @@ fn a_render_of_hours_says_so_first_and_stops_cleanly_on_ctrl_c() {
         .replace("samples_per_side: 2", "samples_per_side: 16");
     std::fs::write(dir.join("hours.ron"), scene).unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
-        .args(["render", "hours.ron", "-o", "hours.png"])
+        .args(["render", "hours.ron", "-o", "hours.png", "--budget", "0"])
         .current_dir(&dir)
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -433,4 +433,71 @@ fn a_render_of_hours_says_so_first_and_stops_cleanly_on_ctrl_c() {
         "{rest:?}"
     );
     assert!(!dir.join("hours.png").exists());
+}
+
+/// Renders within every stated limit that would run for minutes or hours (issue 28's repro commands)
+/// are refused within moments by the render budget, with the figures: a bug that tests every
+/// triangle, the exact method on a mesh, a ray tree of 2^17 nodes with 1024 occlusion rays each.
+#[test]
+fn renders_past_the_budget_are_refused_at_once_with_the_figures() {
+    let dir = scratch("budget");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+    let scene = |name: &str| root.join("scenes").join(name).display().to_string();
+    let cornell = scene("render-cornell-box.ron");
+    let mesh = scene("render-mesh.ron");
+    let refused = |args: &[&str]| {
+        let mut all = vec!["render"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["-o", "out.png"]);
+        let output = raylab_limited(&format!("ulimit -v {ADDRESS_SPACE_KIB}"), &dir, &all);
+        assert_eq!(
+            output.status.code(),
+            Some(1),
+            "{args:?}: {}",
+            stderr(&output)
+        );
+        assert!(!dir.join("out.png").exists());
+        stderr(&output)
+    };
+    for args in [
+        vec![cornell.as_str(), "--bug", "and-for-or"],
+        vec![cornell.as_str(), "--bug", "v-instead-of-sum"],
+        vec![mesh.as_str(), "--method", "exact"],
+    ] {
+        let message = refused(&args);
+        // "this render would take about 6 min on 2 threads here (about 9.5 M rays), past the
+        // budget of 60.0 s: … pass --budget 600 (0: no limit) to render it anyway"
+        assert!(
+            message.contains("this render would take about"),
+            "{message}"
+        );
+        assert!(message.contains("past the budget of 60.0 s"), "{message}");
+        assert!(message.contains("--budget"), "{message}");
+    }
+    // Two glass spheres on a 32x24 image, max_depth 16, 1024 occlusion rays, 16x16 samples: its
+    // worst case alone is refused, before any trial.
+    let glass = "(shape: Triangle(vertices: ((X, 0.0, -0.5), (X + 1.0, 0.0, -0.5), (X + 0.5, 0.0, 0.5))), \
+                 color: (1.0, 1.0, 1.0), material: Glass(ior: 1.5))";
+    let panes = [("-1.2", "-0.2"), ("0.2", "1.2")].map(|(left, right)| {
+        glass
+            .replace("X + 1.0", right)
+            .replace("X + 0.5", left)
+            .replace('X', left)
+    });
+    let objects = panes.join(", ");
+    let heavy = format!(
+        "(title: \"heavy\", note: \"\", problem: Render((width: 32, height: 24, \
+         camera: Pinhole(position: (0.0, -4.0, 0.0), target: (0.0, 0.0, 0.0), fov_y: 40.0), \
+         objects: [{objects}], \
+         effects: [\"shadows\", \"reflections\", \"refraction\", \"ambient-occlusion\", \"antialiasing\"], \
+         lights: [Point(position: (0.0, -2.0, 2.0), intensity: 1.0)], \
+         settings: (max_depth: 16, occlusion_rays: 1024, samples_per_side: 16))))"
+    );
+    std::fs::write(dir.join("heavy.ron"), heavy).unwrap();
+    let message = refused(&["heavy.ron"]);
+    assert!(message.contains("may cast up to"), "{message}");
+    assert!(
+        message.contains("max_depth 16, 1024 occlusion rays"),
+        "{message}"
+    );
 }
