@@ -84,11 +84,17 @@ impl RaylabApp {
     /// The Keys window, while open.
     pub(super) fn keys_help_ui(&mut self, ctx: &egui::Context) {
         let mut open = self.keys_open;
+        // Within the screen at any zoom: the descriptions wrap, the window scrolls.
+        let screen = ctx.content_rect();
+        let width = (screen.width() - 40.0).clamp(200.0, 640.0);
         egui::Window::new("Keys")
             .open(&mut open)
             .collapsible(false)
             .vscroll(true)
-            .default_width(560.0)
+            .default_width(width)
+            .max_width(width)
+            .max_height(screen.height() - 60.0)
+            .default_pos(screen.left_top() + egui::vec2(20.0, 40.0))
             .show(ctx, keys_table);
         if open && ctx.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Escape)) {
             open = false;
@@ -107,7 +113,7 @@ fn keys_table(ui: &mut Ui) {
             .show(ui, |ui| {
                 for (key, what) in *keys {
                     ui.label(RichText::new(*key).monospace());
-                    ui.label(*what);
+                    ui.add(egui::Label::new(*what).wrap());
                     ui.end_row();
                 }
             });

@@ -588,3 +588,23 @@ fn the_method_label_keeps_its_box_on_its_row() {
         }
     }
 }
+
+/// The Keys window (?) reads whole on the projector: at 150% and 200% its descriptions wrap inside
+/// the window and the window inside the screen.
+#[test]
+fn the_keys_window_reads_cleanly_at_150_and_200_percent() {
+    for zoom in [1.5, 2.0] {
+        let mut harness = projector(1280.0, 800.0, zoom);
+        harness.run();
+        harness.key_press(egui::Key::F1);
+        harness.run();
+        assert!(harness.state().keys_open);
+        let screen = Rect::from_min_size(egui::Pos2::ZERO, Vec2::new(1280.0, 800.0) / zoom);
+        // The window covers the view behind it (that is no overprint): only cut text counts.
+        let problems: Vec<String> = layout_problems(&harness, screen)
+            .into_iter()
+            .filter(|p| p.contains(" cut ") || p.contains("past the window"))
+            .collect();
+        assert!(problems.is_empty(), "{zoom}x: {}", problems.join("\n"));
+    }
+}
