@@ -6,6 +6,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::platform::{Progress, Sliced, Stopwatch};
+use crate::render::ray_kinds::short_count as count;
 use crate::render::{Image, Prepared, RenderJob, Stats};
 
 /// A render this long or longer (estimated) shows its estimate and progress, and stops on Ctrl-C.
@@ -266,17 +267,6 @@ fn stop_on_ctrl_c() -> Arc<AtomicBool> {
         let _ = installed.recv_timeout(std::time::Duration::from_secs(2));
     }
     stop
-}
-
-/// A count a reader takes in at a glance: 5.5 M, 830 k, 2.1 G, 26.0 T.
-fn count(n: f64) -> String {
-    match n {
-        n if n >= 1e12 => format!("{:.1} T", n / 1e12),
-        n if n >= 1e9 => format!("{:.1} G", n / 1e9),
-        n if n >= 1e6 => format!("{:.1} M", n / 1e6),
-        n if n >= 1e3 => format!("{:.0} k", n / 1e3),
-        n => format!("{n:.0}"),
-    }
 }
 
 /// A duration in the unit that reads best: 2.1 s, 4 min, 3.2 h, 2.5 days.

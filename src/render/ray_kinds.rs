@@ -148,6 +148,17 @@ impl Secondary {
     }
 }
 
+/// A count a reader takes in at a glance (rays, rays a second): 830 k, 5.5 M, 2.1 G, 26.0 T.
+pub fn short_count(n: f64) -> String {
+    match n {
+        n if n >= 1e12 => format!("{:.1} T", n / 1e12),
+        n if n >= 1e9 => format!("{:.1} G", n / 1e9),
+        n if n >= 1e6 => format!("{:.1} M", n / 1e6),
+        n if n >= 1e3 => format!("{:.0} k", n / 1e3),
+        n => format!("{n:.0}"),
+    }
+}
+
 /// One line for `--stats`: the rays by kind, then the secondary rays' work.
 pub fn by_kind_line(stats: &super::Stats) -> String {
     let s = &stats.secondary;

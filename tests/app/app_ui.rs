@@ -634,7 +634,7 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
     ));
     assert!(shows(&harness, "Score: 0 right of 1 tried"));
     // The right answer, read from the exact solver's own values (β, γ, t).
-    let values: Vec<String> = practice_answer(&harness)
+    let values: Vec<String> = common::practice_answer(&harness)
         .values
         .iter()
         .map(|v| v.value.fraction())
@@ -664,18 +664,6 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
     assert!(harness.state().practice.is_none());
 }
 
-/// The exact answer to the practice problem on screen.
-fn practice_answer<'a>(harness: &'a Harness<'static, RaylabApp>) -> &'a raylab::exercise::Answer {
-    &harness
-        .state()
-        .practice
-        .as_ref()
-        .unwrap()
-        .practice
-        .problem
-        .answer
-}
-
 /// True if some text painted in the last frame (labels on a canvas included) contains `needle`.
 fn painted(harness: &Harness<'static, RaylabApp>, needle: &str) -> bool {
     fn walk(shape: &egui::epaint::Shape, needle: &str) -> bool {
@@ -698,7 +686,7 @@ fn an_outcome_is_picked_with_one_click() {
     click(&mut harness, &["Practice", "Triangle: find β, γ and t"]);
     // The level picker in the practice bar: a ray beyond one edge.
     click(&mut harness, &["outside"]);
-    let outcome = practice_answer(&harness).outcome.text();
+    let outcome = common::practice_answer(&harness).outcome.text();
     assert!(outcome.starts_with("outside "), "{outcome}");
     // The wrong edge first, then the right one.
     let wrong = ["outside AB", "outside BC", "outside CA"]

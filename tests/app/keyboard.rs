@@ -40,6 +40,14 @@ fn tab_to(harness: &mut Harness<'static, RaylabApp>, what: &str, wanted: impl Fn
     );
 }
 
+/// Opens a top-bar menu and one of its items with Tab and Enter alone.
+fn open_from_menu(harness: &mut Harness<'static, RaylabApp>, menu: &str, item: &str) {
+    tab_to(harness, menu, |l| l == menu);
+    press(harness, egui::Modifiers::NONE, Key::Enter);
+    tab_to(harness, item, |l| l == item);
+    press(harness, egui::Modifiers::NONE, Key::Enter);
+}
+
 /// Presses a key, with modifiers, and lets the app settle.
 fn press(harness: &mut Harness<'static, RaylabApp>, modifiers: egui::Modifiers, key: Key) {
     harness.key_press_modifiers(modifiers, key);
@@ -270,12 +278,11 @@ fn the_keys_window_opens_with_question_mark_and_lists_the_handle_keys() {
 fn a_lesson_plays_from_start_to_end_with_keys_alone() {
     let mut harness = common::app_harness();
     harness.run();
-    tab_to(&mut harness, "the Lessons menu", |l| l == "Lessons");
-    press(&mut harness, egui::Modifiers::NONE, Key::Enter);
-    tab_to(&mut harness, "the first lesson", |l| {
-        l == "Seed 000: segments, then a ray and a triangle"
-    });
-    press(&mut harness, egui::Modifiers::NONE, Key::Enter);
+    open_from_menu(
+        &mut harness,
+        "Lessons",
+        "Seed 000: segments, then a ray and a triangle",
+    );
     assert!(harness.state().lesson.is_some(), "Enter opened the lesson");
     assert!(harness.query_by_label("Slide 1 of 14").is_some());
     // The first slide asks a question: Tab to "Show the answer", Enter shows it.
@@ -299,12 +306,7 @@ fn a_lesson_plays_from_start_to_end_with_keys_alone() {
 fn a_practice_problem_is_answered_with_keys_alone() {
     let mut harness = common::app_harness();
     harness.run();
-    tab_to(&mut harness, "the Practice menu", |l| l == "Practice");
-    press(&mut harness, egui::Modifiers::NONE, Key::Enter);
-    tab_to(&mut harness, "the triangle level", |l| {
-        l == "Triangle: find β, γ and t"
-    });
-    press(&mut harness, egui::Modifiers::NONE, Key::Enter);
+    open_from_menu(&mut harness, "Practice", "Triangle: find β, γ and t");
     assert!(harness.state().practice.is_some(), "Enter opened practice");
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
     // Enter on a handle does not solve a practice problem for the student.
@@ -316,14 +318,7 @@ fn a_practice_problem_is_answered_with_keys_alone() {
     assert!(app_view::<TriangleView>(&harness).animation.is_none());
     // Tab to the answer box, type the exact answer, Enter checks it.
     tab_to(&mut harness, "the answer box", |l| l == "Your answer:");
-    let values: Vec<String> = harness
-        .state()
-        .practice
-        .as_ref()
-        .unwrap()
-        .practice
-        .problem
-        .answer
+    let values: Vec<String> = common::practice_answer(&harness)
         .values
         .iter()
         .map(|v| v.value.fraction())

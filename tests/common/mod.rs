@@ -182,3 +182,21 @@ pub fn press_on_image(harness: &mut Harness<'static, RaylabApp>, label: &str) ->
     harness.step();
     centre
 }
+
+/// The exact answer to the practice problem on screen.
+#[allow(
+    dead_code,
+    reason = "only the test crates that answer practice problems use it"
+)]
+pub fn practice_answer<'a>(
+    harness: &'a Harness<'static, RaylabApp>,
+) -> &'a raylab::exercise::Answer {
+    &harness
+        .state()
+        .practice
+        .as_ref()
+        .expect("a practice problem is open")
+        .practice
+        .problem
+        .answer
+}

@@ -242,18 +242,7 @@ impl RenderView {
             rendered.image.width,
             rendered.image.height,
             rendered.seconds * 1e3,
-            per_second(rays_per_second),
+            crate::render::ray_kinds::short_count(rays_per_second),
         )
-    }
-}
-
-/// A rate in words a projector can show: 2.4 M, 830 k.
-fn per_second(rate: f64) -> String {
-    if rate >= 1e6 {
-        format!("{:.1} M", rate / 1e6)
-    } else if rate >= 1e3 {
-        format!("{:.0} k", rate / 1e3)
-    } else {
-        format!("{rate:.0}")
     }
 }

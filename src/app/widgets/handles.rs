@@ -78,18 +78,7 @@ pub fn keyboard_handle(ui: &Ui, key: &str, at: Pos2, description: &str) -> Handl
     if !response.has_focus() {
         return HandleKeys::default();
     }
-    ui.memory_mut(|m| {
-        m.set_focus_lock_filter(
-            id,
-            egui::EventFilter {
-                horizontal_arrows: true,
-                vertical_arrows: true,
-                tab: false,
-                escape: false,
-            },
-        )
-    });
-    mark_focused(ui.ctx());
+    hold_arrows(ui, id);
     let frame = ui.ctx().cumulative_pass_nr();
     ui.ctx().data_mut(|d| d.insert_temp(ring_id(), (frame, at)));
     let ring = ui.visuals().selection.stroke.color;
@@ -165,18 +154,7 @@ pub fn focused_keys(ui: &Ui, response: &egui::Response) -> CanvasKeys {
     if !response.has_focus() {
         return CanvasKeys::default();
     }
-    ui.memory_mut(|m| {
-        m.set_focus_lock_filter(
-            response.id,
-            egui::EventFilter {
-                horizontal_arrows: true,
-                vertical_arrows: true,
-                tab: false,
-                escape: false,
-            },
-        )
-    });
-    mark_focused(ui.ctx());
+    hold_arrows(ui, response.id);
     let ring = ui.visuals().selection.stroke.color;
     ui.painter().rect_stroke(
         response.rect.shrink(2.0),
@@ -198,6 +176,23 @@ pub fn focused_keys(ui: &Ui, response: &egui::Response) -> CanvasKeys {
             zoom: pressed(Key::Plus) + pressed(Key::Equals) - pressed(Key::Minus),
         }
     })
+}
+
+/// The focused widget `id` keeps the arrows (they move it, not the focus), and the presenter keys
+/// leave them to it.
+fn hold_arrows(ui: &Ui, id: Id) {
+    ui.memory_mut(|m| {
+        m.set_focus_lock_filter(
+            id,
+            egui::EventFilter {
+                horizontal_arrows: true,
+                vertical_arrows: true,
+                tab: false,
+                escape: false,
+            },
+        )
+    });
+    mark_focused(ui.ctx());
 }
 
 /// Remembers that a handle had the focus this frame (see [`handle_focused`]).
