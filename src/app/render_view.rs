@@ -498,7 +498,38 @@ impl RenderView {
             .on_hover_text("Render the same scene with a common mistake, beside the correct image");
     }
 
-    fn status_ui(&self, ui: &mut Ui) {
+    /// Stops the renders in flight (a dropped job stops after its band); they start again when a
+    /// choice changes.
+    fn cancel_renders(&mut self) {
+        for slot in [&mut self.runtime.correct, &mut self.runtime.buggy] {
+            if let Some((key, _)) = slot.running.take() {
+                slot.failed = Some(key);
+                slot.error =
+                    Some("cancelled (change the scene or a choice to render again)".into());
+            }
+        }
+    }
+
+    fn status_ui(&mut self, ui: &mut Ui) {
+        if let Some(worst) = self.runtime.past_budget {
+            ui.label(
+                RichText::new(format!(
+                    "Not rendered: {worst}. Lower samples_per_side, max_depth or occlusion_rays \
+                     in the scene, or render it anyway (Cancel stops it)."
+                ))
+                .color(palette::OUTSIDE.readable(ui)),
+            );
+            if ui
+                .button("Render anyway")
+                .on_hover_text("Start this render although it may take hours; Cancel stops it")
+                .clicked()
+            {
+                self.runtime.budget_waived = Some(self.scene.clone());
+                self.runtime.past_budget = None;
+                self.runtime.correct.failed = None;
+                self.runtime.buggy.failed = None;
+            }
+        }
         let slot = &self.runtime.correct;
         if let Some(error) = slot.error.as_ref().or(self.runtime.buggy.error.as_ref()) {
             ui.label(
@@ -517,8 +548,22 @@ impl RenderView {
             } else {
                 format!("rendering… row {done} of {total}")
             };
-            ui.add(egui::ProgressBar::new(done as f32 / total as f32).text(text));
+            let mut cancel = false;
+            ui.horizontal(|ui| {
+                cancel = ui
+                    .button("Cancel")
+                    .on_hover_text(
+                        "Stop this render (any change to the scene or a choice renders again)",
+                    )
+                    .clicked();
+                ui.add(egui::ProgressBar::new(done as f32 / total as f32).text(text));
+            });
+            if cancel {
+                self.cancel_renders();
+                return;
+            }
         }
+        let slot = &self.runtime.correct;
         let Some(shown) = &slot.shown else {
             return;
         };

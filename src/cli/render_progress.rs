@@ -44,45 +44,6 @@ impl Estimate {
 /// slow, such as an exact method or a bug that tests every triangle, must not hang in the trial).
 const TRIAL_SECONDS: f64 = 1.5;
 
-/// A render that may cast more rays than this (its worst case: every ray of its ray tree hit
-/// something that sends more) is refused before any trial: at a billion rays a second it would take
-/// over a quarter of an hour, and its trial's few rows could take as long.
-const WORST_CASE_RAYS: f64 = 1e12;
-
-/// The most rays a render may cast: per camera sample, a ray tree of max_depth levels (two children
-/// a node with refraction, one with reflections alone), each node with a shadow ray a light and the
-/// occlusion rays when those effects are on.
-pub fn worst_case_rays(prepared: &Prepared) -> f64 {
-    use crate::scene::render::Effect;
-    let on = |effect| prepared.effects.contains(&effect);
-    let settings = &prepared.lighting.settings;
-    let samples_per_side = if on(Effect::Antialiasing) {
-        f64::from(settings.samples_per_side.max(1))
-    } else {
-        1.0
-    };
-    let samples = (prepared.width * prepared.height) as f64 * samples_per_side * samples_per_side;
-    let depth = f64::from(settings.max_depth);
-    let nodes = if on(Effect::Refraction) {
-        2f64.powf(depth + 1.0) - 1.0
-    } else if on(Effect::Reflections) {
-        depth + 1.0
-    } else {
-        1.0
-    };
-    let shadows = if on(Effect::Shadows) {
-        prepared.lighting.lights.len() as f64
-    } else {
-        0.0
-    };
-    let occlusion = if on(Effect::AmbientOcclusion) {
-        f64::from(settings.occlusion_rays)
-    } else {
-        0.0
-    };
-    samples * nodes * (1.0 + shadows + occlusion)
-}
-
 /// Renders a 1/8-size frame with one sample a pixel, a few rows at a time for at most
 /// [`TRIAL_SECONDS`], and scales its rays and time up to the whole render (pixels × samples), or
 /// `None` for a render too small to need it.
@@ -125,33 +86,12 @@ pub enum NotRendered {
         /// Rows in all.
         total: usize,
     },
-    /// Its worst case is past [`WORST_CASE_RAYS`].
+    /// Its worst case is past [`crate::render::budget::WORST_CASE_RAYS`].
     #[error(
-        "this render may cast up to {} rays ({}×{} pixels, {} samples each, max_depth {}, {} \
-         occlusion rays), past the budget of {}: lower samples_per_side, max_depth or \
-         occlusion_rays, or pass --budget 0 to render it anyway",
-        count(*.rays),
-        .width,
-        .height,
-        .samples,
-        .max_depth,
-        .occlusion_rays,
-        count(WORST_CASE_RAYS)
+        "{0}: lower samples_per_side, max_depth or occlusion_rays, or pass --budget 0 to render it \
+         anyway"
     )]
-    MayCastTooMany {
-        /// The worst case.
-        rays: f64,
-        /// The image's width.
-        width: usize,
-        /// The image's height.
-        height: usize,
-        /// Samples a pixel.
-        samples: u32,
-        /// Bounces.
-        max_depth: u32,
-        /// Occlusion rays a hit.
-        occlusion_rays: u32,
-    },
+    MayCastTooMany(crate::render::budget::WorstCase),
     /// The trial frame says it would take longer than the budget.
     #[error(
         "this render would take about {} on {} threads here (about {} rays), past the budget of {}: \
@@ -182,17 +122,10 @@ fn suggested_budget(seconds: f64) -> u64 {
 /// refuses with the figures. Returns the image, its work and the seconds the render itself took
 /// (not the trial's).
 pub fn render(prepared: &Arc<Prepared>, budget: f64) -> Result<(Image, Stats, f64), NotRendered> {
-    let rays = worst_case_rays(prepared);
-    if budget > 0.0 && rays > WORST_CASE_RAYS {
-        let settings = &prepared.lighting.settings;
-        return Err(NotRendered::MayCastTooMany {
-            rays,
-            width: prepared.width,
-            height: prepared.height,
-            samples: settings.samples_per_side * settings.samples_per_side,
-            max_depth: settings.max_depth,
-            occlusion_rays: settings.occlusion_rays,
-        });
+    if budget > 0.0
+        && let Some(worst) = crate::render::budget::past_budget(prepared)
+    {
+        return Err(NotRendered::MayCastTooMany(worst));
     }
     let long = estimate(prepared).filter(|e| e.seconds >= SHOW_PAST_SECONDS);
     let clock = Stopwatch::start();

@@ -6,6 +6,7 @@
 //! effects: without an effect that needs barycentrics, none are interpolated; without shading, nothing
 //! is shaded. [`Stats`] counts the work so tests can check that an effect not called for costs nothing.
 
+pub mod budget;
 pub mod bug;
 pub mod bvh;
 pub mod cast;
@@ -418,6 +419,19 @@ pub const QUICK_FRAME_SECONDS: f64 = 0.025;
 pub const MAX_QUICK_DIVISOR: u32 = 16;
 
 impl Prepared {
+    /// Camera rays a pixel: k² with antialiasing (k = samples_per_side), else one.
+    pub fn samples_per_pixel(&self) -> usize {
+        if self
+            .effects
+            .contains(&crate::scene::render::Effect::Antialiasing)
+        {
+            let k = self.lighting.settings.samples_per_side.max(1) as usize;
+            k * k
+        } else {
+            1
+        }
+    }
+
     /// A quick frame of this render, for a moving camera: 1/`n` of its sides (rounded up), one
     /// sample a pixel; the same scene, effects and method.
     pub fn quick_frame(&self, n: u32) -> Prepared {
@@ -497,9 +511,12 @@ impl Sliced for RenderJob {
     fn step(&mut self) -> Progress<Rendered> {
         // Bands of about 16k pixels until about 8 ms have passed: a slice stays short on the web's one
         // thread, and a thread's progress bar moves.
+        // Bands of about 16k samples (at least two tasks of rows, for two threads): a heavy
+        // scene's band stays short, so Cancel and Ctrl-C stop it soon.
+        let samples = self.prepared.width.max(1) * self.prepared.samples_per_pixel();
         let rows = self
             .rows_per_step
-            .unwrap_or((16_384 / self.prepared.width.max(1)).max(1));
+            .unwrap_or((16_384 / samples).max(2 * TILE_ROWS));
         let one_band = self.rows_per_step.is_some();
         let clock = Stopwatch::start();
         let mut end = self.next_row;

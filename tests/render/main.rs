@@ -13,6 +13,7 @@ mod shipped;
 
 mod effects;
 mod render;
+mod render_budget_ui;
 mod render_effects_ui;
 mod render_loading;
 mod render_orbit_ui;

@@ -26,6 +26,11 @@ pub(super) struct Runtime {
     pub(super) cost: Option<effects::Cost>,
     /// The camera's motion and the frames shown while it moves.
     pub(super) orbit: orbit::Orbit,
+    /// A render past the budget ([`crate::render::budget`]) waits for "Render anyway": its worst
+    /// case, shown.
+    pub(super) past_budget: Option<crate::render::budget::WorstCase>,
+    /// "Render anyway" was pressed for this scene.
+    pub(super) budget_waived: Option<RenderScene>,
 }
 
 /// A copy starts without images: they render again when it is shown.
@@ -272,7 +277,23 @@ impl RenderView {
         {
             return;
         }
-        let started = self.prepared_draft(bug, wanted.draft).and_then(|prepared| {
+        let waived = self.runtime.budget_waived.as_ref() == Some(&self.scene);
+        let prepared = self.prepared_draft(bug, wanted.draft);
+        // Past the budget, as `raylab render` refuses it: nothing starts until "Render anyway".
+        let past = prepared
+            .as_ref()
+            .ok()
+            .and_then(|p| crate::render::budget::past_budget(p))
+            .filter(|_| !waived);
+        if let Some(worst) = past {
+            self.runtime.past_budget = Some(worst);
+            let slot = self.slot_mut(bug);
+            slot.running = None;
+            slot.failed = Some(wanted);
+            return;
+        }
+        self.runtime.past_budget = None;
+        let started = prepared.and_then(|prepared| {
             let waker = ctx.clone();
             Job::start("raylab-render", RenderJob::new(prepared), move || {
                 waker.request_repaint()
