@@ -475,7 +475,7 @@ pub struct RenderJob {
     stats: Stats,
     next_row: usize,
     seconds: f64,
-    /// Rows a step renders, when set (one band a step); else bands of about 16k pixels for 8 ms.
+    /// Rows a step renders, when set (one band a step); else bands of about 64k samples for 8 ms.
     rows_per_step: Option<usize>,
 }
 
@@ -509,14 +509,15 @@ impl Sliced for RenderJob {
     type Output = Rendered;
 
     fn step(&mut self) -> Progress<Rendered> {
-        // Bands of about 16k pixels until about 8 ms have passed: a slice stays short on the web's one
-        // thread, and a thread's progress bar moves.
-        // Bands of about 16k samples (at least two tasks of rows, for two threads): a heavy
-        // scene's band stays short, so Cancel and Ctrl-C stop it soon.
+        // Bands until about 8 ms have passed: a slice stays short on the web's one thread, and a
+        // thread's progress bar moves.
+        // Bands of about 64k samples (at least two tasks of rows, for two threads): a heavy
+        // scene's band stays short, so Cancel and Ctrl-C stop it soon. (16k samples cost the
+        // Cornell box's job 7% against `raylab render` in the job-table bench: more joins.)
         let samples = self.prepared.width.max(1) * self.prepared.samples_per_pixel();
         let rows = self
             .rows_per_step
-            .unwrap_or((16_384 / samples).max(2 * TILE_ROWS));
+            .unwrap_or((65_536 / samples).max(2 * TILE_ROWS));
         let one_band = self.rows_per_step.is_some();
         let clock = Stopwatch::start();
         let mut end = self.next_row;
