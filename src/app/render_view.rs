@@ -732,15 +732,8 @@ fn probe_keys(
     }
     let (row, column) = probed.unwrap_or((height / 2, width / 2));
     ui.input_mut(|i| {
-        let mut count = |key| {
-            let mut n = 0i64;
-            while i.consume_key(Modifiers::SHIFT, key) {
-                n += 1;
-            }
-            n
-        };
-        let right = count(Key::ArrowRight) - count(Key::ArrowLeft);
-        let down = count(Key::ArrowDown) - count(Key::ArrowUp);
+        let moved = super::widgets::handles::arrows(i, Modifiers::SHIFT);
+        let (right, down) = (moved.x as i64, -moved.y as i64);
         let enter = i.consume_key(Modifiers::NONE, Key::Enter);
         let step =
             |at: usize, by: i64, size: usize| (at as i64 + by).clamp(0, size as i64 - 1) as usize;

@@ -111,19 +111,10 @@ impl Motion {
         // The image focused (Tab): Ctrl + arrows pan (as a Shift-drag), the arrows orbit as a
         // 30-point drag, + and − dolly as a notch.
         if response.has_focus() {
-            let pan = ui.input_mut(|i| {
-                let mut count = |key| {
-                    let mut n = 0.0;
-                    while i.consume_key(egui::Modifiers::CTRL, key) {
-                        n += 1.0;
-                    }
-                    n
-                };
-                Vec2::new(
-                    count(egui::Key::ArrowRight) - count(egui::Key::ArrowLeft),
-                    count(egui::Key::ArrowDown) - count(egui::Key::ArrowUp),
-                )
-            });
+            let moved =
+                ui.input_mut(|i| crate::app::widgets::handles::arrows(i, egui::Modifiers::CTRL));
+            // A drag down is a positive y; the up arrow is a positive y.
+            let pan = Vec2::new(moved.x, -moved.y);
             if pan != Vec2::ZERO {
                 self.drag += pan * 20.0;
                 self.pan = true;

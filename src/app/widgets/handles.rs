@@ -98,18 +98,10 @@ fn read_keys(ui: &Ui) -> HandleKeys {
         let mut keys = HandleKeys::default();
         // Shift first: a plain pattern also takes a shifted key.
         for (modifiers, fine) in [(Modifiers::SHIFT, true), (Modifiers::NONE, false)] {
-            let mut pressed = |key| {
-                let mut count = 0.0;
-                while i.consume_key(modifiers, key) {
-                    count += 1.0;
-                }
-                if count > 0.0 {
-                    keys.fine |= fine;
-                }
-                count
-            };
-            keys.right += pressed(Key::ArrowRight) - pressed(Key::ArrowLeft);
-            keys.up += pressed(Key::ArrowUp) - pressed(Key::ArrowDown);
+            let moved = arrows(i, modifiers);
+            keys.fine |= fine && moved != egui::Vec2::ZERO;
+            keys.right += f64::from(moved.x);
+            keys.up += f64::from(moved.y);
         }
         // A practice problem or an open class question is not solved for the student.
         keys.solve = !hidden && i.consume_key(Modifiers::NONE, Key::Enter);
@@ -163,19 +155,32 @@ pub fn focused_keys(ui: &Ui, response: &egui::Response) -> CanvasKeys {
         egui::StrokeKind::Inside,
     );
     ui.input_mut(|i| {
-        let mut pressed = |key| {
-            let mut count = 0.0;
-            while i.consume_key(Modifiers::NONE, key) {
-                count += 1.0;
-            }
-            count
-        };
+        let moved = arrows(i, Modifiers::NONE);
+        let mut pressed = |key| presses(i, Modifiers::NONE, key);
         CanvasKeys {
-            right: pressed(Key::ArrowRight) - pressed(Key::ArrowLeft),
-            up: pressed(Key::ArrowUp) - pressed(Key::ArrowDown),
+            right: moved.x,
+            up: moved.y,
             zoom: pressed(Key::Plus) + pressed(Key::Equals) - pressed(Key::Minus),
         }
     })
+}
+
+/// How many times `key` was pressed with `modifiers` this frame (the presses are taken).
+pub fn presses(i: &mut egui::InputState, modifiers: Modifiers, key: Key) -> f32 {
+    let mut count = 0.0;
+    while i.consume_key(modifiers, key) {
+        count += 1.0;
+    }
+    count
+}
+
+/// The arrows pressed with `modifiers` this frame (taken): x is right − left, y is up − down.
+pub fn arrows(i: &mut egui::InputState, modifiers: Modifiers) -> egui::Vec2 {
+    let mut pressed = |key| presses(i, modifiers, key);
+    egui::vec2(
+        pressed(Key::ArrowRight) - pressed(Key::ArrowLeft),
+        pressed(Key::ArrowUp) - pressed(Key::ArrowDown),
+    )
 }
 
 /// The focused widget `id` keeps the arrows (they move it, not the focus), and the presenter keys
