@@ -34,12 +34,13 @@ use crate::geometry::{Precision, Reading};
 use crate::intersect::Method;
 use crate::math::linalg::{add, norm_f64, scale};
 use crate::platform::Job;
+use crate::render::budget::{BudgetedRender, OverTime};
 use crate::render::inspect::probe::{Probe, probe};
 use crate::render::inspect::ray_tree::{RayTree, ray_tree};
 use crate::render::loading::assets::{AssetSource, OnDisk};
 use crate::render::loading::scene_load::{SceneLoad, UNITS_PER_MESH, mesh_names};
 use crate::render::objects::Geometry;
-use crate::render::{Bug, Hit, Prepared, RenderJob, Rendered};
+use crate::render::{Bug, Hit, Prepared, Rendered};
 use crate::scene::render::{Effect, RenderScene};
 use crate::scene::{ParallelogramScene, Problem, TriangleScene};
 
@@ -74,8 +75,16 @@ pub struct RenderView {
     /// The camera as the user moved it (`None`: the scene's own); saved with the scene only when
     /// the user saves it.
     pub camera: Option<crate::scene::render::Camera>,
+    /// The seconds a full render may take, estimated by its trial frame, before it waits for
+    /// "Render anyway" (`None`: no limit).
+    #[serde(skip, default = "default_time_budget")]
+    time_budget: Option<f64>,
     #[serde(skip)]
     runtime: Runtime,
+}
+
+fn default_time_budget() -> Option<f64> {
+    Some(f64::from(crate::render::budget::TIME_BUDGET_SECONDS))
 }
 
 impl View for RenderView {
@@ -166,6 +175,7 @@ impl Default for RenderView {
             probed: None,
             folder: None,
             camera: None,
+            time_budget: default_time_budget(),
             runtime: Runtime::default(),
         }
     }
@@ -224,6 +234,12 @@ impl RenderView {
         self.camera = None;
         self.probed = None;
         Ok(())
+    }
+
+    /// Sets the seconds a full render may take, estimated by its trial frame, before it waits for
+    /// "Render anyway" (`None`: no limit; the default is `raylab render`'s).
+    pub fn set_time_budget(&mut self, seconds: Option<f64>) {
+        self.time_budget = seconds;
     }
 
     /// True while a render runs (or the scene's meshes load).
@@ -511,14 +527,8 @@ impl RenderView {
     }
 
     fn status_ui(&mut self, ui: &mut Ui) {
-        if let Some(worst) = self.runtime.past_budget {
-            ui.label(
-                RichText::new(format!(
-                    "Not rendered: {worst}. Lower samples_per_side, max_depth or occlusion_rays \
-                     in the scene, or render it anyway (Cancel stops it)."
-                ))
-                .color(palette::OUTSIDE.readable(ui)),
-            );
+        if let Some(past) = self.runtime.past_budget {
+            ui.label(RichText::new(past.sentence()).color(palette::OUTSIDE.readable(ui)));
             if ui
                 .button("Render anyway")
                 .on_hover_text("Start this render although it may take hours; Cancel stops it")

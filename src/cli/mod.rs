@@ -126,8 +126,17 @@ pub struct RenderArgs {
     pub repeat: u32,
     /// Refuse a render that a trial frame says would take longer than this many seconds on this
     /// machine (0: no limit).
-    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32))]
+    #[arg(long, default_value_t = crate::render::budget::TIME_BUDGET_SECONDS, value_parser = clap::value_parser!(u32))]
     pub budget: u32,
+    /// Refuse a scene whose meshes and textures would hold more than this many MB together (a file
+    /// several objects name counts once).
+    #[arg(
+        long,
+        value_name = "MB",
+        default_value_t = crate::render::budget::MEMORY_BUDGET_BYTES / 1_000_000,
+        value_parser = clap::value_parser!(u64).range(1..=1_000_000)
+    )]
+    pub memory: u64,
 }
 
 /// `raylab bench`.
@@ -522,6 +531,7 @@ fn write_png(
 fn prepare_showing_progress(
     scene: &crate::scene::RenderScene,
     assets: crate::render::loading::assets::OnDisk,
+    memory: u64,
 ) -> Result<crate::render::Prepared, crate::render::PrepareError> {
     use indicatif::{ProgressBar, ProgressStyle};
     let style = ProgressStyle::with_template(
@@ -534,6 +544,7 @@ fn prepare_showing_progress(
     let prepared = crate::render::loading::scene_load::prepare_with_progress(
         scene,
         assets,
+        memory,
         &mut |name, progress| {
             if current != name {
                 if let Some(done) = bar.take() {
@@ -633,7 +644,7 @@ fn run_render(args: RenderArgs) -> Result<ExitCode, RenderError> {
         _ => return Err(RenderError::NotARenderScene(name)),
     };
     let assets = crate::render::loading::assets::OnDisk::beside(&args.scene);
-    let mut prepared = prepare_showing_progress(&scene, assets)
+    let mut prepared = prepare_showing_progress(&scene, assets, args.memory * 1_000_000)
         .map_err(|error| RenderError::Prepare { scene: name, error })?;
     if let Some(method) = args.method {
         prepared.method = Some(method);

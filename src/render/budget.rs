@@ -1,8 +1,11 @@
 //! The most rays a render may cast, worked out from its settings before it starts: `raylab render`
 //! and the Render view refuse a render past [`WORST_CASE_RAYS`] the same way, with the figures.
 
-use super::Prepared;
+use std::sync::Arc;
+
 use super::ray_kinds::short_count;
+use super::{Prepared, RenderJob};
+use crate::platform::{Progress, Sliced, Stopwatch};
 use crate::scene::render::Effect;
 
 /// A render that may cast more rays than this (its worst case: every ray of its ray tree hit
@@ -84,4 +87,307 @@ pub fn worst_case(prepared: &Prepared) -> WorstCase {
 /// The worst case of `prepared` when it is past [`WORST_CASE_RAYS`].
 pub fn past_budget(prepared: &Prepared) -> Option<WorstCase> {
     Some(worst_case(prepared)).filter(|w| w.rays > WORST_CASE_RAYS)
+}
+
+/// The most memory a scene's meshes and textures may hold together (each file counted once, however
+/// many objects name it), so that a render fits a school laptop's memory beside the app.
+pub const MEMORY_BUDGET_BYTES: u64 = 2_000_000_000;
+
+/// Bytes a mesh's hierarchy may take per triangle, at most: its boxes, slot order, leaf-ordered
+/// vertices and four-triangle packs, with leaves padded to four slots (about 490 measured on
+/// spheres, 200–230 on a grid box and thin triangles; a test checks the bound).
+pub const BVH_BYTES_PER_TRIANGLE: u64 = 640;
+
+/// Bytes a mesh of `triangles` triangles holds once prepared: the triangles and their hierarchy.
+pub fn mesh_bytes(triangles: usize) -> u64 {
+    triangles as u64
+        * (std::mem::size_of::<super::objects::PreparedTriangle>() as u64 + BVH_BYTES_PER_TRIANGLE)
+}
+
+/// Bytes a decoded texture of `width` × `height` texels holds (three bytes a texel).
+pub fn texture_bytes(width: usize, height: usize) -> u64 {
+    3 * width as u64 * height as u64
+}
+
+/// The memory a scene's files hold so far, checked against a budget as each file is added.
+#[derive(Clone, Debug)]
+pub struct MemoryTally {
+    budget: u64,
+    files: Vec<(String, u64)>,
+}
+
+impl MemoryTally {
+    /// Nothing held yet; at most `budget` bytes.
+    pub fn new(budget: u64) -> MemoryTally {
+        MemoryTally {
+            budget,
+            files: Vec::new(),
+        }
+    }
+
+    /// Counts file `name` holding `bytes` (a file already counted is not counted again); an error
+    /// when the files together pass the budget.
+    pub fn add(&mut self, name: &str, bytes: u64) -> Result<(), OverMemory> {
+        if self.files.iter().any(|(n, _)| n == name) {
+            return Ok(());
+        }
+        self.files.push((name.to_string(), bytes));
+        let held = self.files.iter().map(|(_, b)| b).sum();
+        if held <= self.budget {
+            return Ok(());
+        }
+        let mut files = self.files.clone();
+        files.sort_by_key(|f| std::cmp::Reverse(f.1));
+        Err(OverMemory {
+            held,
+            budget: self.budget,
+            files,
+        })
+    }
+}
+
+/// A scene whose meshes and textures would hold more memory than the budget.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "the scene's meshes and textures would hold about {} in memory ({}), past the budget of {}: use fewer or \
+     smaller meshes and textures, or name a file once for several objects (it is then held once)",
+    bytes(*.held),
+    .files.iter().take(3).map(|(n, b)| format!("{n} {}", bytes(*b))).chain(
+        (.files.len() > 3).then(|| format!("{} more", .files.len() - 3))
+    ).collect::<Vec<_>>().join(", "),
+    bytes(*.budget)
+)]
+pub struct OverMemory {
+    /// Bytes the files would hold together.
+    pub held: u64,
+    /// The budget.
+    pub budget: u64,
+    /// Each file with its bytes, largest first.
+    pub files: Vec<(String, u64)>,
+}
+
+/// `bytes` as a person reads it: "1.5 GB", "48 MB", "12 kB".
+pub fn bytes(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.1} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.0} MB", b / 1e6)
+    } else {
+        format!("{:.0} kB", (b / 1e3).max(1.0))
+    }
+}
+
+/// The time a render may take, estimated, before `raylab render` and the Render view refuse it
+/// (the command line's `--budget` changes it; the app's "Render anyway" waives it). A debug build
+/// (the tests') renders 20–40 times slower than a release build, so its budget is that much
+/// larger: the same scenes pass, and the same ones are refused.
+pub const TIME_BUDGET_SECONDS: u32 = if cfg!(debug_assertions) { 30 * 60 } else { 60 };
+
+/// Renders below this many samples (pixels × samples a pixel) need no trial: they take moments.
+const TRIAL_PAST_SAMPLES: usize = 1 << 16;
+
+/// The trial frame divides the image's sides by this.
+const TRIAL_DIVISOR: u32 = 8;
+
+/// The trial frame stops after this long and scales up what it did (a scene whose every ray is
+/// slow, such as an exact method or a bug that tests every triangle, must not hang in the trial).
+const TRIAL_SECONDS: f64 = 1.5;
+
+/// What the trial frame predicts for the whole render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimate {
+    /// Rays the render will cast, about.
+    pub rays: f64,
+    /// Seconds it will take on this machine, about.
+    pub seconds: f64,
+    /// The threads it was measured on.
+    pub threads: usize,
+}
+
+impl std::fmt::Display for Estimate {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "about {} rays, about {} on {} threads here (a trial frame at 1/{TRIAL_DIVISOR} size, \
+             scaled up)",
+            short_count(self.rays),
+            duration(self.seconds),
+            self.threads
+        )
+    }
+}
+
+/// A render estimated past its time budget.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "this render would take about {} on {} threads here (about {} rays), past the budget of {}",
+    duration(self.estimate.seconds),
+    self.estimate.threads,
+    short_count(self.estimate.rays),
+    duration(self.budget)
+)]
+pub struct OverTime {
+    /// What the trial frame predicts.
+    pub estimate: Estimate,
+    /// The budget, in seconds.
+    pub budget: f64,
+}
+
+/// The trial frame, a [`Sliced`] job (the app runs it before a full render, on the render's
+/// thread): a 1/8-size frame with one sample a pixel, a few rows at a time for at most
+/// [`TRIAL_SECONDS`], its rays and time scaled up to the whole render (pixels × samples).
+pub struct Trial {
+    job: RenderJob,
+    clock: Stopwatch,
+    /// The whole render's samples.
+    samples: usize,
+    /// The trial's rows and width.
+    rows: usize,
+    width: usize,
+}
+
+impl Trial {
+    /// The trial of `prepared`, or `None` for a render too small to need one.
+    pub fn of(prepared: &Prepared) -> Option<Trial> {
+        let samples = prepared.width * prepared.height * prepared.samples_per_pixel();
+        if samples < TRIAL_PAST_SAMPLES {
+            return None;
+        }
+        let trial = Arc::new(prepared.quick_frame(TRIAL_DIVISOR));
+        let (width, rows) = (trial.width, trial.height);
+        // Bands of 8 rows (two tasks a band, for two threads), fewer on a short frame.
+        let job = RenderJob::new(trial).rows_per_step((rows / 8).clamp(1, 8));
+        Some(Trial {
+            job,
+            clock: Stopwatch::start(),
+            samples,
+            rows,
+            width,
+        })
+    }
+
+    /// The estimate from `done` of the trial's rows, in the time so far.
+    fn scaled(&self, done: usize) -> Estimate {
+        // The share of the trial done, then the trial's share of the render.
+        let scale = self.rows as f64 / done.max(1) as f64 * self.samples as f64
+            / (self.width * self.rows).max(1) as f64;
+        Estimate {
+            rays: self.job.stats().all_rays() as f64 * scale,
+            seconds: self.clock.seconds() * scale,
+            threads: rayon::current_num_threads(),
+        }
+    }
+}
+
+impl Sliced for Trial {
+    type Output = Estimate;
+
+    fn step(&mut self) -> Progress<Estimate> {
+        match self.job.step() {
+            Progress::Working { done, total } if self.clock.seconds() <= TRIAL_SECONDS => {
+                Progress::Working { done, total }
+            }
+            Progress::Working { done, .. } => Progress::Finished(self.scaled(done)),
+            Progress::Finished(_) => Progress::Finished(self.scaled(self.rows)),
+        }
+    }
+}
+
+/// The trial of `prepared` run to its end, or `None` for a render too small to need one.
+pub fn estimate(prepared: &Prepared) -> Option<Estimate> {
+    let mut trial = Trial::of(prepared)?;
+    loop {
+        if let Progress::Finished(estimate) = trial.step() {
+            return Some(estimate);
+        }
+    }
+}
+
+/// A render that first runs its trial (when it needs one) and renders nothing when the trial says
+/// it would take past `budget` seconds.
+pub struct BudgetedRender {
+    trial: Option<Trial>,
+    budget: f64,
+    render: RenderJob,
+}
+
+impl BudgetedRender {
+    /// A render of `prepared` within `budget` seconds; `None`: no budget, and no trial.
+    pub fn new(prepared: Arc<Prepared>, budget: Option<f64>) -> BudgetedRender {
+        BudgetedRender {
+            trial: budget.and_then(|_| Trial::of(&prepared)),
+            budget: budget.unwrap_or(f64::INFINITY),
+            render: RenderJob::new(prepared),
+        }
+    }
+}
+
+impl Sliced for BudgetedRender {
+    type Output = Result<super::Rendered, OverTime>;
+
+    fn step(&mut self) -> Progress<Self::Output> {
+        if let Some(trial) = &mut self.trial {
+            match trial.step() {
+                // The render's own rows have not started.
+                Progress::Working { .. } => return Progress::Working { done: 0, total: 1 },
+                Progress::Finished(estimate) if estimate.seconds > self.budget => {
+                    return Progress::Finished(Err(OverTime {
+                        estimate,
+                        budget: self.budget,
+                    }));
+                }
+                Progress::Finished(_) => self.trial = None,
+            }
+        }
+        match self.render.step() {
+            Progress::Working { done, total } => Progress::Working { done, total },
+            Progress::Finished(rendered) => Progress::Finished(Ok(rendered)),
+        }
+    }
+}
+
+/// A duration in the unit that reads best: 2.1 s, 4 min, 3.2 h, 2.5 days.
+pub fn duration(seconds: f64) -> String {
+    match seconds {
+        s if s >= 2.0 * 86_400.0 => format!("{:.1} days", s / 86_400.0),
+        s if s >= 2.0 * 3600.0 => format!("{:.1} h", s / 3600.0),
+        s if s >= 120.0 => format!("{:.0} min", s / 60.0),
+        s => format!("{s:.1} s"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_file_named_twice_is_counted_once_and_the_refusal_names_the_largest() {
+        let mut tally = MemoryTally::new(100_000_000);
+        assert_eq!(tally.add("a.obj", 60_000_000), Ok(()));
+        assert_eq!(tally.add("a.obj", 60_000_000), Ok(()));
+        let over = tally.add("b.png", 50_331_648).unwrap_err();
+        assert_eq!(over.held, 110_331_648);
+        assert_eq!(
+            over.to_string(),
+            "the scene's meshes and textures would hold about 110 MB in memory (a.obj 60 MB, b.png \
+             50 MB), past the budget of 100 MB: use fewer or smaller meshes and textures, or name a \
+             file once for several objects (it is then held once)"
+        );
+        assert_eq!(bytes(2_000_000_000), "2.0 GB");
+        assert_eq!(bytes(12_345), "12 kB");
+    }
+
+    #[test]
+    fn counts_and_durations_read_at_a_glance() {
+        let count = short_count;
+        assert_eq!(count(5.5e6), "5.5 M");
+        assert_eq!(count(2.6e13), "26.0 T");
+        assert_eq!(count(830_000.0), "830 k");
+        assert_eq!(count(12.0), "12");
+        assert_eq!(duration(2.14), "2.1 s");
+        assert_eq!(duration(600.0), "10 min");
+        assert_eq!(duration(4.0 * 3600.0), "4.0 h");
+        assert_eq!(duration(3.0 * 86_400.0), "3.0 days");
+    }
 }

@@ -437,9 +437,14 @@ fn hit_object(
         match &object.geometry {
             Geometry::Triangles { triangles, bvh } if crack_free_applies(prepared, object) => {
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
-                if let Some(hit) =
-                    nearest_crack_free(prepared.simd, triangles, bvh.as_ref(), local, t_max, stats)
-                {
+                if let Some(hit) = nearest_crack_free(
+                    prepared.simd,
+                    triangles,
+                    bvh.as_deref(),
+                    local,
+                    t_max,
+                    stats,
+                ) {
                     offer(
                         best,
                         Hit {
@@ -567,7 +572,7 @@ fn object_hit_between(
             let hit = triangles_between(
                 prepared,
                 object,
-                (triangles, bvh.as_ref()),
+                (triangles, bvh.as_deref()),
                 local,
                 (t_min, t_max),
                 find,

@@ -182,7 +182,8 @@ pub fn mesh_scene(
         .iter()
         .map(|t| PreparedTriangle::new(*t))
         .collect();
-    let bvh = Some(Bvh::build(&triangles));
+    let bvh = Some(std::sync::Arc::new(Bvh::build(&triangles)));
+    let triangles = triangles.into();
     Prepared {
         width,
         height,

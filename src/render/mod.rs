@@ -196,17 +196,32 @@ pub struct Prepared {
 }
 
 impl Prepared {
-    /// Reads the scene's meshes and textures and inverts its transforms.
+    /// Reads the scene's meshes and textures and inverts its transforms; the files may hold at
+    /// most [`budget::MEMORY_BUDGET_BYTES`] together.
     pub fn new(scene: &RenderScene, assets: &dyn AssetSource) -> Result<Prepared, PrepareError> {
+        Prepared::within(scene, assets, budget::MEMORY_BUDGET_BYTES)
+    }
+
+    /// [`Prepared::new`], its meshes and textures holding at most `memory` bytes together (each
+    /// file once, however many objects name it).
+    pub fn within(
+        scene: &RenderScene,
+        assets: &dyn AssetSource,
+        memory: u64,
+    ) -> Result<Prepared, PrepareError> {
         scene.check().map_err(PrepareError::Scene)?;
+        let mut shared = objects::SharedFiles::new(memory);
         let objects = scene
             .objects
             .iter()
             .enumerate()
             .map(|(i, o)| {
-                objects::prepare(o, assets).map_err(|error| PrepareError::Object {
-                    index: i + 1,
-                    error,
+                objects::prepare(o, assets, &mut shared).map_err(|error| match error {
+                    objects::ObjectError::Memory(over) => PrepareError::Memory(over),
+                    error => PrepareError::Object {
+                        index: i + 1,
+                        error,
+                    },
                 })
             })
             .collect::<Result<Arc<[_]>, _>>()?;

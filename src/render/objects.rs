@@ -2,8 +2,12 @@
 //! texture) and its prepared form: object-space geometry, the world-to-object transform, the normal
 //! matrix, a BVH for meshes, decoded textures.
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use glam::{DAffine3, DMat3};
 
+use super::budget::{MemoryTally, OverMemory, mesh_bytes, texture_bytes};
 use super::bvh::Bvh;
 use super::loading::assets::{AssetError, AssetSource, Texture, load_mesh};
 use crate::math::linalg::{V3, cross, sub};
@@ -43,10 +47,10 @@ impl PreparedTriangle {
 pub enum Geometry {
     /// Triangles (one, or a mesh) with a BVH when there are enough of them to need one.
     Triangles {
-        /// The triangles.
-        triangles: Vec<PreparedTriangle>,
+        /// The triangles (shared by every object that names the same mesh file).
+        triangles: Arc<[PreparedTriangle]>,
         /// Present for meshes.
-        bvh: Option<Bvh>,
+        bvh: Option<Arc<Bvh>>,
     },
     /// A parallelogram.
     Parallelogram {
@@ -74,8 +78,8 @@ pub struct PreparedObject {
     pub normal_to_world: DMat3,
     /// The flat colour.
     pub color: V3<f64>,
-    /// The decoded texture.
-    pub texture: Option<Texture>,
+    /// The decoded texture (shared by every object that names the same file).
+    pub texture: Option<Arc<Texture>>,
     /// True for an OBJ mesh (a closed surface deserves the watertight method).
     pub is_mesh: bool,
 }
@@ -100,6 +104,9 @@ pub enum PrepareError {
     /// A mesh load was cancelled before the objects were prepared.
     #[error(transparent)]
     Cancelled(AssetError),
+    /// The meshes and textures together would hold more memory than the budget.
+    #[error(transparent)]
+    Memory(#[from] OverMemory),
 }
 
 impl PrepareError {
@@ -121,10 +128,78 @@ pub enum ObjectError {
     /// Its mesh or texture.
     #[error(transparent)]
     Asset(#[from] AssetError),
+    /// Its mesh or texture would take the scene's files past the memory budget.
+    #[error(transparent)]
+    Memory(#[from] OverMemory),
 }
 
-/// Prepares an object: reads its mesh and texture, inverts its transform.
-pub fn prepare(object: &Object, assets: &dyn AssetSource) -> Result<PreparedObject, ObjectError> {
+/// A mesh's triangles and its BVH.
+type SharedMesh = (Arc<[PreparedTriangle]>, Option<Arc<Bvh>>);
+
+/// The meshes and textures prepared so far, by file name: a file that several objects of a scene
+/// name is read, parsed (and its BVH built) once, and held once in memory, every object sharing it.
+pub struct SharedFiles {
+    meshes: HashMap<String, SharedMesh>,
+    textures: HashMap<String, Arc<Texture>>,
+    /// Their memory, against the scene's budget.
+    memory: MemoryTally,
+}
+
+impl Default for SharedFiles {
+    /// Nothing loaded yet, with the default budget.
+    fn default() -> SharedFiles {
+        SharedFiles::new(super::budget::MEMORY_BUDGET_BYTES)
+    }
+}
+
+impl SharedFiles {
+    /// Nothing loaded yet; the files may hold at most `budget` bytes together.
+    pub fn new(budget: u64) -> SharedFiles {
+        SharedFiles {
+            meshes: HashMap::new(),
+            textures: HashMap::new(),
+            memory: MemoryTally::new(budget),
+        }
+    }
+
+    /// Mesh `name` with its BVH (when it has enough triangles to need one), loaded at its first use.
+    fn mesh(&mut self, assets: &dyn AssetSource, name: &str) -> Result<SharedMesh, ObjectError> {
+        if let Some(mesh) = self.meshes.get(name) {
+            return Ok(mesh.clone());
+        }
+        let triangles = load_mesh(assets, name)?;
+        // Counted before the hierarchy is built, from the most it may take.
+        self.memory.add(name, mesh_bytes(triangles.len()))?;
+        let bvh = (triangles.len() >= BVH_MIN_TRIANGLES).then(|| Arc::new(Bvh::build(&triangles)));
+        let mesh: SharedMesh = (triangles.into(), bvh);
+        self.meshes.insert(name.to_string(), mesh.clone());
+        Ok(mesh)
+    }
+
+    /// Texture `name`, decoded at its first use.
+    fn texture(
+        &mut self,
+        assets: &dyn AssetSource,
+        name: &str,
+    ) -> Result<Arc<Texture>, ObjectError> {
+        if let Some(texture) = self.textures.get(name) {
+            return Ok(texture.clone());
+        }
+        let texture = Arc::new(Texture::load(assets, name)?);
+        self.memory
+            .add(name, texture_bytes(texture.width, texture.height))?;
+        self.textures.insert(name.to_string(), texture.clone());
+        Ok(texture)
+    }
+}
+
+/// Prepares an object: reads its mesh and texture (or takes them from `shared`, when another
+/// object read them), inverts its transform.
+pub fn prepare(
+    object: &Object,
+    assets: &dyn AssetSource,
+    shared: &mut SharedFiles,
+) -> Result<PreparedObject, ObjectError> {
     let matrix = object.transform.matrix();
     crate::scene::check::check_scale(&object.transform.scale)?;
     let inverse = matrix.inverse();
@@ -144,7 +219,7 @@ pub fn prepare(object: &Object, assets: &dyn AssetSource) -> Result<PreparedObje
             triangle.normals = normals.map(|n| n.map(unit));
             triangle.uvs = *uvs;
             let geometry = Geometry::Triangles {
-                triangles: vec![triangle],
+                triangles: Arc::new([triangle]),
                 bvh: None,
             };
             (geometry, false)
@@ -159,13 +234,12 @@ pub fn prepare(object: &Object, assets: &dyn AssetSource) -> Result<PreparedObje
             (geometry, false)
         }
         Shape::Mesh { obj } => {
-            let triangles = load_mesh(assets, obj)?;
-            let bvh = (triangles.len() >= BVH_MIN_TRIANGLES).then(|| Bvh::build(&triangles));
+            let (triangles, bvh) = shared.mesh(assets, obj)?;
             (Geometry::Triangles { triangles, bvh }, true)
         }
     };
     let texture = match &object.texture {
-        Some(name) => Some(Texture::load(assets, name)?),
+        Some(name) => Some(shared.texture(assets, name)?),
         None => None,
     };
     Ok(PreparedObject {

@@ -138,6 +138,7 @@ struct Tally {
     replayed: usize,
     panics: usize,
     slowest: Duration,
+    total: Duration,
 }
 
 fn fuzz(target: &Target, seed: u64, scale: usize) -> Tally {
@@ -147,10 +148,12 @@ fn fuzz(target: &Target, seed: u64, scale: usize) -> Tally {
         replayed: 0,
         panics: 0,
         slowest: Duration::ZERO,
+        total: Duration::ZERO,
     };
     let mut count = |(panicked, took): (bool, Duration)| {
         tally.panics += usize::from(panicked);
         tally.slowest = tally.slowest.max(took);
+        tally.total += took;
     };
     let mut corpus: Vec<PathBuf> = std::fs::read_dir(corpus_dir(target.name))
         .map(|dir| dir.filter_map(|e| e.ok().map(|e| e.path())).collect())
@@ -230,13 +233,31 @@ impl AssetSource for SmallAssets {
     }
 }
 
+/// Rays a fuzzed scene's frame may cast at most: the frame is made smaller until its worst case
+/// fits, or it is not rendered.
+const FUZZ_FRAME_RAYS: f64 = 20_000.0;
+
 fn scenes(input: &[u8]) {
+    use raylab::render::budget::worst_case;
     let text = String::from_utf8_lossy(input);
-    if let Ok(scene) = raylab::scene::Scene::from_ron(&text, "fuzz.ron") {
-        let _ = scene.to_ron();
-        if let raylab::scene::Problem::Render(render) = &scene.problem {
-            let _ = raylab::render::Prepared::new(render, &SmallAssets);
-        }
+    let Ok(scene) = raylab::scene::Scene::from_ron(&text, "fuzz.ron") else {
+        return;
+    };
+    let _ = scene.to_ron();
+    let raylab::scene::Problem::Render(render) = &scene.problem else {
+        return;
+    };
+    let Ok(prepared) = raylab::render::Prepared::new(render, &SmallAssets) else {
+        return;
+    };
+    // Its lights, materials and settings through the renderer: a quick frame (one sample a
+    // pixel) small enough that its worst case stays within a few thousand rays.
+    let frame = (1..=64)
+        .map(|n| prepared.quick_frame(n))
+        .find(|frame| worst_case(frame).rays <= FUZZ_FRAME_RAYS);
+    if let Some(frame) = frame {
+        let (image, _) = raylab::render::render(&frame);
+        assert_eq!(image.width * image.height, frame.width * frame.height);
     }
 }
 
@@ -268,6 +289,21 @@ fn app_state(input: &[u8]) {
 }
 
 // ---- The seeds ---------------------------------------------------------------------------------
+
+/// A scene of several objects sharing one mesh and one texture, with lights, materials and settings.
+const SHARED_FILES_SCENE: &str = r#"(title: "shared", note: "n", problem: Render((
+    width: 24, height: 16,
+    camera: Pinhole(position: (0.0, -5.0, 1.0), target: (0.0, 0.0, 0.0), fov_y: 50.0),
+    objects: [
+        (shape: Mesh(obj: "m.obj"), texture: Some("t.png"), material: Mirror(reflectance: 0.8)),
+        (shape: Mesh(obj: "m.obj"), texture: Some("t.png"), transform: (translate: (2.0, 0.0, 0.0))),
+        (shape: Mesh(obj: "m.obj"), transform: (scale: (0.5, 0.5, 0.5)), material: Glass(ior: 1.5)),
+        (shape: Parallelogram(corner: (-3.0, -3.0, -1.0), e1: (6.0, 0.0, 0.0), e2: (0.0, 6.0, 0.0)), texture: Some("t.png")),
+    ],
+    effects: ["texture", "shadows", "reflections", "refraction", "ambient-occlusion", "antialiasing"],
+    lights: [Point(position: (0.0, -3.0, 3.0), intensity: 0.8), Point(position: (2.0, 1.0, 3.0), intensity: 0.3)],
+    settings: (max_depth: 3, occlusion_rays: 4, samples_per_side: 2, seed: 7, ambient: 0.2),
+)))"#;
 
 const OBJ_CUBE: &str = "# a cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
 vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nvn 0 0 -1\n\
@@ -324,6 +360,12 @@ fn targets() -> Vec<Target> {
         "nan",
         "inf",
         "5e10000",
+        // Exact numbers whose size is in their exponents: refused by the size they would build.
+        "1e10000/1e-10000",
+        "-3e-9999/7e9999",
+        "2.5e300/4e-300",
+        "1e-400/3",
+        "0.000001e-9990",
     ];
     let lecture =
         std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/lecture.jsonl"))
@@ -334,6 +376,16 @@ fn targets() -> Vec<Target> {
         .map(|l| [l, b"\n"].concat())
         .collect();
     batch_seeds.push(lecture.clone());
+    // Exact solves with exponents and fractions in their coordinates, past f64's range (exponents
+    // of thousands are in the numbers target: a solve with them takes seconds in a debug build).
+    batch_seeds.extend(
+        [
+            r#"{"kind":"triangle","a":"1e300/7,0,0","b":"0,3e-300,0","c":"0,0,1e400","origin":"0,0,0","dir":"1,1,1","precision":"exact"}"#,
+            r#"{"kind":"segments","a1":"1e-400/3,2","a2":"6e350,1/7","b1":"2,6","b2":"5e-5,1","precision":"exact"}"#,
+            r#"{"kind":"triangle","a":"6,0,0","b":"0,6,0","c":"0,0,6","origin":"1e50/1e-50,1,1","dir":"1,1e-300/3,1","precision":"f32"}"#,
+        ]
+        .map(|line| format!("{line}\n").into_bytes()),
+    );
     let state = raylab::app::AppState::default();
     vec![
         Target {
@@ -355,6 +407,10 @@ fn targets() -> Vec<Target> {
                 " ",
                 "1/0",
                 "00000000000000000000",
+                "e9999",
+                "e-9999",
+                "/1e",
+                "e10000",
             ],
             inputs: 40_000,
             run: numbers,
@@ -381,14 +437,25 @@ fn targets() -> Vec<Target> {
                 "-0",
                 "1e-400",
                 "99999999999999999999",
+                "/1e-300",
             ],
             inputs: 30_000,
             run: batch_lines,
         },
         Target {
             name: "scene",
-            seeds: files("assets/scenes", "ron"),
+            seeds: [
+                files("assets/scenes", "ron"),
+                vec![SHARED_FILES_SCENE.as_bytes().to_vec()],
+            ]
+            .concat(),
             words: &[
+                "lights: [Point(position: (0.0, -3.0, 2.0), intensity: 0.7)],",
+                "settings: (max_depth: 16, occlusion_rays: 1024, samples_per_side: 16),",
+                "material: Glass(ior: 1.5),",
+                "material: Mirror(reflectance: 0.9),",
+                "\"shadows\", \"reflections\", \"refraction\", \"ambient-occlusion\", ",
+                "(shape: Mesh(obj: \"meshes/octasphere.obj\"), texture: Some(\"t.png\")),",
                 "(",
                 ")",
                 "[",
@@ -495,12 +562,13 @@ fn every_input_format_answers_any_input_without_panicking() {
     let (mut tried, mut panics) = (0, 0);
     for t in &tallies {
         println!(
-            "fuzz {:>10}: {:>6} inputs (+{} from the corpus), {} panic(s), slowest {:.1} ms",
+            "fuzz {:>10}: {:>6} inputs (+{} from the corpus), {} panic(s), slowest {:.1} ms, {:.1} s in all",
             t.name,
             t.tried,
             t.replayed,
             t.panics,
-            t.slowest.as_secs_f64() * 1e3
+            t.slowest.as_secs_f64() * 1e3,
+            t.total.as_secs_f64()
         );
         tried += t.tried + t.replayed;
         panics += t.panics;

@@ -502,3 +502,100 @@ fn renders_past_the_budget_are_refused_at_once_with_the_figures() {
         "{message}"
     );
 }
+
+/// A render scene of `width` × `height` pixels with these objects (RON, comma-separated) and effects.
+fn small_scene(size: usize, objects: &str, effects: &str) -> String {
+    format!(
+        r#"(title: "shared", note: "n", problem: Render((
+            width: {size}, height: {size},
+            camera: Pinhole(position: (0.0, -40.0, 0.0), target: (0.0, 0.0, 0.0), fov_y: 50.0),
+            objects: [{objects}],
+            effects: [{effects}],
+        )))"#
+    )
+}
+
+/// An OBJ grid of `n` × `n` squares (2n² triangles) in the plane y = 0.
+fn grid_obj(n: usize) -> String {
+    use std::fmt::Write;
+    let mut text = String::new();
+    for row in 0..=n {
+        for column in 0..=n {
+            let (x, z) = (column as f64 / n as f64, row as f64 / n as f64);
+            let _ = writeln!(text, "v {x} 0 {z}");
+        }
+    }
+    let at = |row: usize, column: usize| row * (n + 1) + column + 1;
+    for row in 0..n {
+        for column in 0..n {
+            let (a, b) = (at(row, column), at(row, column + 1));
+            let (c, d) = (at(row + 1, column + 1), at(row + 1, column));
+            let _ = writeln!(text, "f {a} {b} {c} {d}");
+        }
+    }
+    text
+}
+
+/// Eight objects naming one OBJ file of 200 000 triangles, and 48 naming one 4096 × 4096 PNG (7 KB,
+/// 50 MB decoded): each file is held once, so both render within an address-space limit that eight
+/// copies of the mesh (about 90 MB each) or 48 of the texture (2.4 GB) would pass. (The issue's
+/// mesh had a million triangles; a debug build parses a fifth of that in moments.)
+#[test]
+fn a_file_named_by_many_objects_is_held_once() {
+    let dir = scratch("shared");
+    std::fs::write(dir.join("grid.obj"), grid_obj(316)).unwrap();
+    let fixture = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/4096x4096.png");
+    std::fs::copy(fixture, dir.join("big.png")).unwrap();
+    let meshes: Vec<String> = (0..8)
+        .map(|i| {
+            format!("(shape: Mesh(obj: \"grid.obj\"), transform: (translate: ({i}.0, 0.0, 0.0)))")
+        })
+        .collect();
+    let textured: Vec<String> = (0..48)
+        .map(|i| {
+            format!(
+                "(shape: Parallelogram(corner: ({}.0, 0.0, 0.0), e1: (0.5, 0.0, 0.0), e2: (0.0, 0.0, \
+                 0.5)), texture: Some(\"big.png\"))",
+                i - 24
+            )
+        })
+        .collect();
+    let limit = format!("ulimit -v {ADDRESS_SPACE_KIB}");
+    for (name, objects, effects) in [
+        ("meshes.ron", meshes.join(", "), ""),
+        ("textures.ron", textured.join(", "), "\"texture\""),
+    ] {
+        std::fs::write(dir.join(name), small_scene(8, &objects, effects)).unwrap();
+        let output = raylab_limited(&limit, &dir, &["render", name, "-o", "out.png"]);
+        assert!(output.status.success(), "{name}: {}", stderr(&output));
+        assert!(dir.join("out.png").exists(), "{name}");
+        std::fs::remove_file(dir.join("out.png")).unwrap();
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Files past the memory budget together are refused before the render, with the figures: here
+/// two distinct meshes against `--memory 30` (MB), each within it alone.
+#[test]
+fn meshes_past_the_memory_budget_together_are_refused_with_the_figures() {
+    let dir = scratch("memory");
+    std::fs::write(dir.join("a.obj"), grid_obj(100)).unwrap();
+    std::fs::write(dir.join("b.obj"), grid_obj(101)).unwrap();
+    let objects = "(shape: Mesh(obj: \"a.obj\")), (shape: Mesh(obj: \"b.obj\")), \
+                   (shape: Mesh(obj: \"a.obj\"))";
+    std::fs::write(dir.join("two.ron"), small_scene(8, objects, "")).unwrap();
+    let output = raylab_limited(
+        &format!("ulimit -v {ADDRESS_SPACE_KIB}"),
+        &dir,
+        &["render", "two.ron", "-o", "out.png", "--memory", "30"],
+    );
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    // "two.ron: the scene's meshes and textures would hold about 38 MB in memory (b.obj 19 MB,
+    // a.obj 11 MB), past the budget of 30 MB: …": a.obj, named twice, is counted once.
+    assert!(message.contains("would hold about 38 MB"), "{message}");
+    assert!(message.contains("(b.obj 19 MB, a.obj 19 MB)"), "{message}");
+    assert!(message.contains("past the budget of 30 MB"), "{message}");
+    assert!(!dir.join("out.png").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

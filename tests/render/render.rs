@@ -461,7 +461,7 @@ fn transformed_rays_give_the_same_t_as_world_space_intersection() {
             scale: [3.0, 0.4, 1.7],
         },
     };
-    let prepared = prepare(&object, &Embedded).unwrap();
+    let prepared = prepare(&object, &Embedded, &mut Default::default()).unwrap();
     let [a, b, c] = world_triangles(&prepared)[0].vertices;
     let mut seed = 0x2545_f491_4f6c_dd1d_u64;
     let mut uniform = move || {
@@ -508,8 +508,8 @@ fn normalising_the_object_space_direction_changes_the_depth_image() {
     let moved = world_triangles(&world.objects[mesh]);
     let object = &mut world.objects_mut()[mesh];
     object.geometry = Geometry::Triangles {
-        bvh: Some(Bvh::build(&moved)),
-        triangles: moved,
+        bvh: Some(std::sync::Arc::new(Bvh::build(&moved))),
+        triangles: moved.into(),
     };
     object.object_from_world = None;
     object.world_from_object = glam::DAffine3::IDENTITY;
@@ -1086,5 +1086,123 @@ fn packets_of_rays_hit_what_single_rays_hit() {
             }
         }
         assert!(hits > 500, "{hits}");
+    }
+}
+
+/// Objects that name the same mesh or texture file share its loading: each file is read (parsed,
+/// its BVH built, decoded) once, and every object gets the same triangles, hierarchy and texels.
+#[test]
+fn a_shared_mesh_and_a_shared_texture_are_loaded_once() {
+    use raylab::files::FileKind;
+    use raylab::render::loading::assets::{AssetSource, FetchError};
+    use std::collections::HashMap;
+    use std::sync::Mutex;
+
+    /// The embedded files, counting how often each is read.
+    #[derive(Default)]
+    struct Counting(Mutex<HashMap<String, usize>>);
+    impl AssetSource for Counting {
+        fn read(&self, name: &str, kind: FileKind) -> Result<Vec<u8>, FetchError> {
+            *self.0.lock().unwrap().entry(name.to_string()).or_default() += 1;
+            Embedded.read(name, kind)
+        }
+    }
+
+    let mesh =
+        r#"(shape: Mesh(obj: "meshes/octasphere.obj"), texture: Some("textures/checker.png")"#;
+    let objects = [
+        format!("{mesh}),"),
+        format!("{mesh}, transform: (translate: (2.0, 0.0, 0.0))),"),
+        format!("{mesh}, transform: (scale: (0.5, 0.5, 0.5))),"),
+    ]
+    .concat();
+    let text = format!(
+        r#"(title: "t", note: "n", problem: Render((
+            width: 16, height: 16,
+            camera: Pinhole(position: (0.0, -5.0, 0.0), target: (0.0, 0.0, 0.0), fov_y: 50.0),
+            objects: [{objects}],
+            effects: ["texture"],
+        )))"#
+    );
+    let Problem::Render(scene) = Scene::from_ron(&text, "shared.ron").unwrap().problem else {
+        panic!("not a render scene");
+    };
+    let files = Counting::default();
+    let prepared = Prepared::new(&scene, &files).unwrap();
+    let reads = files.0.lock().unwrap().clone();
+    assert_eq!(reads.get("meshes/octasphere.obj"), Some(&1), "{reads:?}");
+    assert_eq!(reads.get("textures/checker.png"), Some(&1), "{reads:?}");
+    assert_eq!(prepared.objects.len(), 3);
+    // Held once: every object points at the same triangles, hierarchy and texels.
+    let parts = |object: &PreparedObject| match &object.geometry {
+        Geometry::Triangles {
+            triangles,
+            bvh: Some(bvh),
+        } => (triangles.clone(), bvh.clone()),
+        _ => panic!("a mesh with its BVH"),
+    };
+    let (triangles, bvh) = parts(&prepared.objects[0]);
+    let texture = prepared.objects[0].texture.clone().unwrap();
+    for object in &prepared.objects[1..] {
+        let (other_triangles, other_bvh) = parts(object);
+        assert!(std::sync::Arc::ptr_eq(&triangles, &other_triangles));
+        assert!(std::sync::Arc::ptr_eq(&bvh, &other_bvh));
+        assert!(std::sync::Arc::ptr_eq(
+            &texture,
+            object.texture.as_ref().unwrap()
+        ));
+    }
+}
+
+/// The memory budget counts a mesh before its hierarchy is built, from the most a hierarchy may
+/// take per triangle: the bound holds for the shipped sphere, an irregular sphere, a grid box whose
+/// rays run along edges, and long thin triangles (which the builder splits into pieces).
+#[test]
+fn a_hierarchy_holds_no_more_than_the_budget_counts() {
+    use raylab::render::budget::BVH_BYTES_PER_TRIANGLE;
+    use raylab::render::generate::{grid_box, irregular_sphere};
+    use raylab::render::loading::assets::load_mesh;
+    let thin: Vec<[[f64; 3]; 3]> = (0..2000)
+        .map(|i| {
+            let y = i as f64 * 0.01;
+            [[-50.0, y, 0.0], [50.0, y + 0.001, 0.3], [-49.0, y, 1.0]]
+        })
+        .collect();
+    let meshes: Vec<(&str, Vec<PreparedTriangle>)> = vec![
+        (
+            "octasphere",
+            load_mesh(&Embedded, "meshes/octasphere.obj").unwrap(),
+        ),
+        (
+            "irregular sphere",
+            irregular_sphere(5, 7)
+                .into_iter()
+                .map(PreparedTriangle::new)
+                .collect(),
+        ),
+        (
+            "grid box",
+            grid_box(40)
+                .2
+                .into_iter()
+                .map(PreparedTriangle::new)
+                .collect(),
+        ),
+        (
+            "thin",
+            thin.into_iter().map(PreparedTriangle::new).collect(),
+        ),
+    ];
+    for (name, triangles) in meshes {
+        let bvh = Bvh::build(&triangles);
+        let per_triangle = bvh.held_bytes() as f64 / triangles.len() as f64;
+        println!(
+            "{name}: {} triangles, {per_triangle:.0} bytes a triangle",
+            triangles.len()
+        );
+        assert!(
+            per_triangle <= BVH_BYTES_PER_TRIANGLE as f64,
+            "{name}: {per_triangle}"
+        );
     }
 }

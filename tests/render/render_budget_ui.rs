@@ -76,3 +76,38 @@ fn cancel_stops_a_render_in_flight() {
     assert!(!app_view::<RenderView>(&harness).is_rendering());
     assert!(common::shows_text_containing(&harness, "cancelled"));
 }
+
+/// A render whose trial frame says it would take past the time budget waits for "Render anyway",
+/// in the words `raylab render` uses. The budget here is a millisecond, so any scene large enough
+/// for a trial (the transformed scene, 480×320) passes it on any machine.
+#[test]
+fn a_render_estimated_past_the_time_budget_waits_for_render_anyway() {
+    let mut harness = common::app_harness();
+    harness.run();
+    let scene = raylab::scene::preset("render-transformed").expect("a shipped preset");
+    harness
+        .state_mut()
+        .load_scene(&scene)
+        .expect("the scene loads");
+    harness
+        .state_mut()
+        .state
+        .get_mut::<RenderView>()
+        .set_time_budget(Some(0.001));
+    common::wait_for_render(&mut harness);
+    assert!(app_view::<RenderView>(&harness).rendered().is_none());
+    // "Not rendered: this render would take about 0.1 s on 2 threads here (about 310 k rays), past
+    // the budget of 0.0 s. Turn effects off, …"
+    assert!(common::shows_text_containing(
+        &harness,
+        "Not rendered: this render would take about"
+    ));
+    assert!(common::shows_text_containing(
+        &harness,
+        "threads here (about"
+    ));
+    harness.get_by_label("Render anyway").click();
+    common::wait_for_render(&mut harness);
+    assert!(app_view::<RenderView>(&harness).rendered().is_some());
+    assert!(!common::shows_text_containing(&harness, "Not rendered"));
+}

@@ -26,9 +26,8 @@ pub(super) struct Runtime {
     pub(super) cost: Option<effects::Cost>,
     /// The camera's motion and the frames shown while it moves.
     pub(super) orbit: orbit::Orbit,
-    /// A render past the budget ([`crate::render::budget`]) waits for "Render anyway": its worst
-    /// case, shown.
-    pub(super) past_budget: Option<crate::render::budget::WorstCase>,
+    /// A render past the budget ([`crate::render::budget`]) waits for "Render anyway": why, shown.
+    pub(super) past_budget: Option<PastBudget>,
     /// "Render anyway" was pressed for this scene.
     pub(super) budget_waived: Option<RenderScene>,
 }
@@ -77,14 +76,42 @@ pub(super) fn loads_in_background(scene: &RenderScene, assets: &OnDisk) -> bool 
     total > BACKGROUND_MESH_BYTES
 }
 
+/// Why a render waits for "Render anyway", as `raylab render` refuses it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum PastBudget {
+    /// Its settings may cast past the most rays a render may.
+    Rays(crate::render::budget::WorstCase),
+    /// Its trial frame says it would take past the time budget.
+    Time(OverTime),
+}
+
+impl PastBudget {
+    /// The sentence shown: why, and what to change.
+    pub(super) fn sentence(&self) -> String {
+        match self {
+            PastBudget::Rays(worst) => format!(
+                "Not rendered: {worst}. Lower samples_per_side, max_depth or occlusion_rays in the \
+                 scene, or render it anyway (Cancel stops it)."
+            ),
+            PastBudget::Time(over) => format!(
+                "Not rendered: {over}. Turn effects off, pick another method or no bug, or render \
+                 it anyway (Cancel stops it)."
+            ),
+        }
+    }
+}
+
 /// One image: the render in flight and the one shown.
 #[derive(Default)]
 pub(super) struct Slot {
-    pub(super) running: Option<(Choices, Job<Rendered>)>,
+    pub(super) running: Option<(Choices, Job<Result<Rendered, OverTime>>)>,
     pub(super) shown: Option<Shown>,
     pub(super) error: Option<String>,
-    /// The choices whose render failed inside (a panic): not started again until they change.
+    /// The choices whose render failed inside (a panic) or was refused: not started again until
+    /// they change.
     pub(super) failed: Option<Choices>,
+    /// The render that was refused for its time, until the view shows why.
+    pub(super) over_time: Option<OverTime>,
 }
 
 impl Slot {
@@ -107,9 +134,17 @@ impl Slot {
             self.failed = Some(key);
             return None;
         }
-        let Some(rendered) = job.poll() else {
-            self.running = Some((key, job));
-            return None;
+        let rendered = match job.poll() {
+            None => {
+                self.running = Some((key, job));
+                return None;
+            }
+            Some(Err(over)) => {
+                self.over_time = Some(over);
+                self.failed = Some(key);
+                return None;
+            }
+            Some(Ok(rendered)) => rendered,
         };
         let image = &rendered.image;
         let pixels = ColorImage::from_rgb([image.width, image.height], &image.to_rgb8());
@@ -217,6 +252,11 @@ impl RenderView {
             self.runtime.orbit.frame_shown(frame, now);
         }
         self.runtime.buggy.take_finished(ctx, "render-bug");
+        for slot in [&mut self.runtime.correct, &mut self.runtime.buggy] {
+            if let Some(over) = slot.over_time.take() {
+                self.runtime.past_budget = Some(PastBudget::Time(over));
+            }
+        }
         if self.is_rendering() {
             ctx.request_repaint();
         }
@@ -286,18 +326,22 @@ impl RenderView {
             .and_then(|p| crate::render::budget::past_budget(p))
             .filter(|_| !waived);
         if let Some(worst) = past {
-            self.runtime.past_budget = Some(worst);
+            self.runtime.past_budget = Some(PastBudget::Rays(worst));
             let slot = self.slot_mut(bug);
             slot.running = None;
             slot.failed = Some(wanted);
             return;
         }
         self.runtime.past_budget = None;
+        // A full image first runs its trial frame, as `raylab render` does; quick frames and a
+        // waived budget do not.
+        let budget = self
+            .time_budget
+            .filter(|_| wanted.draft.is_none() && !waived);
         let started = prepared.and_then(|prepared| {
             let waker = ctx.clone();
-            Job::start("raylab-render", RenderJob::new(prepared), move || {
-                waker.request_repaint()
-            })
+            let work = BudgetedRender::new(prepared, budget);
+            Job::start("raylab-render", work, move || waker.request_repaint())
         });
         let slot = self.slot_mut(bug);
         match started {

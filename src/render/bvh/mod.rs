@@ -340,6 +340,31 @@ impl Bvh {
         self.triangles
     }
 
+    /// The bytes it holds (its vectors' capacities).
+    pub fn held_bytes(&self) -> u64 {
+        use std::mem::size_of_val;
+        let held = |bytes: usize, length: usize, capacity: usize| {
+            (bytes / length.max(1) * capacity) as u64
+        };
+        held(
+            size_of_val(&self.nodes[..]),
+            self.nodes.len(),
+            self.nodes.capacity(),
+        ) + held(
+            size_of_val(&self.order[..]),
+            self.order.len(),
+            self.order.capacity(),
+        ) + held(
+            size_of_val(&self.vertices[..]),
+            self.vertices.len(),
+            self.vertices.capacity(),
+        ) + held(
+            size_of_val(&self.quads[..]),
+            self.quads.len(),
+            self.quads.capacity(),
+        )
+    }
+
     /// True when it holds no triangle.
     pub fn is_empty(&self) -> bool {
         self.triangles == 0

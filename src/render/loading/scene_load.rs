@@ -3,6 +3,7 @@
 //! runs it on a thread (or, on the web, in slices of its frames) and can cancel it.
 
 use crate::platform::{Progress, Sliced, Stopwatch};
+use crate::render::budget::{MEMORY_BUDGET_BYTES, MemoryTally, mesh_bytes};
 use crate::render::loading::assets::{AssetSource, MeshLoad, Preloaded, load_mesh_with_progress};
 use crate::render::{PrepareError, Prepared};
 use crate::scene::render::{RenderScene, Shape};
@@ -37,6 +38,8 @@ pub struct SceneLoad<S> {
     current: Option<MeshLoad>,
     /// The scene's numbers were checked.
     checked: bool,
+    /// The meshes' memory so far, against the budget.
+    memory: MemoryTally,
 }
 
 impl<S: AssetSource> SceneLoad<S> {
@@ -49,6 +52,7 @@ impl<S: AssetSource> SceneLoad<S> {
             next: 0,
             current: None,
             checked: false,
+            memory: MemoryTally::new(MEMORY_BUDGET_BYTES),
         }
     }
 
@@ -85,6 +89,9 @@ impl<S: AssetSource> SceneLoad<S> {
             match load.step() {
                 Ok(None) => {}
                 Ok(Some(triangles)) => {
+                    if let Err(over) = self.memory.add(name, mesh_bytes(triangles.len())) {
+                        return Some(Err(PrepareError::Memory(over)));
+                    }
                     self.assets.insert(name, triangles);
                     self.next += 1;
                     self.current = None;
@@ -117,22 +124,28 @@ impl<S: AssetSource + Send + 'static> Sliced for SceneLoad<S> {
 
 /// Prepares `scene`, loading its meshes first with `progress` told each one's progress (the mesh's
 /// name, then the fraction done and the triangles counted); `progress` returning false cancels.
+/// Its meshes and textures may hold at most `memory` bytes together.
 pub fn prepare_with_progress(
     scene: &RenderScene,
     assets: impl AssetSource,
+    memory: u64,
     progress: &mut dyn FnMut(&str, crate::render::loading::assets::MeshProgress) -> bool,
 ) -> Result<Prepared, PrepareError> {
     scene.check().map_err(PrepareError::Scene)?;
     let mut assets = Preloaded::new(assets);
+    let mut tally = MemoryTally::new(memory);
     for name in mesh_names(scene) {
         match load_mesh_with_progress(&assets, &name, &mut |p| progress(&name, p)) {
-            Ok(triangles) => assets.insert(&name, triangles),
+            Ok(triangles) => {
+                tally.add(&name, mesh_bytes(triangles.len()))?;
+                assets.insert(&name, triangles);
+            }
             Err(error) if error.is_cancelled() => return Err(PrepareError::Cancelled(error)),
             // Prepared::new reports it, with the object it belongs to.
             Err(_) => break,
         }
     }
-    Prepared::new(scene, &assets)
+    Prepared::within(scene, &assets, memory)
 }
 
 #[cfg(test)]
