@@ -199,6 +199,14 @@ impl RaylabApp {
         }
         let mut answer_shown = run.answer_shown;
         self.set_highlight(elements);
+        // A question is asked before it is answered: the view keeps its verdict, hit ring and
+        // values to itself until "Show the answer" (a live class's lock hides them as well).
+        let ctx = ui.ctx().clone();
+        let hides = slide.question.is_some() && !answer_shown;
+        let hidden_before = super::widgets::answers_hidden(&ctx);
+        if hides {
+            super::widgets::hide_answers(&ctx, true);
+        }
         self.beside_the_view(ui, solved, "lesson-slide", |ui| {
             enlarge(ui, 1.3);
             ui.add(egui::Label::new(RichText::new(&slide.title).heading()).wrap());
@@ -220,12 +228,17 @@ impl RaylabApp {
                 {
                     answer_shown = true;
                 }
+                // Read as the view draws, after this panel: shown from this frame on.
+                super::widgets::hide_answers(&ctx, hidden_before || !answer_shown);
             }
             if let Some((index, step, _)) = &step {
                 ui.add_space(8.0);
                 step_panel::step_ui(ui, index + 1, step, None);
             }
         });
+        if hides {
+            super::widgets::hide_answers(&ctx, hidden_before);
+        }
         if answer_shown && self.lesson.as_ref().is_some_and(|run| !run.answer_shown) {
             self.reveal_to_class();
         }

@@ -15,8 +15,11 @@ use crate::scene::{ParallelogramScene, Problem, Scene, SegmentsScene, TriangleSc
 pub struct PracticeRun {
     /// The solver practised.
     pub kind: Kind,
-    /// The outcome practised.
+    /// This problem's outcome.
     pub level: Level,
+    /// The levels are mixed: each problem's outcome is drawn, and not named until the answer is
+    /// right or revealed (the level's name would give it away).
+    pub mixed: bool,
     /// The problem's seed (shown, so a class can compare the same problem).
     pub seed: u64,
     /// The problem and the wrong answers so far.
@@ -35,9 +38,39 @@ pub struct PracticeRun {
     pub attempted: bool,
 }
 
+/// The level a mixed problem is drawn at: one of `kind`'s levels, picked by the seed (so a class
+/// comparing problem numbers sees the same one). Hits and misses past an edge come three times as
+/// often as a parallel ray or a degenerate shape, behind twice: the special cases stay special.
+fn mixed_level(kind: Kind, seed: u64) -> Level {
+    let weight = |level: Level| match level {
+        Level::Hit | Level::Outside => 3,
+        Level::Behind => 2,
+        Level::Parallel | Level::Degenerate => 1,
+    };
+    let levels: Vec<Level> = Level::ALL
+        .into_iter()
+        .filter(|level| level.kinds().contains(&kind))
+        .flat_map(|level| std::iter::repeat_n(level, weight(level)))
+        .collect();
+    // A multiplicative hash: neighbouring seeds land on different levels.
+    let pick = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 32;
+    levels[pick as usize % levels.len()]
+}
+
 impl RaylabApp {
+    /// Starts practising `kind` with a new problem whose outcome is drawn from every level (see
+    /// [`PracticeRun::mixed`]).
+    pub fn start_mixed_practice(&mut self, kind: Kind) {
+        let level = mixed_level(kind, self.practice_seed + 1);
+        self.start_practice_at(kind, level, true);
+    }
+
     /// Starts practising `kind` at `level` with a new problem.
     pub fn start_practice(&mut self, kind: Kind, level: Level) {
+        self.start_practice_at(kind, level, false);
+    }
+
+    fn start_practice_at(&mut self, kind: Kind, level: Level, mixed: bool) {
         let (right, tried) = self
             .practice
             .as_ref()
@@ -51,7 +84,7 @@ impl RaylabApp {
         let seed = self.practice_seed;
         match exercise::problem_for(seed, kind, level) {
             Ok(problem) => {
-                let scene = scene_of(&problem.inputs, seed, level);
+                let scene = scene_of(&problem.inputs, seed, (!mixed).then_some(level));
                 if let Err(error) = self.load_scene(&scene) {
                     self.notice = Some(Notice::error(error.to_string()));
                     return;
@@ -66,6 +99,7 @@ impl RaylabApp {
                 self.practice = Some(PracticeRun {
                     kind,
                     level,
+                    mixed,
                     seed,
                     practice: Practice::new(problem),
                     answer: String::new(),
@@ -88,7 +122,8 @@ impl RaylabApp {
         let Some(mut run) = self.practice.clone() else {
             return;
         };
-        let mut new_level = None;
+        // `Some(None)`: mixed.
+        let mut new_level: Option<Option<Level>> = None;
         // Esc on a focused canvas handle only lets the handle go.
         let mut leave = !super::widgets::handles::handle_focused(ui.ctx())
             && ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Escape));
@@ -96,15 +131,22 @@ impl RaylabApp {
             ui.horizontal_wrapped(|ui| {
                 ui.label(RichText::new(format!("Practice: {}", run.kind.name())).strong());
                 ui.label("level");
+                let mixed = ui.selectable_label(run.mixed, "mixed").on_hover_text(
+                    "Any outcome: hit, outside, behind, parallel or degenerate, not named \
+                         until you answer",
+                );
+                if mixed.clicked() {
+                    new_level = Some(None);
+                }
                 for level in Level::ALL {
                     if !level.kinds().contains(&run.kind) {
                         continue;
                     }
                     let chosen = ui
-                        .selectable_label(run.level == level, level.name())
+                        .selectable_label(!run.mixed && run.level == level, level.name())
                         .on_hover_text(level_tip(level));
                     if chosen.clicked() {
-                        new_level = Some(level);
+                        new_level = Some(Some(level));
                     }
                 }
                 ui.separator();
@@ -114,7 +156,7 @@ impl RaylabApp {
                     .on_hover_text("Another problem at this level")
                     .clicked()
                 {
-                    new_level = Some(run.level);
+                    new_level = Some((!run.mixed).then_some(run.level));
                 }
                 leave |= ui
                     .button("Leave (Esc)")
@@ -126,8 +168,11 @@ impl RaylabApp {
             self.practice = None;
             return;
         }
-        if let Some(level) = new_level {
-            self.start_practice(run.kind, level);
+        if let Some(pick) = new_level {
+            match pick {
+                Some(level) => self.start_practice(run.kind, level),
+                None => self.start_mixed_practice(run.kind),
+            }
             ui.ctx().request_repaint();
             return;
         }
@@ -282,8 +327,9 @@ fn level_tip(level: Level) -> &'static str {
     }
 }
 
-/// The problem as a scene its view can load (the inputs are small integers, exact as floats).
-fn scene_of(inputs: &Inputs, seed: u64, level: Level) -> Scene {
+/// The problem as a scene its view can load (the inputs are small integers, exact as floats); its
+/// note names the level unless the levels are mixed (`None`).
+fn scene_of(inputs: &Inputs, seed: u64, level: Option<Level>) -> Scene {
     let f =
         |v: &[crate::math::exact::Exact]| -> Vec<f64> { v.iter().map(|x| x.to_f64()).collect() };
     let v2 = |v: &[crate::math::exact::Exact; 2]| -> [f64; 2] { [v[0].to_f64(), v[1].to_f64()] };
@@ -318,7 +364,10 @@ fn scene_of(inputs: &Inputs, seed: u64, level: Level) -> Scene {
     };
     Scene {
         title: format!("Practice problem {seed}"),
-        note: format!("A {} problem: predict, then check.", level.name()),
+        note: match level {
+            Some(level) => format!("A {} problem: predict, then check.", level.name()),
+            None => "A problem: predict, then check.".into(),
+        },
         problem,
     }
 }

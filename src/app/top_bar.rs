@@ -177,14 +177,14 @@ impl RaylabApp {
     }
 
     pub(super) fn practice_menu(&mut self, ui: &mut Ui) {
-        use crate::exercise::{Kind, Level};
+        use crate::exercise::Kind;
         for (kind, label) in [
             (Kind::Segments, "Segments: find t and s"),
             (Kind::Triangle, "Triangle: find β, γ and t"),
             (Kind::Parallelogram, "Parallelogram: find α, β and t"),
         ] {
             if ui.button(label).clicked() {
-                self.start_practice(kind, Level::Hit);
+                self.start_mixed_practice(kind);
                 ui.close();
             }
         }

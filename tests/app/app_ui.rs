@@ -613,6 +613,12 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
     let mut harness = harness();
     click(&mut harness, &["Practice", "Triangle: find β, γ and t"]);
     assert_eq!(harness.state().state.view, ViewKind::Triangle);
+    // The menu opens mixed levels; this test practises hits (the "hit" level in the bar).
+    harness.state_mut().start_practice(
+        raylab::exercise::Kind::Triangle,
+        raylab::exercise::Level::Hit,
+    );
+    harness.run();
     // Nothing is tried before an answer is given.
     assert!(shows(&harness, "Score: 0 right of 0 tried"));
     // The view keeps the verdict to itself until the answer is right.
@@ -702,4 +708,80 @@ fn an_outcome_is_picked_with_one_click() {
         &harness,
         &format!("Right: {outcome}")
     ));
+}
+
+/// Seed 001's slide 4 asks "Does the ray hit the parallelogram?": the view keeps its verdict to
+/// itself until "Show the answer", then says it.
+#[test]
+fn a_lesson_question_is_asked_before_the_view_answers_it() {
+    let mut harness = harness();
+    click(
+        &mut harness,
+        &["Lessons", "Seed 001: a ray and a parallelogram"],
+    );
+    press(&mut harness, [egui::Key::Space; 3]);
+    assert!(shows(&harness, "Slide 4 of 5"));
+    assert!(shows_text_containing(
+        &harness,
+        "Does the ray hit the parallelogram?"
+    ));
+    assert!(!painted(&harness, "the ray hits the parallelogram"));
+    assert!(!shows_text_containing(
+        &harness,
+        "the ray hits the parallelogram"
+    ));
+    click(&mut harness, &["Show the answer"]);
+    assert!(painted(&harness, "the ray hits the parallelogram"));
+    // The next slide, without a question, shows its verdict at once.
+    harness.key_press(egui::Key::Space);
+    harness.run();
+    assert!(shows(&harness, "Slide 5 of 5"));
+    assert!(painted(&harness, "the ray hits the parallelogram"));
+}
+
+/// Practice opens on mixed levels: the bar highlights "mixed", and neither the bar, the problem's
+/// note nor the view names the outcome before the answer; problems in a row draw different levels.
+#[test]
+fn mixed_practice_names_no_outcome_before_the_answer() {
+    let mut harness = harness();
+    click(&mut harness, &["Practice", "Triangle: find β, γ and t"]);
+    let mut levels = std::collections::BTreeSet::new();
+    for _ in 0..8 {
+        let run = harness.state().practice.clone().unwrap();
+        assert!(run.mixed);
+        levels.insert(run.level.name());
+        let selected: Vec<String> = harness
+            .query_all_by(|node| node.toggled() == Some(egui::accesskit::Toggled::True))
+            .filter_map(|node| node.accesskit_node().label())
+            .collect();
+        assert_eq!(selected, ["mixed"], "only mixed is highlighted");
+        // The verdicts' words (the panel lists every outcome as a choice, so those words are not
+        // searched for).
+        for verdict in [
+            "the ray hits the triangle",
+            "the ray meets the plane outside",
+            "behind the ray's origin",
+            "the ray is parallel to",
+            "the triangle has no area",
+        ] {
+            assert!(
+                !painted(&harness, verdict),
+                "{verdict} painted before the answer"
+            );
+        }
+        assert!(!shows_text_containing(
+            &harness,
+            &format!("A {} problem", run.level.name())
+        ));
+        click(&mut harness, &["New problem"]);
+    }
+    assert!(levels.len() >= 3, "{levels:?}");
+    // Revealed, the outcome is named.
+    let answer = common::practice_answer(&harness).text();
+    click(&mut harness, &["Reveal the answer"]);
+    let outcome = answer.split(';').next().unwrap().to_string();
+    assert!(
+        shows_text_containing(&harness, &outcome),
+        "{outcome} after the reveal"
+    );
 }
