@@ -102,6 +102,8 @@ pub struct RaylabApp {
     browsing: Option<native_dialog::Browsing>,
     /// Presentation mode: the index of the step on screen.
     pub presentation: Option<usize>,
+    /// The open view as each presentation step left it (by step), so Back restores what Next set.
+    presented_views: Vec<Option<Box<dyn view::View>>>,
     /// Where the open view was drawn last frame (tests check it keeps half the window).
     pub view_rect: Option<egui::Rect>,
     /// A new scene was loaded: the step panel goes back to its first step.
@@ -141,6 +143,7 @@ impl RaylabApp {
             #[cfg(not(target_arch = "wasm32"))]
             browsing: None,
             presentation: None,
+            presented_views: Vec::new(),
             view_rect: None,
             steps_to_top: false,
             lesson: None,

@@ -9,6 +9,7 @@ use super::{ActiveSolve, Notice, RaylabApp, enlarge, highlight, lesson_view, ste
 impl RaylabApp {
     /// Enters or leaves presentation mode (only views that solve one problem have steps to show).
     pub fn toggle_presentation(&mut self, ctx: &egui::Context) {
+        self.presented_views.clear();
         if self.presentation.take().is_some() {
             ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(false));
             return;
@@ -86,17 +87,40 @@ impl RaylabApp {
             self.toggle_presentation(ui.ctx());
             return;
         }
-        self.presentation = Some(index);
+        let left = self.presentation.replace(index);
         let step = &trace.steps[index];
         let elements = highlight::of_step(&trace.solver, &step.id);
         if moved {
-            self.reveal(&elements, solved, ui.input(|i| i.time));
+            self.step_moved(left, index);
+            // Forward, the step computes its parameters again (β slides to β* each time).
+            if left.is_none_or(|left| left < index) {
+                self.reveal(&elements, solved, ui.input(|i| i.time));
+            }
         }
         self.set_highlight(elements);
         self.beside_the_view(ui, solved, "presented-step", |ui| {
             enlarge(ui, 1.4);
             step_panel::step_ui(ui, index + 1, step, None);
         });
+    }
+
+    /// Keeps the open view as step `left` leaves it; going back to `index`, puts back the view as
+    /// that step left it (its parameters, camera and scene as Next had set them).
+    fn step_moved(&mut self, left: Option<usize>, index: usize) {
+        let kind = self.state.view;
+        if let Some(left) = left {
+            if self.presented_views.len() <= left {
+                self.presented_views.resize_with(left + 1, || None);
+            }
+            self.presented_views[left] = Some(self.view(kind).clone_view());
+        }
+        let back = left.is_some_and(|left| index < left);
+        if back
+            && let Some(Some(view)) = self.presented_views.get(index)
+            && let Some(tab) = self.state.tab_mut(kind)
+        {
+            tab.view = view.clone_view();
+        }
     }
 
     /// The layout every presenter screen shares (presentation, lessons, practice): `side` in a

@@ -142,7 +142,10 @@ impl LectureView for SegmentsView {
 
     /// Slides t or s to its value at the crossing (presentation mode).
     fn show_parameter(&mut self, parameter: Parameter, solved: &Solved, now: f64) {
-        let mut to = [self.t, self.s];
+        let mut to = self
+            .animation
+            .as_ref()
+            .map_or([self.t, self.s], Slide::target);
         match (parameter, solved.float.t, solved.float.s) {
             (Parameter::T, Some(t), _) => to[0] = t,
             (Parameter::S, _, Some(s)) => to[1] = s,

@@ -124,7 +124,10 @@ impl LectureView for TriangleView {
         let Some(s) = solved.float.solution.as_ref() else {
             return;
         };
-        let mut to = [self.beta, self.gamma, self.t];
+        let mut to = self
+            .animation
+            .as_ref()
+            .map_or([self.beta, self.gamma, self.t], Slide::target);
         match parameter {
             Parameter::Beta => to[0] = s.beta,
             Parameter::Gamma => to[1] = s.gamma,

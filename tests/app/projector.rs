@@ -608,3 +608,60 @@ fn the_keys_window_reads_cleanly_at_150_and_200_percent() {
         assert!(problems.is_empty(), "{zoom}x: {}", problems.join("\n"));
     }
 }
+
+/// Presentation steps keep what earlier steps set: on the touching segments, t's step slides A(t) to
+/// its solution and s's step then slides B(s) without moving A(t) back; Back puts each step's view
+/// back as Next left it, and Next computes the parameter again (it slides once more).
+#[test]
+fn presentation_steps_keep_their_parameters_going_forward_and_back() {
+    use raylab::app::segments_view::SegmentsView;
+    let mut harness = projector(1280.0, 800.0, 1.0);
+    common::load_preset(&mut harness, "Segments touching at an endpoint");
+    let start = {
+        let view = app_view::<SegmentsView>(&harness);
+        (view.t, view.s)
+    };
+    harness.key_press(egui::Key::F5);
+    harness.run();
+    let highlighted = |harness: &Harness<'static, RaylabApp>| common::highlighted(harness);
+    // Forward to the step that slides t, then to the one that slides s.
+    let mut steps = 0;
+    while highlighted(&harness) != "Highlighted: t at its solution" {
+        common::press(&mut harness, [egui::Key::Space]);
+        steps += 1;
+        assert!(steps < 30, "no step computes t");
+    }
+    let t_step = harness.state().presentation.unwrap();
+    while highlighted(&harness) != "Highlighted: s at its solution" {
+        common::press(&mut harness, [egui::Key::Space]);
+        steps += 1;
+        assert!(steps < 30, "no step computes s");
+    }
+    let s_step = harness.state().presentation.unwrap();
+    let points = app_view::<SegmentsView>(&harness).scene.points();
+    let pair = raylab::geometry::segments::SegmentPair::<f64>::from_floats(points);
+    let solved = raylab::geometry::segments::solve(&pair, &mut ());
+    let (t_star, s_star) = (solved.t.unwrap(), solved.s.unwrap());
+    let view = app_view::<SegmentsView>(&harness);
+    assert_eq!((view.t, view.s), (t_star, s_star), "both at their solution");
+    // Back past t's step: A(t) where it started; Next: it slides to t* again.
+    while harness.state().presentation.unwrap() >= t_step {
+        common::press(&mut harness, [egui::Key::ArrowLeft]);
+    }
+    assert_eq!(app_view::<SegmentsView>(&harness).t, start.0);
+    common::press(&mut harness, [egui::Key::ArrowRight]);
+    assert_eq!(harness.state().presentation, Some(t_step));
+    assert_eq!(app_view::<SegmentsView>(&harness).t, t_star);
+    assert_eq!(app_view::<SegmentsView>(&harness).s, start.1);
+    // A clicker pressed twice quickly (s's step follows t's): B(s)'s slide starts while A(t)'s is
+    // on its way, and A(t) still lands on t*.
+    assert_eq!(s_step, t_step + 1);
+    common::press(&mut harness, [egui::Key::ArrowLeft]);
+    harness.key_press(egui::Key::ArrowRight);
+    harness.step();
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run();
+    assert_eq!(harness.state().presentation, Some(s_step));
+    let view = app_view::<SegmentsView>(&harness);
+    assert_eq!((view.t, view.s), (t_star, s_star));
+}

@@ -29,6 +29,13 @@ impl<const N: usize> Slide<N> {
         })
     }
 
+    /// Where the parameters are going: a new slide asked for mid-way starts from here, so a
+    /// parameter still on its way to its solution keeps going there (a presentation step pressed
+    /// quickly after the one that moved it).
+    pub fn target(&self) -> [f64; N] {
+        self.to
+    }
+
     /// Where the parameters are at `progress` (0 to 1), and whether the slide has arrived.
     pub fn at(&self, progress: f64) -> ([f64; N], bool) {
         let k = progress.clamp(0.0, 1.0);
