@@ -55,12 +55,16 @@ impl RaylabApp {
     /// Leaves the lesson (the scene of its last slide stays open, to explore).
     pub fn leave_lesson(&mut self, ctx: &egui::Context) {
         if let Some(run) = self.lesson.take() {
-            self.notice = Some(Notice::info(format!(
-                "Left “{}” at slide {} of {}: Lessons → the same lesson starts it again",
-                run.lesson.title,
-                run.slide + 1,
-                run.lesson.slides.len()
-            )));
+            // Said in the view the lesson left (not carried into other tabs).
+            self.notice = Some(Notice {
+                view: Some(self.state.view),
+                ..Notice::info(format!(
+                    "Left “{}” at slide {} of {}: Lessons → the same lesson starts it again",
+                    run.lesson.title,
+                    run.slide + 1,
+                    run.lesson.slides.len()
+                ))
+            });
         }
         ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(false));
     }

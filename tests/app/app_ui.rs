@@ -785,3 +785,20 @@ fn mixed_practice_names_no_outcome_before_the_answer() {
         "{outcome} after the reveal"
     );
 }
+
+/// The note that a lesson was left is said in the view the lesson left, not carried into other tabs.
+#[test]
+fn the_left_lesson_note_stays_with_its_view() {
+    let mut harness = harness();
+    click(
+        &mut harness,
+        &["Lessons", "Seed 000: segments, then a ray and a triangle"],
+    );
+    harness.key_press(egui::Key::Escape);
+    harness.run();
+    assert!(shows_text_containing(&harness, "Left “Seed 000"));
+    click(&mut harness, &["Triangle (3D)"]);
+    assert!(!shows_text_containing(&harness, "Left “Seed 000"));
+    click(&mut harness, &["Segments (2D)"]);
+    assert!(shows_text_containing(&harness, "Left “Seed 000"));
+}
