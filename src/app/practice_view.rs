@@ -261,8 +261,8 @@ fn problem_ui(ui: &mut Ui, run: &mut PracticeRun, solved: &ActiveSolve) {
         }
         run.verdict = Some(verdict);
     }
-    match &run.verdict {
-        Some(Verdict::Right { answer }) => {
+    let feedback = match &run.verdict {
+        Some(Verdict::Right { answer }) => Some(
             ui.add(
                 egui::Label::new(
                     RichText::new(format!("Right: {answer}"))
@@ -270,10 +270,11 @@ fn problem_ui(ui: &mut Ui, run: &mut PracticeRun, solved: &ActiveSolve) {
                         .color(palette::INSIDE.readable(ui)),
                 )
                 .wrap(),
-            );
-        }
+            )
+            .rect,
+        ),
         Some(Verdict::Wrong { hint }) => {
-            ui.add(
+            let title = ui.add(
                 egui::Label::new(
                     RichText::new(format!(
                         "Not yet ({} wrong so far). Look again at “{}”:",
@@ -284,15 +285,21 @@ fn problem_ui(ui: &mut Ui, run: &mut PracticeRun, solved: &ActiveSolve) {
                 )
                 .wrap(),
             );
-            ui.add(egui::Label::new(&hint.text).wrap());
+            let text = ui.add(egui::Label::new(&hint.text).wrap());
+            Some(title.rect.union(text.rect))
         }
-        Some(Verdict::Unreadable { error }) => {
+        Some(Verdict::Unreadable { error }) => Some(
             ui.add(
                 egui::Label::new(RichText::new(error.to_string()).color(palette::RHS.readable(ui)))
                     .wrap(),
-            );
-        }
-        None => {}
+            )
+            .rect,
+        ),
+        None => None,
+    };
+    // Checked: the feedback scrolls into view (at 200% it falls below the fold of the panel).
+    if check && let Some(rect) = feedback {
+        ui.scroll_to_rect(rect, None);
     }
     if !run.revealed
         && ui

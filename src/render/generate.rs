@@ -150,6 +150,26 @@ fn normalized(v: V3<f64>) -> V3<f64> {
     v.map(|c| c / length)
 }
 
+/// An OBJ grid of `n` × `n` unit squares (2n² triangles, as quads) in the plane z = 5, from (0, 0)
+/// to (n, n): a large mesh written in moments, for load and memory tests.
+pub fn grid_obj(n: usize) -> String {
+    let mut text = String::new();
+    for row in 0..=n {
+        for column in 0..=n {
+            let _ = writeln!(text, "v {column} {row} 5");
+        }
+    }
+    let at = |row: usize, column: usize| row * (n + 1) + column + 1;
+    for row in 0..n {
+        for column in 0..n {
+            let (a, b) = (at(row, column), at(row, column + 1));
+            let (c, d) = (at(row + 1, column + 1), at(row + 1, column));
+            let _ = writeln!(text, "f {a} {b} {c} {d}");
+        }
+    }
+    text
+}
+
 /// The triangles as an OBJ file, vertices shared where their coordinates are equal (printed with
 /// Rust's shortest round-trip formatting, so they read back exactly).
 pub fn to_obj(triangles: &[[V3<f64>; 3]]) -> String {

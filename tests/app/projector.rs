@@ -665,3 +665,44 @@ fn presentation_steps_keep_their_parameters_going_forward_and_back() {
     let view = app_view::<SegmentsView>(&harness);
     assert_eq!((view.t, view.s), (t_star, s_star));
 }
+
+/// At 200% the practice panel's feedback lies below its fold: Check scrolls it into view, the
+/// "Not yet" line and its hint both whole on screen.
+#[test]
+fn practice_feedback_scrolls_into_view_at_200_percent() {
+    for kind in [
+        raylab::exercise::Kind::Triangle,
+        raylab::exercise::Kind::Parallelogram,
+    ] {
+        let zoom = 2.0;
+        let screen = Rect::from_min_size(egui::Pos2::ZERO, Vec2::new(1280.0, 800.0) / zoom);
+        let mut harness = projector(1280.0, 800.0, zoom);
+        harness
+            .state_mut()
+            .start_practice(kind, raylab::exercise::Level::Hit);
+        harness.run();
+        harness.get_by_label("Your answer:").click();
+        harness.run();
+        harness.get_by_label("Your answer:").type_text("7, 7, 7");
+        harness.run();
+        harness.get_by_label("Check").click();
+        harness.run();
+        let texts = painted_texts(&harness);
+        let at = texts
+            .iter()
+            .position(|t| t.text.starts_with("Not yet"))
+            .expect("the feedback is drawn");
+        // The "Not yet" line and the hint's first row after it.
+        for text in &texts[at..=at + 1] {
+            let seen = text.rect.intersect(text.clip).intersect(screen);
+            assert!(
+                seen.height() >= text.rect.height() - 1.0,
+                "{}: “{}” at {:?}, seen {:?}",
+                kind.name(),
+                text.text,
+                text.rect,
+                seen
+            );
+        }
+    }
+}

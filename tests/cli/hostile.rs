@@ -10,6 +10,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use raylab::render::generate::grid_obj;
+
 /// A run this long is a hang (a refusal takes milliseconds): it is killed and the test fails.
 const HANG_SECONDS: u32 = 60;
 
@@ -513,27 +515,6 @@ fn small_scene(size: usize, objects: &str, effects: &str) -> String {
             effects: [{effects}],
         )))"#
     )
-}
-
-/// An OBJ grid of `n` × `n` squares (2n² triangles) in the plane y = 0.
-fn grid_obj(n: usize) -> String {
-    use std::fmt::Write;
-    let mut text = String::new();
-    for row in 0..=n {
-        for column in 0..=n {
-            let (x, z) = (column as f64 / n as f64, row as f64 / n as f64);
-            let _ = writeln!(text, "v {x} 0 {z}");
-        }
-    }
-    let at = |row: usize, column: usize| row * (n + 1) + column + 1;
-    for row in 0..n {
-        for column in 0..n {
-            let (a, b) = (at(row, column), at(row, column + 1));
-            let (c, d) = (at(row + 1, column + 1), at(row + 1, column));
-            let _ = writeln!(text, "f {a} {b} {c} {d}");
-        }
-    }
-    text
 }
 
 /// Eight objects naming one OBJ file of 200 000 triangles, and 48 naming one 4096 × 4096 PNG (7 KB,

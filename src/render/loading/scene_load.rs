@@ -167,24 +167,7 @@ mod tests {
         }
     }
 
-    fn grid_obj(n: usize) -> String {
-        use std::fmt::Write;
-        let mut text = String::new();
-        for row in 0..=n {
-            for column in 0..=n {
-                let _ = writeln!(text, "v {column} {row} 5");
-            }
-        }
-        let at = |row: usize, column: usize| row * (n + 1) + column + 1;
-        for row in 0..n {
-            for column in 0..n {
-                let (a, b) = (at(row, column), at(row, column + 1));
-                let (c, d) = (at(row + 1, column + 1), at(row + 1, column));
-                let _ = writeln!(text, "f {a} {b} {c} {d}");
-            }
-        }
-        text
-    }
+    use crate::render::generate::grid_obj;
 
     /// A shipped render scene with the grid as its one object.
     fn scene_with_grid() -> RenderScene {
