@@ -307,7 +307,8 @@ impl RaylabApp {
     }
 
     fn solve(&self) -> ActiveSolve {
-        self.view(self.state.view).solve_frame(self.state.precision)
+        let view = self.view(self.state.view);
+        view.solve_frame(view.own_precision().unwrap_or(self.state.precision))
     }
 
     /// Everything a solve depends on, to tell whether a frame changed it: the tab, the precision,
@@ -416,13 +417,20 @@ impl RaylabApp {
                             _ => trace,
                         };
                         let mut symbolic = self.state.symbolic;
-                        let precision = step_panel::Choice {
-                            precision: &mut self.state.precision,
+                        // The view's own precision where it keeps one (the Render view's probe).
+                        let own = self.view(self.state.view).own_precision();
+                        let mut precision = own.unwrap_or(self.state.precision);
+                        let choice = step_panel::Choice {
+                            precision: &mut precision,
                             symbolic: triangle.then_some(&mut symbolic),
                         };
-                        let panel = step_panel::ui(ui, trace, precision, marked, to_top);
+                        let panel = step_panel::ui(ui, trace, choice, marked, to_top);
                         let solver = trace.solver.clone();
                         self.state.symbolic = symbolic;
+                        match own {
+                            Some(_) => self.view_mut(self.state.view).set_own_precision(precision),
+                            None => self.state.precision = precision,
+                        }
                         if let Some(step) = panel.hovered_step {
                             self.set_highlight(highlight::of_step(&solver, &step));
                         }

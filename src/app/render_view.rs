@@ -75,6 +75,9 @@ pub struct RenderView {
     /// The camera as the user moved it (`None`: the scene's own); saved with the scene only when
     /// the user saves it.
     pub camera: Option<crate::scene::render::Camera>,
+    /// The precision of a probed ray's steps: f64 by default (the renderer's own arithmetic; exact
+    /// arithmetic on its floats reads in 17-digit decimals), picked in the step panel.
+    pub probe_precision: Precision,
     /// The seconds a full render may take, estimated by its trial frame, before it waits for
     /// "Render anyway" (`None`: no limit).
     #[serde(skip, default = "default_time_budget")]
@@ -137,7 +140,15 @@ impl View for RenderView {
     /// The probed pixel: the step panel's solve changes with it.
     fn fingerprint(&self, bits: &mut Vec<u64>) {
         let (row, column) = self.probed.unwrap_or((usize::MAX, usize::MAX));
-        bits.extend([row as u64, column as u64]);
+        bits.extend([row as u64, column as u64, self.probe_precision as u64]);
+    }
+
+    fn own_precision(&self) -> Option<Precision> {
+        Some(self.probe_precision)
+    }
+
+    fn set_own_precision(&mut self, precision: Precision) {
+        self.probe_precision = precision;
     }
 
     fn save(&self) -> Option<String> {
@@ -175,6 +186,7 @@ impl Default for RenderView {
             probed: None,
             folder: None,
             camera: None,
+            probe_precision: Precision::F64,
             time_budget: default_time_budget(),
             runtime: Runtime::default(),
         }

@@ -93,6 +93,15 @@ pub trait View: AnyView {
     /// Solves what it shows, with the step panel in `precision`.
     fn solve_frame(&self, precision: Precision) -> ActiveSolve;
 
+    /// The precision of its steps when it keeps its own rather than the app's (the Render view's
+    /// probe: f64 unless the step panel's picker says otherwise); `None`: the app's.
+    fn own_precision(&self) -> Option<Precision> {
+        None
+    }
+
+    /// Sets the precision it keeps (see [`View::own_precision`]); a view without one ignores it.
+    fn set_own_precision(&mut self, _precision: Precision) {}
+
     /// Draws itself; `canvas_only` in presentation mode. A frame whose solve is not its own (the
     /// tab changed this frame) draws nothing and asks for the next frame.
     fn frame_ui(&mut self, ui: &mut Ui, solved: &ActiveSolve, canvas_only: bool)

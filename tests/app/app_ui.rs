@@ -802,3 +802,45 @@ fn the_left_lesson_note_stays_with_its_view() {
     click(&mut harness, &["Segments (2D)"]);
     assert!(shows_text_containing(&harness, "Left “Seed 000"));
 }
+
+/// A probed ray's steps are in f64 by default (the app's lecture views stay exact), and the step
+/// panel's picker changes the probe's precision alone: exact reads the renderer's floats in full.
+#[test]
+fn a_probe_steps_in_f64_with_an_exact_toggle() {
+    use raylab::geometry::Precision;
+    let mut harness = app_at("Render: a transformed object");
+    assert_eq!(harness.state().state.precision, Precision::Exact);
+    click_image(&mut harness, "Correct render", Vec2::new(0.55, 0.35));
+    assert_eq!(
+        app_view::<RenderView>(&harness).probe_precision,
+        Precision::F64
+    );
+    let trace_precision = |harness: &Harness<'static, RaylabApp>| {
+        let solved = harness.state().state.tab(ViewKind::Render).unwrap();
+        let view = &solved.view;
+        view.solve_frame(view.own_precision().unwrap())
+            .trace()
+            .map(|t| t.precision)
+    };
+    assert_eq!(trace_precision(&harness), Some(Precision::F64));
+    let selected = |harness: &Harness<'static, RaylabApp>| -> Vec<String> {
+        harness
+            .query_all_by(|node| node.toggled() == Some(egui::accesskit::Toggled::True))
+            .filter_map(|node| node.accesskit_node().label())
+            .collect()
+    };
+    assert!(selected(&harness).contains(&"f64".to_string()));
+    click(&mut harness, &["exact"]);
+    assert_eq!(
+        app_view::<RenderView>(&harness).probe_precision,
+        Precision::Exact
+    );
+    assert_eq!(trace_precision(&harness), Some(Precision::Exact));
+    click(&mut harness, &["f32"]);
+    assert_eq!(
+        app_view::<RenderView>(&harness).probe_precision,
+        Precision::F32
+    );
+    // The lecture views keep theirs.
+    assert_eq!(harness.state().state.precision, Precision::Exact);
+}

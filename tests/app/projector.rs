@@ -312,7 +312,12 @@ fn a_probed_pixel_with_long_decimals_keeps_the_step_panel_whole() {
         let mut harness = projector(1280.0, 800.0, zoom);
         let screen = Rect::from_min_size(egui::Pos2::ZERO, Vec2::new(1280.0, 800.0) / zoom);
         common::load_preset(&mut harness, "Render: a transformed object");
-        harness.state_mut().state.precision = raylab::geometry::Precision::Exact;
+        harness
+            .state_mut()
+            .state
+            .get_mut::<RenderView>()
+            .probe_precision = raylab::geometry::Precision::Exact;
+        harness.run();
         common::click_image(&mut harness, "Correct render", Vec2::new(0.55, 0.35));
         harness.remove_cursor();
         harness.run();
