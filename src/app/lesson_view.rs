@@ -206,11 +206,7 @@ impl RaylabApp {
         // A question is asked before it is answered: the view keeps its verdict, hit ring and
         // values to itself until "Show the answer" (a live class's lock hides them as well).
         let ctx = ui.ctx().clone();
-        let hides = slide.question.is_some() && !answer_shown;
         let hidden_before = super::widgets::answers_hidden(&ctx);
-        if hides {
-            super::widgets::hide_answers(&ctx, true);
-        }
         self.beside_the_view(ui, solved, "lesson-slide", |ui| {
             enlarge(ui, 1.3);
             ui.add(egui::Label::new(RichText::new(&slide.title).heading()).wrap());
@@ -240,9 +236,7 @@ impl RaylabApp {
                 step_panel::step_ui(ui, index + 1, step, None);
             }
         });
-        if hides {
-            super::widgets::hide_answers(&ctx, hidden_before);
-        }
+        super::widgets::hide_answers(&ctx, hidden_before);
         if answer_shown && self.lesson.as_ref().is_some_and(|run| !run.answer_shown) {
             self.reveal_to_class();
         }

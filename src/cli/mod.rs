@@ -128,12 +128,12 @@ pub struct RenderArgs {
     /// machine (0: no limit).
     #[arg(long, default_value_t = crate::render::budget::TIME_BUDGET_SECONDS, value_parser = clap::value_parser!(u32))]
     pub budget: u32,
-    /// Refuse a scene whose meshes and textures would hold more than this many MB together (a file
-    /// several objects name counts once).
+    /// Refuse a scene whose meshes and textures would hold more than this many MiB together (a
+    /// file several objects name counts once).
     #[arg(
         long,
-        value_name = "MB",
-        default_value_t = crate::render::budget::MEMORY_BUDGET_BYTES / 1_000_000,
+        value_name = "MIB",
+        default_value_t = crate::render::budget::MEMORY_BUDGET_BYTES >> 20,
         value_parser = clap::value_parser!(u64).range(1..=1_000_000)
     )]
     pub memory: u64,
@@ -644,7 +644,7 @@ fn run_render(args: RenderArgs) -> Result<ExitCode, RenderError> {
         _ => return Err(RenderError::NotARenderScene(name)),
     };
     let assets = crate::render::loading::assets::OnDisk::beside(&args.scene);
-    let mut prepared = prepare_showing_progress(&scene, assets, args.memory * 1_000_000)
+    let mut prepared = prepare_showing_progress(&scene, assets, args.memory << 20)
         .map_err(|error| RenderError::Prepare { scene: name, error })?;
     if let Some(method) = args.method {
         prepared.method = Some(method);

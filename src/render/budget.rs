@@ -1,10 +1,12 @@
-//! The most rays a render may cast, worked out from its settings before it starts: `raylab render`
-//! and the Render view refuse a render past [`WORST_CASE_RAYS`] the same way, with the figures.
+//! A render's budget, checked before it starts, the same way by `raylab render` and the Render
+//! view, with the figures: the most rays its settings may cast ([`worst_case`]), the memory its
+//! meshes and textures hold ([`MemoryTally`]) and the time a trial frame estimates ([`Trial`]).
 
 use std::sync::Arc;
 
 use super::ray_kinds::short_count;
 use super::{Prepared, RenderJob};
+use crate::files::size_text;
 use crate::platform::{Progress, Sliced, Stopwatch};
 use crate::scene::render::Effect;
 
@@ -34,7 +36,7 @@ pub struct WorstCase {
     /// The image's height.
     pub height: usize,
     /// Samples a pixel.
-    pub samples: u32,
+    pub samples: usize,
     /// Bounces.
     pub max_depth: u32,
     /// Occlusion rays a hit.
@@ -47,12 +49,7 @@ pub struct WorstCase {
 pub fn worst_case(prepared: &Prepared) -> WorstCase {
     let on = |effect| prepared.effects.contains(&effect);
     let settings = &prepared.lighting.settings;
-    let samples_per_side = if on(Effect::Antialiasing) {
-        settings.samples_per_side.max(1)
-    } else {
-        1
-    };
-    let samples = f64::from(samples_per_side * samples_per_side);
+    let samples = prepared.samples_per_pixel();
     let depth = f64::from(settings.max_depth);
     let nodes = if on(Effect::Refraction) {
         2f64.powf(depth + 1.0) - 1.0
@@ -72,13 +69,12 @@ pub fn worst_case(prepared: &Prepared) -> WorstCase {
         0.0
     };
     WorstCase {
-        rays: (prepared.width * prepared.height) as f64
-            * samples
+        rays: (prepared.width * prepared.height * samples) as f64
             * nodes
             * (1.0 + shadows + occlusion),
         width: prepared.width,
         height: prepared.height,
-        samples: samples_per_side * samples_per_side,
+        samples,
         max_depth: settings.max_depth,
         occlusion_rays: settings.occlusion_rays,
     }
@@ -91,7 +87,7 @@ pub fn past_budget(prepared: &Prepared) -> Option<WorstCase> {
 
 /// The most memory a scene's meshes and textures may hold together (each file counted once, however
 /// many objects name it), so that a render fits a school laptop's memory beside the app.
-pub const MEMORY_BUDGET_BYTES: u64 = 2_000_000_000;
+pub const MEMORY_BUDGET_BYTES: u64 = 2 << 30;
 
 /// Bytes a mesh's hierarchy may take per triangle, at most: its boxes, slot order, leaf-ordered
 /// vertices and four-triangle packs, with leaves padded to four slots (about 490 measured on
@@ -151,11 +147,11 @@ impl MemoryTally {
 #[error(
     "the scene's meshes and textures would hold about {} in memory ({}), past the budget of {}: use fewer or \
      smaller meshes and textures, or name a file once for several objects (it is then held once)",
-    bytes(*.held),
-    .files.iter().take(3).map(|(n, b)| format!("{n} {}", bytes(*b))).chain(
+    size_text(*.held),
+    .files.iter().take(3).map(|(n, b)| format!("{n} {}", size_text(*b))).chain(
         (.files.len() > 3).then(|| format!("{} more", .files.len() - 3))
     ).collect::<Vec<_>>().join(", "),
-    bytes(*.budget)
+    size_text(*.budget)
 )]
 pub struct OverMemory {
     /// Bytes the files would hold together.
@@ -166,22 +162,10 @@ pub struct OverMemory {
     pub files: Vec<(String, u64)>,
 }
 
-/// `bytes` as a person reads it: "1.5 GB", "48 MB", "12 kB".
-pub fn bytes(bytes: u64) -> String {
-    let b = bytes as f64;
-    if b >= 1e9 {
-        format!("{:.1} GB", b / 1e9)
-    } else if b >= 1e6 {
-        format!("{:.0} MB", b / 1e6)
-    } else {
-        format!("{:.0} kB", (b / 1e3).max(1.0))
-    }
-}
-
 /// The time a render may take, estimated, before `raylab render` and the Render view refuse it
 /// (the command line's `--budget` changes it; the app's "Render anyway" waives it). A debug build
-/// (the tests') renders 20–40 times slower than a release build, so its budget is that much
-/// larger: the same scenes pass, and the same ones are refused.
+/// renders 20–40 times slower than a release build, so `raylab render`'s budget there is that much
+/// larger (the app's Render view has none in a debug build: see its `default_time_budget`).
 pub const TIME_BUDGET_SECONDS: u32 = if cfg!(debug_assertions) { 30 * 60 } else { 60 };
 
 /// Renders below this many samples (pixels × samples a pixel) need no trial: they take moments.
@@ -363,19 +347,18 @@ mod tests {
 
     #[test]
     fn a_file_named_twice_is_counted_once_and_the_refusal_names_the_largest() {
-        let mut tally = MemoryTally::new(100_000_000);
-        assert_eq!(tally.add("a.obj", 60_000_000), Ok(()));
-        assert_eq!(tally.add("a.obj", 60_000_000), Ok(()));
-        let over = tally.add("b.png", 50_331_648).unwrap_err();
-        assert_eq!(over.held, 110_331_648);
+        const MIB: u64 = 1 << 20;
+        let mut tally = MemoryTally::new(100 * MIB);
+        assert_eq!(tally.add("a.obj", 60 * MIB), Ok(()));
+        assert_eq!(tally.add("a.obj", 60 * MIB), Ok(()));
+        let over = tally.add("b.png", 48 * MIB).unwrap_err();
+        assert_eq!(over.held, 108 * MIB);
         assert_eq!(
             over.to_string(),
-            "the scene's meshes and textures would hold about 110 MB in memory (a.obj 60 MB, b.png \
-             50 MB), past the budget of 100 MB: use fewer or smaller meshes and textures, or name a \
-             file once for several objects (it is then held once)"
+            "the scene's meshes and textures would hold about 108.0 MiB in memory (a.obj 60.0 MiB, \
+             b.png 48.0 MiB), past the budget of 100.0 MiB: use fewer or smaller meshes and textures, \
+             or name a file once for several objects (it is then held once)"
         );
-        assert_eq!(bytes(2_000_000_000), "2.0 GB");
-        assert_eq!(bytes(12_345), "12 kB");
     }
 
     #[test]

@@ -529,20 +529,12 @@ pub fn nearest_hit_between(
 /// True when anything is hit with `t_min < t < t_max`: an any-hit query that stops at the first hit
 /// (shadow and occlusion rays; a surface exactly at the light does not hide it).
 pub fn any_hit(prepared: &Prepared, ray: Ray, range: (f64, f64), stats: &mut Stats) -> bool {
-    // A plain loop: LLVM left `any`'s closure wrapper out of line (3% of a shadow scene's
-    // instructions).
-    for index in 0..prepared.objects.len() {
-        if object_blocks(prepared, index, ray, range, stats) {
-            return true;
-        }
-    }
-    false
+    (0..prepared.objects.len()).any(|index| object_blocks(prepared, index, ray, range, stats))
 }
 
 /// True when object `index` is hit in (t_min, t_max): a mesh taking the crack-free test asks its
 /// BVH's any-hit walk ([`Bvh::occluded`], the same decisions as the nearest-hit test's), anything
 /// else the first hit [`object_hit_between`] finds.
-#[inline(always)]
 fn object_blocks(
     prepared: &Prepared,
     index: usize,

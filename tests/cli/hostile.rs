@@ -556,7 +556,7 @@ fn a_file_named_by_many_objects_is_held_once() {
 }
 
 /// Files past the memory budget together are refused before the render, with the figures: here
-/// two distinct meshes against `--memory 30` (MB), each within it alone.
+/// two distinct meshes against `--memory 30` (MiB), each within it alone.
 #[test]
 fn meshes_past_the_memory_budget_together_are_refused_with_the_figures() {
     let dir = scratch("memory");
@@ -572,11 +572,14 @@ fn meshes_past_the_memory_budget_together_are_refused_with_the_figures() {
     );
     let message = stderr(&output);
     assert_eq!(output.status.code(), Some(1), "{message}");
-    // "two.ron: the scene's meshes and textures would hold about 38 MB in memory (b.obj 19 MB,
-    // a.obj 11 MB), past the budget of 30 MB: …": a.obj, named twice, is counted once.
-    assert!(message.contains("would hold about 38 MB"), "{message}");
-    assert!(message.contains("(b.obj 19 MB, a.obj 19 MB)"), "{message}");
-    assert!(message.contains("past the budget of 30 MB"), "{message}");
+    // "two.ron: the scene's meshes and textures would hold about 36.7 MiB in memory (b.obj 18.5 MiB,
+    // a.obj 18.2 MiB), past the budget of 30.0 MiB: …": a.obj, named twice, is counted once.
+    assert!(message.contains("would hold about 36.7 MiB"), "{message}");
+    assert!(
+        message.contains("(b.obj 18.5 MiB, a.obj 18.2 MiB)"),
+        "{message}"
+    );
+    assert!(message.contains("past the budget of 30.0 MiB"), "{message}");
     assert!(!dir.join("out.png").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -20,6 +20,14 @@ fn preset_with(
     scene
 }
 
+/// "Render anyway" renders the scene that waited, and the refusal goes.
+fn renders_anyway(harness: &mut egui_kittest::Harness<'static, raylab::app::RaylabApp>) {
+    harness.get_by_label("Render anyway").click();
+    common::wait_for_render(harness);
+    assert!(app_view::<RenderView>(harness).rendered().is_some());
+    assert!(!common::shows_text_containing(harness, "Not rendered"));
+}
+
 #[test]
 fn a_render_past_the_budget_waits_for_render_anyway() {
     let mut harness = common::app_harness();
@@ -52,10 +60,7 @@ fn a_render_past_the_budget_waits_for_render_anyway() {
         &harness,
         "Not rendered: this render may cast up to"
     ));
-    harness.get_by_label("Render anyway").click();
-    common::wait_for_render(&mut harness);
-    assert!(app_view::<RenderView>(&harness).rendered().is_some());
-    assert!(!common::shows_text_containing(&harness, "Not rendered"));
+    renders_anyway(&mut harness);
 }
 
 #[test]
@@ -106,8 +111,5 @@ fn a_render_estimated_past_the_time_budget_waits_for_render_anyway() {
         &harness,
         "threads here (about"
     ));
-    harness.get_by_label("Render anyway").click();
-    common::wait_for_render(&mut harness);
-    assert!(app_view::<RenderView>(&harness).rendered().is_some());
-    assert!(!common::shows_text_containing(&harness, "Not rendered"));
+    renders_anyway(&mut harness);
 }

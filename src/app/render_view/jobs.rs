@@ -110,8 +110,14 @@ pub(super) struct Slot {
     /// The choices whose render failed inside (a panic) or was refused: not started again until
     /// they change.
     pub(super) failed: Option<Choices>,
-    /// The render that was refused for its time, until the view shows why.
-    pub(super) over_time: Option<OverTime>,
+}
+
+/// A render that ended this frame.
+pub(super) enum Finished {
+    /// Its image is shown: the frame's draft factor (`None`: the full image) and seconds.
+    Shown(Option<u32>, f64),
+    /// Its trial frame put it past the time budget: nothing was rendered.
+    OverTime(OverTime),
 }
 
 impl Slot {
@@ -124,8 +130,8 @@ impl Slot {
     }
 
     /// Takes the running render's image when it has finished (as the texture `name`), or its
-    /// failure; returns the finished frame's draft factor and seconds.
-    fn take_finished(&mut self, ctx: &egui::Context, name: &str) -> Option<(Option<u32>, f64)> {
+    /// failure; says how it ended, `None` while it runs or when it failed.
+    fn take_finished(&mut self, ctx: &egui::Context, name: &str) -> Option<Finished> {
         let (key, mut job) = self.running.take()?;
         if let Some(failure) = job.failure() {
             self.error = Some(format!(
@@ -140,9 +146,8 @@ impl Slot {
                 return None;
             }
             Some(Err(over)) => {
-                self.over_time = Some(over);
                 self.failed = Some(key);
-                return None;
+                return Some(Finished::OverTime(over));
             }
             Some(Ok(rendered)) => rendered,
         };
@@ -155,7 +160,7 @@ impl Slot {
             None => TextureOptions::NEAREST,
         };
         let texture = ctx.load_texture(name, pixels, filter);
-        let frame = (key.draft, rendered.seconds);
+        let frame = Finished::Shown(key.draft, rendered.seconds);
         self.shown = Some(Shown {
             key,
             rendered,
@@ -248,12 +253,13 @@ impl RenderView {
         }
         self.poll_cost(ctx);
         let now = ctx.input(|i| i.time);
-        if let Some(frame) = self.runtime.correct.take_finished(ctx, "render") {
-            self.runtime.orbit.frame_shown(frame, now);
+        let correct = self.runtime.correct.take_finished(ctx, "render");
+        let buggy = self.runtime.buggy.take_finished(ctx, "render-bug");
+        if let Some(Finished::Shown(draft, seconds)) = correct {
+            self.runtime.orbit.frame_shown((draft, seconds), now);
         }
-        self.runtime.buggy.take_finished(ctx, "render-bug");
-        for slot in [&mut self.runtime.correct, &mut self.runtime.buggy] {
-            if let Some(over) = slot.over_time.take() {
+        for finished in [correct, buggy] {
+            if let Some(Finished::OverTime(over)) = finished {
                 self.runtime.past_budget = Some(PastBudget::Time(over));
             }
         }

@@ -342,27 +342,10 @@ impl Bvh {
 
     /// The bytes it holds (its vectors' capacities).
     pub fn held_bytes(&self) -> u64 {
-        use std::mem::size_of_val;
-        let held = |bytes: usize, length: usize, capacity: usize| {
-            (bytes / length.max(1) * capacity) as u64
-        };
-        held(
-            size_of_val(&self.nodes[..]),
-            self.nodes.len(),
-            self.nodes.capacity(),
-        ) + held(
-            size_of_val(&self.order[..]),
-            self.order.len(),
-            self.order.capacity(),
-        ) + held(
-            size_of_val(&self.vertices[..]),
-            self.vertices.len(),
-            self.vertices.capacity(),
-        ) + held(
-            size_of_val(&self.quads[..]),
-            self.quads.len(),
-            self.quads.capacity(),
-        )
+        fn held<T>(v: &Vec<T>) -> u64 {
+            (std::mem::size_of::<T>() * v.capacity()) as u64
+        }
+        held(&self.nodes) + held(&self.order) + held(&self.vertices) + held(&self.quads)
     }
 
     /// True when it holds no triangle.
