@@ -633,7 +633,10 @@ impl RenderView {
     /// The image (and the bug's image beside it); a click probes a pixel.
     fn images_ui(&mut self, ui: &mut Ui, action: &mut Option<Action>, room: Vec2) {
         let Some(shown) = &self.runtime.correct.shown else {
-            ui.label("Rendering…");
+            // A render that waits for "Render anyway" (or failed) is said so by the status above.
+            if self.runtime.correct.running.is_some() {
+                ui.label("Rendering…");
+            }
             return;
         };
         let (width, height) = (shown.rendered.image.width, shown.rendered.image.height);

@@ -680,11 +680,16 @@ impl TriangleView {
         let [a, b, c, l, d] = self.scene.vectors();
         canvas.axes_labelled(&[a, b, c, l], &mut labels);
 
+        // A practice problem's outcome is for the student to name: a degenerate triangle is then
+        // drawn as any other (its three points on one line), not marked as failed.
+        let hidden = super::widgets::answers_hidden(canvas.painter.ctx());
         let degenerate = matches!(
             solved.float.outcome,
             TriangleOutcome::Miss(TriangleMiss::DegenerateTriangle)
         );
-        if !degenerate {
+        if degenerate && hidden {
+            canvas.polygon(&[a, b, c], faded(palette::BETA, 40), Stroke::new(2.0, text));
+        } else if !degenerate {
             // The parametric form covers the whole plane: a faint grid of constant β and γ.
             let problem = self.problem();
             let plane =
@@ -699,16 +704,13 @@ impl TriangleView {
         } else {
             canvas.line(a, b, Stroke::new(3.0, palette::OUTSIDE));
             canvas.line(b, c, Stroke::new(3.0, palette::OUTSIDE));
-            // A practice problem's outcome is for the student to name.
-            if !super::widgets::answers_hidden(canvas.painter.ctx()) {
-                canvas.place_label(
-                    &mut labels,
-                    (a + c) / 2.0,
-                    "degenerate: A, B, C on one line",
-                    palette::OUTSIDE,
-                    Priority::Normal,
-                );
-            }
+            canvas.place_label(
+                &mut labels,
+                (a + c) / 2.0,
+                "degenerate: A, B, C on one line",
+                palette::OUTSIDE,
+                Priority::Normal,
+            );
         }
         self.draw_highlights(canvas, solved, &mut labels);
         for (p, name) in [(a, "A"), (b, "B"), (c, "C")] {

@@ -843,3 +843,36 @@ fn a_probe_steps_in_f64_with_an_exact_toggle() {
     // The lecture views keep theirs.
     assert_eq!(harness.state().state.precision, Precision::Exact);
 }
+
+/// Whether a line in this colour was painted in the last frame.
+fn painted_line_in(harness: &Harness<'static, RaylabApp>, color: egui::Color32) -> bool {
+    fn walk(shape: &egui::epaint::Shape, color: egui::Color32) -> bool {
+        match shape {
+            egui::epaint::Shape::Vec(shapes) => shapes.iter().any(|s| walk(s, color)),
+            egui::epaint::Shape::LineSegment { stroke, .. } => stroke.color == color,
+            _ => false,
+        }
+    }
+    harness
+        .output()
+        .shapes
+        .iter()
+        .any(|clipped| walk(&clipped.shape, color))
+}
+
+/// A degenerate practice triangle is drawn as any triangle until the answer: its edges are not
+/// marked as a failed check (they were, in the miss colour, giving the outcome away).
+#[test]
+fn a_degenerate_practice_triangle_is_not_marked_before_the_answer() {
+    use raylab::app::widgets::palette;
+    let mut harness = harness();
+    harness.state_mut().start_practice(
+        raylab::exercise::Kind::Triangle,
+        raylab::exercise::Level::Degenerate,
+    );
+    harness.run();
+    assert!(!painted_line_in(&harness, palette::OUTSIDE));
+    click(&mut harness, &["Reveal the answer"]);
+    assert!(painted_line_in(&harness, palette::OUTSIDE));
+    assert!(painted(&harness, "degenerate: A, B, C on one line"));
+}

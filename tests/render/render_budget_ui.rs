@@ -111,5 +111,7 @@ fn a_render_estimated_past_the_time_budget_waits_for_render_anyway() {
         &harness,
         "threads here (about"
     ));
+    // Nothing renders, and nothing says it does.
+    assert!(!common::shows_text_containing(&harness, "Rendering…"));
     renders_anyway(&mut harness);
 }
