@@ -672,18 +672,28 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
 
 /// True if some text painted in the last frame (labels on a canvas included) contains `needle`.
 fn painted(harness: &Harness<'static, RaylabApp>, needle: &str) -> bool {
-    fn walk(shape: &egui::epaint::Shape, needle: &str) -> bool {
+    any_shape(harness, &|shape| match shape {
+        egui::epaint::Shape::Text(text) => text.galley.text().contains(needle),
+        _ => false,
+    })
+}
+
+/// Whether any shape painted in the last frame (inside nested lists too) is one `test` accepts.
+fn any_shape(
+    harness: &Harness<'static, RaylabApp>,
+    test: &dyn Fn(&egui::epaint::Shape) -> bool,
+) -> bool {
+    fn walk(shape: &egui::epaint::Shape, test: &dyn Fn(&egui::epaint::Shape) -> bool) -> bool {
         match shape {
-            egui::epaint::Shape::Vec(shapes) => shapes.iter().any(|s| walk(s, needle)),
-            egui::epaint::Shape::Text(text) => text.galley.text().contains(needle),
-            _ => false,
+            egui::epaint::Shape::Vec(shapes) => shapes.iter().any(|s| walk(s, test)),
+            other => test(other),
         }
     }
     harness
         .output()
         .shapes
         .iter()
-        .any(|clipped| walk(&clipped.shape, needle))
+        .any(|clipped| walk(&clipped.shape, test))
 }
 
 #[test]
@@ -846,18 +856,10 @@ fn a_probe_steps_in_f64_with_an_exact_toggle() {
 
 /// Whether a line in this colour was painted in the last frame.
 fn painted_line_in(harness: &Harness<'static, RaylabApp>, color: egui::Color32) -> bool {
-    fn walk(shape: &egui::epaint::Shape, color: egui::Color32) -> bool {
-        match shape {
-            egui::epaint::Shape::Vec(shapes) => shapes.iter().any(|s| walk(s, color)),
-            egui::epaint::Shape::LineSegment { stroke, .. } => stroke.color == color,
-            _ => false,
-        }
-    }
-    harness
-        .output()
-        .shapes
-        .iter()
-        .any(|clipped| walk(&clipped.shape, color))
+    any_shape(harness, &|shape| match shape {
+        egui::epaint::Shape::LineSegment { stroke, .. } => stroke.color == color,
+        _ => false,
+    })
 }
 
 /// A degenerate practice triangle is drawn as any triangle until the answer: its edges are not
