@@ -267,14 +267,75 @@ impl SignedRoot {
         sign * rest.to_f64().sqrt() * 2f64.powi(k as i32)
     }
 
-    /// The whole exact value, however long: `√3`, `2/3`, `√(1/2)`, `−√(4131/2888)`.
+    /// √q as a·√b / d with b free of small square factors (√(236/25) = 2√59/5, √(1/2) = √2/2), when
+    /// q's numerator and denominator are small enough to search (`None` past 2^128).
+    fn simplified(&self) -> Option<(BigInt, BigInt, BigInt)> {
+        let (n, d) = (self.square.0.numer(), self.square.0.denom());
+        // √(n/d) = √(n·d) / d.
+        let mut rest = n * d;
+        if rest.bits() > 128 || rest.is_zero() {
+            return None;
+        }
+        let mut outside = BigInt::one();
+        // Small primes' squares out of the radicand (composite p never divide what is left).
+        for p in (2u32..10_002).map(BigInt::from) {
+            let square = &p * &p;
+            if square > rest {
+                break;
+            }
+            while (&rest % &square).is_zero() {
+                rest /= &square;
+                outside *= &p;
+            }
+        }
+        // Their greatest common divisor, by Euclid.
+        let (mut x, mut y) = (outside.clone(), d.clone());
+        while !y.is_zero() {
+            (x, y) = (y.clone(), x % y);
+        }
+        let divisor = x;
+        Some((&outside / &divisor, rest, d / &divisor))
+    }
+
+    /// The whole exact value, however long: `√3`, `2/3`, `√2/2`, `2√59/5`.
     pub fn full(&self) -> String {
-        let body = match self.square.exact_sqrt() {
-            Some(root) => root.fraction(),
-            None if self.square.is_integer() => format!("√{}", self.square.fraction()),
-            None => format!("√({})", self.square.fraction()),
+        let body = match (self.square.exact_sqrt(), self.simplest()) {
+            (Some(root), _) => root.fraction(),
+            (None, Some((a, b, d))) => {
+                let a = if a.is_one() {
+                    String::new()
+                } else {
+                    a.to_string()
+                };
+                let d = if d.is_one() {
+                    String::new()
+                } else {
+                    format!("/{d}")
+                };
+                format!("{a}√{b}{d}")
+            }
+            (None, None) => self.as_written(),
         };
         format!("{}{body}", self.sign())
+    }
+
+    /// √ of the square as it stands: `√3`, `√(1/2)`.
+    fn as_written(&self) -> String {
+        if self.square.is_integer() {
+            format!("√{}", self.square.fraction())
+        } else {
+            format!("√({})", self.square.fraction())
+        }
+    }
+
+    /// [`SignedRoot::simplified`] where it reads no longer than the root as it stands (a huge
+    /// radicand with one small square in it reads better left alone).
+    fn simplest(&self) -> Option<(BigInt, BigInt, BigInt)> {
+        let (a, b, d) = self.simplified()?;
+        // Without the √: the factor, the radicand, "/" and the divisor.
+        let digits = |n: &BigInt| if n.is_one() { 0 } else { n.to_string().len() };
+        let simplified = digits(&a) + b.to_string().len() + digits(&d) + usize::from(!d.is_one());
+        (simplified < self.as_written().chars().count()).then_some((a, b, d))
     }
 
     /// For people: [`SignedRoot::full`] when short, else `None` (show the float instead).
@@ -319,7 +380,7 @@ impl SignedRoot {
         Exact(root_r.0 * scale)
     }
 
-    /// LaTeX for [`SignedRoot::short`]: `\sqrt{3}`, `\frac{2}{3}`, `\sqrt{\frac{1}{2}}`.
+    /// LaTeX for [`SignedRoot::short`]: `\sqrt{3}`, `\frac{2}{3}`, `\frac{\sqrt{2}}{2}`.
     pub fn short_latex(&self) -> Option<String> {
         self.short()?;
         let frac = |e: &Exact| {
@@ -329,9 +390,22 @@ impl SignedRoot {
                 format!("\\frac{{{}}}{{{}}}", e.0.numer(), e.0.denom())
             }
         };
-        let body = match self.square.exact_sqrt() {
-            Some(root) => frac(&root),
-            None => format!("\\sqrt{{{}}}", frac(&self.square)),
+        let body = match (self.square.exact_sqrt(), self.simplest()) {
+            (Some(root), _) => frac(&root),
+            (None, Some((a, b, d))) => {
+                let a = if a.is_one() {
+                    String::new()
+                } else {
+                    a.to_string()
+                };
+                let top = format!("{a}\\sqrt{{{b}}}");
+                if d.is_one() {
+                    top
+                } else {
+                    format!("\\frac{{{top}}}{{{d}}}")
+                }
+            }
+            (None, None) => format!("\\sqrt{{{}}}", frac(&self.square)),
         };
         Some(format!("{}{body}", if self.negative { "-" } else { "" }))
     }
@@ -598,11 +672,19 @@ mod tests {
         };
         assert_eq!(root("3", false).full(), "√3");
         assert_eq!(root("4/9", false).full(), "2/3");
-        assert_eq!(root("1/2", true).full(), "−√(1/2)");
+        assert_eq!(root("1/2", true).full(), "−√2/2");
         assert_eq!(
             root("1/2", true).short_latex().unwrap(),
-            "-\\sqrt{\\frac{1}{2}}"
+            "-\\frac{\\sqrt{2}}{2}"
         );
+        // The worksheet's √(236/25): the square 4 comes out.
+        assert_eq!(root("236/25", false).full(), "2√59/5");
+        assert_eq!(
+            root("236/25", false).short_latex().unwrap(),
+            "\\frac{2\\sqrt{59}}{5}"
+        );
+        assert_eq!(root("12", false).full(), "2√3");
+        assert_eq!(root("3/4", false).full(), "√3/2");
         assert_eq!(root("4/9", false).short_latex().unwrap(), "\\frac{2}{3}");
         let long = root("1/288800000000000000000000001", false);
         assert_eq!(long.short(), None);
