@@ -226,7 +226,8 @@ impl LabelLayer {
                     .count();
                 let cost = ring as f32 * 4.0 + rank as f32 * 0.5 + crossings as f32 * 5.0;
                 if best.is_none_or(|(c, _, _)| cost < c) {
-                    best = Some((cost, rect, ring >= 2));
+                    // Any ring past the nearest is far enough to need its line back to the anchor.
+                    best = Some((cost, rect, ring >= 1));
                 }
             }
             // A free place with no crossings on this ring beats anything further out.
@@ -321,6 +322,22 @@ mod tests {
         let (first, _) = layer.best_place(&request(anchor), size, &[]).unwrap();
         let (second, _) = layer.best_place(&request(anchor), size, &[first]).unwrap();
         assert!(!first.expand(GAP).intersects(second));
+    }
+
+    /// With every place on the nearest ring taken, a label goes further out and is joined to its
+    /// anchor by a leader line (on the second ring it was not, and read as nobody's label).
+    #[test]
+    fn a_label_off_its_nearest_ring_gets_a_leader_line() {
+        let layer = layer();
+        let anchor = pos2(200.0, 150.0);
+        let size = vec2(40.0, 18.0);
+        let asked = request(anchor);
+        let nearest: Vec<Rect> = DIRECTIONS
+            .iter()
+            .map(|d| rect_beside(anchor, *d, asked.clearance + RINGS[0], size))
+            .collect();
+        let (rect, moved) = layer.best_place(&asked, size, &nearest).unwrap();
+        assert!(moved, "{rect:?} has no leader line");
     }
 
     #[test]
