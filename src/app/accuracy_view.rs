@@ -206,6 +206,15 @@ impl AccuracyView {
             if self.records.is_empty() {
                 ui.label("Press Run to measure every method in f32 and f64 against exact arithmetic.");
             } else {
+                if self.running.is_some() {
+                    // Not this run's: said, so nobody reads the old figures as the new ones.
+                    ui.label(
+                        RichText::new(
+                            "Below: the last run's results, until this run finishes and replaces them",
+                        )
+                        .italics(),
+                    );
+                }
                 self.family_picker(ui);
                 legend_ui(ui);
                 // Side by side where there is room; stacked on a zoomed projector, so each plot
