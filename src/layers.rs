@@ -20,8 +20,10 @@ pub const LAYERS: &[&[&str]] = &[
     &["intersect", "symbolic", "exercise"],
     // Scene files: the lecture's problems and render scenes.
     &["scene"],
-    // What is built on scenes: the renderer, the accuracy study, lessons.
-    &["render", "accuracy", "lesson"],
+    // What is built on scenes: the renderer, the accuracy study.
+    &["render", "accuracy"],
+    // Lessons: slides of scenes, a render slide with a common bug beside it.
+    &["lesson"],
     // The live class: its protocol, the exact judging of answers, and (desktop) its server.
     &["class"],
     // The window and the command line (which opens the window).

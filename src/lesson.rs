@@ -44,6 +44,9 @@ pub struct Slide {
     /// render scene, where its pinhole camera looks at its target from, at the scene's distance.
     #[serde(default)]
     pub camera: Option<Camera>,
+    /// A common bug rendered beside the correct image (a render scene's slide about the bugs).
+    #[serde(default)]
+    pub bug: Option<crate::render::bug::Bug>,
     /// What the teacher says, a line each. Math is written as text (β = |M1| / |M|).
     pub narration: Vec<String>,
     /// A question for the room, with its answer revealed on request.
@@ -158,6 +161,11 @@ impl Lesson {
                         "{at}: the camera's pitch must be −89 to 89 degrees"
                     ));
                 }
+            }
+            if slide.bug.is_some() && !matches!(scene.problem, Problem::Render(_)) {
+                problems.push(format!(
+                    "{at}: a bug is rendered beside a render scene's image"
+                ));
             }
             if let Some(step) = &slide.step {
                 let trace = if slide.symbolic {

@@ -59,8 +59,8 @@ pub enum Element {
 }
 
 impl Element {
-    /// What a person (or a screen reader) is told is highlighted.
-    pub fn name(self) -> String {
+    /// What a person (or a screen reader) is told is highlighted, in a solve by `solver`.
+    pub fn name(self, solver: &str) -> String {
         match self {
             Element::Column(column) => format!("column {}", column.label()),
             Element::Rhs => "right-hand side Y".into(),
@@ -84,7 +84,9 @@ impl Element {
                 Side::SegmentB => "the ends of segment B".into(),
             },
             Element::Origin => "the ray's origin".into(),
-            Element::Hit => "the hit point".into(),
+            // Not "the hit": on a miss it is still where the lines (or ray and plane) meet.
+            Element::Hit if solver == "segments" => "where the lines cross".into(),
+            Element::Hit => "where the ray meets the plane".into(),
         }
     }
 }
@@ -107,6 +109,10 @@ pub fn of_step(solver: &str, step_id: &str) -> Vec<Element> {
         (_, "product") => {
             let mut elements = all_columns();
             elements.push(Rhs);
+            // Seed 001's product is X = (α, β, t): all three at once.
+            if solver == "parallelogram" {
+                elements.extend([P(Parameter::Alpha), P(Parameter::Beta), P(Parameter::T)]);
+            }
             elements
         }
         ("segments", "check_lengths") => all_columns(),

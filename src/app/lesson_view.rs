@@ -6,7 +6,7 @@
 use egui::{RichText, Ui};
 
 use super::widgets::palette::{self, Readable as _};
-use super::{ActiveSolve, Notice, RaylabApp, enlarge, highlight, step_panel};
+use super::{ActiveSolve, Notice, RaylabApp, highlight, step_panel};
 use crate::lesson::{self, Lesson};
 
 /// A lesson being played.
@@ -95,6 +95,9 @@ impl RaylabApp {
                 {
                     self.ask_class(Some(&question.ask));
                 }
+                if matches!(scene.problem, crate::scene::Problem::Render(_)) {
+                    self.state.get_mut::<super::render_view::RenderView>().bug = slide.bug;
+                }
                 if let Some(camera) = slide.camera {
                     let (yaw, pitch) = (camera.yaw.to_radians(), camera.pitch.to_radians());
                     // The views frame the scene from this direction on their next frame.
@@ -167,7 +170,8 @@ impl RaylabApp {
                     .clicked();
                 ui.separator();
                 ui.label(RichText::new(&run.lesson.title).weak());
-                let names: Vec<String> = highlighted.iter().map(|e| e.name()).collect();
+                let solver = step.as_ref().map_or("", |(_, _, solver)| solver.as_str());
+                let names: Vec<String> = highlighted.iter().map(|e| e.name(solver)).collect();
                 if !names.is_empty() {
                     ui.label(
                         RichText::new(format!("Highlighted: {}", names.join(", ")))
@@ -196,7 +200,18 @@ impl RaylabApp {
         }
         let elements = highlighted;
         if run.reveal_pending {
-            self.reveal(&elements, solved, ui.input(|i| i.time));
+            let now = ui.input(|i| i.time);
+            // What the steps before this one computed is in place at once (the narration goes on
+            // from there: "β = γ = 1/3" on the check after both), then this step's own slides.
+            if let (Some((index, _, solver)), Some(trace)) = (&step, trace) {
+                let earlier: Vec<highlight::Element> = trace.steps[..*index]
+                    .iter()
+                    .flat_map(|s| highlight::of_step(solver, &s.id))
+                    .collect();
+                self.reveal(&earlier, solved, now);
+                self.view_mut(self.state.view).settle();
+            }
+            self.reveal(&elements, solved, now);
             if let Some(run) = &mut self.lesson {
                 run.reveal_pending = false;
             }
@@ -207,8 +222,26 @@ impl RaylabApp {
         // values to itself until "Show the answer" (a live class's lock hides them as well).
         let ctx = ui.ctx().clone();
         let hidden_before = super::widgets::answers_hidden(&ctx);
-        self.beside_the_view(ui, solved, "lesson-slide", |ui| {
-            enlarge(ui, 1.3);
+        // Nor does a slide before the verdict show it: "the segments cross at t = 17/22" would
+        // answer the slides that derive t.
+        let before_verdict = self.view(self.state.view).presents()
+            && trace.is_some_and(|trace| {
+                let verdict = trace
+                    .steps
+                    .iter()
+                    .position(|s| matches!(s.payload, crate::trace::Payload::Verdict(_)));
+                let at = step.as_ref().map(|(index, _, _)| *index);
+                verdict.is_some_and(|verdict| at.is_none_or(|at| at < verdict))
+            });
+        super::widgets::hide_answers(&ctx, hidden_before || before_verdict);
+        // The panel's text scale is found again for each page: a slide of a lesson, its answer shown.
+        let page = {
+            use std::hash::{Hash as _, Hasher as _};
+            let mut hasher = std::hash::DefaultHasher::new();
+            (&run.name, run.slide, answer_shown).hash(&mut hasher);
+            hasher.finish() as usize
+        };
+        self.beside_the_view(ui, solved, "lesson-slide", Some((1.3, page)), |ui| {
             ui.add(egui::Label::new(RichText::new(&slide.title).heading()).wrap());
             for line in &slide.narration {
                 ui.add(egui::Label::new(line).wrap());
@@ -229,7 +262,10 @@ impl RaylabApp {
                     answer_shown = true;
                 }
                 // Read as the view draws, after this panel: shown from this frame on.
-                super::widgets::hide_answers(&ctx, hidden_before || !answer_shown);
+                // A question about a step's result is answered by the view too; a question on a
+                // picture slide (no step) is not, and the view keeps the verdict for later.
+                let revealed = answer_shown && (step.is_some() || !before_verdict);
+                super::widgets::hide_answers(&ctx, hidden_before || !revealed);
             }
             if let Some((index, step, _)) = &step {
                 ui.add_space(8.0);

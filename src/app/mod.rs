@@ -423,6 +423,7 @@ impl RaylabApp {
                         let choice = step_panel::Choice {
                             precision: &mut precision,
                             symbolic: triangle.then_some(&mut symbolic),
+                            subject: self.view(self.state.view).steps_subject(),
                         };
                         let panel = step_panel::ui(ui, trace, choice, marked, to_top);
                         let solver = trace.solver.clone();
@@ -499,7 +500,10 @@ impl RaylabApp {
 fn side_panel(ui: &Ui, id: &'static str, share: f32, widest: f32, most: f32) -> egui::Panel {
     let full = ui.available_width();
     let width = (full * share).clamp(240.0, widest).min(full * most);
-    egui::Panel::right(id)
+    // Each zoom keeps its own width: one width for all, clamped to the narrower window of a zoomed
+    // screen, came back narrower after every zoom in and out (630 → 480 → 358 points).
+    let zoom = (ui.ctx().zoom_factor() * 100.0).round() as u32;
+    egui::Panel::right(egui::Id::unique((id, zoom)))
         .resizable(true)
         .default_size(width)
         .size_range(width.min(240.0)..=full * most)

@@ -68,8 +68,10 @@ impl LectureView for ParallelogramView {
             DVec3::from(scene.origin),
             DVec3::ZERO,
         ];
-        self.canvas
-            .reset(OrbitCamera::framing(&points).across(DVec3::from(scene.dir)));
+        self.canvas.reset(OrbitCamera::framing(&points).across(
+            DVec3::from(scene.dir),
+            Some(DVec3::from(scene.e1).cross(DVec3::from(scene.e2))),
+        ));
         self.scene = scene;
         self.alpha = 0.5;
         self.beta = 0.5;
@@ -289,7 +291,21 @@ impl ParallelogramView {
         };
         let mut labels = LabelLayer::new(response.rect);
         handles::labels_avoid_focus_ring(ui.ctx(), &mut labels);
-        let verdict = super::widgets::verdict_overlay(ui, &painter, response.rect, &solved.trace);
+        // The handles: corner, edges' tips, origin, direction's tip, p(α, β), o + t d.
+        let handles: Vec<egui::Pos2> = [
+            c,
+            c_e1,
+            c_e2,
+            o,
+            o + d,
+            corner(self.alpha, self.beta),
+            o + d * self.t,
+        ]
+        .into_iter()
+        .filter_map(|p| projector.screen_from_world(p))
+        .collect();
+        let verdict =
+            super::widgets::verdict_overlay(ui, &painter, response.rect, &solved.trace, &handles);
         if let Some(verdict) = &verdict {
             labels.avoid(verdict.rect);
         }

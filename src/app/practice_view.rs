@@ -179,7 +179,7 @@ impl RaylabApp {
         // The view keeps the verdict to itself while the problem is open (the flag is read as the
         // view draws, after the panel has taken this frame's answer).
         let ctx = ui.ctx().clone();
-        self.beside_the_view(ui, solved, "practice-panel", |ui| {
+        self.beside_the_view(ui, solved, "practice-panel", None, |ui| {
             problem_ui(ui, &mut run, solved);
             super::widgets::hide_answers(&ctx, !run.revealed);
         });

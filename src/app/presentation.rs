@@ -74,7 +74,7 @@ impl RaylabApp {
                     leave = true;
                 }
                 ui.separator();
-                let names: Vec<String> = elements.iter().map(|e| e.name()).collect();
+                let names: Vec<String> = elements.iter().map(|e| e.name(&trace.solver)).collect();
                 if !names.is_empty() {
                     ui.label(
                         RichText::new(format!("Highlighted: {}", names.join(", ")))
@@ -98,10 +98,20 @@ impl RaylabApp {
             }
         }
         self.set_highlight(elements);
-        self.beside_the_view(ui, solved, "presented-step", |ui| {
-            enlarge(ui, 1.4);
+        // The view keeps its verdict (and hit ring) until the steps reach it: the first step
+        // does not answer what the rest derive.
+        let ctx = ui.ctx().clone();
+        let hidden_before = widgets::answers_hidden(&ctx);
+        let verdict = trace
+            .steps
+            .iter()
+            .position(|s| matches!(s.payload, crate::trace::Payload::Verdict(_)));
+        let before_verdict = verdict.is_some_and(|verdict| index < verdict);
+        widgets::hide_answers(&ctx, hidden_before || before_verdict);
+        self.beside_the_view(ui, solved, "presented-step", Some((1.4, index)), |ui| {
             step_panel::step_ui(ui, index + 1, step, None);
         });
+        widgets::hide_answers(&ctx, hidden_before);
     }
 
     /// Keeps the open view as step `left` leaves it; going back to `index`, puts back the view as
@@ -125,19 +135,44 @@ impl RaylabApp {
 
     /// The layout every presenter screen shares (presentation, lessons, practice): `side` in a
     /// scrolling panel of about 42% of the width on the right, the open view's canvas filling the rest.
+    /// With `enlarged`, the side's text is that much larger, less as far as it takes to fit the
+    /// panel's height (to at most half): a clicker cannot scroll, and a 3x3 inverse at 200% had
+    /// its third row below the fold.
     pub(super) fn beside_the_view(
         &mut self,
         ui: &mut Ui,
         solved: &ActiveSolve,
         id: &'static str,
+        enlarged: Option<(f32, usize)>,
         side: impl FnOnce(&mut Ui),
     ) {
         let full = ui.available_width();
+        let fit_id = egui::Id::unique(("raylab-fit", id));
         egui::Panel::right(id)
             .resizable(false)
             .exact_size((full * 0.42).max(220.0))
             .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, side);
+                let Some((enlarged, page)) = enlarged else {
+                    egui::ScrollArea::vertical().show(ui, side);
+                    return;
+                };
+                // The scale found for this page (slide or step) in this much room; a new page or a
+                // new size starts again from full size.
+                let room = ui.available_size();
+                let key = (page, room.x.round() as i64, room.y.round() as i64);
+                let fit = ui
+                    .data(|d| d.get_temp::<((usize, i64, i64), f32)>(fit_id))
+                    .filter(|(was, _)| *was == key)
+                    .map_or(1.0, |(_, fit)| fit);
+                let shown = egui::ScrollArea::vertical().show(ui, |ui| {
+                    enlarge(ui, enlarged * fit);
+                    side(ui);
+                });
+                let refit = fitted(fit, shown.inner_rect.height(), shown.content_size.y);
+                ui.data_mut(|d| d.insert_temp(fit_id, (key, refit)));
+                if refit != fit {
+                    ui.ctx().request_repaint();
+                }
             });
         let view = egui::CentralPanel::default().show(ui, |ui| self.view_ui(ui, solved, true));
         self.view_rect = Some(view.response.rect);
@@ -157,5 +192,33 @@ impl RaylabApp {
             self.view_mut(self.state.view)
                 .slide_to(*parameter, solved, now);
         }
+    }
+}
+
+/// The next text scale of a panel whose content, drawn at `fit`, was `content` points tall in `room`:
+/// smaller while it overflows, to half at least. It only shrinks (each page starts at full size), so
+/// it settles instead of flickering where wrapping makes the height jump.
+fn fitted(fit: f32, room: f32, content: f32) -> f32 {
+    if room > 0.0 && content > room {
+        (fit * room / content * 0.98).clamp(0.5, fit)
+    } else {
+        fit
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fitted;
+
+    #[test]
+    fn a_panel_scale_shrinks_to_fit_and_settles() {
+        assert_eq!(fitted(1.0, 400.0, 300.0), 1.0);
+        let smaller = fitted(1.0, 400.0, 600.0);
+        assert!(smaller < 0.67 && smaller > 0.6, "{smaller}");
+        // Fitting: it stays, even with room to spare.
+        assert_eq!(fitted(smaller, 400.0, 390.0), smaller);
+        assert_eq!(fitted(smaller, 400.0, 100.0), smaller);
+        // Never below half.
+        assert_eq!(fitted(1.0, 100.0, 1000.0), 0.5);
     }
 }

@@ -78,6 +78,9 @@ pub struct RenderView {
     /// The precision of a probed ray's steps: f64 by default (the renderer's own arithmetic; exact
     /// arithmetic on its floats reads in 17-digit decimals), picked in the step panel.
     pub probe_precision: Precision,
+    /// The image the probed pixel was clicked on: the correct one (`None`) or the bug's.
+    #[serde(skip)]
+    pub probed_bug: Option<Bug>,
     /// The seconds a full render may take, estimated by its trial frame, before it waits for
     /// "Render anyway" (`None`: no limit).
     #[serde(skip, default = "default_time_budget")]
@@ -126,6 +129,10 @@ impl View for RenderView {
             ),
             _ => ActiveSolve::nothing(),
         }
+    }
+
+    fn steps_subject(&self) -> Option<String> {
+        RenderView::steps_subject(self)
     }
 
     fn frame_ui(
@@ -190,6 +197,7 @@ impl Default for RenderView {
             folder: None,
             camera: None,
             probe_precision: Precision::F64,
+            probed_bug: None,
             time_budget: default_time_budget(),
             runtime: Runtime::default(),
         }
@@ -430,11 +438,52 @@ impl RenderView {
             width: width.max(1) as f32,
             height: height.max(1) as f32,
             panes: if self.bug.is_some() { 2.0 } else { 1.0 },
-            caption: ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y,
+            // "Correct" and "With the bug: …" above a pair; one image needs no caption.
+            caption: if self.bug.is_some() {
+                ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y
+            } else {
+                0.0
+            },
         }
     }
 
+    /// The effects, method and bug (folded under a header on a short view, a projector at 200%,
+    /// so the image takes the height), then the camera and the mode.
     fn controls_ui(&mut self, ui: &mut Ui) {
+        if ui.available_height() < super::widgets::SHORT_VIEW + 40.0 {
+            let on = self.effects.len();
+            let summary = format!(
+                "Controls: {on} of {} effects on, {}",
+                self.scene.effects.len(),
+                self.bug
+                    .map_or("no bug".to_string(), |bug| format!("bug: {}", bug.name()))
+            );
+            egui::CollapsingHeader::new(summary)
+                .id_salt("render-controls-folded")
+                .default_open(false)
+                .show(ui, |ui| {
+                    self.effects_row(ui);
+                    ui.horizontal_wrapped(|ui| self.bug_ui(ui));
+                    ui.horizontal_wrapped(|ui| self.camera_and_mode_ui(ui));
+                    self.bug_sentence_ui(ui);
+                })
+                .header_response
+                .on_hover_text(
+                    "Effects, method and bug: folded to give the image the room on a zoomed screen",
+                );
+            ui.horizontal_wrapped(|ui| self.camera_and_mode_ui(ui));
+            return;
+        }
+        self.effects_row(ui);
+        ui.horizontal_wrapped(|ui| {
+            self.bug_ui(ui);
+            ui.separator();
+            self.camera_and_mode_ui(ui);
+        });
+        self.bug_sentence_ui(ui);
+    }
+
+    fn effects_row(&mut self, ui: &mut Ui) {
         ui.horizontal_wrapped(|ui| {
             ui.label("Effects:");
             for effect in self.scene.effects.clone() {
@@ -453,17 +502,19 @@ impl RenderView {
             }
             self.method_ui(ui);
         });
-        ui.horizontal_wrapped(|ui| {
-            self.bug_ui(ui);
-            ui.separator();
-            self.camera_ui(ui);
-            ui.selectable_value(&mut self.mode, Mode::Image, "Image")
-                .on_hover_text("The rendered image; click a pixel to probe its ray");
-            ui.selectable_value(&mut self.mode, Mode::Spaces, "World vs object space")
-                .on_hover_text(
-                    "The probed ray and object in world space and in the object's own space",
-                );
-        });
+    }
+
+    fn camera_and_mode_ui(&mut self, ui: &mut Ui) {
+        self.camera_ui(ui);
+        ui.selectable_value(&mut self.mode, Mode::Image, "Image")
+            .on_hover_text("The rendered image; click a pixel to probe its ray");
+        ui.selectable_value(&mut self.mode, Mode::Spaces, "World vs object space")
+            .on_hover_text(
+                "The probed ray and object in world space and in the object's own space",
+            );
+    }
+
+    fn bug_sentence_ui(&self, ui: &mut Ui) {
         if let Some(bug) = self.bug {
             ui.label(RichText::new(bug.sentence()).color(palette::OUTSIDE.readable(ui)));
         }
@@ -668,7 +719,9 @@ impl RenderView {
                 }
                 let bug_slot = title.starts_with("With");
                 ui.vertical(|ui| {
-                    ui.label(RichText::new(&title).strong());
+                    if bug.is_some() {
+                        ui.label(RichText::new(&title).strong());
+                    }
                     // While a new render runs, the old image belongs to other choices: the bug's
                     // image of another bug is not shown at all, the correct one is marked. While
                     // the camera moves, the bug's image of the same bug stays up, a frame behind.
@@ -703,7 +756,7 @@ impl RenderView {
                     if !quick
                         && let Some(pixel) = probe_keys(ui, &response, probed, (height, width))
                     {
-                        clicked = Some(pixel);
+                        clicked = Some((pixel, bug_slot));
                     }
                     motion.read(ui, &response, movable);
                     let name = format!("{title} render");
@@ -723,7 +776,7 @@ impl RenderView {
                         && !quick
                         && let Some(pixel) = response.interact_pointer_pos().and_then(to_pixel)
                     {
-                        clicked = Some(pixel);
+                        clicked = Some((pixel, bug_slot));
                     }
                     // While the camera moves, every frame is a step behind it: no band.
                     if stale && !moving && !quick {
@@ -740,8 +793,8 @@ impl RenderView {
             }
         });
         self.apply_motion(motion, ui.input(|i| i.time));
-        if let Some(pixel) = clicked {
-            *action = self.probe_pixel(pixel);
+        if let Some((pixel, bug_slot)) = clicked {
+            *action = self.probe_pixel_in(pixel, if bug_slot { self.bug } else { None });
         }
     }
 }

@@ -154,6 +154,12 @@ impl LectureView for SegmentsView {
         self.animation = Slide::new([self.t, self.s], to, now);
     }
 
+    fn settle(&mut self) {
+        if let Some(slide) = self.animation.take() {
+            [self.t, self.s] = slide.target();
+        }
+    }
+
     fn highlight(&mut self, elements: &[Element]) {
         self.highlight = elements.to_vec();
     }
@@ -603,7 +609,19 @@ impl SegmentsView {
         let text = ui.visuals().text_color();
         let mut labels = LabelLayer::new(frame.rect);
         handles::labels_avoid_focus_ring(ui.ctx(), &mut labels);
-        let verdict = super::widgets::verdict_overlay(ui, painter, frame.rect, &solved.trace);
+        // The handles: the four ends, A(t) and B(s).
+        let [a1, a2, b1, b2] = self.scene.points();
+        let handles = [
+            a1,
+            a2,
+            b1,
+            b2,
+            a1 + (a2 - a1) * self.t,
+            b1 + (b2 - b1) * self.s,
+        ]
+        .map(|p| frame.screen_from_world(p));
+        let verdict =
+            super::widgets::verdict_overlay(ui, painter, frame.rect, &solved.trace, &handles);
         if let Some(verdict) = &verdict {
             labels.avoid(verdict.rect);
         }

@@ -8,6 +8,7 @@
 
 use egui::{Align, Color32, FontId, Layout, RichText, Stroke, TextStyle, Ui, Vec2};
 
+use super::widgets::formula_text::{break_between_terms, keep_formulas_whole};
 use super::widgets::palette;
 use crate::geometry::Precision;
 use crate::trace::{self, Column, Matrix, Number, Payload, Status, Step, Trace};
@@ -21,6 +22,8 @@ pub struct Choice<'a> {
     pub precision: &'a mut Precision,
     /// Symbols instead of numbers, where the view offers them (`None`: not offered).
     pub symbolic: Option<&'a mut bool>,
+    /// Whose steps these are, when the view says (the Render view: which pixel, image and ray).
+    pub subject: Option<String>,
 }
 
 /// What the reader of the panel is pointing at.
@@ -36,16 +39,18 @@ pub struct PanelResponse {
 pub fn ui(
     ui: &mut Ui,
     trace: &Trace,
-    choice: Choice<'_>,
+    mut choice: Choice<'_>,
     marked_column: Option<Column>,
     to_top: bool,
 ) -> PanelResponse {
+    let subject = choice.subject.take();
     ui.horizontal_wrapped(|ui| {
         ui.heading("Steps");
         ui.label("in");
         let Choice {
             precision,
             mut symbolic,
+            subject: _,
         } = choice;
         let in_symbols = symbolic.as_deref().copied().unwrap_or(false);
         for p in <Precision as strum::IntoEnumIterator>::iter() {
@@ -73,6 +78,9 @@ pub fn ui(
         "Copies every step as LaTeX (amsmath, amssymb, xcolor) for slides",
         || trace::to_latex(trace),
     );
+    if let Some(subject) = &subject {
+        ui.add(egui::Label::new(RichText::new(format!("Of {subject}")).strong()).wrap());
+    }
     ui.separator();
     let mut hovered_step = None;
     let mut scroll = egui::ScrollArea::vertical()
@@ -136,26 +144,34 @@ pub fn spoken_step(number: usize, step: &Step) -> String {
     format!("Step {number}. {}", lines.join("\n"))
 }
 
-/// The title, wrapped in what the LaTeX button leaves of the width.
+/// The title beside its LaTeX button when it fits there on one row; else the title wraps (as text,
+/// its formulas whole) across the whole width and the button goes below it.
 fn title_row(ui: &mut Ui, number: usize, step: &Step) {
+    let text = format!("{number}. {}", keep_formulas_whole(&step.title));
+    let title = RichText::new(text.clone()).strong();
     let button_width = text_width(ui, "Copied ✓", TextStyle::Button)
         + 2.0 * ui.spacing().button_padding.x
         + ui.spacing().item_spacing.x;
-    let title_width = (ui.available_width() - button_width).max(60.0);
-    ui.horizontal_top(|ui| {
-        ui.allocate_ui_with_layout(
-            Vec2::new(title_width, 0.0),
-            Layout::top_down(Align::LEFT),
-            |ui| {
-                ui.set_min_width(title_width);
-                let title = RichText::new(format!("{number}. {}", step.title)).strong();
-                ui.add(egui::Label::new(title).wrap());
-            },
-        );
+    let one_row = text_width(ui, &text, TextStyle::Body) + button_width <= ui.available_width();
+    let copy = |ui: &mut Ui| {
         copy_button(ui, "LaTeX", "Copy this step as LaTeX", || {
             trace::step_to_latex(step)
         });
-    });
+    };
+    // A screen reader (and a test looking it up) reads the title with plain spaces.
+    let plain = format!("{number}. {}", step.title);
+    let spoken = |response: egui::Response| {
+        response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Label, true, &plain));
+    };
+    if one_row {
+        ui.horizontal_top(|ui| {
+            spoken(ui.add(egui::Label::new(title)));
+            ui.with_layout(Layout::right_to_left(Align::TOP), copy);
+        });
+    } else {
+        spoken(ui.add(egui::Label::new(title).wrap()));
+        ui.with_layout(Layout::right_to_left(Align::TOP), copy);
+    }
 }
 
 /// A button that copies text and says "Copied ✓" for a moment after, so a teacher knows it worked.
@@ -302,10 +318,17 @@ fn payload_body(
         }
         other => {
             for line in trace::payload_lines(other) {
-                ui.add(egui::Label::new(RichText::new(line).monospace()).wrap());
+                math_line(ui, &line);
             }
         }
     }
+}
+
+/// A line of math in monospace, wrapped only between its terms; read (and found) with plain spaces.
+fn math_line(ui: &mut Ui, line: &str) {
+    let shown = RichText::new(break_between_terms(line)).monospace();
+    ui.add(egui::Label::new(shown).wrap())
+        .widget_info(|| egui::WidgetInfo::labeled(egui::Role::Label, true, line));
 }
 
 /// For a step whose numbers include float values shown by their shortest decimal (exact mode on a
@@ -404,11 +427,11 @@ fn determinant_ui(ui: &mut Ui, id: &str, det: &crate::trace::Determinant) {
             });
         }
         let products = trace::expansion_products(det);
-        ui.add(egui::Label::new(RichText::new(format!("{pad}= {products}")).monospace()).wrap());
+        math_line(ui, &format!("{pad}= {products}"));
     } else {
         // A 2x2 determinant: ad − bc on one line.
         let terms = trace::expansion_products(det);
-        ui.add(egui::Label::new(RichText::new(format!("{name}= {terms}")).monospace()).wrap());
+        math_line(ui, &format!("{name}= {terms}"));
     }
     let value = if det.value.is_zero() {
         "0 (exactly)".to_string()

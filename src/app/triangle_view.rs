@@ -80,7 +80,7 @@ impl LectureView for TriangleView {
 
     /// Loads a scene: new inputs, sliders at a starting point, camera framing the scene.
     fn load(&mut self, scene: TriangleScene) {
-        let camera = OrbitCamera::framing(&self.points_of(&scene)).across(DVec3::from(scene.dir));
+        let camera = self.first_camera(&scene);
         self.canvas.reset(camera);
         self.scene = scene;
         self.reading = Reading::AsWritten;
@@ -140,6 +140,12 @@ impl LectureView for TriangleView {
         }
     }
 
+    fn settle(&mut self) {
+        if let Some(slide) = self.animation.take() {
+            [self.beta, self.gamma, self.t] = slide.target();
+        }
+    }
+
     fn highlight(&mut self, elements: &[Element]) {
         self.highlight = elements.to_vec();
     }
@@ -189,6 +195,13 @@ impl TriangleView {
         points
     }
 
+    /// The camera a scene opens with: framing it, across the ray and facing the triangle.
+    fn first_camera(&self, s: &TriangleScene) -> OrbitCamera {
+        let [a, b, c] = [s.a, s.b, s.c].map(DVec3::from);
+        OrbitCamera::framing(&self.points_of(s))
+            .across(DVec3::from(s.dir), Some((b - a).cross(c - a)))
+    }
+
     fn animate(&mut self, ui: &Ui) {
         let mut values = [self.beta, self.gamma, self.t];
         slide::advance(ui, &mut self.animation, &mut values);
@@ -222,8 +235,7 @@ impl TriangleView {
                 .on_hover_text("Frame the triangle and the ray again")
                 .clicked()
             {
-                let camera = OrbitCamera::framing(&self.points_of(&self.scene))
-                    .across(DVec3::from(self.scene.dir));
+                let camera = self.first_camera(&self.scene);
                 self.canvas.reset(camera);
             }
         });
@@ -668,16 +680,30 @@ impl TriangleView {
         let text = ui.visuals().text_color();
         let mut labels = LabelLayer::new(canvas.projector.rect);
         handles::labels_avoid_focus_ring(ui.ctx(), &mut labels);
+        // The handles: A, B, C, L, D's tip, P(β, γ) and L + tD.
+        let [a, b, c, l, d] = self.scene.vectors();
+        let handles: Vec<egui::Pos2> = [
+            a,
+            b,
+            c,
+            l,
+            l + d,
+            a + (b - a) * self.beta + (c - a) * self.gamma,
+            l + d * self.t,
+        ]
+        .into_iter()
+        .filter_map(|p| canvas.projector.screen_from_world(p))
+        .collect();
         let verdict = super::widgets::verdict_overlay(
             ui,
             canvas.painter,
             canvas.projector.rect,
             &solved.trace,
+            &handles,
         );
         if let Some(verdict) = &verdict {
             labels.avoid(verdict.rect);
         }
-        let [a, b, c, l, d] = self.scene.vectors();
         canvas.axes_labelled(&[a, b, c, l], &mut labels);
 
         // A practice problem's outcome is for the student to name: a degenerate triangle is then

@@ -99,6 +99,12 @@ pub trait View: AnyView {
         None
     }
 
+    /// Whose steps the step panel shows, when that needs saying (the Render view's probed pixel,
+    /// the image it was clicked on and the ray of its tree).
+    fn steps_subject(&self) -> Option<String> {
+        None
+    }
+
     /// Sets the precision it keeps (see [`View::own_precision`]); a view without one ignores it.
     fn set_own_precision(&mut self, _precision: Precision) {}
 
@@ -126,6 +132,9 @@ pub trait View: AnyView {
 
     /// Slides a parameter to its value at the solution (a presentation step computed it).
     fn slide_to(&mut self, _parameter: Parameter, _solved: &ActiveSolve, _now: f64) {}
+
+    /// Ends a running slide at once, its parameters where it was taking them.
+    fn settle(&mut self) {}
 
     /// Its 3D canvas, if it has one (a lesson's slide turns the camera).
     fn canvas_mut(&mut self) -> Option<&mut CanvasState> {
@@ -199,6 +208,9 @@ pub trait LectureView: Clone + Serialize + DeserializeOwned + 'static {
     /// Slides a parameter's handle to its value at the solution (presentation mode, on the step
     /// that computes it).
     fn show_parameter(&mut self, parameter: Parameter, solved: &Self::Solved, now: f64);
+    /// Ends a running slide at once, its parameters at their targets (a lesson slide puts what
+    /// earlier slides computed in place before its own step slides).
+    fn settle(&mut self) {}
     /// Emphasises what the step on screen is about.
     fn highlight(&mut self, elements: &[Element]);
     /// Adds the bits of its inputs and sliders (see [`View::fingerprint`]).
@@ -262,6 +274,10 @@ impl<L: LectureView> View for L {
         if let Some(s) = solved.get::<L::Solved>() {
             self.show_parameter(parameter, s, now);
         }
+    }
+
+    fn settle(&mut self) {
+        LectureView::settle(self);
     }
 
     fn canvas_mut(&mut self) -> Option<&mut CanvasState> {

@@ -401,6 +401,28 @@ fn a_running_study_can_be_cancelled() {
     );
 }
 
+/// While a second study runs, the first one's results stay up, and the view says they are the last
+/// run's (before, nothing told them from this run's).
+#[test]
+fn a_new_run_says_the_results_shown_are_the_last_runs() {
+    let mut harness = harness();
+    common::start_study(&mut harness, [60, 60], 1, 0.01);
+    step_while(&mut harness, 20, "the study did not finish", |h| {
+        h.state().state.get::<AccuracyView>().is_running()
+    });
+    let note = "Below: the last run's results, until this run finishes and replaces them";
+    assert!(!shows(&harness, note));
+    common::start_study(&mut harness, [3000, 3000], 2, 0.05);
+    assert!(app_view::<AccuracyView>(&harness).is_running());
+    harness.step();
+    assert!(shows(&harness, note));
+    harness.get_by_label("Cancel").click();
+    step_while(&mut harness, 20, "cancel did not stop the study", |h| {
+        h.state().state.get::<AccuracyView>().is_running()
+    });
+    assert!(!shows(&harness, note));
+}
+
 #[test]
 fn the_render_view_renders_turns_effects_off_and_probes_a_pixel() {
     let mut harness = app_at("Seed 003: facing ratio");
@@ -467,6 +489,52 @@ fn a_common_bug_renders_beside_the_correct_image() {
         buggy.stats.hits,
         correct.stats.hits
     );
+}
+
+/// A pixel probed on the bug's image is that image's ray (accepting t < 0: a hit behind the camera),
+/// said so beside the probe and above the steps; the same pixel on the correct image is the correct
+/// ray. Before, either image probed the correct one.
+#[test]
+fn a_probe_reports_the_image_it_was_clicked_on() {
+    let mut harness = app_at("Render: common bugs");
+    common::pick_bug(&mut harness, "accepting t < 0");
+    // A pixel the bug draws (the triangle behind the camera) and the correct image does not.
+    let render = app_view::<RenderView>(&harness);
+    let (correct, buggy) = (
+        &render.rendered().unwrap().image,
+        &render.rendered_with_bug().unwrap().image,
+    );
+    let index = (0..correct.pixels.len())
+        .find(|&i| buggy.covered[i] && !correct.covered[i])
+        .expect("the bug draws pixels the correct image does not");
+    let (row, column) = (index / correct.width, index % correct.width);
+    let at = Vec2::new(
+        (column as f32 + 0.5) / correct.width as f32,
+        (row as f32 + 0.5) / correct.height as f32,
+    );
+    click_image(&mut harness, "With the bug: accepting t < 0 render", at);
+    harness.run();
+    let render = app_view::<RenderView>(&harness);
+    assert_eq!(render.probed, Some((row, column)));
+    let hit = render
+        .probe()
+        .unwrap()
+        .hit
+        .expect("the bug's ray hits behind the camera");
+    assert!(hit.t < 0.0, "t = {}", hit.t);
+    let said =
+        format!("Pixel (row {row}, column {column}) of the image with the bug “accepting t < 0”");
+    assert!(shows(&harness, &said), "no “{said}”");
+    assert!(shows(&harness, &format!("Of {said}: the primary ray")));
+    // The same pixel on the correct image: its own ray, which misses.
+    click_image(&mut harness, "Correct render", at);
+    harness.run();
+    let render = app_view::<RenderView>(&harness);
+    assert!(render.probe().unwrap().hit.is_none_or(|hit| hit.t > 0.0));
+    assert!(shows(
+        &harness,
+        &format!("Pixel (row {row}, column {column}) of the correct image")
+    ));
 }
 
 #[test]

@@ -11,5 +11,6 @@ mod common;
 
 mod app_ui;
 mod keyboard;
+mod lessons;
 mod projector;
 mod screenshots;

@@ -58,7 +58,8 @@ fn painted_texts(harness: &Harness<'static, RaylabApp>) -> Vec<PaintedText> {
                         .rect_without_leading_space()
                         .translate(text.pos.to_vec2());
                     out.push(PaintedText {
-                        text: text.galley.text().to_string(),
+                        // Non-breaking spaces (formulas kept whole) read as spaces.
+                        text: text.galley.text().replace('\u{a0}', " "),
                         rect,
                         visible: rect.intersect(clip),
                         clip,
@@ -291,7 +292,10 @@ fn presentation_keys_step_through_the_lecture_triangle_with_linked_highlighting(
     );
     common::press(&mut harness, [egui::Key::ArrowRight; 2]);
     assert!(harness.query_by_label("Step 21 of 23").is_some());
-    assert_eq!(common::highlighted(&harness), "Highlighted: the hit point");
+    assert_eq!(
+        common::highlighted(&harness),
+        "Highlighted: where the ray meets the plane"
+    );
     common::press(&mut harness, [egui::Key::ArrowLeft, egui::Key::PageUp]);
     assert!(harness.query_by_label("Step 19 of 23").is_some());
     // The view fills the screen beside the one step: no top bar, no controls.
@@ -356,7 +360,7 @@ fn hovering_a_step_highlights_it_in_the_view() {
     let names: Vec<String> = app_view::<TriangleView>(&harness)
         .highlight
         .iter()
-        .map(|e| e.name())
+        .map(|e| e.name("triangle"))
         .collect();
     assert_eq!(names, ["right-hand side Y", "column A−B"]);
     // Away from the panel, nothing stays highlighted.
@@ -384,7 +388,10 @@ fn lessons_and_practice_read_cleanly_at_150_and_200_percent() {
                 common::wait_for_render(&mut harness);
                 harness.remove_cursor();
                 harness.run();
-                for problem in layout_problems(&harness, screen) {
+                for problem in layout_problems(&harness, screen)
+                    .into_iter()
+                    .chain(cut_below(&harness, screen))
+                {
                     problems.push(format!("{name} slide {} at {zoom}x: {problem}", slide + 1));
                 }
                 harness.key_press(egui::Key::Space);
@@ -410,6 +417,82 @@ fn lessons_and_practice_read_cleanly_at_150_and_200_percent() {
         }
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// Text in the panel beside the view (a slide's narration and step, a presented step) that reaches
+/// below the panel's bottom: cut in half, or below the fold where a clicker cannot scroll.
+fn cut_below(harness: &Harness<'static, RaylabApp>, screen: Rect) -> Vec<String> {
+    let view = harness.state().view_rect.expect("a view was drawn");
+    let beside = |rect: Rect| rect.min.x >= view.max.x - 1.0;
+    let mut problems: Vec<String> = painted_texts(harness)
+        .into_iter()
+        .filter(|t| beside(t.rect) && t.rect.max.y > t.clip.max.y + 1.0)
+        .map(|t| format!("“{}” is cut at the bottom", t.text))
+        .collect();
+    // Below the fold: laid out (a screen reader finds it) but never painted.
+    for node in harness.root().children_recursive() {
+        let access = node.accesskit_node();
+        let text = access.value().or(access.label()).unwrap_or_default();
+        if access.bounding_box().is_none() || text.trim().is_empty() {
+            continue;
+        }
+        let rect = node.rect();
+        if beside(rect) && rect.min.y >= screen.max.y - 1.0 {
+            problems.push(format!("“{text}” is below the fold"));
+        }
+    }
+    problems
+}
+
+/// Presentation mode at 150% and 200%: every step of the lecture's triangle, parallelogram and
+/// touching segments shows whole beside the view, none cut or below the fold (the |M| step's "= 27"
+/// was cut in half at 200%, M⁻¹'s third row below the fold), nothing overprinted.
+#[test]
+fn presentation_steps_read_whole_at_150_and_200_percent() {
+    let mut problems = Vec::new();
+    for zoom in [1.5, 2.0] {
+        let screen = Rect::from_min_size(egui::Pos2::ZERO, Vec2::new(1280.0, 800.0) / zoom);
+        for preset in [
+            "Seed 000: the lecture triangle",
+            "Seed 001: ray and parallelogram",
+            "Segments touching at an endpoint",
+        ] {
+            let mut harness = projector(1280.0, 800.0, zoom);
+            common::load_preset(&mut harness, preset);
+            harness.key_press(egui::Key::F5);
+            harness.run();
+            let mut step = 0;
+            while harness.state().presentation.is_some_and(|s| s == step) {
+                harness.remove_cursor();
+                harness.run();
+                for problem in layout_problems(&harness, screen)
+                    .into_iter()
+                    .chain(cut_below(&harness, screen))
+                {
+                    problems.push(format!("{preset} step {} at {zoom}x: {problem}", step + 1));
+                }
+                harness.key_press(egui::Key::Space);
+                harness.run();
+                step += 1;
+            }
+            assert!(step > 10, "{preset}: only {step} steps presented");
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// Opens the controls a short view (200%) folds under one header; nothing where they are not folded.
+fn unfold_controls(harness: &mut Harness<'static, RaylabApp>) {
+    let header = harness
+        .query_all_by(|node| node.label().is_some_and(|l| l.starts_with("Controls:")))
+        .next()
+        .map(|node| node.rect().center());
+    if let Some(center) = header {
+        harness.hover_at(center);
+        harness.run();
+        harness.get_by_label_contains("Controls:").click();
+        harness.run();
+    }
 }
 
 /// A long scene note keeps to two rows beside its title at 200% (ending in "…", whole on hover):
@@ -461,6 +544,7 @@ fn the_lecture_views_show_their_sliders_whole_below_the_drawing() {
         for (preset, button, sliders) in views {
             let mut harness = projector(1280.0, 800.0, zoom);
             common::load_preset(&mut harness, preset);
+            unfold_controls(&mut harness);
             harness.remove_cursor();
             harness.run();
             let strip = painted_texts(&harness)
@@ -580,6 +664,7 @@ fn the_method_label_keeps_its_box_on_its_row() {
         for preset in ["Render: common bugs", "Render: a closed mesh"] {
             let mut harness = projector(1280.0, 800.0, zoom);
             common::load_preset(&mut harness, preset);
+            unfold_controls(&mut harness);
             let label = harness
                 .get_by_role_and_label(egui::accesskit::Role::Label, "Method:")
                 .rect();
@@ -708,6 +793,81 @@ fn practice_feedback_scrolls_into_view_at_200_percent() {
                 text.rect,
                 seen
             );
+        }
+    }
+}
+
+/// The step panel keeps its width through zooming in and out: back at 100% it is as wide as before
+/// (it came back narrower each time, 630 → 480 → 358 points, clamped to the zoomed window's room).
+#[test]
+fn the_step_panel_keeps_its_width_through_zooming() {
+    let mut harness = projector(1280.0, 800.0, 1.0);
+    common::load_preset(&mut harness, "Seed 000: the lecture triangle");
+    let view_width = |harness: &Harness<'static, RaylabApp>| {
+        harness.state().view_rect.expect("a view was drawn").width() * harness.ctx.zoom_factor()
+    };
+    let first = view_width(&harness);
+    for _ in 0..3 {
+        for zoom in [1.5, 2.0, 1.0] {
+            harness.ctx.set_zoom_factor(zoom);
+            harness.run();
+        }
+        let now = view_width(&harness);
+        assert!(
+            (now - first).abs() < 2.0,
+            "the view was {first:.0} pixels wide at 100%, after zooming {now:.0}"
+        );
+    }
+}
+
+/// At 200% on a 1280x800 projector the drawing (or the rendered image) takes over half the height: the
+/// controls fold under one header (open on a click, the sliders whole), the verdict stays one row.
+/// Before, the Triangle view's drawing had about a third of the height under a verdict and a
+/// strip of sliders, and the Cornell box image 240 of 800 pixels under the effect controls.
+#[test]
+fn the_drawing_takes_most_of_a_200_percent_projector() {
+    use egui::accesskit::Role;
+    let screen_height = 800.0 / 2.0;
+    for (preset, drawing) in [
+        ("Seed 000: the lecture triangle", Role::Canvas),
+        ("Seed 001: ray and parallelogram", Role::Canvas),
+        ("Seed 000: segments that cross", Role::Canvas),
+        ("Render: a Cornell box", Role::Image),
+    ] {
+        let mut harness = projector(1280.0, 800.0, 2.0);
+        let scene = small_image(
+            raylab::scene::preset_names()
+                .iter()
+                .filter_map(|name| raylab::scene::preset(name))
+                .find(|scene| scene.title == preset)
+                .expect("a shipped preset"),
+        );
+        harness
+            .state_mut()
+            .load_scene(&scene)
+            .expect("presets load");
+        common::wait_for_render(&mut harness);
+        harness.remove_cursor();
+        harness.run();
+        let rect = harness
+            .query_all_by(|node| node.role() == drawing)
+            .map(|node| node.rect())
+            .max_by(|a, b| a.height().total_cmp(&b.height()))
+            .unwrap_or_else(|| panic!("{preset}: no {drawing:?}"));
+        assert!(
+            rect.height() >= 0.5 * screen_height,
+            "{preset}: the drawing is {:.0} of {screen_height:.0} points tall",
+            rect.height()
+        );
+        // The folded controls open whole.
+        let header = harness.get_by_label_contains("Controls:");
+        header.click();
+        harness.run();
+        if drawing == Role::Canvas {
+            let slider = harness.query_all_by_role(Role::Slider).next();
+            assert!(slider.is_some(), "{preset}: no slider after unfolding");
+        } else {
+            harness.get_by_label("Compare with a bug:");
         }
     }
 }

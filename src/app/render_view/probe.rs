@@ -12,7 +12,7 @@ impl RenderView {
             camera: self.view_camera(),
             effects: self.effects.clone(),
             method: self.method,
-            bug: None,
+            bug: self.probed_bug,
             pixel: self.probed,
             draft: None,
         }
@@ -20,8 +20,12 @@ impl RenderView {
 
     /// Casts the probed pixel's ray again under the current choices.
     pub(super) fn reprobe(&mut self) {
+        // A bug's image probed after its bug was turned off or changed: the correct image's pixel.
+        if self.probed_bug.is_some() && self.probed_bug != self.bug {
+            self.probed_bug = None;
+        }
         self.runtime.probe_key = Some(self.probe_key());
-        let (probe, problem) = match (self.probed, self.prepared(None)) {
+        let (probe, problem) = match (self.probed, self.prepared(self.probed_bug)) {
             (Some((row, column)), Ok(prepared))
                 if row < prepared.height && column < prepared.width =>
             {
@@ -45,11 +49,39 @@ impl RenderView {
     /// The pixel's ray last loaded into the Triangle (or Parallelogram) view: "Pixel (row 3,
     /// column 4)", or "Pixel (row 3, column 4): the shadow ray to light 1 from the primary ray".
     pub fn probed_ray_name(&self) -> String {
-        let pixel = pixel_name(self.probed.unwrap_or_default());
+        let pixel = self.probed_pixel_name();
         match &self.runtime.opened {
             Some(name) => format!("{pixel}: {name}"),
             None => pixel,
         }
+    }
+
+    /// The probed pixel and the image it was clicked on: "Pixel (row 3, column 4) of the correct
+    /// image", or "… of the image with the bug “accepting t < 0”".
+    pub fn probed_pixel_name(&self) -> String {
+        let pixel = pixel_name(self.probed.unwrap_or_default());
+        match (self.probed_bug, self.bug) {
+            (Some(bug), _) => format!("{pixel} of the image with the bug “{}”", bug.name()),
+            (None, Some(_)) => format!("{pixel} of the correct image"),
+            (None, None) => pixel,
+        }
+    }
+
+    /// The ray whose steps the step panel shows: the probed pixel's primary ray, or the ray of its
+    /// tree last opened.
+    pub fn steps_subject(&self) -> Option<String> {
+        self.probed?;
+        let ray = match &self.runtime.opened {
+            Some(name) => name.clone(),
+            None => "the primary ray".to_string(),
+        };
+        Some(format!("{}: {ray}", self.probed_pixel_name()))
+    }
+
+    /// Probes a pixel of the correct image (`bug` `None`) or of the bug's image beside it.
+    pub fn probe_pixel_in(&mut self, pixel: (usize, usize), bug: Option<Bug>) -> Option<Action> {
+        self.probed_bug = bug;
+        self.probe_pixel(pixel)
     }
 
     /// The problem of a ray of the tree and what it hit, for its view.
@@ -110,9 +142,13 @@ impl RenderView {
         let vector = |v: &[f64; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
         let (row, column) = probe.pixel;
         let mut action = None;
-        let in_image = self
-            .rendered()
-            .and_then(|r| r.image.covered.get(row * r.image.width + column).copied());
+        let probed_image = if self.probed_bug.is_some() {
+            self.rendered_with_bug()
+        } else {
+            self.rendered()
+        };
+        let in_image =
+            probed_image.and_then(|r| r.image.covered.get(row * r.image.width + column).copied());
         if in_image.is_some_and(|covered| covered != probe.hit.is_some()) {
             ui.label(
                 RichText::new(
@@ -123,7 +159,7 @@ impl RenderView {
             );
         }
         ui.horizontal_wrapped(|ui| {
-            ui.label(RichText::new(pixel_name(probe.pixel)).strong());
+            ui.label(RichText::new(self.probed_pixel_name()).strong());
             ui.label(format!(
                 "O = {}  D = {}",
                 vector(&probe.origin),

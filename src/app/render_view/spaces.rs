@@ -118,7 +118,7 @@ pub(super) fn draw_space(
     let [a, b, c] = vertices.map(|v| local(DVec3::from(v)));
     let hit = DVec3::ZERO;
     let framed = [a, b, c, hit];
-    let camera = OrbitCamera::framing(&framed).across(d);
+    let camera = OrbitCamera::framing(&framed).across(d, Some((b - a).cross(c - a)));
     let projector = camera.projector(response.rect);
     let canvas = Canvas {
         painter: &painter,

@@ -20,7 +20,7 @@ pub struct CanvasState {
     /// user orbits or zooms it themselves.
     pub auto_frame: bool,
     /// The canvas size the camera was last framed for.
-    framed_for: Option<Vec2>,
+    framed_for: Option<(Vec2, f32)>,
     /// The last frame's projection (tests use it to find handles on screen).
     pub projector: Option<Projector>,
     /// Where each label went last frame (tests read it).
@@ -98,11 +98,17 @@ impl CanvasState {
         points: impl FnOnce() -> Vec<DVec3>,
         reserved: impl FnOnce() -> f32,
     ) -> Projector {
-        if self.auto_frame && self.framed_for != Some(rect.size()) {
-            let reserved = reserved();
+        if !self.auto_frame {
+            return self.camera.projector(rect);
+        }
+        // Framed again when the verdict's height changes too: a scene's first frame may still
+        // carry the last scene's one-row verdict, and a vertex then sat under its two rows.
+        let reserved = reserved();
+        let framed_for = (rect.size(), reserved);
+        if self.framed_for != Some(framed_for) {
             let points = points();
             self.camera = self.camera.clone().fitted_to(&points, rect, reserved);
-            self.framed_for = Some(rect.size());
+            self.framed_for = Some(framed_for);
         }
         self.camera.projector(rect)
     }

@@ -1,6 +1,7 @@
 //! Widgets the views share: the palette, the 3D canvas, and editors for points and vectors.
 
 pub mod canvas_state;
+pub mod formula_text;
 pub mod handles;
 pub mod labels;
 pub mod palette;
@@ -56,6 +57,7 @@ pub fn verdict_overlay(
     painter: &egui::Painter,
     rect: egui::Rect,
     trace: &crate::trace::Trace,
+    keep_clear: &[egui::Pos2],
 ) -> Option<VerdictOverlay> {
     if answers_hidden(ui.ctx()) {
         return None;
@@ -71,8 +73,7 @@ pub fn verdict_overlay(
         color,
         (rect.width() - 24.0).max(50.0),
     );
-    let at = rect.left_top() + egui::vec2(8.0, 6.0);
-    let covers = egui::Rect::from_min_size(at, galley.size()).expand(4.0);
+    let covers = verdict_corner(rect, galley.size(), keep_clear);
     announce_verdict(ui, &verdict.message, covers);
     Some(VerdictOverlay {
         rect: covers,
@@ -80,6 +81,34 @@ pub fn verdict_overlay(
         galley,
         color,
     })
+}
+
+/// Where the verdict's box goes in `rect`: the top-left corner, unless a handle in `keep_clear` is
+/// under it; then the first corner (bottom-left, top-right, bottom-right) clear of every handle, or
+/// the one over the fewest. A student must see and grab every handle.
+fn verdict_corner(rect: egui::Rect, size: egui::Vec2, keep_clear: &[egui::Pos2]) -> egui::Rect {
+    let (inset, margin) = (egui::vec2(8.0, 6.0), 4.0);
+    let room = rect.shrink2(inset);
+    let corners = [
+        room.left_top(),
+        egui::pos2(room.left(), room.bottom() - size.y),
+        egui::pos2(room.right() - size.x, room.top()),
+        room.right_bottom() - size,
+    ];
+    let boxes = corners.map(|at| egui::Rect::from_min_size(at, size).expand(margin));
+    // A handle's dot and ring reach about 9 points from its centre.
+    let covered = |b: &egui::Rect| {
+        keep_clear
+            .iter()
+            .filter(|p| b.expand(9.0).contains(**p))
+            .count()
+    };
+    boxes
+        .iter()
+        .copied()
+        .enumerate()
+        .min_by_key(|(i, b)| (covered(b), *i))
+        .map_or(boxes[0], |(_, b)| b)
 }
 
 /// Puts the verdict in the accessibility tree as a polite live region: a screen reader announces it
@@ -168,10 +197,16 @@ pub enum Part {
 }
 
 /// Lays out a lecture view: `draw(ui, Part::Controls)` in a strip at the bottom that scrolls when
-/// short (at most 45% of the height, so the drawing keeps at least 55%), then `draw(ui, Part::Drawing)`
-/// above it. `id` names the strip.
+/// short (at most 45% of the height, so the drawing keeps at least 55%), folded under a header on a
+/// [`SHORT_VIEW`], then `draw(ui, Part::Drawing)` above it. `id` names the strip.
+///
+/// On a view this short (points; a 1280x800 projector at 200%), the controls fold under one header
+/// and the drawing takes the height.
+pub const SHORT_VIEW: f32 = 360.0;
+
 pub fn controls_below(ui: &mut egui::Ui, id: &str, mut draw: impl FnMut(&mut egui::Ui, Part)) {
     let controls_height = (ui.available_height() * 0.45).max(48.0);
+    let short = ui.available_height() < SHORT_VIEW;
     egui::Panel::bottom(id.to_string())
         .resizable(false)
         .max_size(controls_height)
@@ -179,10 +214,22 @@ pub fn controls_below(ui: &mut egui::Ui, id: &str, mut draw: impl FnMut(&mut egu
             // The strip starts at the panel's last height, and a scroll area fits the room it is
             // given: its smallest scrolled height lets it ask for its content (up to the cap), or
             // the strip would never grow past its first height and cut the controls off.
-            egui::ScrollArea::vertical()
-                .auto_shrink([false, true])
-                .min_scrolled_height(controls_height)
-                .show(ui, |ui| draw(ui, Part::Controls))
+            let mut controls = |ui: &mut egui::Ui| {
+                egui::ScrollArea::vertical()
+                    .auto_shrink([false, true])
+                    .min_scrolled_height(controls_height)
+                    .show(ui, |ui| draw(ui, Part::Controls));
+            };
+            if short {
+                egui::CollapsingHeader::new("Controls: Solve and the sliders")
+                    .id_salt((id, "folded"))
+                    .default_open(false)
+                    .show(ui, controls)
+                    .header_response
+                    .on_hover_text("Folded to give the drawing the room on a zoomed screen");
+            } else {
+                controls(ui);
+            }
         });
     egui::CentralPanel::default().show(ui, |ui| draw(ui, Part::Drawing));
 }

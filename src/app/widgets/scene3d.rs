@@ -29,6 +29,13 @@ impl Default for OrbitCamera {
     }
 }
 
+/// The unit direction from the target to the eye of a camera at `yaw` and `pitch`.
+fn eye_direction(yaw: f64, pitch: f64) -> DVec3 {
+    let (sy, cy) = yaw.sin_cos();
+    let (sp, cp) = pitch.sin_cos();
+    DVec3::new(cp * cy, cp * sy, sp)
+}
+
 /// Vertical field of view.
 const FOV_Y: f64 = 0.8;
 
@@ -52,13 +59,42 @@ impl OrbitCamera {
     }
 
     /// Turns the camera to look at the scene side-on to a ray with direction `dir`, so the ray is
-    /// drawn along its length instead of end-on.
-    pub fn across(mut self, dir: DVec3) -> OrbitCamera {
-        if dir.is_finite() && dir.x.hypot(dir.y) > 1e-9 * dir.length() {
+    /// drawn along its length instead of end-on, and, given the `face` (normal) of the shape the ray
+    /// is aimed at, so that shape is seen from the front rather than edge-on.
+    pub fn across(mut self, dir: DVec3, face: Option<DVec3>) -> OrbitCamera {
+        if !(dir.is_finite() && dir.length() > 0.0) {
+            return self;
+        }
+        // How well a direction to the eye shows both: 1 at best, 0 when either is seen edge-on.
+        let normal = face
+            .filter(|n| n.is_finite() && n.length() > 0.0)
+            .map(DVec3::normalize);
+        let d = dir.normalize();
+        let score = |yaw: f64, pitch: f64| {
+            let eye = eye_direction(yaw, pitch);
+            let ray = d.cross(eye).length();
+            normal.map_or(ray, |n| ray.min(n.dot(eye).abs()))
+        };
+        if dir.x.hypot(dir.y) > 1e-9 * dir.length() {
             // 55° around from the ray's heading, a little above: the ray is seen along its length
             // and a triangle facing it (as in the lecture) is still seen at an angle, not edge-on.
             self.yaw = dir.y.atan2(dir.x) + 55f64.to_radians();
             self.pitch = 0.35;
+        }
+        // Good enough (the lecture's scenes): keep the usual view. Else the best of a coarse sweep.
+        if score(self.yaw, self.pitch) < 0.35 {
+            let sweep = (0..72).flat_map(|y| {
+                [0.15, 0.35, 0.55, 0.75, 0.95, 1.15]
+                    .map(|pitch| (f64::from(y) * 5f64.to_radians(), pitch))
+            });
+            let (yaw, pitch) = sweep.fold((self.yaw, self.pitch), |best, candidate| {
+                if score(candidate.0, candidate.1) > score(best.0, best.1) + 1e-9 {
+                    candidate
+                } else {
+                    best
+                }
+            });
+            (self.yaw, self.pitch) = (yaw, pitch);
         }
         self
     }
@@ -75,7 +111,9 @@ impl OrbitCamera {
         // The region to fill, in normalised device coordinates (y up).
         let reserved = (2.0 * top_reserved / rect.height()).clamp(0.0, 1.0) as f64;
         let (x_min, x_max, y_min, y_max) = (-0.8, 0.8, -0.82, 0.82 - reserved);
-        for _ in 0..4 {
+        // Centre and zoom, four times; then centre once more, as the last zoom scaled the points
+        // about the screen's centre, not the region's (which the verdict pushes down).
+        for pass in 0..5 {
             let projector = self.projector(rect);
             let ndc: Vec<DVec3> = finite
                 .iter()
@@ -99,6 +137,9 @@ impl OrbitCamera {
                 + projector.right * shift_x * half_width
                 + projector.up * shift_y * half_height;
             self.target = moved.to_array();
+            if pass == 4 {
+                break;
+            }
             // Then zoom so the larger of the two spans fills its side of the region.
             let scale = ((hi.x - lo.x) / (x_max - x_min)).max((hi.y - lo.y) / (y_max - y_min));
             if scale.is_finite() && scale > 1e-9 {
@@ -110,9 +151,7 @@ impl OrbitCamera {
 
     /// The eye position.
     pub fn eye(&self) -> DVec3 {
-        let (sy, cy) = self.yaw.sin_cos();
-        let (sp, cp) = self.pitch.sin_cos();
-        DVec3::from(self.target) + self.distance * DVec3::new(cp * cy, cp * sy, sp)
+        DVec3::from(self.target) + self.distance * eye_direction(self.yaw, self.pitch)
     }
 
     /// Orbits by a screen drag.
