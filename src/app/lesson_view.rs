@@ -5,6 +5,7 @@
 
 use egui::{RichText, Ui};
 
+use super::widgets::formula_text::keep_formulas_whole;
 use super::widgets::palette::{self, Readable as _};
 use super::{ActiveSolve, Notice, RaylabApp, highlight, step_panel};
 use crate::lesson::{self, Lesson};
@@ -203,7 +204,8 @@ impl RaylabApp {
             let now = ui.input(|i| i.time);
             // What the steps before this one computed is in place at once (the narration goes on
             // from there: "β = γ = 1/3" on the check after both), then this step's own slides.
-            if let (Some((index, _, solver)), Some(trace)) = (&step, trace) {
+            // (Not on a slide in symbols: its steps have no numbers to put in place.)
+            if let (Some((index, _, solver)), Some(trace), false) = (&step, trace, slide.symbolic) {
                 let earlier: Vec<highlight::Element> = trace.steps[..*index]
                     .iter()
                     .flat_map(|s| highlight::of_step(solver, &s.id))
@@ -224,15 +226,17 @@ impl RaylabApp {
         let hidden_before = super::widgets::answers_hidden(&ctx);
         // Nor does a slide before the verdict show it: "the segments cross at t = 17/22" would
         // answer the slides that derive t.
+        // A slide in symbols comes before any number: its view keeps the verdict too.
         let before_verdict = self.view(self.state.view).presents()
-            && trace.is_some_and(|trace| {
-                let verdict = trace
-                    .steps
-                    .iter()
-                    .position(|s| matches!(s.payload, crate::trace::Payload::Verdict(_)));
-                let at = step.as_ref().map(|(index, _, _)| *index);
-                verdict.is_some_and(|verdict| at.is_none_or(|at| at < verdict))
-            });
+            && (slide.symbolic
+                || trace.is_some_and(|trace| {
+                    let verdict = trace
+                        .steps
+                        .iter()
+                        .position(|s| matches!(s.payload, crate::trace::Payload::Verdict(_)));
+                    let at = step.as_ref().map(|(index, _, _)| *index);
+                    verdict.is_some_and(|verdict| at.is_none_or(|at| at < verdict))
+                }));
         super::widgets::hide_answers(&ctx, hidden_before || before_verdict);
         // The panel's text scale is found again for each page: a slide of a lesson, its answer shown.
         let page = {
@@ -244,16 +248,16 @@ impl RaylabApp {
         self.beside_the_view(ui, solved, "lesson-slide", Some((1.3, page)), |ui| {
             ui.add(egui::Label::new(RichText::new(&slide.title).heading()).wrap());
             for line in &slide.narration {
-                ui.add(egui::Label::new(line).wrap());
+                ui.add(egui::Label::new(keep_formulas_whole(line)).wrap());
             }
             if let Some(question) = &slide.question {
                 ui.add_space(6.0);
-                let ask = RichText::new(format!("? {}", question.ask))
+                let ask = RichText::new(format!("? {}", keep_formulas_whole(&question.ask)))
                     .strong()
                     .color(palette::SOLUTION.readable(ui));
                 ui.add(egui::Label::new(ask).wrap());
                 if answer_shown {
-                    ui.add(egui::Label::new(&question.answer).wrap());
+                    ui.add(egui::Label::new(keep_formulas_whole(&question.answer)).wrap());
                 } else if ui
                     .button("Show the answer")
                     .on_hover_text("Reveal the answer to the room")

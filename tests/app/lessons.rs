@@ -1,6 +1,7 @@
 //! Lessons say what the view shows: every number a slide's narration states for t, s, α, β, γ, β + γ
 //! or a determinant equals the view's state on that slide, a 3D slide shows its triangle from the
-//! front (not edge-on), and a slide that names a common bug shows it beside the correct image.
+//! front (not edge-on) and its ray along its length (not end-on), the verdict waits for the slide
+//! that reaches it, and a slide that names a common bug shows it beside the correct image.
 
 // A test or benchmark fails by panicking: unwrap and expect are how it says so.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -8,6 +9,7 @@
 use crate::common;
 
 use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable as _;
 use glam::DVec3;
 use raylab::app::parallelogram_view::ParallelogramView;
 use raylab::app::render_view::RenderView;
@@ -155,25 +157,28 @@ fn view_values(harness: &Harness<'static, RaylabApp>) -> Vec<(&'static str, f64)
     values
 }
 
-/// How squarely a 3D view sees its shape's face: |n̂ · ê| for the face's normal and the direction
-/// to the eye (1 face-on, 0 edge-on).
+/// How well a 3D view shows its shape and its ray: the smaller of |n̂ · ê| (the face: 1 face-on, 0
+/// edge-on) and |d̂ × ê| (the ray: 1 side-on, 0 end-on, its handles on top of each other), for the
+/// face's normal n, the ray's direction d and the direction ê to the eye.
 fn facing(harness: &Harness<'static, RaylabApp>) -> Option<f64> {
     let app = harness.state();
-    let (normal, camera) = match app.state.view {
+    let (normal, dir, camera) = match app.state.view {
         ViewKind::Triangle => {
             let view = app.state.get::<TriangleView>();
             let [a, b, c] = [view.scene.a, view.scene.b, view.scene.c].map(DVec3::from);
-            ((b - a).cross(c - a), &view.canvas.camera)
+            ((b - a).cross(c - a), view.scene.dir, &view.canvas.camera)
         }
         ViewKind::Parallelogram => {
             let view = app.state.get::<ParallelogramView>();
             let [e1, e2] = [view.scene.e1, view.scene.e2].map(DVec3::from);
-            (e1.cross(e2), &view.canvas.camera)
+            (e1.cross(e2), view.scene.dir, &view.canvas.camera)
         }
         _ => return None,
     };
     let eye = (camera.eye() - DVec3::from(camera.target)).normalize();
-    Some(normal.normalize().dot(eye).abs())
+    let face = normal.normalize().dot(eye).abs();
+    let ray = DVec3::from(dir).normalize().cross(eye).length();
+    Some(face.min(ray))
 }
 
 /// Every slide of every lesson: the narrated values are the view's, the 3D ones face the room, and a
@@ -214,8 +219,41 @@ fn every_slide_narrates_what_the_view_shows() {
                 && facing < 0.25
             {
                 problems.push(format!(
-                    "{at}: the shape is seen edge-on (|n̂ · ê| = {facing:.2})"
+                    "{at}: the shape is seen edge-on or its ray end-on ({facing:.2})"
                 ));
+            }
+            // The verdict waits for the slide that reaches it (a slide in symbols comes before).
+            if matches!(
+                harness.state().state.view,
+                ViewKind::Triangle | ViewKind::Segments | ViewKind::Parallelogram
+            ) && slide.question.is_none()
+            {
+                let trace = raylab::scene::preset(&slide.scene)
+                    .and_then(|scene| raylab::lesson::trace_of(&scene.problem))
+                    .unwrap();
+                let position = |wanted: &dyn Fn(&raylab::trace::Step) -> bool| {
+                    trace.steps.iter().position(wanted)
+                };
+                let verdict = position(&|s| matches!(s.payload, Payload::Verdict(_)));
+                let here = slide
+                    .step
+                    .as_ref()
+                    .and_then(|id| position(&|s| &s.id == id));
+                let reached = !slide.symbolic && here.is_some() && here >= verdict;
+                let shown = harness
+                    .query_all_by(|node| {
+                        node.role() == egui::accesskit::Role::Status
+                            && node.label().is_some_and(|l| l.starts_with("Verdict:"))
+                    })
+                    .next()
+                    .is_some();
+                if shown && !reached {
+                    problems.push(format!(
+                        "{at}: the verdict shows before the solve reaches it"
+                    ));
+                } else if reached && !shown {
+                    problems.push(format!("{at}: the verdict's slide does not show it"));
+                }
             }
             let named_bugs: Vec<raylab::render::bug::Bug> =
                 <raylab::render::bug::Bug as strum::IntoEnumIterator>::iter()

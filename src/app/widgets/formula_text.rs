@@ -38,7 +38,7 @@ pub fn keep_formulas_whole(text: &str) -> String {
     out
 }
 
-/// A formula line that wraps only before a top-level `=`, `+` or `−` (outside brackets), the way
+/// A formula line that wraps only before a top-level `=`, `≈`, `+` or `−` (outside brackets), the way
 /// a long equation is broken by hand: "3·0 − 3·(−3)" breaks before "−", never inside a term.
 pub fn break_between_terms(text: &str) -> String {
     let mut depth = 0i32;
@@ -54,7 +54,7 @@ pub fn break_between_terms(text: &str) -> String {
             let next = chars.get(i + 1).copied();
             let after = chars.get(i + 2).copied();
             let breaks = depth <= 0
-                && matches!(next, Some('=' | '+' | '−' | '-'))
+                && matches!(next, Some('=' | '≈' | '+' | '−' | '-'))
                 && after.is_none_or(|a| a == ' ');
             out.push(if breaks { ' ' } else { KEEP });
         } else {

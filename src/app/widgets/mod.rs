@@ -68,7 +68,7 @@ pub fn verdict_overlay(
         ui.visuals(),
     );
     let galley = painter.layout(
-        verdict.message.clone(),
+        formula_text::keep_formulas_whole(&verdict.message),
         egui::FontId::proportional(17.0),
         color,
         (rect.width() - 24.0).max(50.0),
@@ -167,7 +167,7 @@ fn answers_hidden_id() -> egui::Id {
 pub fn verdict_height(ui: &Ui, width: f32, trace: &crate::trace::Trace) -> f32 {
     trace.verdict().map_or(0.0, |verdict| {
         let galley = ui.painter().layout(
-            verdict.message.clone(),
+            formula_text::keep_formulas_whole(&verdict.message),
             egui::FontId::proportional(17.0),
             egui::Color32::WHITE,
             (width - 24.0).max(50.0),
