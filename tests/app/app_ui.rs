@@ -713,6 +713,33 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
         .iter()
         .map(|v| v.value.fraction())
         .collect();
+    // The answer changed to β and γ right, t wrong: the hint is t's step (its own first wrong
+    // step), not the step after the first answer's; the same answer again moves on.
+    let trace =
+        raylab::lesson::trace_of(&harness.state().current_scene().unwrap().problem).unwrap();
+    let t_title = &trace.step("t").unwrap().title;
+    let clear = |harness: &mut Harness<'static, RaylabApp>| {
+        harness
+            .state_mut()
+            .practice
+            .as_mut()
+            .unwrap()
+            .answer
+            .clear();
+    };
+    // A 0 written after t's value makes it another number (1 → 10, 3/2 → 3/20).
+    let t_wrong = format!("{}, {}, {}0", values[0], values[1], values[2]);
+    clear(&mut harness);
+    answer(&mut harness, &t_wrong);
+    let at_t = format!("Look again at “{t_title}”");
+    assert!(shows_text_containing(&harness, &at_t), "no “{at_t}”");
+    clear(&mut harness);
+    answer(&mut harness, &t_wrong);
+    assert!(shows_text_containing(&harness, "Not yet (3 wrong so far)"));
+    assert!(
+        !shows_text_containing(&harness, &at_t),
+        "the same answer again stays at t"
+    );
     harness
         .state_mut()
         .practice

@@ -386,12 +386,7 @@ fn lessons_and_practice_read_cleanly_at_150_and_200_percent() {
             let slides = harness.state().lesson.as_ref().unwrap().lesson.slides.len();
             for slide in 0..slides {
                 common::wait_for_render(&mut harness);
-                harness.remove_cursor();
-                harness.run();
-                for problem in layout_problems(&harness, screen)
-                    .into_iter()
-                    .chain(cut_below(&harness, screen))
-                {
+                for problem in presenter_problems(&mut harness, screen) {
                     problems.push(format!("{name} slide {} at {zoom}x: {problem}", slide + 1));
                 }
                 harness.key_press(egui::Key::Space);
@@ -444,6 +439,16 @@ fn cut_below(harness: &Harness<'static, RaylabApp>, screen: Rect) -> Vec<String>
     problems
 }
 
+/// What is wrong with a presenter screen (a slide, a presented step) at rest, the pointer away:
+/// the layout's problems and any text cut or below the fold beside the view.
+fn presenter_problems(harness: &mut Harness<'static, RaylabApp>, screen: Rect) -> Vec<String> {
+    harness.remove_cursor();
+    harness.run();
+    let mut problems = layout_problems(harness, screen);
+    problems.extend(cut_below(harness, screen));
+    problems
+}
+
 /// Presentation mode at 150% and 200%: every step of the lecture's triangle, parallelogram and
 /// touching segments shows whole beside the view, none cut or below the fold (the |M| step's "= 27"
 /// was cut in half at 200%, M⁻¹'s third row below the fold), nothing overprinted.
@@ -463,12 +468,7 @@ fn presentation_steps_read_whole_at_150_and_200_percent() {
             harness.run();
             let mut step = 0;
             while harness.state().presentation.is_some_and(|s| s == step) {
-                harness.remove_cursor();
-                harness.run();
-                for problem in layout_problems(&harness, screen)
-                    .into_iter()
-                    .chain(cut_below(&harness, screen))
-                {
+                for problem in presenter_problems(&mut harness, screen) {
                     problems.push(format!("{preset} step {} at {zoom}x: {problem}", step + 1));
                 }
                 harness.key_press(egui::Key::Space);
