@@ -740,13 +740,7 @@ fn a_practice_problem_is_checked_with_a_hint_when_wrong_and_scored_when_right() 
         !shows_text_containing(&harness, &at_t),
         "the same answer again stays at t"
     );
-    harness
-        .state_mut()
-        .practice
-        .as_mut()
-        .unwrap()
-        .answer
-        .clear();
+    clear(&mut harness);
     answer(&mut harness, &values.join(", "));
     assert!(shows_text_containing(&harness, "Right: hit;"));
     assert!(shows(&harness, "Score: 1 right of 1 tried"));

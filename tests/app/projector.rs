@@ -196,6 +196,18 @@ fn small_image(mut scene: raylab::scene::Scene) -> raylab::scene::Scene {
     scene
 }
 
+/// Loads a preset with its image made small (see [`small_image`]), waits for its render and rests
+/// with the pointer away.
+fn load_small(harness: &mut Harness<'static, RaylabApp>, scene: raylab::scene::Scene) {
+    harness
+        .state_mut()
+        .load_scene(&small_image(scene))
+        .expect("presets load");
+    common::wait_for_render(harness);
+    harness.remove_cursor();
+    harness.run();
+}
+
 /// Loads every preset at every zoom on a screen and collects what is wrong, per case.
 fn check_every_preset(width: f32, height: f32, zooms: &[f32]) -> Vec<String> {
     let mut problems = Vec::new();
@@ -203,14 +215,8 @@ fn check_every_preset(width: f32, height: f32, zooms: &[f32]) -> Vec<String> {
         let mut harness = projector(width, height, *zoom);
         let screen = Rect::from_min_size(egui::Pos2::ZERO, Vec2::new(width, height) / *zoom);
         for name in raylab::scene::preset_names() {
-            let scene = small_image(raylab::scene::preset(name).expect("a shipped preset"));
-            harness
-                .state_mut()
-                .load_scene(&scene)
-                .expect("presets load");
-            common::wait_for_render(&mut harness);
-            harness.remove_cursor();
-            harness.run();
+            let scene = raylab::scene::preset(name).expect("a shipped preset");
+            load_small(&mut harness, scene);
             for problem in layout_problems(&harness, screen) {
                 problems.push(format!("{name} at {width}x{height}, {zoom}x: {problem}"));
             }
@@ -835,20 +841,12 @@ fn the_drawing_takes_most_of_a_200_percent_projector() {
         ("Render: a Cornell box", Role::Image),
     ] {
         let mut harness = projector(1280.0, 800.0, 2.0);
-        let scene = small_image(
-            raylab::scene::preset_names()
-                .iter()
-                .filter_map(|name| raylab::scene::preset(name))
-                .find(|scene| scene.title == preset)
-                .expect("a shipped preset"),
-        );
-        harness
-            .state_mut()
-            .load_scene(&scene)
-            .expect("presets load");
-        common::wait_for_render(&mut harness);
-        harness.remove_cursor();
-        harness.run();
+        let scene = raylab::scene::preset_names()
+            .iter()
+            .filter_map(|name| raylab::scene::preset(name))
+            .find(|scene| scene.title == preset)
+            .expect("a shipped preset");
+        load_small(&mut harness, scene);
         let rect = harness
             .query_all_by(|node| node.role() == drawing)
             .map(|node| node.rect())
