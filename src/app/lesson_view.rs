@@ -171,15 +171,10 @@ impl RaylabApp {
                     .clicked();
                 ui.separator();
                 ui.label(RichText::new(&run.lesson.title).weak());
-                let solver = step.as_ref().map_or("", |(_, _, solver)| solver.as_str());
-                let names: Vec<String> = highlighted.iter().map(|e| e.name(solver)).collect();
-                if !names.is_empty() {
-                    ui.label(
-                        RichText::new(format!("Highlighted: {}", names.join(", ")))
-                            .color(palette::SOLUTION.readable(ui)),
-                    );
-                }
             });
+            let solver = step.as_ref().map_or("", |(_, _, solver)| solver.as_str());
+            let names: Vec<String> = highlighted.iter().map(|e| e.name(solver)).collect();
+            super::presentation::highlighted_row(ui, &names);
         });
         if asked.leave {
             self.leave_lesson(ui.ctx());

@@ -73,15 +73,9 @@ impl RaylabApp {
                 {
                     leave = true;
                 }
-                ui.separator();
-                let names: Vec<String> = elements.iter().map(|e| e.name(&trace.solver)).collect();
-                if !names.is_empty() {
-                    ui.label(
-                        RichText::new(format!("Highlighted: {}", names.join(", ")))
-                            .color(widgets::palette::SOLUTION.readable(ui)),
-                    );
-                }
             });
+            let names: Vec<String> = elements.iter().map(|e| e.name(&trace.solver)).collect();
+            highlighted_row(ui, &names);
         });
         if leave {
             self.toggle_presentation(ui.ctx());
@@ -193,6 +187,21 @@ impl RaylabApp {
                 .slide_to(*parameter, solved, now);
         }
     }
+}
+
+/// What the step (or slide) highlights, on a row of its own under the presenter's buttons, so the
+/// bar keeps its height from step to step (in the buttons' row it wrapped to a second row on some
+/// steps only, and the drawing jumped by 35 pixels).
+/// One row, cut short with "…" where it is longer (whole on hover and to a screen reader).
+pub(super) fn highlighted_row(ui: &mut Ui, names: &[String]) {
+    if names.is_empty() {
+        ui.label(RichText::new("Nothing highlighted").weak());
+        return;
+    }
+    let whole = format!("Highlighted: {}", names.join(", "));
+    let text = RichText::new(&whole).color(widgets::palette::SOLUTION.readable(ui));
+    ui.add(egui::Label::new(text).truncate())
+        .on_hover_text(&whole);
 }
 
 /// The next text scale of a panel whose content, drawn at `fit`, was `content` points tall in `room`:
