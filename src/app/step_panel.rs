@@ -411,6 +411,10 @@ fn determinant_ui(ui: &mut Ui, id: &str, det: &crate::trace::Determinant) {
         for (i, term) in det.terms.iter().enumerate() {
             let lead = if i == 0 { &name } else { &pad };
             let sign = signed(i, term.sign);
+            // A little room between the terms: touching, two minors' bars read as one 4x2 one.
+            if i > 0 {
+                ui.add_space(4.0);
+            }
             ui.horizontal(|ui| {
                 mono(ui, format!("{lead}{sign}{}·", term.element.factor()));
                 let cells = term
