@@ -154,17 +154,21 @@ impl RaylabApp {
                 // new size starts again from full size.
                 let room = ui.available_size();
                 let key = (page, room.x.round() as i64, room.y.round() as i64);
-                let fit = ui
-                    .data(|d| d.get_temp::<((usize, i64, i64), f32)>(fit_id))
+                let search = ui
+                    .data(|d| d.get_temp::<((usize, i64, i64), FitSearch)>(fit_id))
                     .filter(|(was, _)| *was == key)
-                    .map_or(1.0, |(_, fit)| fit);
+                    .map_or_else(FitSearch::default, |(_, search)| search);
+                let fit = search.now;
                 let shown = egui::ScrollArea::vertical().show(ui, |ui| {
                     enlarge(ui, enlarged * fit);
+                    // Rows shrink with the text: a matrix's rows are at least a widget's height
+                    // apart, which at full size left smaller text with wide gaps between rows.
+                    ui.spacing_mut().interact_size.y *= fit;
                     side(ui);
                 });
-                let refit = fitted(fit, shown.inner_rect.height(), shown.content_size.y);
+                let refit = search.next(shown.inner_rect.height(), shown.content_size.y);
                 ui.data_mut(|d| d.insert_temp(fit_id, (key, refit)));
-                if refit != fit {
+                if refit.now != fit {
                     ui.ctx().request_repaint();
                 }
             });
@@ -204,30 +208,78 @@ pub(super) fn highlighted_row(ui: &mut Ui, names: &[String]) {
         .on_hover_text(&whole);
 }
 
-/// The next text scale of a panel whose content, drawn at `fit`, was `content` points tall in `room`:
-/// smaller while it overflows, to half at least. It only shrinks (each page starts at full size), so
-/// it settles instead of flickering where wrapping makes the height jump.
-fn fitted(fit: f32, room: f32, content: f32) -> f32 {
-    if room > 0.0 && content > room {
-        (fit * room / content * 0.98).clamp(0.5, fit)
-    } else {
-        fit
+/// The search for a panel's text scale: the largest, in steps of 1/50, at which its content fits
+/// the room, found by halving between a scale known to fit (`fits`, half at least) and one known to
+/// overflow (`overflows`). Each page starts at full size and settles in a few frames; the rows
+/// shrink with the text, so the content's height is not proportional to the scale and a single
+/// proportional guess overshot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct FitSearch {
+    fits: f32,
+    overflows: f32,
+    now: f32,
+}
+
+impl Default for FitSearch {
+    fn default() -> FitSearch {
+        FitSearch {
+            fits: 0.5,
+            overflows: 1.01,
+            now: 1.0,
+        }
+    }
+}
+
+impl FitSearch {
+    /// After a frame drawn at `now` whose content was `content` points tall in `room`.
+    fn next(self, room: f32, content: f32) -> FitSearch {
+        if !(room > 0.0 && content > 0.0) {
+            return self;
+        }
+        let mut next = self;
+        if content > room {
+            next.overflows = next.overflows.min(self.now);
+        } else {
+            next.fits = next.fits.max(self.now);
+        }
+        next.now = if next.overflows - next.fits <= 0.02 {
+            next.fits
+        } else {
+            (next.fits + next.overflows) / 2.0
+        };
+        next
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::fitted;
+    use super::FitSearch;
+
+    /// The scale the search settles on, for content whose height at scale k is `height(k)`.
+    fn settle(room: f32, height: impl Fn(f32) -> f32) -> (f32, usize) {
+        let mut search = FitSearch::default();
+        for frames in 1..50 {
+            let next = search.next(room, height(search.now));
+            if next == search {
+                return (search.now, frames);
+            }
+            search = next;
+        }
+        panic!("no rest after 50 frames: {search:?}");
+    }
 
     #[test]
-    fn a_panel_scale_shrinks_to_fit_and_settles() {
-        assert_eq!(fitted(1.0, 400.0, 300.0), 1.0);
-        let smaller = fitted(1.0, 400.0, 600.0);
-        assert!(smaller < 0.67 && smaller > 0.6, "{smaller}");
-        // Fitting: it stays, even with room to spare.
-        assert_eq!(fitted(smaller, 400.0, 390.0), smaller);
-        assert_eq!(fitted(smaller, 400.0, 100.0), smaller);
-        // Never below half.
-        assert_eq!(fitted(1.0, 100.0, 1000.0), 0.5);
+    fn a_panel_scale_settles_on_the_largest_that_fits() {
+        // Fits at full size: stays there.
+        assert_eq!(settle(400.0, |k| 300.0 * k).0, 1.0);
+        // Content growing faster than the scale (rows shrink with the text): the largest fitting
+        // scale, within 1/50, in a few frames.
+        let height = |k: f32| 700.0 * k * k;
+        let (scale, frames) = settle(400.0, height);
+        assert!(height(scale) <= 400.0, "{scale} overflows");
+        assert!(height(scale + 0.03) > 400.0, "{scale} is not the largest");
+        assert!(frames < 10, "{frames} frames");
+        // Never below half, even when that overflows too.
+        assert_eq!(settle(100.0, |k| 1000.0 * k).0, 0.5);
     }
 }

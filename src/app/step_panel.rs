@@ -259,12 +259,15 @@ fn payload_body(
                     y.show(ui, &format!("{id}-y"));
                 });
             } else {
-                // Too narrow for one row: M on its own, then · X = Y beneath it.
+                // Too narrow for one row: M on its own, then · X = Y beneath it, the vectors at
+                // the row's top and the signs dropped to their middle row (egui would centre them
+                // on the row's first height, at the top).
                 m.show(ui, &format!("{id}-m"));
-                ui.horizontal(|ui| {
-                    ui.label("·");
+                let rows = unknowns.len();
+                ui.horizontal_top(|ui| {
+                    level_sign(ui, "·", rows);
                     x.show(ui, &format!("{id}-x"));
-                    ui.label("=");
+                    level_sign(ui, "=", rows);
                     y.show(ui, &format!("{id}-y"));
                 });
             }
@@ -322,6 +325,16 @@ fn payload_body(
             }
         }
     }
+}
+
+/// A sign between column vectors of `rows` cells, dropped to their middle row.
+fn level_sign(ui: &mut Ui, sign: &str, rows: usize) {
+    let row = ui.text_style_height(&TextStyle::Monospace) + ui.spacing().item_spacing.y;
+    let drop = (rows as f32 * row - ui.text_style_height(&TextStyle::Body)) / 2.0;
+    ui.vertical(|ui| {
+        ui.add_space(drop.max(0.0));
+        ui.label(sign);
+    });
 }
 
 /// A line of math in monospace, wrapped only between its terms; read (and found) with plain spaces.
