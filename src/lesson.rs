@@ -282,6 +282,18 @@ mod tests {
         assert_eq!(problems.len(), 1, "{problems:?}");
         assert!(problems[0].starts_with("slide 2"), "{problems:?}");
         assert!(problems[0].contains("a camera is for"), "{problems:?}");
+        // A bug is rendered beside a render scene's image, not on a lecture scene.
+        let bugs = r#"(title: "x", summary: "y", slides: [
+            (title: "a", scene: "render-common-bugs", bug: Some(NegativeT), narration: ["hi"]),
+            (title: "b", scene: "seed000-triangle", bug: Some(NegativeT), narration: ["hi"]),
+        ])"#;
+        let problems = Lesson::from_ron(bugs, "bugs.ron").unwrap().problems();
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert!(problems[0].starts_with("slide 2"), "{problems:?}");
+        assert!(
+            problems[0].contains("a bug is rendered beside"),
+            "{problems:?}"
+        );
         let typo = Lesson::from_ron(r#"(title: "x", summry: "y", slides: [])"#, "typo.ron");
         assert!(typo.unwrap_err().to_string().starts_with("typo.ron:1:"));
     }

@@ -225,21 +225,14 @@ impl RaylabApp {
         let before_verdict = self.view(self.state.view).presents()
             && (slide.symbolic
                 || trace.is_some_and(|trace| {
-                    let verdict = trace
-                        .steps
-                        .iter()
-                        .position(|s| matches!(s.payload, crate::trace::Payload::Verdict(_)));
                     let at = step.as_ref().map(|(index, _, _)| *index);
-                    verdict.is_some_and(|verdict| at.is_none_or(|at| at < verdict))
+                    trace
+                        .verdict_step()
+                        .is_some_and(|verdict| at.is_none_or(|at| at < verdict))
                 }));
         super::widgets::hide_answers(&ctx, hidden_before || before_verdict);
         // The panel's text scale is found again for each page: a slide of a lesson, its answer shown.
-        let page = {
-            use std::hash::{Hash as _, Hasher as _};
-            let mut hasher = std::hash::DefaultHasher::new();
-            (&run.name, run.slide, answer_shown).hash(&mut hasher);
-            hasher.finish() as usize
-        };
+        let page = egui::Id::unique((&run.name, run.slide, answer_shown));
         self.beside_the_view(ui, solved, "lesson-slide", Some((1.3, page)), |ui| {
             ui.add(egui::Label::new(RichText::new(&slide.title).heading()).wrap());
             for line in &slide.narration {

@@ -291,15 +291,17 @@ impl ParallelogramView {
         };
         let mut labels = LabelLayer::new(response.rect);
         handles::labels_avoid_focus_ring(ui.ctx(), &mut labels);
-        // The handles: corner, edges' tips, origin, direction's tip, p(α, β), o + t d.
+        // The handles: corner, edges' tips, origin, direction's tip, p(α, β) and o + t d (those
+        // two as the core puts them).
+        let explored = self.exploration();
         let handles: Vec<egui::Pos2> = [
             c,
             c_e1,
             c_e2,
             o,
             o + d,
-            corner(self.alpha, self.beta),
-            o + d * self.t,
+            DVec3::from(explored.plane_point),
+            DVec3::from(explored.ray_point),
         ]
         .into_iter()
         .filter_map(|p| projector.screen_from_world(p))

@@ -96,13 +96,10 @@ impl RaylabApp {
         // does not answer what the rest derive.
         let ctx = ui.ctx().clone();
         let hidden_before = widgets::answers_hidden(&ctx);
-        let verdict = trace
-            .steps
-            .iter()
-            .position(|s| matches!(s.payload, crate::trace::Payload::Verdict(_)));
-        let before_verdict = verdict.is_some_and(|verdict| index < verdict);
+        let before_verdict = trace.verdict_step().is_some_and(|verdict| index < verdict);
         widgets::hide_answers(&ctx, hidden_before || before_verdict);
-        self.beside_the_view(ui, solved, "presented-step", Some((1.4, index)), |ui| {
+        let page = egui::Id::unique(("presented-step", index));
+        self.beside_the_view(ui, solved, "presented-step", Some((1.4, page)), |ui| {
             step_panel::step_ui(ui, index + 1, step, None);
         });
         widgets::hide_answers(&ctx, hidden_before);
@@ -137,7 +134,7 @@ impl RaylabApp {
         ui: &mut Ui,
         solved: &ActiveSolve,
         id: &'static str,
-        enlarged: Option<(f32, usize)>,
+        enlarged: Option<(f32, egui::Id)>,
         side: impl FnOnce(&mut Ui),
     ) {
         let full = ui.available_width();
@@ -155,7 +152,7 @@ impl RaylabApp {
                 let room = ui.available_size();
                 let key = (page, room.x.round() as i64, room.y.round() as i64);
                 let search = ui
-                    .data(|d| d.get_temp::<((usize, i64, i64), FitSearch)>(fit_id))
+                    .data(|d| d.get_temp::<((egui::Id, i64, i64), FitSearch)>(fit_id))
                     .filter(|(was, _)| *was == key)
                     .map_or_else(FitSearch::default, |(_, search)| search);
                 let fit = search.now;

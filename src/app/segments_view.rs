@@ -609,15 +609,16 @@ impl SegmentsView {
         let text = ui.visuals().text_color();
         let mut labels = LabelLayer::new(frame.rect);
         handles::labels_avoid_focus_ring(ui.ctx(), &mut labels);
-        // The handles: the four ends, A(t) and B(s).
+        // The handles: the four ends, A(t) and B(s) (as the core puts them).
+        let explored = self.exploration();
         let [a1, a2, b1, b2] = self.scene.points();
         let handles = [
             a1,
             a2,
             b1,
             b2,
-            a1 + (a2 - a1) * self.t,
-            b1 + (b2 - b1) * self.s,
+            DVec2::from(explored.a_at_t),
+            DVec2::from(explored.b_at_s),
         ]
         .map(|p| frame.screen_from_world(p));
         let verdict =

@@ -680,16 +680,17 @@ impl TriangleView {
         let text = ui.visuals().text_color();
         let mut labels = LabelLayer::new(canvas.projector.rect);
         handles::labels_avoid_focus_ring(ui.ctx(), &mut labels);
-        // The handles: A, B, C, L, D's tip, P(β, γ) and L + tD.
+        // The handles: A, B, C, L, D's tip, P(β, γ) and L + tD (those two as the core puts them).
         let [a, b, c, l, d] = self.scene.vectors();
+        let explored = self.exploration();
         let handles: Vec<egui::Pos2> = [
             a,
             b,
             c,
             l,
             l + d,
-            a + (b - a) * self.beta + (c - a) * self.gamma,
-            l + d * self.t,
+            DVec3::from(explored.plane_point),
+            DVec3::from(explored.ray_point),
         ]
         .into_iter()
         .filter_map(|p| canvas.projector.screen_from_world(p))

@@ -596,6 +596,14 @@ impl Trace {
         })
     }
 
+    /// The index of the verdict's step: a presentation or lesson keeps the verdict off the view
+    /// before it.
+    pub fn verdict_step(&self) -> Option<usize> {
+        self.steps
+            .iter()
+            .position(|s| matches!(s.payload, Payload::Verdict(_)))
+    }
+
     /// Every check, in order.
     pub fn checks(&self) -> impl Iterator<Item = &Check> {
         self.steps.iter().filter_map(|s| match &s.payload {

@@ -157,9 +157,8 @@ fn view_values(harness: &Harness<'static, RaylabApp>) -> Vec<(&'static str, f64)
     values
 }
 
-/// How well a 3D view shows its shape and its ray: the smaller of |n̂ · ê| (the face: 1 face-on, 0
-/// edge-on) and |d̂ × ê| (the ray: 1 side-on, 0 end-on, its handles on top of each other), for the
-/// face's normal n, the ray's direction d and the direction ê to the eye.
+/// How well a 3D view shows its shape and its ray (1 at best; 0 with the face edge-on or the ray
+/// end-on, its handles on top of each other), as its camera measures it.
 fn facing(harness: &Harness<'static, RaylabApp>) -> Option<f64> {
     let app = harness.state();
     let (normal, dir, camera) = match app.state.view {
@@ -175,10 +174,7 @@ fn facing(harness: &Harness<'static, RaylabApp>) -> Option<f64> {
         }
         _ => return None,
     };
-    let eye = (camera.eye() - DVec3::from(camera.target)).normalize();
-    let face = normal.normalize().dot(eye).abs();
-    let ray = DVec3::from(dir).normalize().cross(eye).length();
-    Some(face.min(ray))
+    Some(camera.shows(DVec3::from(dir), Some(normal)))
 }
 
 /// Every slide of every lesson: the narrated values are the view's, the 3D ones face the room, and a
@@ -231,14 +227,11 @@ fn every_slide_narrates_what_the_view_shows() {
                 let trace = raylab::scene::preset(&slide.scene)
                     .and_then(|scene| raylab::lesson::trace_of(&scene.problem))
                     .unwrap();
-                let position = |wanted: &dyn Fn(&raylab::trace::Step) -> bool| {
-                    trace.steps.iter().position(wanted)
-                };
-                let verdict = position(&|s| matches!(s.payload, Payload::Verdict(_)));
+                let verdict = trace.verdict_step();
                 let here = slide
                     .step
                     .as_ref()
-                    .and_then(|id| position(&|s| &s.id == id));
+                    .and_then(|id| trace.steps.iter().position(|s| &s.id == id));
                 let reached = !slide.symbolic && here.is_some() && here >= verdict;
                 let shown = harness
                     .query_all_by(|node| {

@@ -36,6 +36,15 @@ fn eye_direction(yaw: f64, pitch: f64) -> DVec3 {
     DVec3::new(cp * cy, cp * sy, sp)
 }
 
+/// How well looking from direction `eye` (unit, towards the eye) shows a ray along `dir` and a
+/// shape with normal `face`: the smaller of |d̂ × ê| (the ray: 1 side-on, 0 end-on) and |n̂ · ê| (the
+/// face: 1 face-on, 0 edge-on); the ray's alone without a face (or with a degenerate one).
+fn showing(eye: DVec3, dir: DVec3, face: Option<DVec3>) -> f64 {
+    let ray = dir.normalize().cross(eye).length();
+    face.filter(|n| n.is_finite() && n.length() > 0.0)
+        .map_or(ray, |n| ray.min(n.normalize().dot(eye).abs()))
+}
+
 /// Vertical field of view.
 const FOV_Y: f64 = 0.8;
 
@@ -65,16 +74,8 @@ impl OrbitCamera {
         if !(dir.is_finite() && dir.length() > 0.0) {
             return self;
         }
-        // How well a direction to the eye shows both: 1 at best, 0 when either is seen edge-on.
-        let normal = face
-            .filter(|n| n.is_finite() && n.length() > 0.0)
-            .map(DVec3::normalize);
-        let d = dir.normalize();
-        let score = |yaw: f64, pitch: f64| {
-            let eye = eye_direction(yaw, pitch);
-            let ray = d.cross(eye).length();
-            normal.map_or(ray, |n| ray.min(n.dot(eye).abs()))
-        };
+        // How well a direction to the eye shows both (see `showing`).
+        let score = |yaw: f64, pitch: f64| showing(eye_direction(yaw, pitch), dir, face);
         if dir.x.hypot(dir.y) > 1e-9 * dir.length() {
             // 55° around from the ray's heading, a little above: the ray is seen along its length
             // and a triangle facing it (as in the lecture) is still seen at an angle, not edge-on.
@@ -147,6 +148,12 @@ impl OrbitCamera {
             }
         }
         self
+    }
+
+    /// How well this camera shows a ray along `dir` and a shape with normal `face` (see
+    /// [`showing`]).
+    pub fn shows(&self, dir: DVec3, face: Option<DVec3>) -> f64 {
+        showing(eye_direction(self.yaw, self.pitch), dir, face)
     }
 
     /// The eye position.
