@@ -224,7 +224,20 @@ impl LabelLayer {
                     .iter()
                     .filter(|[a, b]| segment_hits_rect(*a, *b, rect))
                     .count();
-                let cost = ring as f32 * 4.0 + rank as f32 * 0.5 + crossings as f32 * 5.0;
+                // Off the nearest ring a leader line joins it to its anchor: a line through
+                // another label reads as that label's.
+                let leader_crossings = if ring >= 1 {
+                    let end = closest_point(rect, request.anchor);
+                    taken
+                        .iter()
+                        .filter(|t| segment_hits_rect(request.anchor, end, **t))
+                        .count()
+                } else {
+                    0
+                };
+                let cost = ring as f32 * 4.0
+                    + rank as f32 * 0.5
+                    + (crossings + 2 * leader_crossings) as f32 * 5.0;
                 if best.is_none_or(|(c, _, _)| cost < c) {
                     // Any ring past the nearest is far enough to need its line back to the anchor.
                     best = Some((cost, rect, ring >= 1));
@@ -338,6 +351,34 @@ mod tests {
             .collect();
         let (rect, moved) = layer.best_place(&asked, size, &nearest).unwrap();
         assert!(moved, "{rect:?} has no leader line");
+    }
+
+    /// A leader line does not run through another label when a place without that is free (the
+    /// parallelogram's "o + t d" had its line through "o" at 200%).
+    #[test]
+    fn a_leader_line_keeps_off_other_labels() {
+        let mut layer = layer();
+        let anchor = pos2(200.0, 150.0);
+        let size = vec2(40.0, 18.0);
+        let asked = request(anchor);
+        // The nearest ring is blocked (by the drawing), and a label sits between the anchor and
+        // the place it would take without one, straight above.
+        for direction in DIRECTIONS {
+            layer.avoid(rect_beside(
+                anchor,
+                direction,
+                asked.clearance + RINGS[0],
+                size,
+            ));
+        }
+        let between = Rect::from_center_size(pos2(200.0, 125.0), vec2(4.0, 4.0));
+        let (rect, moved) = layer.best_place(&asked, size, &[between]).unwrap();
+        assert!(moved);
+        let end = closest_point(rect, anchor);
+        assert!(
+            !segment_hits_rect(anchor, end, between),
+            "{rect:?}: its leader crosses a label"
+        );
     }
 
     #[test]
