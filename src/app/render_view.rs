@@ -464,13 +464,13 @@ impl RenderView {
                 .show(ui, |ui| {
                     self.effects_row(ui);
                     ui.horizontal_wrapped(|ui| self.bug_ui(ui));
-                    ui.horizontal_wrapped(|ui| self.camera_and_mode_ui(ui));
                     self.bug_sentence_ui(ui);
                 })
                 .header_response
                 .on_hover_text(
                     "Effects, method and bug: folded to give the image the room on a zoomed screen",
                 );
+            // The camera's reset and the mode stay out: an orbit or a probe needs them.
             ui.horizontal_wrapped(|ui| self.camera_and_mode_ui(ui));
             return;
         }

@@ -880,6 +880,11 @@ fn the_drawing_takes_most_of_a_200_percent_projector() {
             assert!(slider.is_some(), "{preset}: no slider after unfolding");
         } else {
             harness.get_by_label("Compare with a bug:");
+            // The camera's reset and the mode stay out of the fold, once.
+            assert_eq!(
+                harness.query_all_by_label("World vs object space").count(),
+                1
+            );
         }
     }
 }
