@@ -7,6 +7,7 @@ use super::bvh::Bvh;
 use super::crack_free::ShearedRay;
 use super::kernels::Avx2;
 use super::kernels::parallelogram4::Parallelogram4;
+use super::object_index;
 use super::objects::{Geometry, PreparedObject, PreparedTriangle, unit};
 use super::{Hit, ParallelogramHit, Prepared, Ray, Stats, TriangleHit};
 use crate::geometry::parallelogram::lean::solve_inside;
@@ -516,19 +517,80 @@ pub fn nearest_hit_between(
     (t_min, t_max): (f64, f64),
     stats: &mut Stats,
 ) -> Option<Hit> {
+    if !(object_index::applies(prepared) && object_index::finite(&ray)) {
+        return nearest_of_each_object(prepared, ray, (t_min, t_max), stats);
+    }
+    let mut best: Option<Hit> = None;
+    let mut boxes = 0;
+    let index = prepared.object_index();
+    index.visit(
+        prepared.simd,
+        &ray,
+        (t_min, t_max),
+        &mut boxes,
+        |object, t_max| nearer(prepared, (object, ray), (t_min, t_max), &mut best, stats),
+    );
+    stats.box_tests += boxes;
+    best
+}
+
+/// [`nearest_hit_between`] testing every object in turn, without the index.
+pub(super) fn nearest_of_each_object(
+    prepared: &Prepared,
+    ray: Ray,
+    (t_min, mut t_max): (f64, f64),
+    stats: &mut Stats,
+) -> Option<Hit> {
     let mut best: Option<Hit> = None;
     for index in 0..prepared.objects.len() {
-        let range = (t_min, best.map_or(t_max, |b| b.t));
-        if let Some(hit) = object_hit_between(prepared, index, ray, range, Find::Nearest, stats) {
-            offer(&mut best, hit);
-        }
+        t_max = nearer(prepared, (index, ray), (t_min, t_max), &mut best, stats);
     }
     best
+}
+
+/// Keeps object `index`'s hit in (t_min, t_max] in `best` if nearer; the nearest t so far.
+#[inline(always)]
+fn nearer(
+    prepared: &Prepared,
+    (index, ray): (usize, Ray),
+    range: (f64, f64),
+    best: &mut Option<Hit>,
+    stats: &mut Stats,
+) -> f64 {
+    if let Some(hit) = object_hit_between(prepared, index, ray, range, Find::Nearest, stats) {
+        offer(best, hit);
+    }
+    best.map_or(range.1, |b| b.t)
 }
 
 /// True when anything is hit with `t_min < t < t_max`: an any-hit query that stops at the first hit
 /// (shadow and occlusion rays; a surface exactly at the light does not hide it).
 pub fn any_hit(prepared: &Prepared, ray: Ray, range: (f64, f64), stats: &mut Stats) -> bool {
+    if !(object_index::applies(prepared) && object_index::finite(&ray)) {
+        return any_of_each_object(prepared, ray, range, stats);
+    }
+    let mut blocked = false;
+    let mut boxes = 0;
+    prepared
+        .object_index()
+        .visit(prepared.simd, &ray, range, &mut boxes, |object, t_max| {
+            if !blocked && object_blocks(prepared, object, ray, range, stats) {
+                blocked = true;
+                return f64::NEG_INFINITY;
+            }
+            t_max
+        });
+    stats.box_tests += boxes;
+    blocked
+}
+
+/// [`any_hit`] testing every object in turn, without the index.
+pub(super) fn any_of_each_object(
+    prepared: &Prepared,
+    ray: Ray,
+    range: (f64, f64),
+    stats: &mut Stats,
+) -> bool {
     (0..prepared.objects.len()).any(|index| object_blocks(prepared, index, ray, range, stats))
 }
 

@@ -222,6 +222,7 @@ pub fn mesh_scene(
         }]),
         lighting: Default::default(),
         simd: crate::render::kernels::Avx2::detect(),
+        index: Default::default(),
     }
 }
 

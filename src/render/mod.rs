@@ -17,13 +17,15 @@ pub mod generate;
 pub mod inspect;
 pub mod kernels;
 pub mod loading;
+pub mod object_index;
 pub mod objects;
 pub mod ray;
 pub mod ray_kinds;
+pub mod ray_log;
 pub mod secondary;
 pub mod shading;
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -193,6 +195,9 @@ pub struct Prepared {
     /// The proof that this processor runs the AVX2 kernels ([`kernels`]), detected when the scene
     /// is prepared; `None` renders with the scalar paths alone (the same image to the bit).
     pub simd: Option<kernels::Avx2>,
+    /// The objects' world-space boxes in a hierarchy ([`object_index`]), built at the first
+    /// secondary ray and shared like `objects`; [`Prepared::objects_mut`] drops it.
+    pub index: Arc<OnceLock<object_index::ObjectIndex>>,
 }
 
 impl Prepared {
@@ -235,11 +240,13 @@ impl Prepared {
             objects,
             lighting: Lighting::of(scene),
             simd: kernels::Avx2::detect(),
+            index: Arc::default(),
         })
     }
 
     /// The objects, to change (copied first if another `Prepared` shares them).
     pub fn objects_mut(&mut self) -> &mut [PreparedObject] {
+        self.index = Arc::default();
         if Arc::get_mut(&mut self.objects).is_none() {
             self.objects = self.objects.iter().cloned().collect();
         }
@@ -247,6 +254,12 @@ impl Prepared {
             Some(objects) => objects,
             None => &mut [],
         }
+    }
+
+    /// The objects' index of world-space boxes, built the first time it is asked for.
+    pub fn object_index(&self) -> &object_index::ObjectIndex {
+        self.index
+            .get_or_init(|| object_index::ObjectIndex::new(&self.objects))
     }
 
     /// The method an object is tested with.

@@ -67,6 +67,8 @@ pub trait Record {
     fn light(&mut self, _index: usize, _test: LightTest) {}
     /// The current hit's ambient-occlusion rays: `cast` of them, `blocked` found something.
     fn occlusion(&mut self, _cast: u32, _blocked: u32) {}
+    /// A shadow or occlusion ray (`kind`) asks whether anything lies on it within (0, t_max).
+    fn any_hit_query(&mut self, _kind: RayKind, _ray: Ray, _t_max: f64) {}
 }
 
 /// Records nothing: a render.
@@ -134,22 +136,29 @@ impl<'a> SecondaryCaster<'a> {
     /// but its light is not gathered: no shadow, mirror, glass or occlusion ray starts from it.
     pub fn pixel(
         &self,
-        (row, column): (usize, usize),
+        at: (usize, usize),
         centre: Ray,
         hit: Option<Hit>,
+        stats: &mut Stats,
+    ) -> V3<f64> {
+        self.pixel_told(at, (centre, hit), &mut Silent, stats)
+    }
+
+    /// [`SecondaryCaster::pixel`], telling `rec` of every ray past the centre's.
+    pub fn pixel_told<R: Record>(
+        &self,
+        (row, column): (usize, usize),
+        (centre, hit): (Ray, Option<Hit>),
+        rec: &mut R,
         stats: &mut Stats,
     ) -> V3<f64> {
         let p = self.prepared;
         let mut rng = pixel_rng(p.lighting.settings.seed, row * p.width + column);
         if !self.on.antialiasing {
             return match hit {
-                Some(hit) => self.radiance(
-                    hit,
-                    centre,
-                    (RayKind::Primary, 0),
-                    (&mut rng, &mut Silent),
-                    stats,
-                ),
+                Some(hit) => {
+                    self.radiance(hit, centre, (RayKind::Primary, 0), (&mut rng, rec), stats)
+                }
                 None => [0.0; 3],
             };
         }
@@ -161,7 +170,7 @@ impl<'a> SecondaryCaster<'a> {
         for (x, y) in &samples {
             // Cell (x, y) of the pixel around its centre.
             let ray = self.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
-            let c = self.trace(ray, (RayKind::Sample, 0), (&mut rng, &mut Silent), stats);
+            let c = self.trace(ray, (RayKind::Sample, 0), (&mut rng, &mut *rec), stats);
             sum = std::array::from_fn(|k| sum[k] + c[k]);
         }
         sum.map(|c| c / samples.len() as f64)
@@ -213,8 +222,15 @@ impl<'a> SecondaryCaster<'a> {
     }
 
     /// True when something lies on the ray within (0, t_max]: a shadow or occlusion ray.
-    fn blocked(&self, ray: Ray, t_max: f64, kind: RayKind, stats: &mut Stats) -> bool {
+    fn blocked<R: Record>(
+        &self,
+        (ray, t_max): (Ray, f64),
+        kind: RayKind,
+        rec: &mut R,
+        stats: &mut Stats,
+    ) -> bool {
         stats.secondary.count(kind);
+        rec.any_hit_query(kind, ray, t_max);
         let blocked = secondary_work(stats, |s| {
             cast::any_hit(self.prepared, ray, (0.0, t_max), s)
         });
@@ -306,7 +322,7 @@ impl<'a> SecondaryCaster<'a> {
                 let from = self.off_surface(spot, &seen.toward);
                 let t_max = seen.t_max;
                 let ray = Ray::new(from, seen.toward_from(point, &from));
-                if self.blocked(ray, t_max, RayKind::Shadow, stats) {
+                if self.blocked((ray, t_max), RayKind::Shadow, rec, stats) {
                     rec.light(index, LightTest::Blocked(ray, t_max));
                     continue;
                 }
@@ -334,7 +350,8 @@ impl<'a> SecondaryCaster<'a> {
         let open = (0..settings.occlusion_rays)
             .filter(|_| {
                 let dir = cosine_hemisphere(&spot.front, rng);
-                !self.blocked(Ray::new(from, dir), reach, RayKind::Occlusion, stats)
+                let ray = Ray::new(from, dir);
+                !self.blocked((ray, reach), RayKind::Occlusion, &mut *rec, stats)
             })
             .count();
         let cast = settings.occlusion_rays;

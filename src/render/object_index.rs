@@ -1,0 +1,647 @@
+//! The scene's objects in a hierarchy of world-space boxes (a top-level BVH, as Embree's instances
+//! have): a secondary ray tests only the objects whose box it meets, nearest box first, instead of
+//! every object of the scene. The Cornell box's shadow and occlusion rays tested all fourteen of its
+//! objects (twelve lone triangles, two meshes taken into their own space); most now test two or three.
+//!
+//! Culling only: an object whose box the ray meets is tested exactly as before, with the same
+//! transform, method and t range, and a nearest-hit query keeps the earlier object on a tie, so the
+//! hits are the same whatever order the boxes are visited in. The boxes are widened and their
+//! distances rounded outward by far more than the objects' own tests can be off (a hit found in an
+//! object's space, its t computed there), so no hit is culled.
+
+// The traversal's stack is left uninitialised: entries below its depth are written before read.
+#![allow(unsafe_code)]
+
+use std::mem::MaybeUninit;
+
+use glam::DVec3;
+
+use super::kernels::Avx2;
+use super::objects::{Geometry, PreparedObject};
+use super::{Prepared, Ray};
+
+/// Scenes with fewer objects test each one (a box per object saves nothing there).
+const MIN_OBJECTS: usize = 2;
+
+/// How far a box's distances are moved outward, relative to the distance: far above the relative
+/// error of any object's t (f64 methods on grazing rays stay under 10⁻⁷ in the accuracy study).
+const T_SLACK: f64 = 1e-5;
+
+/// How far each box is widened, relative to the largest of its coordinates' magnitudes and its size.
+const BOX_SLACK: f64 = 1e-7;
+
+/// A box's lowest and highest corners.
+type Bounds = ([f64; 3], [f64; 3]);
+
+/// The box that holds no point.
+fn empty() -> Bounds {
+    ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3])
+}
+
+/// The smallest box holding `boxes`.
+fn union<'a>(boxes: impl Iterator<Item = &'a Bounds>) -> Bounds {
+    boxes.fold(empty(), |(lo, hi), (l, h)| {
+        (
+            std::array::from_fn(|k| lo[k].min(l[k])),
+            std::array::from_fn(|k| hi[k].max(h[k])),
+        )
+    })
+}
+
+/// Half a box's surface area (the chance a ray through its parent meets it, up to a factor).
+fn area((lo, hi): &Bounds) -> f64 {
+    let [x, y, z] = std::array::from_fn(|k| (hi[k] - lo[k]).max(0.0));
+    x * y + y * z + z * x
+}
+
+/// A node of the binary build: a box, and a leaf's object or an inner node's two children.
+#[derive(Clone, Debug)]
+struct Binary {
+    bounds: Bounds,
+    /// A leaf's object, or an inner node's second child (the first follows it).
+    object_or_right: u32,
+    leaf: bool,
+}
+
+/// A lane of a wide node that holds nothing.
+const EMPTY: u32 = u32::MAX;
+/// Marks a lane's child as an object rather than a node.
+const OBJECT: u32 = 1 << 31;
+
+/// A node of the index: up to four children's boxes, axis by axis (so the four are tested
+/// together), and what each child is: a node, an object (`OBJECT` set) or nothing (`EMPTY`).
+#[derive(Clone, Debug)]
+struct Wide {
+    lo: [[f64; 4]; 3],
+    hi: [[f64; 4]; 3],
+    child: [u32; 4],
+}
+
+/// The objects' boxes in a four-wide hierarchy, built once per set of objects.
+#[derive(Clone, Debug, Default)]
+pub struct ObjectIndex {
+    nodes: Vec<Wide>,
+    /// Objects without a box (parallelograms, non-finite coordinates): tested by every ray.
+    unbounded: Vec<u32>,
+    /// True when every object of triangles is an OBJ mesh (watertight by default).
+    triangles_all_meshes: bool,
+}
+
+/// A ray's numbers for the box test, worked out once per ray.
+struct Slabs {
+    origin: [f64; 3],
+    /// 1/d per axis; where d is 0 (or 1/d is not finite) ±10³⁰⁰, which puts the slab's planes
+    /// at ±∞ on the side of the origin where they lie, at 0 where the origin is on one: a ray
+    /// parallel to a slab is in it for all t or for none (or, on its plane, from t = 0 on: the
+    /// boxes are widened, so that is only ever a little too much).
+    inverse: [f64; 3],
+}
+
+impl Slabs {
+    fn of(ray: &Ray) -> Slabs {
+        Slabs {
+            origin: ray.origin,
+            inverse: ray.dir.map(|d| {
+                let inverse = 1.0 / d;
+                if inverse.is_finite() {
+                    inverse
+                } else {
+                    1e300_f64.copysign(d)
+                }
+            }),
+        }
+    }
+
+    /// Each lane's distance of entry into its box, rounded down, and whether the ray meets the
+    /// box within [t_min, t_max] (its distances rounded outward). The four lanes alike, without
+    /// branches (min and max as comparisons), so the compiler tests them in vector registers.
+    #[inline(always)]
+    fn enter(&self, node: &Wide, (t_min, t_max): (f64, f64)) -> ([f64; 4], u32) {
+        let min = |a: f64, b: f64| if a < b { a } else { b };
+        let max = |a: f64, b: f64| if a > b { a } else { b };
+        let mut near = [t_min; 4];
+        let mut far = [f64::INFINITY; 4];
+        for k in 0..3 {
+            for lane in 0..4 {
+                let a = (node.lo[k][lane] - self.origin[k]) * self.inverse[k];
+                let b = (node.hi[k][lane] - self.origin[k]) * self.inverse[k];
+                near[lane] = max(near[lane], min(a, b));
+                far[lane] = min(far[lane], max(a, b));
+            }
+        }
+        let mut met = 0;
+        for lane in 0..4 {
+            near[lane] -= T_SLACK * near[lane].abs();
+            far[lane] += T_SLACK * far[lane].abs();
+            let inside = near[lane] <= far[lane] && far[lane] >= t_min && near[lane] <= t_max;
+            met |= u32::from(inside) << lane;
+        }
+        (near, met)
+    }
+
+    /// [`Slabs::enter`], compiled with AVX2 where `simd` proves the processor has it (the same
+    /// operations, four lanes to a register).
+    #[inline(always)]
+    fn enter_on(&self, simd: Option<Avx2>, node: &Wide, range: (f64, f64)) -> ([f64; 4], u32) {
+        match simd {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+            Some(_) => unsafe { self.enter_avx2(node, range) },
+            _ => self.enter(node, range),
+        }
+    }
+
+    /// [`Slabs::enter`] with AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn enter_avx2(&self, node: &Wide, range: (f64, f64)) -> ([f64; 4], u32) {
+        self.enter(node, range)
+    }
+}
+
+impl ObjectIndex {
+    /// The index of `objects`' world-space boxes.
+    pub fn new(objects: &[PreparedObject]) -> ObjectIndex {
+        let mut bounded = Vec::new();
+        let mut unbounded = Vec::new();
+        for (index, object) in objects.iter().enumerate() {
+            match world_box(object) {
+                Some(b) => bounded.push((index as u32, b)),
+                None => unbounded.push(index as u32),
+            }
+        }
+        let mut binary = Vec::with_capacity(2 * bounded.len());
+        if !bounded.is_empty() {
+            build(&mut binary, &mut bounded);
+        }
+        let mut index = ObjectIndex {
+            nodes: Vec::with_capacity(bounded.len() / 2 + 1),
+            unbounded,
+            triangles_all_meshes: objects.iter().all(|object| {
+                object.is_mesh || matches!(object.geometry, Geometry::Parallelogram { .. })
+            }),
+        };
+        if let Some(root) = binary.first() {
+            if root.leaf {
+                // One object: a root with one lane.
+                index.nodes.push(Wide::of(&binary, &[0]));
+            } else {
+                index.widen(&binary, 0);
+            }
+        }
+        index
+    }
+
+    /// Appends the wide node for binary inner node `at` (its children's children taken up into
+    /// it, the largest first, until it has four), then those of its inner children; its index.
+    fn widen(&mut self, binary: &[Binary], at: usize) -> u32 {
+        let children_of = |at: usize| [at + 1, binary[at].object_or_right as usize];
+        let mut lanes: Vec<usize> = children_of(at).to_vec();
+        while lanes.len() < 4 {
+            let largest = lanes
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| !binary[**c].leaf)
+                .max_by(|a, b| area(&binary[*a.1].bounds).total_cmp(&area(&binary[*b.1].bounds)));
+            let Some((lane, &child)) = largest else {
+                break;
+            };
+            lanes.splice(lane..=lane, children_of(child));
+        }
+        let here = self.nodes.len();
+        self.nodes.push(Wide::of(binary, &lanes));
+        for (lane, &child) in lanes.iter().enumerate() {
+            if !binary[child].leaf {
+                self.nodes[here].child[lane] = self.widen(binary, child);
+            }
+        }
+        here as u32
+    }
+
+    /// Calls `test(object, t_max)` for every object whose box the ray meets within
+    /// [t_min, t_max], nearest box first, then for the objects without a box. `test` answers the
+    /// t_max from then on: the nearest hit so far, or −∞ to stop (an any-hit query's hit). Counts
+    /// the box tests.
+    #[inline(always)]
+    pub fn visit(
+        &self,
+        simd: Option<Avx2>,
+        ray: &Ray,
+        (t_min, mut t_max): (f64, f64),
+        box_tests: &mut u64,
+        mut test: impl FnMut(usize, f64) -> f64,
+    ) {
+        for &object in &self.unbounded {
+            t_max = test(object as usize, t_max);
+        }
+        if self.nodes.is_empty() || t_max < t_min {
+            return;
+        }
+        let slabs = Slabs::of(ray);
+        // Each node's visit replaces one entry with at most four, and the build keeps a quarter of
+        // the objects on each side of a split: 3 entries for each of log₄⁄₃ 2³² < 78 levels.
+        let mut stack = [const { MaybeUninit::<(u32, f64)>::uninit() }; 3 * 78 + 1];
+        stack[0] = MaybeUninit::new((0, t_min));
+        let mut depth = 1;
+        while depth > 0 {
+            depth -= 1;
+            // SAFETY: the entries below `depth` were written (here or in the loop below).
+            let (child, near) = unsafe { stack[depth].assume_init() };
+            if near > t_max {
+                continue;
+            }
+            if child & OBJECT != 0 {
+                t_max = test((child & !OBJECT) as usize, t_max);
+                continue;
+            }
+            let node = &self.nodes[child as usize];
+            *box_tests += node.child.iter().filter(|c| **c != EMPTY).count() as u64;
+            let (near, met) = slabs.enter_on(simd, node, (t_min, t_max));
+            // Farthest first, so the nearest is popped next.
+            let mut lanes = [0usize; 4];
+            let mut n = 0;
+            for lane in 0..4 {
+                if met & (1 << lane) != 0 && node.child[lane] != EMPTY {
+                    lanes[n] = lane;
+                    n += 1;
+                }
+            }
+            for i in 1..n {
+                let mut j = i;
+                while j > 0 && near[lanes[j - 1]] < near[lanes[j]] {
+                    lanes.swap(j - 1, j);
+                    j -= 1;
+                }
+            }
+            for &lane in &lanes[..n] {
+                stack[depth] = MaybeUninit::new((node.child[lane], near[lane]));
+                depth += 1;
+            }
+        }
+    }
+}
+
+impl Wide {
+    /// The wide node over binary nodes `lanes` (leaves become objects; inner nodes are filled in
+    /// by the caller).
+    fn of(binary: &[Binary], lanes: &[usize]) -> Wide {
+        let mut wide = Wide {
+            lo: [[f64::INFINITY; 4]; 3],
+            hi: [[f64::NEG_INFINITY; 4]; 3],
+            child: [EMPTY; 4],
+        };
+        for (lane, &at) in lanes.iter().enumerate() {
+            let node = &binary[at];
+            for k in 0..3 {
+                wide.lo[k][lane] = node.bounds.0[k];
+                wide.hi[k][lane] = node.bounds.1[k];
+            }
+            if node.leaf {
+                wide.child[lane] = OBJECT | node.object_or_right;
+            }
+        }
+        wide
+    }
+}
+
+/// Appends the binary subtree over `items` to `nodes`: a leaf for one object, else split where the
+/// two halves' boxes cost least by the surface area heuristic (each axis's order of the boxes'
+/// centres, every place in it: the objects are few).
+fn build(nodes: &mut Vec<Binary>, items: &mut [(u32, Bounds)]) {
+    let at = nodes.len();
+    nodes.push(Binary {
+        bounds: union(items.iter().map(|(_, b)| b)),
+        object_or_right: items[0].0,
+        leaf: items.len() == 1,
+    });
+    if items.len() == 1 {
+        return;
+    }
+    let centre = |b: &Bounds, k: usize| b.0[k] + b.1[k];
+    let mut best = (f64::INFINITY, 0, items.len() / 2);
+    for axis in 0..3 {
+        items.sort_by(|a, b| centre(&a.1, axis).total_cmp(&centre(&b.1, axis)));
+        // The area of the first i boxes' union, for every i, then the same from the right.
+        let mut left = vec![0.0; items.len()];
+        let mut running = empty();
+        for (i, item) in items.iter().enumerate() {
+            running = union([&running, &item.1].into_iter());
+            left[i] = area(&running);
+        }
+        let mut running = empty();
+        // Splits that keep a quarter of the objects on each side at least: the tree's depth stays
+        // within log₄⁄₃ n (the traversal's stack is sized by it).
+        let n = items.len();
+        let keep = (n / 4).max(1);
+        for split in (1..n).rev() {
+            running = union([&running, &items[split].1].into_iter());
+            let cost = left[split - 1] * split as f64 + area(&running) * (n - split) as f64;
+            if cost < best.0 && split >= keep && n - split >= keep {
+                best = (cost, axis, split);
+            }
+        }
+    }
+    let (_, axis, split) = best;
+    items.sort_by(|a, b| centre(&a.1, axis).total_cmp(&centre(&b.1, axis)));
+    let (left, right) = items.split_at_mut(split);
+    build(nodes, left);
+    nodes[at].object_or_right = nodes.len() as u32;
+    build(nodes, right);
+}
+
+/// True when `prepared`'s secondary rays may go through the object index: every triangle takes
+/// the crack-free test, whose hit lies on the triangle (its t a weighted mean of the vertices'
+/// depths along the ray, the weights of one sign), so in the triangle's box. The float methods
+/// may report a ray in a triangle's plane as a hit at any t, far off the triangle, and the bugs
+/// accept points off a triangle or t < 0, or change what t means: there every object is tested,
+/// as before.
+///
+/// (What [`super::cast::crack_free_applies`] says of each triangle object, decided once for them all.)
+pub fn applies(prepared: &Prepared) -> bool {
+    use super::Bug;
+    use crate::intersect::Method;
+    let crack_free = match prepared.method {
+        Some(method) => method == Method::Watertight,
+        // Watertight is the default for meshes alone.
+        None => prepared.object_index().triangles_all_meshes,
+    };
+    prepared.objects.len() >= MIN_OBJECTS
+        && matches!(prepared.bug, None | Some(Bug::ShadowAcne))
+        && crack_free
+}
+
+/// True when every number of `ray` is finite (a box test on others could cull wrongly).
+#[inline(always)]
+pub fn finite(ray: &Ray) -> bool {
+    ray.origin.iter().chain(&ray.dir).all(|c| c.is_finite())
+}
+
+/// The object's box in world space, widened ([`BOX_SLACK`]); `None` when not finite, and for a
+/// parallelogram, whose solver may find a ray nearly in its plane at a t far off it (such a ray's
+/// hit is as the solver says, so a parallelogram is tested by every ray).
+fn world_box(object: &PreparedObject) -> Option<Bounds> {
+    let corners: Vec<DVec3> = match &object.geometry {
+        Geometry::Triangles { triangles, .. } => {
+            let (lo, hi) = triangles.iter().flat_map(|t| &t.vertices).fold(
+                ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+                |(lo, hi), v| {
+                    (
+                        std::array::from_fn(|k| lo[k].min(v[k])),
+                        std::array::from_fn(|k| hi[k].max(v[k])),
+                    )
+                },
+            );
+            box_corners(lo, hi)
+        }
+        Geometry::Parallelogram { .. } => return None,
+    };
+    if corners.is_empty() {
+        return None;
+    }
+    // Into world space (M), when the object has a transform.
+    let world: Vec<DVec3> = match object.object_from_world {
+        Some(_) => corners
+            .iter()
+            .map(|c| object.world_from_object.transform_point3(*c))
+            .collect(),
+        None => corners,
+    };
+    let lo = world.iter().fold(DVec3::INFINITY, |m, c| m.min(*c));
+    let hi = world.iter().fold(DVec3::NEG_INFINITY, |m, c| m.max(*c));
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    let pad = BOX_SLACK * lo.abs().max(hi.abs()).max(hi - lo).max_element() + f64::MIN_POSITIVE;
+    Some(((lo - pad).to_array(), (hi + pad).to_array()))
+}
+
+/// The eight corners of the box [lo, hi] (none for an empty one).
+fn box_corners(lo: [f64; 3], hi: [f64; 3]) -> Vec<DVec3> {
+    if (0..3).any(|k| lo[k] > hi[k]) {
+        return Vec::new();
+    }
+    (0..8)
+        .map(|i| {
+            DVec3::new(
+                if i & 1 == 0 { lo[0] } else { hi[0] },
+                if i & 2 == 0 { lo[1] } else { hi[1] },
+                if i & 4 == 0 { lo[2] } else { hi[2] },
+            )
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DAffine3, DMat3, DQuat};
+    use rand::{Rng, SeedableRng};
+    use std::sync::Arc;
+
+    use crate::intersect::Method;
+    use crate::render::cast::{
+        any_hit, any_of_each_object, nearest_hit_between, nearest_of_each_object,
+    };
+    use crate::render::loading::assets::Embedded;
+    use crate::render::objects::{Geometry, PreparedObject, PreparedTriangle};
+    use crate::render::ray_log::rays_cast;
+    use crate::render::{Prepared, Ray, Stats};
+    use crate::scene::{Problem, Scene};
+
+    /// Every shipped render scene, shrunk so a debug build logs its rays quickly.
+    fn shipped() -> Vec<(String, Prepared)> {
+        let folder = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes");
+        let mut files: Vec<_> = std::fs::read_dir(folder)
+            .unwrap()
+            .map(|entry| entry.unwrap().path())
+            .collect();
+        files.sort();
+        let mut scenes = Vec::new();
+        for path in files {
+            let Ok(Problem::Render(mut scene)) = Scene::load(&path).map(|s| s.problem) else {
+                continue;
+            };
+            scene.width = scene.width.min(24);
+            scene.height = scene.height.min(16);
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            scenes.push((name, Prepared::new(&scene, &Embedded).unwrap()));
+        }
+        scenes
+    }
+
+    /// Objects under awkward transforms: rotated, sheared, scaled by 10⁻⁶ and 10⁶, a sliver
+    /// triangle and parallelograms, placed at random, some sharing planes and edges.
+    fn awkward(seed: u64) -> Prepared {
+        let mut random = rand_pcg::Pcg64::seed_from_u64(seed);
+        let (_, mut prepared) = shipped().swap_remove(0);
+        let mut objects = Vec::new();
+        for i in 0..24 {
+            let mut point =
+                || -> [f64; 3] { std::array::from_fn(|_| random.random_range(-2.0..2.0)) };
+            let geometry = if i % 3 == 0 {
+                Geometry::Parallelogram {
+                    corner: point(),
+                    e1: point(),
+                    e2: point(),
+                    face_normal: [0.0, 0.0, 1.0],
+                }
+            } else {
+                let (a, b) = (point(), point());
+                // Every fourth a sliver along a − b.
+                let c = if i % 4 == 1 {
+                    std::array::from_fn(|k| a[k] + 1e-9 * b[k])
+                } else {
+                    point()
+                };
+                Geometry::Triangles {
+                    triangles: Arc::new([PreparedTriangle::new([a, b, c])]),
+                    bvh: None,
+                }
+            };
+            let scale = [1e-6, 1.0, 1e6, 3.0][i % 4];
+            let world_from_object = DAffine3::from_scale_rotation_translation(
+                glam::DVec3::new(scale, scale * 0.5, scale * 2.0),
+                DQuat::from_euler(glam::EulerRot::XYZ, i as f64, 0.3 * i as f64, 1.0),
+                glam::DVec3::from(point()),
+            );
+            let moved = i % 2 == 1;
+            objects.push(PreparedObject {
+                geometry,
+                object_from_world: moved.then(|| world_from_object.inverse()),
+                world_from_object: if moved {
+                    world_from_object
+                } else {
+                    DAffine3::IDENTITY
+                },
+                normal_to_world: DMat3::IDENTITY,
+                color: [0.5; 3],
+                texture: None,
+                is_mesh: false,
+            });
+        }
+        prepared.objects = objects.into();
+        prepared.index = Default::default();
+        prepared.method = Some(Method::Watertight);
+        assert!(super::applies(&prepared));
+        prepared
+    }
+
+    /// Rays at random and along the axes (directions with zero components), from inside and
+    /// outside the scene, and rays that run in an object's plane through its corners.
+    fn rays(prepared: &Prepared, seed: u64) -> Vec<Ray> {
+        let mut random = rand_pcg::Pcg64::seed_from_u64(seed);
+        let mut rays = Vec::new();
+        for i in 0..3000 {
+            let origin: [f64; 3] = std::array::from_fn(|_| random.random_range(-4.0..4.0));
+            let mut dir: [f64; 3] = std::array::from_fn(|_| random.random_range(-1.0..1.0));
+            if i % 5 == 0 {
+                dir[i % 3] = 0.0;
+            }
+            if i % 7 == 0 {
+                dir = [0.0; 3];
+                dir[i % 3] = 1.0;
+            }
+            rays.push(Ray::new(origin, dir));
+        }
+        // Along the edges and through the corners of every object, in world space.
+        for object in prepared.objects.iter() {
+            let corners: Vec<[f64; 3]> = match &object.geometry {
+                Geometry::Triangles { triangles, .. } => {
+                    triangles.iter().take(8).flat_map(|t| t.vertices).collect()
+                }
+                Geometry::Parallelogram { corner, e1, e2, .. } => {
+                    vec![*corner, std::array::from_fn(|k| corner[k] + e1[k] + e2[k])]
+                }
+            };
+            let world: Vec<[f64; 3]> = corners
+                .iter()
+                .map(|c| {
+                    object
+                        .world_from_object
+                        .transform_point3((*c).into())
+                        .to_array()
+                })
+                .collect();
+            for pair in world.windows(2) {
+                let dir = std::array::from_fn(|k| pair[1][k] - pair[0][k]);
+                let back = std::array::from_fn(|k| pair[0][k] - 0.5 * dir[k]);
+                rays.push(Ray::new(back, dir));
+            }
+        }
+        rays
+    }
+
+    /// The index's queries against every object tested in turn, on `rays`: the same nearest hit
+    /// (object, primitive, t and where on it) and the same answer to every any-hit query.
+    fn agree(name: &str, prepared: &Prepared, rays: &[Ray]) -> usize {
+        let mut met = 0;
+        let mut stats = Stats::default();
+        for (i, ray) in rays.iter().enumerate() {
+            let nearest = nearest_hit_between(prepared, *ray, (0.0, f64::INFINITY), &mut stats);
+            let each = nearest_of_each_object(prepared, *ray, (0.0, f64::INFINITY), &mut stats);
+            assert_eq!(nearest, each, "{name}: ray {i} {ray:?}");
+            met += usize::from(nearest.is_some());
+            // Ending just before, at and past the nearest hit, and at a few lengths.
+            let ends = match nearest {
+                Some(hit) => vec![hit.t.next_down(), hit.t, hit.t.next_up(), 2.0 * hit.t],
+                None => vec![0.5, 3.0, f64::INFINITY],
+            };
+            for t_max in ends {
+                let range = (0.0, t_max);
+                assert_eq!(
+                    any_hit(prepared, *ray, range, &mut stats),
+                    any_of_each_object(prepared, *ray, range, &mut stats),
+                    "{name}: ray {i} {ray:?} up to {t_max}"
+                );
+            }
+        }
+        met
+    }
+
+    /// The index culls nothing it should not, in every shipped scene (on the rays its tracer casts,
+    /// and random and edge-on ones), with each method, and among objects under awkward transforms.
+    #[test]
+    fn the_index_finds_the_same_hits_as_testing_every_object() {
+        let mut met = 0;
+        for (name, prepared) in shipped() {
+            let mut cast: Vec<Ray> = rays_cast(&prepared).iter().map(|r| r.ray).collect();
+            cast.truncate(4000);
+            for method in [None, Some(Method::MollerTrumbore), Some(Method::Watertight)] {
+                let mut variant = prepared.clone();
+                variant.method = method.or(prepared.method);
+                met += agree(&name, &variant, &cast);
+            }
+            met += agree(&name, &prepared, &rays(&prepared, 7));
+        }
+        for seed in 0..3 {
+            let prepared = awkward(seed);
+            met += agree(
+                &format!("awkward {seed}"),
+                &prepared,
+                &rays(&prepared, seed),
+            );
+        }
+        assert!(met > 20_000, "{met}");
+    }
+
+    /// A ray with no finite numbers, or none at all, and a box on a ray's plane: nothing panics,
+    /// and the index agrees.
+    #[test]
+    fn rays_parallel_to_a_box_or_on_its_faces_are_culled_only_when_outside() {
+        let prepared = awkward(9);
+        let inside_a_face = prepared.objects.iter().find_map(|o| match &o.geometry {
+            Geometry::Parallelogram { corner, e1, e2, .. } if o.object_from_world.is_none() => {
+                Some(Ray::new(
+                    *corner,
+                    std::array::from_fn(|k| e1[k] + 0.5 * e2[k]),
+                ))
+            }
+            _ => None,
+        });
+        let mut rays: Vec<Ray> = inside_a_face.into_iter().collect();
+        rays.push(Ray::new([0.0; 3], [0.0; 3]));
+        rays.push(Ray::new([f64::NAN, 0.0, 0.0], [1.0, 0.0, 0.0]));
+        rays.push(Ray::new([0.0; 3], [f64::INFINITY, 1.0, 0.0]));
+        rays.push(Ray::new([0.0; 3], [1e-320, 0.0, 1.0]));
+        agree("degenerate rays", &prepared, &rays);
+    }
+}

@@ -1,0 +1,127 @@
+//! Every ray a render casts, by kind, written down so it can be cast again: the peer bench replays
+//! the rays of the Cornell box and of each effect scene through Embree (`intersect` for the kinds
+//! that want the nearest hit, `occluded` for shadow and occlusion rays) and through raylab's own
+//! queries, the ones the tracer called.
+
+use rayon::prelude::*;
+
+use super::ray_kinds::RayKind;
+use super::secondary::{self, Record, SecondaryCaster};
+use super::{Prepared, Ray, Stats, cast};
+
+/// One ray as the tracer cast it: its kind, and how far it looks (t in (0, t_max); +∞ for the
+/// nearest-hit kinds).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoggedRay {
+    pub kind: RayKind,
+    pub ray: Ray,
+    pub t_max: f64,
+}
+
+impl LoggedRay {
+    /// True for the kinds that ask only whether anything is in the way (shadow, occlusion).
+    pub fn any_hit(&self) -> bool {
+        matches!(self.kind, RayKind::Shadow | RayKind::Occlusion)
+    }
+
+    /// Casts the ray again through the query the tracer used: true when it meets something.
+    pub fn cast_again(&self, prepared: &Prepared, stats: &mut Stats) -> bool {
+        if self.any_hit() {
+            cast::any_hit(prepared, self.ray, (0.0, self.t_max), stats)
+        } else {
+            cast::nearest_hit_between(prepared, self.ray, (0.0, self.t_max), stats).is_some()
+        }
+    }
+}
+
+/// Writes down each ray as the caster tells of it.
+#[derive(Default)]
+struct Log(Vec<LoggedRay>);
+
+impl Record for Log {
+    fn start(&mut self, kind: RayKind, _depth: u32, ray: Ray) {
+        let t_max = f64::INFINITY;
+        self.0.push(LoggedRay { kind, ray, t_max });
+    }
+
+    fn any_hit_query(&mut self, kind: RayKind, ray: Ray, t_max: f64) {
+        self.0.push(LoggedRay { kind, ray, t_max });
+    }
+}
+
+/// Every ray a render of `prepared` casts, pixel by pixel in row order: each pixel's centre ray
+/// (primary), then the rays its colour takes (samples, shadow, reflection, refraction, occlusion
+/// rays) in the order the tracer casts them.
+pub fn rays_cast(prepared: &Prepared) -> Vec<LoggedRay> {
+    let caster = secondary::applies(prepared).then(|| SecondaryCaster::new(prepared));
+    let rows: Vec<Vec<LoggedRay>> = (0..prepared.height)
+        .into_par_iter()
+        .map(|row| {
+            let mut log = Log::default();
+            let mut stats = Stats::default();
+            for column in 0..prepared.width {
+                let ray = prepared.ray(row, column);
+                let t_max = f64::INFINITY;
+                log.0.push(LoggedRay {
+                    kind: RayKind::Primary,
+                    ray,
+                    t_max,
+                });
+                if let Some(caster) = &caster {
+                    let hit = cast::nearest_hit(prepared, ray, &mut stats);
+                    caster.pixel_told((row, column), (ray, hit), &mut log, &mut stats);
+                }
+            }
+            log.0
+        })
+        .collect();
+    rows.concat()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::loading::assets::Embedded;
+    use crate::render::render;
+    use crate::scene::{Problem, Scene};
+
+    /// The log holds exactly the rays the render counts, kind by kind, and cast again they are
+    /// blocked as often as in the render (the Cornell box and each effect scene, made small).
+    #[test]
+    fn the_log_holds_the_rays_the_render_casts() {
+        for file in [
+            "render-cornell-box.ron",
+            "effect-shadows.ron",
+            "effect-reflections.ron",
+            "effect-refraction.ron",
+            "effect-ambient-occlusion.ron",
+            "effect-antialiasing.ron",
+        ] {
+            let path = format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+            let Ok(Problem::Render(mut scene)) =
+                Scene::load(std::path::Path::new(&path)).map(|s| s.problem)
+            else {
+                panic!("{file} is a render scene");
+            };
+            scene.width = scene.width.min(24);
+            scene.height = scene.height.min(16);
+            let prepared = Prepared::new(&scene, &Embedded).unwrap();
+            let (_, stats) = render(&prepared);
+            let logged = rays_cast(&prepared);
+            for kind in RayKind::ALL {
+                let count = logged.iter().filter(|r| r.kind == kind).count() as u64;
+                assert_eq!(count, stats.rays_of(kind), "{file}: {}", kind.name());
+            }
+            assert!(
+                logged.len() as u64 > stats.rays,
+                "{file}: no ray past the primary"
+            );
+            let mut again = Stats::default();
+            let blocked = logged
+                .iter()
+                .filter(|r| r.any_hit() && r.cast_again(&prepared, &mut again))
+                .count() as u64;
+            assert_eq!(blocked, stats.secondary.blocked, "{file}");
+        }
+    }
+}
