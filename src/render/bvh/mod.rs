@@ -182,11 +182,13 @@ pub struct Bvh {
     pub(in crate::render) nodes: Vec<Node>,
     /// Slot → triangle index.
     order: Vec<u32>,
-    /// Slot → the triangle's vertices, stored in leaf order so a leaf's triangles are contiguous.
-    /// Each leaf starts at a multiple of four; the slots between leaves repeat a triangle and belong
-    /// to no leaf.
-    vertices: Vec<[V3<f64>; 3]>,
-    /// The slots four at a time (slot / 4), for the four-triangle test.
+    /// Slot → the triangle's vertices while the build places the leaves, in leaf order so a leaf's
+    /// triangles are contiguous; empty once [`Bvh::quads`] holds them (a second copy cost 72
+    /// bytes a slot). Each leaf starts at a multiple of four; the slots between leaves repeat a
+    /// triangle and belong to no leaf.
+    build_vertices: Vec<[V3<f64>; 3]>,
+    /// The slots' vertices four at a time (slot / 4), for the four-triangle test; one slot's are
+    /// read back by [`Bvh::slot_vertices`].
     pub(in crate::render) quads: Vec<Quad>,
     /// Triangles held (those with finite coordinates).
     triangles: usize,
@@ -233,7 +235,7 @@ impl Bvh {
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(binary.len() / 2 + 1),
             order: Vec::with_capacity(order.len() + order.len() / 2),
-            vertices: Vec::with_capacity(order.len() + order.len() / 2),
+            build_vertices: Vec::with_capacity(order.len() + order.len() / 2),
             quads: Vec::new(),
             triangles: finite.len(),
             narrow: true,
@@ -250,8 +252,19 @@ impl Bvh {
             bvh.place(&binary, &leaves, 0, &mut root, 0);
             bvh.nodes[0] = root;
         }
-        bvh.quads = bvh.vertices.chunks(4).map(Quad::new).collect();
+        bvh.quads = bvh.build_vertices.chunks(4).map(Quad::new).collect();
+        bvh.build_vertices = Vec::new();
+        // The vectors grew while the size was unknown: hold no more than they use.
+        bvh.nodes.shrink_to_fit();
+        bvh.order.shrink_to_fit();
         bvh
+    }
+
+    /// Slot `slot`'s triangle, as the four-triangle test reads it.
+    #[inline(always)]
+    fn slot_vertices(&self, slot: usize) -> [V3<f64>; 3] {
+        let (quad, lane) = (&self.quads[slot / 4], slot % 4);
+        std::array::from_fn(|vertex| std::array::from_fn(|axis| quad.v[vertex][axis][lane]))
     }
 
     /// Appends a leaf's triangles (binary slots `first..first + count`) at the next multiple of four
@@ -262,13 +275,14 @@ impl Bvh {
             // Two pieces of one triangle in one leaf: test it once.
             if !self.order[start..].contains(&i) {
                 self.order.push(i);
-                self.vertices.push(leaves.triangles[i as usize].vertices);
+                self.build_vertices
+                    .push(leaves.triangles[i as usize].vertices);
             }
         }
         let held = (self.order.len() - start) as u32;
         while !self.order.len().is_multiple_of(4) {
             self.order.push(self.order[start]);
-            self.vertices.push(self.vertices[start]);
+            self.build_vertices.push(self.build_vertices[start]);
         }
         (start as u32, held)
     }
@@ -345,7 +359,7 @@ impl Bvh {
         fn held<T>(v: &Vec<T>) -> u64 {
             (std::mem::size_of::<T>() * v.capacity()) as u64
         }
-        held(&self.nodes) + held(&self.order) + held(&self.vertices) + held(&self.quads)
+        held(&self.nodes) + held(&self.order) + held(&self.build_vertices) + held(&self.quads)
     }
 
     /// True when it holds no triangle.
@@ -517,7 +531,7 @@ impl Bvh {
                 while again != 0 {
                     let lane = again.trailing_zeros() as usize;
                     again &= again - 1;
-                    if let Some(hit) = ray.intersect(&self.vertices[first + lane], t_min) {
+                    if let Some(hit) = ray.intersect(&self.slot_vertices(first + lane), t_min) {
                         offer(first + lane, hit, &mut limit);
                     }
                 }
@@ -527,7 +541,7 @@ impl Bvh {
         #[cfg(not(target_arch = "x86_64"))]
         let _ = isa;
         for slot in slots {
-            if let Some(hit) = ray.intersect(&self.vertices[slot], t_min) {
+            if let Some(hit) = ray.intersect(&self.slot_vertices(slot), t_min) {
                 offer(slot, hit, &mut limit);
             }
         }
