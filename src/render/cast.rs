@@ -88,15 +88,16 @@ pub fn test_triangle(
 }
 
 /// Tests a parallelogram with the core's solver (seed 001, without its trace): (α, β, t) or a miss.
-/// A ray whose t is surely beyond `t_max` (a nearer hit, the end of a shadow ray) may be called a
-/// miss: the caller would drop its hit.
+/// A ray whose t is surely beyond `t_max` (a nearer hit, the end of a shadow ray) or surely before
+/// `t_min` (a secondary ray leaving the parallelogram itself) may be called a miss: the caller
+/// would drop its hit.
 fn test_parallelogram(
     [corner, e1, e2]: [&V3<f64>; 3],
     bug: Option<Bug>,
     Ray { origin, dir }: Ray,
-    t_max: f64,
+    (t_min, t_max): (f64, f64),
 ) -> Option<ParallelogramHit> {
-    if surely_outside([corner, e1, e2], &origin, &dir, t_max) {
+    if surely_outside([corner, e1, e2], &origin, &dir, (t_min, t_max)) {
         return None;
     }
     let inside = solve_inside([corner, e1, e2], &origin, &dir)?;
@@ -109,13 +110,16 @@ fn test_parallelogram(
 /// by a margin a million times the rounding error) that seed 001's solver must find it outside too:
 /// the solver is skipped (its answer would be a miss whatever the bug). Möller–Trumbore's (α, β)
 /// for the system o + t d = c + α e1 + β e2, only where the system is far from singular. Also true
-/// when the plane's t is beyond `t_max` by the same kind of margin (the hit would be dropped).
+/// when the plane's t is beyond `t_max` by the same kind of margin, or before `t_min` by ten
+/// thousand times the rounding error (the hit would be dropped: a shadow or occlusion ray leaving
+/// the parallelogram sees its plane at t ≈ −offset / |d|, which a margin of a million times the
+/// rounding error would not tell from 0).
 #[inline]
 fn surely_outside(
     [corner, e1, e2]: [&V3<f64>; 3],
     origin: &V3<f64>,
     dir: &V3<f64>,
-    t_max: f64,
+    (t_min, t_max): (f64, f64),
 ) -> bool {
     use crate::math::linalg::{cross, dot};
     let l1 = |v: &V3<f64>| v[0].abs() + v[1].abs() + v[2].abs();
@@ -132,17 +136,17 @@ fn surely_outside(
     // otherwise: both within a few roundings of |e1| |e2| |o − c| / |M| (q = s × e1) from the
     // true t, a million times less than the margin. With |M| > 1e-200, underflow in the
     // numerators (below 1e-321) moves t by less than 1e-100.
-    let beyond = || {
+    let off_range = || {
         let t = dot(e2, &q) / det;
-        let margin = 1e-6 * (t.abs() + l1(e1) * l1(e2) * l1(&s) / det.abs()) + 1e-100;
-        det.abs() > 1e-200 && t.is_finite() && t - margin > t_max
+        let error = t.abs() + l1(e1) * l1(e2) * l1(&s) / det.abs();
+        let beyond = t_max < f64::INFINITY && t - (1e-6 * error + 1e-100) > t_max;
+        let before = t_min > f64::NEG_INFINITY && t + (1e-12 * error + 1e-100) < t_min;
+        det.abs() > 1e-200 && t.is_finite() && (beyond || before)
     };
     conditioned
         && alpha.is_finite()
         && beta.is_finite()
-        && (outside(alpha, margin(&s, &p))
-            || outside(beta, margin(dir, &q))
-            || (t_max < f64::INFINITY && beyond()))
+        && (outside(alpha, margin(&s, &p)) || outside(beta, margin(dir, &q)) || off_range())
 }
 
 /// True when an object's triangles take the crack-free test: the method is `watertight` (the default
@@ -376,7 +380,8 @@ fn parallelogram_hits<const P: usize>(
         let found = solver.solve(local, &t_max);
         for (lane, best) in best.iter_mut().enumerate() {
             let hit = if found.rare & (1 << lane) != 0 {
-                test_parallelogram([corner, e1, e2], None, local[lane], t_max[lane])
+                let range = (f64::NEG_INFINITY, t_max[lane]);
+                test_parallelogram([corner, e1, e2], None, local[lane], range)
             } else {
                 let hit = found.hit & (1 << lane) != 0;
                 hit.then(|| ParallelogramHit {
@@ -492,7 +497,8 @@ fn hit_object(
             Geometry::Parallelogram { corner, e1, e2, .. } => {
                 stats.parallelogram_tests += 1;
                 let t_max = best.map_or(f64::INFINITY, |b| b.t);
-                if let Some(hit) = test_parallelogram([corner, e1, e2], prepared.bug, local, t_max)
+                let range = (f64::NEG_INFINITY, t_max);
+                if let Some(hit) = test_parallelogram([corner, e1, e2], prepared.bug, local, range)
                 {
                     offer(best, Hit::parallelogram(index, hit));
                 }
@@ -647,7 +653,7 @@ fn object_hit_between(
         }
         Geometry::Parallelogram { corner, e1, e2, .. } => {
             stats.parallelogram_tests += 1;
-            let hit = test_parallelogram([corner, e1, e2], prepared.bug, local, t_max)?;
+            let hit = test_parallelogram([corner, e1, e2], prepared.bug, local, (t_min, t_max))?;
             in_range(hit.t).then_some(Hit::parallelogram(index, hit))
         }
     }
@@ -787,7 +793,8 @@ mod tests {
                 dir = std::array::from_fn(|k| e1[k] + 1e-9 * n[k]);
             }
             let problem = RayParallelogram::new([corner, e1, e2, origin, dir]);
-            if !surely_outside([&corner, &e1, &e2], &origin, &dir, f64::INFINITY) {
+            let range = (f64::NEG_INFINITY, f64::INFINITY);
+            if !surely_outside([&corner, &e1, &e2], &origin, &dir, range) {
                 continue;
             }
             skipped += 1;
@@ -835,7 +842,12 @@ mod tests {
                 6 => random.random_range(0.0..1.0) * t.abs(),
                 _ => random.random_range(-1.0..1.0) * 10.0,
             };
-            if !surely_outside([&corner, &e1, &e2], &origin, &dir, t_max) {
+            if !surely_outside(
+                [&corner, &e1, &e2],
+                &origin,
+                &dir,
+                (f64::NEG_INFINITY, t_max),
+            ) {
                 continue;
             }
             let kept = inside && t <= t_max;
@@ -850,6 +862,78 @@ mod tests {
             culled > 5_000 && near_misses > 500,
             "{culled} {near_misses}"
         );
+    }
+}
+
+#[cfg(test)]
+mod before_tests {
+    use super::*;
+    use crate::geometry::parallelogram::{RayParallelogram, solve};
+    use rand::{Rng, SeedableRng};
+
+    /// The cull by t_min never skips a ray whose hit would be kept (inside, t > t_min): rays near
+    /// edges and corners, in front and behind, scaled far from 1, with t_min at the solver's t, a
+    /// few ulps either side, a relative 1e-9 either side, and anywhere; and it culls the rays that
+    /// leave a parallelogram by a millionth, as a shadow ray does.
+    #[test]
+    fn the_parallelogram_cull_skips_only_hits_before_t_min() {
+        let mut random = rand_pcg::Pcg64::seed_from_u64(21);
+        let mut culled = 0;
+        for i in 0..200_000 {
+            let [corner, e1, e2, origin, mut dir] =
+                crate::geometry::parallelogram::lean::random_ray_near_edges(&mut random, 1e-12);
+            if i % 3 == 0 {
+                dir = dir.map(|x| -x);
+            }
+            let scale = [1e-150, 1e-20, 1e20, 1e150, 1.0, 1.0][i % 6];
+            let (corner, e1) = (corner.map(|x| x * scale), e1.map(|x| x * scale));
+            let (origin, dir) = (origin.map(|x| x * scale), dir.map(|x| x * scale));
+            let problem = RayParallelogram::new([corner, e1, e2, origin, dir]);
+            let Some([alpha, beta, t]) = solve(&problem, &mut ()).alpha_beta_t else {
+                continue;
+            };
+            let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
+            let t_min = match random.random_range(0..7) {
+                0 => t,
+                1 => t.next_up(),
+                2 => t.next_down(),
+                3 => t * (1.0 + 1e-9),
+                4 => t * (1.0 - 1e-9),
+                5 => t + 1e-6 * t.abs(),
+                _ => random.random_range(-1.0..1.0) * 10.0,
+            };
+            let range = (t_min, f64::INFINITY);
+            if surely_outside([&corner, &e1, &e2], &origin, &dir, range) {
+                let kept = inside && t > t_min;
+                assert!(
+                    !kept,
+                    "{problem:?}: culled at t_min {t_min}, but t {t} is kept"
+                );
+            }
+        }
+        // Rays leaving a parallelogram from a millionth above it, as the tracer's do.
+        for _ in 0..10_000 {
+            let [corner, e1, e2, _, _] =
+                crate::geometry::parallelogram::lean::random_ray_near_edges(&mut random, 1e-12);
+            let n = unit(crate::math::linalg::cross(&e1, &e2));
+            let (a, b) = (random.random_range(0.0..1.0), random.random_range(0.0..1.0));
+            let origin = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k] + 1e-6 * n[k]);
+            let dir: V3<f64> =
+                std::array::from_fn(|k| n[k] + random.random_range(-0.5..0.5) * (e1[k] + e2[k]));
+            if dot3(&dir, &n) > 0.1 {
+                culled += usize::from(surely_outside(
+                    [&corner, &e1, &e2],
+                    &origin,
+                    &dir,
+                    (0.0, f64::INFINITY),
+                ));
+            }
+        }
+        assert!(culled > 5_000, "{culled}");
+    }
+
+    fn dot3(a: &V3<f64>, b: &V3<f64>) -> f64 {
+        crate::math::linalg::dot(a, b)
     }
 }
 

@@ -34,6 +34,36 @@ impl LoggedRay {
     }
 }
 
+/// Casts `rays` again as the tracer casts them: primary rays sixteen at a time in packets
+/// ([`cast::nearest_hits`]; the log's are sixteen neighbours along a row, a render's a 4x4 tile),
+/// every other ray alone through the query it asked. How many met something.
+pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats) -> usize {
+    const PACKET: usize = 16;
+    let mut met = 0;
+    let mut rest = rays;
+    while let Some(first) = rest.first() {
+        let run = rest.iter().take_while(|r| r.kind == first.kind).count();
+        let (same, after) = rest.split_at(run);
+        let mut alone = same;
+        if first.kind == RayKind::Primary {
+            let (packets, left) = same.as_chunks::<PACKET>();
+            for packet in packets {
+                let packet = packet.map(|logged| logged.ray);
+                let mut hits = [None; PACKET];
+                cast::nearest_hits(prepared, &packet, stats, &mut hits);
+                met += hits.iter().filter(|hit| hit.is_some()).count();
+            }
+            alone = left;
+        }
+        met += alone
+            .iter()
+            .filter(|ray| ray.cast_again(prepared, stats))
+            .count();
+        rest = after;
+    }
+    met
+}
+
 /// Writes down each ray as the caster tells of it.
 #[derive(Default)]
 struct Log(Vec<LoggedRay>);
@@ -122,6 +152,14 @@ mod tests {
                 .filter(|r| r.any_hit() && r.cast_again(&prepared, &mut again))
                 .count() as u64;
             assert_eq!(blocked, stats.secondary.blocked, "{file}");
+            // The primary rays in packets meet what they met in the render.
+            let primary: Vec<LoggedRay> = logged
+                .iter()
+                .filter(|r| r.kind == RayKind::Primary)
+                .copied()
+                .collect();
+            let met = cast_all_again(&prepared, &primary, &mut again) as u64;
+            assert_eq!(met, stats.hits, "{file}");
         }
     }
 }

@@ -209,8 +209,9 @@ impl RenderView {
         }
     }
 
-    /// The frame counter and speed: the frame's number and kind, its time and rays a second, and
-    /// the frames a second while the camera moves.
+    /// The frame counter and speed: the frame's number, the frames a second while the camera
+    /// moves and the rays a second first (at 200% only the summary's first line shows under the
+    /// image, and they are what changes live), then the frame's kind, size and time.
     pub(super) fn frame_summary(&self, rendered: &Rendered, draft: Option<u32>) -> String {
         let orbit = &self.runtime.orbit;
         let kind = match draft {
@@ -223,17 +224,17 @@ impl RenderView {
             0.0
         };
         let rate = match orbit.frames_per_second() {
-            Some(1) => ", 1 frame/s".to_string(),
-            Some(fps) => format!(", {fps} frames/s"),
+            Some(1) => " 1 frame/s,".to_string(),
+            Some(fps) => format!(" {fps} frames/s,"),
             None => String::new(),
         };
         format!(
-            "Frame {}{kind}: {}×{} in {:.1} ms, {} rays/s{rate}",
+            "Frame {}:{rate} {} rays/s, {}×{}{kind} in {:.1} ms",
             orbit.frames,
+            crate::render::ray_kinds::short_count(rays_per_second),
             rendered.image.width,
             rendered.image.height,
             rendered.seconds * 1e3,
-            crate::render::ray_kinds::short_count(rays_per_second),
         )
     }
 }
