@@ -9,8 +9,11 @@
 //! and a 40 000-triangle box seen from inside whose every ray runs along an edge or through a vertex.
 //! Then shadow rays: `Bvh::occluded` (any hit, one ray at a time) and `Bvh::occluded_packet` (4x4
 //! tiles of neighbouring rays) against Embree's occlusion queries (`benches/peer/embree_occluded.py`)
-//! on the same camera rays, for the sphere and the box. Then the
-//! scaling: irregular spheres from 1 280 to 1 310 720 triangles. Set `RAYLAB_PEER_REPEATS`
+//! on the same camera rays, for the sphere and the box. Then a row per kind of ray: the rays the tracer
+//! casts in the Cornell box and each effect scene (`render::ray_log`), cast again by Embree
+//! (`benches/peer/embree_rays.py`: intersect, or occluded up to t_max) and by raylab's own queries.
+//! Then the hierarchy's build time and memory over the 1.3-million-triangle sphere
+//! (`benches/peer/embree_build.py`). Then the scaling: irregular spheres from 1 280 to 1 310 720 triangles. Set `RAYLAB_PEER_REPEATS`
 //! to change the 21 renders, `RAYLAB_PEER_MAX_LEVEL` (3 to 8) to cut the scaling series short, and
 //! `RAYLAB_PEER_ONLY` (comma-separated parts of row names, e.g. `level 8,box`) to run only those rows.
 
@@ -19,7 +22,8 @@ use std::process::Command;
 use raylab::math::linalg::V3;
 use raylab::render::generate::{grid_box, irregular_sphere, mesh_scene, to_obj};
 use raylab::render::objects::Geometry;
-use raylab::render::{Prepared, Ray, loading::assets::Embedded, render, world_triangle};
+use raylab::render::ray_log::{LoggedRay, cast_all_again, rays_cast};
+use raylab::render::{Prepared, Ray, Stats, loading::assets::Embedded, render, world_triangle};
 use raylab::scene::render::{Camera, Effect};
 use raylab::scene::{Problem, Scene};
 
@@ -325,6 +329,219 @@ fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
     }
 }
 
+/// The scenes whose rays the ray-kind rows replay, each with every effect it declares.
+const RAY_KIND_SCENES: [&str; 6] = [
+    "render-cornell-box.ron",
+    "effect-shadows.ron",
+    "effect-reflections.ron",
+    "effect-refraction.ron",
+    "effect-ambient-occlusion.ron",
+    "effect-antialiasing.ron",
+];
+
+/// How many times each side casts a row's rays in a round (`RAYLAB_PEER_RAY_REPEATS`, 5 by
+/// default: the Cornell box's occlusion rays alone are 3.5 million).
+fn ray_repeats() -> usize {
+    std::env::var("RAYLAB_PEER_RAY_REPEATS")
+        .ok()
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(5)
+}
+
+/// raylab's (median ms, rays that met something) for `rays`, cast again through the queries the
+/// tracer used (primary rays in packets of sixteen), in a pool of [`THREADS`] threads (chunks of
+/// 4096 rays in parallel).
+fn raylab_rays(pool: &rayon::ThreadPool, prepared: &Prepared, rays: &[LoggedRay]) -> (f64, usize) {
+    use rayon::prelude::*;
+    let count = || {
+        rays.par_chunks(4096)
+            .map(|chunk| cast_all_again(prepared, chunk, &mut Stats::default()))
+            .sum::<usize>()
+    };
+    pool.install(|| {
+        let met = count();
+        let mut times = Vec::new();
+        for _ in 0..ray_repeats() {
+            let start = std::time::Instant::now();
+            std::hint::black_box(count());
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+        (super::median(times), met)
+    })
+}
+
+/// Embree's (median ms, rays that met something) for `rays` through `benches/peer/embree_rays.py`,
+/// the scene's world-space triangles in `obj`.
+fn embree_rays(
+    obj: &std::path::Path,
+    rays: &[LoggedRay],
+    tag: &str,
+) -> Result<(f64, usize), String> {
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peer/embree_rays.py");
+    let path = std::env::temp_dir().join(format!("raylab-peer-{tag}-{}.f32", std::process::id()));
+    let mut bytes = Vec::with_capacity(rays.len() * 28);
+    for logged in rays {
+        let Ray { origin, dir } = logged.ray;
+        for value in origin.iter().chain(&dir).chain([&logged.t_max]) {
+            bytes.extend((*value as f32).to_le_bytes());
+        }
+    }
+    std::fs::write(&path, bytes).map_err(|e| format!("cannot write the rays: {e}"))?;
+    let query = if rays[0].any_hit() {
+        "occluded"
+    } else {
+        "intersect"
+    };
+    let output = Command::new("python3")
+        .arg(script)
+        .arg("--obj")
+        .arg(obj)
+        .arg("--rays")
+        .arg(&path)
+        .args(["--query", query])
+        .args(["--threads", &THREADS.to_string()])
+        .args(["--reps", &ray_repeats().to_string()])
+        .output();
+    let _ = std::fs::remove_file(&path);
+    median_and_coverage(&output.map_err(|e| format!("cannot run python3: {e}"))?)
+}
+
+/// A row per kind of ray: the rays the tracer casts in the Cornell box and in each effect scene,
+/// written out and cast again by both sides in alternating rounds (Embree's `intersect` or
+/// `occluded`, raylab's nearest-hit or any-hit query), [`THREADS`] threads each.
+fn ray_kinds(pool: &rayon::ThreadPool) {
+    use raylab::render::ray_kinds::RayKind;
+    println!(
+        "\nevery kind of ray: the rays the tracer casts, cast again by both sides, {THREADS} threads \
+         each, median of {} casts, alternating rounds",
+        ray_repeats()
+    );
+    for file in RAY_KIND_SCENES {
+        let name = file.trim_end_matches(".ron");
+        let kinds: Vec<RayKind> = RayKind::ALL
+            .into_iter()
+            .filter(|kind| wanted(&format!("{name}: {}", kind.name())))
+            .collect();
+        if kinds.is_empty() {
+            continue;
+        }
+        let mut prepared = shipped(file);
+        prepared.effects = scene_effects(file);
+        let logged = pool.install(|| rays_cast(&prepared));
+        let triangles = world_triangles(&prepared);
+        let obj =
+            std::env::temp_dir().join(format!("raylab-peer-kinds-{}.obj", std::process::id()));
+        if let Err(why) = std::fs::write(&obj, to_obj(&triangles)) {
+            println!("Embree ray-kind peer skipped: cannot write the OBJ: {why}");
+            return;
+        }
+        for kind in kinds {
+            let rays: Vec<LoggedRay> = logged.iter().filter(|r| r.kind == kind).copied().collect();
+            if rays.is_empty() {
+                continue;
+            }
+            let (mut peer, mut ours) = (Vec::new(), Vec::new());
+            let (mut peer_met, mut our_met) = (0, 0);
+            for _ in 0..3 {
+                match embree_rays(&obj, &rays, name) {
+                    Ok((ms, met)) => (peer_met, _) = (met, peer.push(ms)),
+                    Err(why) => {
+                        println!("Embree ray-kind peer skipped: {why}");
+                        let _ = std::fs::remove_file(&obj);
+                        return;
+                    }
+                }
+                let (ms, met) = raylab_rays(pool, &prepared, &rays);
+                ours.push(ms);
+                our_met = met;
+            }
+            let ratios: Vec<f64> = peer.iter().zip(&ours).map(|(p, o)| p / o).collect();
+            let each_round: Vec<String> = ratios.iter().map(|r| format!("{r:.2}")).collect();
+            let query = if rays[0].any_hit() {
+                "occluded"
+            } else {
+                "intersect"
+            };
+            println!(
+                "{name:>26} {:>10} {:>9} rays ({query:>9})   Embree {:9.3} ms   raylab {:9.3} ms   \
+                 raylab/Embree speed {:5.2}x (rounds {})   met something: Embree {peer_met}, raylab {our_met}",
+                kind.name(),
+                rays.len(),
+                super::median(peer),
+                super::median(ours),
+                super::median(ratios),
+                each_round.join(" "),
+            );
+        }
+        let _ = std::fs::remove_file(&obj);
+    }
+}
+
+/// The hierarchy over the 1.3-million-triangle sphere: each side's build time (median of three,
+/// [`THREADS`] threads for raylab, every hardware thread for Embree: two here) and memory (raylab's
+/// vectors' capacities; Embree's growth in resident memory across its first build).
+fn build_row(pool: &rayon::ThreadPool) {
+    use raylab::render::bvh::Bvh;
+    use raylab::render::objects::PreparedTriangle;
+    let name = "build sphere level 8";
+    if !wanted(name) {
+        return;
+    }
+    let world = irregular_sphere(8, 12);
+    let triangles: Vec<PreparedTriangle> =
+        world.iter().map(|t| PreparedTriangle::new(*t)).collect();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peer/embree_build.py");
+    let obj = std::env::temp_dir().join(format!("raylab-peer-build-{}.obj", std::process::id()));
+    if let Err(why) = std::fs::write(&obj, to_obj(&world)) {
+        println!("Embree build peer skipped: cannot write the OBJ: {why}");
+        return;
+    }
+    let output = Command::new("python3")
+        .arg(script)
+        .arg("--obj")
+        .arg(&obj)
+        .args(["--reps", "3"])
+        .output();
+    let _ = std::fs::remove_file(&obj);
+    let peer = match output {
+        Ok(output) if output.status.success() => {
+            String::from_utf8_lossy(&output.stdout).trim().to_string()
+        }
+        Ok(output) => format!("failed: {}", String::from_utf8_lossy(&output.stderr).trim()),
+        Err(why) => format!("cannot run python3: {why}"),
+    };
+    let (ms, bvh) = pool.install(|| {
+        let mut times = Vec::new();
+        let mut bvh = None;
+        for _ in 0..3 {
+            let start = std::time::Instant::now();
+            bvh = Some(std::hint::black_box(Bvh::build(&triangles)));
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+        (super::median(times), bvh.expect("three builds"))
+    });
+    let mib = |bytes: u64| bytes as f64 / (1024.0 * 1024.0);
+    let geometry = (triangles.len() * std::mem::size_of::<PreparedTriangle>()) as u64;
+    println!(
+        "\nbuilding the hierarchy over the {}-triangle sphere\n  Embree: {peer}\n  raylab: median build \
+         {ms:.1} ms over 3 builds ({THREADS} threads), BVH {:.1} MiB ({:.0} bytes a triangle), \
+         triangles {:.1} MiB",
+        triangles.len(),
+        mib(bvh.held_bytes()),
+        bvh.held_bytes() as f64 / triangles.len() as f64,
+        mib(geometry),
+    );
+}
+
+/// The effects a shipped scene declares.
+fn scene_effects(file: &str) -> Vec<Effect> {
+    let path = format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+    match Scene::load(std::path::Path::new(&path)).map(|scene| scene.problem) {
+        Ok(Problem::Render(scene)) => scene.effects,
+        _ => panic!("{file} is a render scene"),
+    }
+}
+
 /// A shipped scene, coverage only.
 fn shipped(file: &str) -> Prepared {
     let path = format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
@@ -388,6 +605,8 @@ pub fn compare() {
         }
     }
     shadow_rays(&pool, &scenes);
+    ray_kinds(&pool);
+    build_row(&pool);
     let max_level = std::env::var("RAYLAB_PEER_MAX_LEVEL")
         .ok()
         .and_then(|l| l.parse().ok())

@@ -85,4 +85,5 @@ def main():
           f'covered pixels {occluded} (occluded rays)')
 
 
-main()
+if __name__ == '__main__':
+    main()
