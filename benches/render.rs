@@ -132,14 +132,7 @@ fn cost_table(_: &mut Criterion) {
         "| scene | effects | time (ms) | primary | samples | shadow | reflection | refraction | occlusion |"
     );
     println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
-    for file in [
-        "render-cornell-box.ron",
-        "effect-shadows.ron",
-        "effect-reflections.ron",
-        "effect-refraction.ron",
-        "effect-ambient-occlusion.ron",
-        "effect-antialiasing.ron",
-    ] {
+    for file in raylab::render::ray_kinds::EFFECT_SCENES {
         let scene = scene(file);
         let prepared = Prepared::new(&scene, &Embedded).unwrap();
         let runs = all_and_each_left_out(&scene.effects, |e| past_casting.contains(e));

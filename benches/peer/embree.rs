@@ -329,16 +329,6 @@ fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
     }
 }
 
-/// The scenes whose rays the ray-kind rows replay, each with every effect it declares.
-const RAY_KIND_SCENES: [&str; 6] = [
-    "render-cornell-box.ron",
-    "effect-shadows.ron",
-    "effect-reflections.ron",
-    "effect-refraction.ron",
-    "effect-ambient-occlusion.ron",
-    "effect-antialiasing.ron",
-];
-
 /// How many times each side casts a row's rays in a round (`RAYLAB_PEER_RAY_REPEATS`, 5 by
 /// default: the Cornell box's occlusion rays alone are 3.5 million).
 fn ray_repeats() -> usize {
@@ -416,7 +406,8 @@ fn ray_kinds(pool: &rayon::ThreadPool) {
          each, median of {} casts, alternating rounds",
         ray_repeats()
     );
-    for file in RAY_KIND_SCENES {
+    // Each with every effect it declares.
+    for file in raylab::render::ray_kinds::EFFECT_SCENES {
         let name = file.trim_end_matches(".ron");
         let kinds: Vec<RayKind> = RayKind::ALL
             .into_iter()

@@ -809,6 +809,27 @@ mod tests {
         assert!(skipped > 10_000, "{skipped}");
     }
 
+    /// A cull test's case: (c, e1, e2, o, d), the problem, whether the solver finds it inside, its t.
+    pub(super) type ScaledCase = ([V3<f64>; 5], RayParallelogram<f64>, bool, f64);
+
+    /// Case `i` of the cull tests: a ray near a random parallelogram's edges and corners, reversed
+    /// every third case, everything scaled by 1e-150 to 1e150; the numbers, the problem, whether
+    /// seed 001's solver finds it inside and its t (`None` where the solver finds no t).
+    pub(super) fn scaled_case(random: &mut rand_pcg::Pcg64, i: usize) -> Option<ScaledCase> {
+        let [corner, e1, e2, origin, mut dir] =
+            crate::geometry::parallelogram::lean::random_ray_near_edges(random, 1e-12);
+        if i.is_multiple_of(3) {
+            dir = dir.map(|x| -x);
+        }
+        let scale = [1e-150, 1e-20, 1e20, 1e150, 1.0, 1.0][i % 6];
+        let (corner, e1) = (corner.map(|x| x * scale), e1.map(|x| x * scale));
+        let (origin, dir) = (origin.map(|x| x * scale), dir.map(|x| x * scale));
+        let problem = RayParallelogram::new([corner, e1, e2, origin, dir]);
+        let [alpha, beta, t] = solve(&problem, &mut ()).alpha_beta_t?;
+        let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
+        Some(([corner, e1, e2, origin, dir], problem, inside, t))
+    }
+
     /// The prefilter's cull by t never skips a ray whose hit would be kept (inside, t ≤ t_max): rays
     /// near edges and corners, in front and behind, scaled far from 1, with t_max at the solver's
     /// t, a few ulps either side, a relative 1e-9 either side, 1e-5 before, and anywhere; and it
@@ -819,19 +840,11 @@ mod tests {
         let mut random = rand_pcg::Pcg64::seed_from_u64(12);
         let (mut culled, mut near_misses) = (0, 0);
         for i in 0..200_000 {
-            let [corner, e1, e2, origin, mut dir] =
-                crate::geometry::parallelogram::lean::random_ray_near_edges(&mut random, 1e-12);
-            if i % 3 == 0 {
-                dir = dir.map(|x| -x);
-            }
-            let scale = [1e-150, 1e-20, 1e20, 1e150, 1.0, 1.0][i % 6];
-            let (corner, e1) = (corner.map(|x| x * scale), e1.map(|x| x * scale));
-            let (origin, dir) = (origin.map(|x| x * scale), dir.map(|x| x * scale));
-            let problem = RayParallelogram::new([corner, e1, e2, origin, dir]);
-            let Some([alpha, beta, t]) = solve(&problem, &mut ()).alpha_beta_t else {
+            let Some(([corner, e1, e2, origin, dir], problem, inside, t)) =
+                scaled_case(&mut random, i)
+            else {
                 continue;
             };
-            let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
             let t_max = match random.random_range(0..8) {
                 0 => t,
                 1 => t.next_up(),
@@ -868,7 +881,6 @@ mod tests {
 #[cfg(test)]
 mod before_tests {
     use super::*;
-    use crate::geometry::parallelogram::{RayParallelogram, solve};
     use rand::{Rng, SeedableRng};
 
     /// The cull by t_min never skips a ray whose hit would be kept (inside, t > t_min): rays near
@@ -880,19 +892,11 @@ mod before_tests {
         let mut random = rand_pcg::Pcg64::seed_from_u64(21);
         let mut culled = 0;
         for i in 0..200_000 {
-            let [corner, e1, e2, origin, mut dir] =
-                crate::geometry::parallelogram::lean::random_ray_near_edges(&mut random, 1e-12);
-            if i % 3 == 0 {
-                dir = dir.map(|x| -x);
-            }
-            let scale = [1e-150, 1e-20, 1e20, 1e150, 1.0, 1.0][i % 6];
-            let (corner, e1) = (corner.map(|x| x * scale), e1.map(|x| x * scale));
-            let (origin, dir) = (origin.map(|x| x * scale), dir.map(|x| x * scale));
-            let problem = RayParallelogram::new([corner, e1, e2, origin, dir]);
-            let Some([alpha, beta, t]) = solve(&problem, &mut ()).alpha_beta_t else {
+            let Some(([corner, e1, e2, origin, dir], problem, inside, t)) =
+                super::tests::scaled_case(&mut random, i)
+            else {
                 continue;
             };
-            let inside = (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta);
             let t_min = match random.random_range(0..7) {
                 0 => t,
                 1 => t.next_up(),

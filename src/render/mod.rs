@@ -439,6 +439,35 @@ pub fn render(prepared: &Prepared) -> (Image, Stats) {
     (image, stats)
 }
 
+/// Every shipped render scene (`assets/scenes/`), named by its file and shrunk to at most `width` ×
+/// `height` so a debug build renders it quickly: for the tests that go through them all.
+#[cfg(test)]
+pub(crate) fn shipped_scenes(width: usize, height: usize) -> Vec<(String, Prepared)> {
+    use crate::scene::{Problem, Scene};
+    let folder = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes");
+    let mut files: Vec<_> = std::fs::read_dir(folder)
+        .expect("the scenes folder")
+        .map(|entry| entry.expect("a folder entry").path())
+        .collect();
+    files.sort();
+    let mut scenes = Vec::new();
+    for path in files {
+        let Ok(Problem::Render(mut scene)) = Scene::load(&path).map(|s| s.problem) else {
+            continue;
+        };
+        scene.width = scene.width.min(width);
+        scene.height = scene.height.min(height);
+        let name = path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        let prepared = Prepared::new(&scene, &loading::assets::Embedded);
+        scenes.push((name, prepared.expect("a shipped scene prepares")));
+    }
+    scenes
+}
+
 /// The time a quick frame aims at while the camera moves (the Render view's orbit): 40 frames a
 /// second, with room left for the app's own drawing.
 pub const QUICK_FRAME_SECONDS: f64 = 0.025;

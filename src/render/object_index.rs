@@ -441,31 +441,13 @@ mod tests {
     use crate::render::cast::{
         any_hit, any_of_each_object, nearest_hit_between, nearest_of_each_object,
     };
-    use crate::render::loading::assets::Embedded;
     use crate::render::objects::{Geometry, PreparedObject, PreparedTriangle};
     use crate::render::ray_log::rays_cast;
     use crate::render::{Prepared, Ray, Stats};
-    use crate::scene::{Problem, Scene};
 
     /// Every shipped render scene, shrunk so a debug build logs its rays quickly.
     fn shipped() -> Vec<(String, Prepared)> {
-        let folder = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes");
-        let mut files: Vec<_> = std::fs::read_dir(folder)
-            .unwrap()
-            .map(|entry| entry.unwrap().path())
-            .collect();
-        files.sort();
-        let mut scenes = Vec::new();
-        for path in files {
-            let Ok(Problem::Render(mut scene)) = Scene::load(&path).map(|s| s.problem) else {
-                continue;
-            };
-            scene.width = scene.width.min(24);
-            scene.height = scene.height.min(16);
-            let name = path.file_name().unwrap().to_string_lossy().into_owned();
-            scenes.push((name, Prepared::new(&scene, &Embedded).unwrap()));
-        }
-        scenes
+        crate::render::shipped_scenes(24, 16)
     }
 
     /// Objects under awkward transforms: rotated, sheared, scaled by 10⁻⁶ and 10⁶, a sliver

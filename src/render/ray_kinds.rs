@@ -7,6 +7,17 @@ use serde::Serialize;
 
 use crate::scene::render::Effect;
 
+/// The shipped scenes that cast every kind of ray: the Cornell box, with every effect, and a scene
+/// for each effect alone (the cost table and the peer bench's ray-kind rows render them).
+pub const EFFECT_SCENES: [&str; 6] = [
+    "render-cornell-box.ron",
+    "effect-shadows.ron",
+    "effect-reflections.ron",
+    "effect-refraction.ron",
+    "effect-ambient-occlusion.ron",
+    "effect-antialiasing.ron",
+];
+
 /// What a ray is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum RayKind {

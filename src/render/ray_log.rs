@@ -119,14 +119,7 @@ mod tests {
     /// blocked as often as in the render (the Cornell box and each effect scene, made small).
     #[test]
     fn the_log_holds_the_rays_the_render_casts() {
-        for file in [
-            "render-cornell-box.ron",
-            "effect-shadows.ron",
-            "effect-reflections.ron",
-            "effect-refraction.ron",
-            "effect-ambient-occlusion.ron",
-            "effect-antialiasing.ron",
-        ] {
+        for file in crate::render::ray_kinds::EFFECT_SCENES {
             let path = format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
             let Ok(Problem::Render(mut scene)) =
                 Scene::load(std::path::Path::new(&path)).map(|s| s.problem)

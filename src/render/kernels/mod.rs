@@ -101,10 +101,8 @@ mod tests {
     use super::*;
     use crate::intersect::Method;
     use crate::render::generate::{grid_box, irregular_sphere, mesh_scene};
-    use crate::render::loading::assets::Embedded;
     use crate::render::{Bug, Prepared, Stats, render};
     use crate::scene::render::Camera;
-    use crate::scene::{Problem, Scene};
 
     /// The image and counters of a render, with the kernels (`simd`) or the scalar paths alone.
     fn render_with(prepared: &Prepared, simd: Option<Avx2>) -> (Vec<[u32; 3]>, Vec<bool>, Stats) {
@@ -127,24 +125,8 @@ mod tests {
     #[test]
     fn every_kernel_renders_as_the_scalar_path_on_the_same_rays() {
         let avx2 = crate::render::kernels::avx2_or_skip!();
-        let folder = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes");
-        let mut files: Vec<_> = std::fs::read_dir(folder)
-            .unwrap()
-            .map(|entry| entry.unwrap().path())
-            .collect();
-        files.sort();
         let mut cases: Vec<(String, Prepared)> = Vec::new();
-        for path in files {
-            let Ok(scene) = Scene::load(&path) else {
-                continue;
-            };
-            let Problem::Render(mut scene) = scene.problem else {
-                continue;
-            };
-            let name = path.file_name().unwrap().to_string_lossy().into_owned();
-            scene.width = scene.width.min(32);
-            scene.height = scene.height.min(20);
-            let prepared = Prepared::new(&scene, &Embedded).unwrap();
+        for (name, prepared) in crate::render::shipped_scenes(32, 20) {
             for method in [None, Some(Method::MollerTrumbore), Some(Method::Watertight)] {
                 let mut variant = prepared.clone();
                 variant.method = method.or(prepared.method);
