@@ -523,12 +523,11 @@ pub fn nearest_hit_between(
     (t_min, t_max): (f64, f64),
     stats: &mut Stats,
 ) -> Option<Hit> {
-    if !(object_index::applies(prepared) && object_index::finite(&ray)) {
+    let Some(index) = object_index::for_ray(prepared, &ray) else {
         return nearest_of_each_object(prepared, ray, (t_min, t_max), stats);
-    }
+    };
     let mut best: Option<Hit> = None;
     let mut boxes = 0;
-    let index = prepared.object_index();
     index.visit(
         prepared.simd,
         &ray,
@@ -572,20 +571,16 @@ fn nearer(
 /// True when anything is hit with `t_min < t < t_max`: an any-hit query that stops at the first hit
 /// (shadow and occlusion rays; a surface exactly at the light does not hide it).
 pub fn any_hit(prepared: &Prepared, ray: Ray, range: (f64, f64), stats: &mut Stats) -> bool {
-    if !(object_index::applies(prepared) && object_index::finite(&ray)) {
+    let Some(index) = object_index::for_ray(prepared, &ray) else {
         return any_of_each_object(prepared, ray, range, stats);
-    }
+    };
     let mut blocked = false;
     let mut boxes = 0;
-    prepared
-        .object_index()
-        .visit(prepared.simd, &ray, range, &mut boxes, |object, t_max| {
-            if !blocked && object_blocks(prepared, object, ray, range, stats) {
-                blocked = true;
-                return f64::NEG_INFINITY;
-            }
-            t_max
-        });
+    // The first object in the way ends the walk (t_max −∞ is below every box).
+    index.visit(prepared.simd, &ray, range, &mut boxes, |object, t_max| {
+        blocked = object_blocks(prepared, object, ray, range, stats);
+        if blocked { f64::NEG_INFINITY } else { t_max }
+    });
     stats.box_tests += boxes;
     blocked
 }

@@ -234,6 +234,9 @@ impl ObjectIndex {
         mut test: impl FnMut(usize, f64) -> f64,
     ) {
         for &object in &self.unbounded {
+            if t_max < t_min {
+                return;
+            }
             t_max = test(object as usize, t_max);
         }
         if self.nodes.is_empty() || t_max < t_min {
@@ -362,20 +365,20 @@ fn build(nodes: &mut Vec<Binary>, items: &mut [(u32, Bounds)]) {
 pub fn applies(prepared: &Prepared) -> bool {
     use super::Bug;
     use crate::intersect::Method;
-    let crack_free = match prepared.method {
-        Some(method) => method == Method::Watertight,
-        // Watertight is the default for meshes alone.
-        None => prepared.object_index().triangles_all_meshes,
-    };
     prepared.objects.len() >= MIN_OBJECTS
         && matches!(prepared.bug, None | Some(Bug::ShadowAcne))
-        && crack_free
+        && match prepared.method {
+            Some(method) => method == Method::Watertight,
+            // Watertight is the default for meshes alone.
+            None => prepared.object_index().triangles_all_meshes,
+        }
 }
 
-/// True when every number of `ray` is finite (a box test on others could cull wrongly).
+/// The index for `ray`, when the ray may go through it ([`applies`], and every number of the ray
+/// finite: a box test on others could cull wrongly); `None` tests every object in turn.
 #[inline(always)]
-pub fn finite(ray: &Ray) -> bool {
-    ray.origin.iter().chain(&ray.dir).all(|c| c.is_finite())
+pub fn for_ray<'a>(prepared: &'a Prepared, ray: &Ray) -> Option<&'a ObjectIndex> {
+    (ray.is_finite() && applies(prepared)).then(|| prepared.object_index())
 }
 
 /// The object's box in world space, widened ([`BOX_SLACK`]); `None` when not finite, and for a

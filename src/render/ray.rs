@@ -18,6 +18,13 @@ impl Ray {
         Ray { origin, dir }
     }
 
+    /// True when every number of the ray is finite (the only rays a box test or the crack-free
+    /// test takes).
+    #[inline(always)]
+    pub fn is_finite(&self) -> bool {
+        self.origin.iter().chain(&self.dir).all(|c| c.is_finite())
+    }
+
     /// The point o + t d.
     #[inline(always)]
     pub fn at(&self, t: f64) -> V3<f64> {

@@ -723,7 +723,7 @@ impl Bvh {
         box_tests: &mut u64,
         leaf: impl FnMut(std::ops::Range<usize>, f64) -> f64,
     ) {
-        if !ray.origin.iter().chain(&ray.dir).all(|c| c.is_finite()) {
+        if !ray.is_finite() {
             return;
         }
         let mut query = OneRay {
