@@ -220,7 +220,27 @@ pub fn nearest_hits<const P: usize>(
 ) {
     *best = [None; P];
     let four = four_lanes::<P>(prepared);
+    // The lone triangles gathered in one hierarchy, tested together, in place of their objects.
+    let gathered = object_index::Gathered::applies(prepared)
+        .then(|| prepared.object_index().gathered())
+        .flatten();
+    if let Some(gathered) = gathered {
+        let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
+        let mut hits = [None; P];
+        let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
+        let bvh = &gathered.bvh;
+        bvh.nearest_crack_free_packet(prepared.simd, rays, t_max, boxes, triangles, &mut hits);
+        for (best, hit) in best.iter_mut().zip(&hits) {
+            if let Some((number, hit)) = *hit {
+                let (object, primitive) = gathered.owner(number);
+                offer(best, Hit::triangle(object, primitive, hit));
+            }
+        }
+    }
     for (index, object) in prepared.objects.iter().enumerate() {
+        if gathered.is_some() && object_index::gathers(object) {
+            continue;
+        }
         let bvh = match &object.geometry {
             Geometry::Triangles { bvh: Some(bvh), .. } if crack_free_applies(prepared, object) => {
                 bvh
@@ -562,10 +582,33 @@ fn nearer(
     best: &mut Option<Hit>,
     stats: &mut Stats,
 ) -> f64 {
-    if let Some(hit) = object_hit_between(prepared, index, ray, range, Find::Nearest, stats) {
+    let hit = if index == object_index::GATHERED {
+        gathered_nearest(prepared, ray, range, stats)
+    } else {
+        object_hit_between(prepared, index, ray, range, Find::Nearest, stats)
+    };
+    if let Some(hit) = hit {
         offer(best, hit);
     }
     best.map_or(range.1, |b| b.t)
+}
+
+/// The index's gathered lone triangles ([`object_index::Gathered`]): the nearest hit in
+/// (t_min, t_max] (ties to the earlier object and triangle), in world space, their own.
+fn gathered_nearest(
+    prepared: &Prepared,
+    ray: Ray,
+    range: (f64, f64),
+    stats: &mut Stats,
+) -> Option<Hit> {
+    let gathered = prepared.object_index().gathered()?;
+    let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
+    let (number, hit) =
+        gathered
+            .bvh
+            .nearest_crack_free(prepared.simd, &ray, range, boxes, triangles)?;
+    let (object, primitive) = gathered.owner(number);
+    Some(Hit::triangle(object, primitive, hit))
 }
 
 /// True when anything is hit with `t_min < t < t_max`: an any-hit query that stops at the first hit
@@ -582,6 +625,148 @@ pub fn any_hit(prepared: &Prepared, ray: Ray, range: (f64, f64), stats: &mut Sta
         if blocked { f64::NEG_INFINITY } else { t_max }
     });
     stats.box_tests += boxes;
+    blocked
+}
+
+/// [`any_hit`] for up to sixteen rays together (a hit's occlusion rays, or its shadow rays): the
+/// rays of `taking` (a bit set), ray r up to `t_max[r]`, from t = 0; the set of those blocked, each
+/// answered as [`any_hit`] answers it. Through the object index, the rays together: a mesh taking
+/// the crack-free test walks its BVH once for all the rays that meet its box
+/// ([`Bvh::occluded_packet_of`], whose box test takes eight rays at once), every other object is
+/// tested ray by ray. Where the index does not apply, or a ray's numbers are not finite, each ray
+/// takes [`any_hit`].
+pub fn any_hits(
+    prepared: &Prepared,
+    (rays, taking): (&[Ray; TOGETHER], u32),
+    t_max: &[f64; TOGETHER],
+    stats: &mut Stats,
+) -> u32 {
+    let each_ray = |stats: &mut Stats| {
+        let mut blocked = 0;
+        for r in (0..TOGETHER).filter(|r| taking & (1 << r) != 0) {
+            blocked |= u32::from(any_hit(prepared, rays[r], (0.0, t_max[r]), stats)) << r;
+        }
+        blocked
+    };
+    let all_finite = (0..TOGETHER).all(|r| taking & (1 << r) == 0 || rays[r].is_finite());
+    if !all_finite || !object_index::applies(prepared) {
+        return each_ray(stats);
+    }
+    let mut boxes = 0;
+    // Each ray's sheared form in world space, made when an untransformed object first needs it.
+    let mut sheared = [None; TOGETHER];
+    let blocked = prepared.object_index().visit_any(
+        prepared.simd,
+        (rays, taking),
+        (0.0, t_max),
+        &mut boxes,
+        |object, rays_in| {
+            let tested = (rays, rays_in);
+            objects_block(prepared, object, (tested, &mut sheared), t_max, stats)
+        },
+    );
+    stats.box_tests += boxes;
+    blocked
+}
+
+/// Which of the rays of `taking` the lone triangles of an untransformed object taking the
+/// crack-free test block within (0, t_max), `sheared` holding each ray's sheared form once made:
+/// what [`object_blocks`] answers, without making it again for each object.
+fn lone_triangles_block(
+    triangles: &[PreparedTriangle],
+    (rays, taking): (&[Ray; TOGETHER], u32),
+    sheared: &mut WorldSheared,
+    t_max: &[f64; TOGETHER],
+    stats: &mut Stats,
+) -> u32 {
+    let mut blocked = 0;
+    let mut each = taking;
+    while each != 0 {
+        let r = each.trailing_zeros() as usize;
+        each &= each - 1;
+        let made = sheared[r].get_or_insert_with(|| ShearedRay::new(&rays[r].origin, &rays[r].dir));
+        let Some(ray) = made else { continue };
+        for triangle in triangles {
+            stats.triangle_tests += 1;
+            if ray
+                .intersect(&triangle.vertices, 0.0)
+                .is_some_and(|hit| hit.t < t_max[r])
+            {
+                blocked |= 1 << r;
+                break;
+            }
+        }
+    }
+    blocked
+}
+
+/// Each ray's sheared form in world space, once made (`Some`; `Some(None)` for a ray without one).
+type WorldSheared = [Option<Option<ShearedRay>>; TOGETHER];
+
+/// Rays cast together by [`any_hits`]: the packet of the BVH's eight-ray box test, twice over.
+pub const TOGETHER: usize = super::kernels::narrow::RAYS;
+
+/// Which of the rays of `taking` object `index` blocks within (0, t_max): a mesh taking the
+/// crack-free test for them all at once, anything else ray by ray ([`object_blocks`]).
+fn objects_block(
+    prepared: &Prepared,
+    index: usize,
+    ((rays, taking), sheared): ((&[Ray; TOGETHER], u32), &mut WorldSheared),
+    t_max: &[f64; TOGETHER],
+    stats: &mut Stats,
+) -> u32 {
+    if index == object_index::GATHERED
+        && taking.count_ones() > 1
+        && let Some(gathered) = prepared.object_index().gathered()
+    {
+        // In world space, their own: the rays as they are.
+        let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
+        let limits = *t_max;
+        let rays = (rays, taking);
+        return gathered
+            .bvh
+            .occluded_packet_of(prepared.simd, rays, limits, boxes, triangles);
+    }
+    let object = prepared.objects.get(index);
+    if let Some(object) = object
+        && let Geometry::Triangles {
+            triangles,
+            bvh: None,
+        } = &object.geometry
+        && object.object_from_world.is_none()
+        && crack_free_applies(prepared, object)
+    {
+        return lone_triangles_block(triangles, (rays, taking), sheared, t_max, stats);
+    }
+    if let Some(object) = object
+        && let Geometry::Triangles { bvh: Some(bvh), .. } = &object.geometry
+        && crack_free_applies(prepared, object)
+        && taking.count_ones() > 1
+    {
+        // The lanes not taking part hold a copy of the first ray that does (a packet's every lane
+        // must be a ray); they are neither tested nor reported.
+        let first = taking.trailing_zeros() as usize;
+        let stand_in = to_object_space(object, rays[first], prepared.bug, stats);
+        let local: [Ray; TOGETHER] = std::array::from_fn(|r| match r {
+            _ if r == first => stand_in,
+            _ if taking & (1 << r) != 0 => to_object_space(object, rays[r], prepared.bug, stats),
+            _ => stand_in,
+        });
+        let limits = std::array::from_fn(|r| {
+            if taking & (1 << r) != 0 {
+                t_max[r]
+            } else {
+                t_max[first]
+            }
+        });
+        let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
+        return bvh.occluded_packet_of(prepared.simd, (&local, taking), limits, boxes, triangles);
+    }
+    let mut blocked = 0;
+    for r in (0..TOGETHER).filter(|r| taking & (1 << r) != 0) {
+        let range = (0.0, t_max[r]);
+        blocked |= u32::from(object_blocks(prepared, index, rays[r], range, stats)) << r;
+    }
     blocked
 }
 
@@ -605,6 +790,15 @@ fn object_blocks(
     (t_min, t_max): (f64, f64),
     stats: &mut Stats,
 ) -> bool {
+    if index == object_index::GATHERED {
+        let Some(gathered) = prepared.object_index().gathered() else {
+            return false;
+        };
+        let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
+        return gathered
+            .bvh
+            .occluded(prepared.simd, &ray, (t_min, t_max), boxes, triangles);
+    }
     let object = &prepared.objects[index];
     if let Geometry::Triangles { bvh: Some(bvh), .. } = &object.geometry
         && crack_free_applies(prepared, object)

@@ -221,23 +221,6 @@ impl<'a> SecondaryCaster<'a> {
         colour
     }
 
-    /// True when something lies on the ray within (0, t_max]: a shadow or occlusion ray.
-    fn blocked<R: Record>(
-        &self,
-        (ray, t_max): (Ray, f64),
-        kind: RayKind,
-        rec: &mut R,
-        stats: &mut Stats,
-    ) -> bool {
-        stats.secondary.count(kind);
-        rec.any_hit_query(kind, ray, t_max);
-        let blocked = secondary_work(stats, |s| {
-            cast::any_hit(self.prepared, ray, (0.0, t_max), s)
-        });
-        stats.secondary.blocked += u64::from(blocked);
-        blocked
-    }
-
     /// The colour seen along `ray` at `hit`: the surface lit, then its material's rays.
     /// `(kind, depth)`: the ray's kind and how many bounces led to it.
     pub(super) fn radiance<R: Record>(
@@ -308,28 +291,48 @@ impl<'a> SecondaryCaster<'a> {
             return surface.base.map(|c| c * ratio * open);
         }
         let mut light = [lighting.settings.ambient * open; 3];
-        for (index, source) in lighting.lights.iter().enumerate() {
-            stats.secondary.light_evaluations += 1;
-            let seen = incoming(source, point);
-            let cosine = lambert(front, &seen.toward);
-            if cosine == 0.0 {
-                rec.light(index, LightTest::FacesAway);
-                continue;
-            }
-            if !self.on.shadows {
-                rec.light(index, LightTest::Untested);
-            } else {
-                let from = self.off_surface(spot, &seen.toward);
-                let t_max = seen.t_max;
-                let ray = Ray::new(from, seen.toward_from(point, &from));
-                if self.blocked((ray, t_max), RayKind::Shadow, rec, stats) {
-                    rec.light(index, LightTest::Blocked(ray, t_max));
+        // Sixteen lights at a time: their shadow rays are cast together (they share their origin,
+        // or nearly, and go to lights near one another, so they meet the same boxes).
+        for (chunk, sources) in lighting.lights.chunks(cast::TOGETHER).enumerate() {
+            let mut seen = [None; cast::TOGETHER];
+            let mut rays = [Ray::new(*point, *front); cast::TOGETHER];
+            let mut t_max = [0.0; cast::TOGETHER];
+            let mut tested = 0u32;
+            for (i, source) in sources.iter().enumerate() {
+                stats.secondary.light_evaluations += 1;
+                let incoming = incoming(source, point);
+                let cosine = lambert(front, &incoming.toward);
+                if cosine == 0.0 {
                     continue;
                 }
-                rec.light(index, LightTest::Lit(ray, t_max));
+                seen[i] = Some((incoming, cosine));
+                if self.on.shadows {
+                    let from = self.off_surface(spot, &incoming.toward);
+                    rays[i] = Ray::new(from, incoming.toward_from(point, &from));
+                    t_max[i] = incoming.t_max;
+                    tested |= 1 << i;
+                }
             }
-            for (l, e) in light.iter_mut().zip(seen.irradiance) {
-                *l += e * cosine;
+            let blocked =
+                self.blocked_together((&rays, tested), &t_max, RayKind::Shadow, rec, stats);
+            for (i, seen) in seen.iter().enumerate().take(sources.len()) {
+                let index = chunk * cast::TOGETHER + i;
+                let Some((incoming, cosine)) = seen else {
+                    rec.light(index, LightTest::FacesAway);
+                    continue;
+                };
+                let (ray, t_max) = (rays[i], t_max[i]);
+                match (tested >> i & 1 != 0, blocked >> i & 1 != 0) {
+                    (false, _) => rec.light(index, LightTest::Untested),
+                    (true, true) => {
+                        rec.light(index, LightTest::Blocked(ray, t_max));
+                        continue;
+                    }
+                    (true, false) => rec.light(index, LightTest::Lit(ray, t_max)),
+                }
+                for (l, e) in light.iter_mut().zip(incoming.irradiance) {
+                    *l += e * cosine;
+                }
             }
         }
         std::array::from_fn(|k| surface.base[k] * light[k])
@@ -347,16 +350,48 @@ impl<'a> SecondaryCaster<'a> {
         let reach = settings.occlusion_distance.unwrap_or(f64::INFINITY);
         // The rays go over the hemisphere about the shading normal: they leave from its side.
         let from = self.off_surface(spot, &spot.front);
-        let open = (0..settings.occlusion_rays)
-            .filter(|_| {
-                let dir = cosine_hemisphere(&spot.front, rng);
-                let ray = Ray::new(from, dir);
-                !self.blocked((ray, reach), RayKind::Occlusion, &mut *rec, stats)
-            })
-            .count();
         let cast = settings.occlusion_rays;
-        rec.occlusion(cast, cast - open as u32);
-        open as f64 / f64::from(cast)
+        let mut blocked = 0;
+        // Cast together, up to sixteen at a time (they share their origin).
+        let mut left = cast as usize;
+        while left > 0 {
+            let n = left.min(cast::TOGETHER);
+            left -= n;
+            let mut rays = [Ray::new(from, spot.front); cast::TOGETHER];
+            for ray in &mut rays[..n] {
+                *ray = Ray::new(from, cosine_hemisphere(&spot.front, rng));
+            }
+            let t_max = [reach; cast::TOGETHER];
+            let tested = (&rays, (1u32 << n) - 1);
+            let found = self.blocked_together(tested, &t_max, RayKind::Occlusion, rec, stats);
+            blocked += found.count_ones();
+        }
+        rec.occlusion(cast, blocked);
+        f64::from(cast - blocked) / f64::from(cast)
+    }
+
+    /// Which of the shadow or occlusion rays of `taking` (a bit set) meet something within
+    /// (0, t_max[r]): the set of those blocked. Cast together ([`cast::any_hits`]).
+    fn blocked_together<R: Record>(
+        &self,
+        (rays, taking): (&[Ray; cast::TOGETHER], u32),
+        t_max: &[f64; cast::TOGETHER],
+        kind: RayKind,
+        rec: &mut R,
+        stats: &mut Stats,
+    ) -> u32 {
+        if taking == 0 {
+            return 0;
+        }
+        for r in (0..cast::TOGETHER).filter(|r| taking & (1 << r) != 0) {
+            stats.secondary.count(kind);
+            rec.any_hit_query(kind, rays[r], t_max[r]);
+        }
+        let blocked = secondary_work(stats, |s| {
+            cast::any_hits(self.prepared, (rays, taking), t_max, s)
+        });
+        stats.secondary.blocked += u64::from(blocked.count_ones());
+        blocked
     }
 
     /// The colour along the mirror direction of `dir` about `front`.

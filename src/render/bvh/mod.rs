@@ -595,7 +595,9 @@ impl Bvh {
         triangle_tests: &mut u64,
         best: &mut [Nearest; P],
     ) {
-        self.packet::<P, false>(simd, rays, t_max, (box_tests, triangle_tests), best);
+        let every = u32::MAX >> (32 - P);
+        let counts = (box_tests, triangle_tests);
+        self.packet::<P, false>(simd, (rays, every), t_max, counts, best);
     }
 
     /// [`Bvh::occluded`] for `P` rays at once (neighbouring pixels, or the shadow rays of their
@@ -610,15 +612,31 @@ impl Bvh {
         box_tests: &mut u64,
         triangle_tests: &mut u64,
     ) -> u32 {
+        let every = u32::MAX >> (32 - P);
+        self.occluded_packet_of(simd, (rays, every), t_max, box_tests, triangle_tests)
+    }
+
+    /// [`Bvh::occluded_packet`] for the rays of `taking` alone (a bit set): the others fill the
+    /// packet's lanes (each must still be a ray, finite, with a direction, or the packet takes the
+    /// one-ray box test) and are never tested or reported.
+    pub fn occluded_packet_of<const P: usize>(
+        &self,
+        simd: Option<Avx2>,
+        (rays, taking): (&[Ray; P], u32),
+        t_max: [f64; P],
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+    ) -> u32 {
         let mut best = [None; P];
-        self.packet::<P, true>(simd, rays, t_max, (box_tests, triangle_tests), &mut best);
+        let counts = (box_tests, triangle_tests);
+        self.packet::<P, true>(simd, (rays, taking), t_max, counts, &mut best);
         let mut occluded = 0;
         for (r, found) in best.iter().enumerate() {
             if found.is_some_and(|(_, hit)| hit.t < t_max[r]) {
                 occluded |= 1 << r;
             }
         }
-        occluded
+        occluded & taking
     }
 
     /// The packet queries' entry: the nearest hits, or with `ANY` hits before t_max.
@@ -626,7 +644,7 @@ impl Bvh {
     fn packet<const P: usize, const ANY: bool>(
         &self,
         simd: Option<Avx2>,
-        rays: &[Ray; P],
+        (rays, taking): (&[Ray; P], u32),
         t_max: [f64; P],
         (box_tests, triangle_tests): (&mut u64, &mut u64),
         best: &mut [Nearest; P],
@@ -637,9 +655,13 @@ impl Bvh {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
             Some(avx2) => unsafe {
-                self.packet_avx2::<P, ANY>(avx2, rays, t_max, box_tests, triangle_tests, best)
+                let counts = (box_tests, triangle_tests);
+                self.packet_avx2::<P, ANY>(avx2, (rays, taking), t_max, counts, best)
             },
-            _ => self.packet_in::<P, ANY, _>(Scalar, rays, t_max, box_tests, triangle_tests, best),
+            _ => {
+                let counts = (box_tests, triangle_tests);
+                self.packet_in::<P, ANY, _>(Scalar, (rays, taking), t_max, counts, best)
+            }
         }
     }
 
@@ -650,10 +672,9 @@ impl Bvh {
     fn packet_avx2<const P: usize, const ANY: bool>(
         &self,
         avx2: Avx2,
-        rays: &[Ray; P],
+        (rays, taking): (&[Ray; P], u32),
         t_max: [f64; P],
-        box_tests: &mut u64,
-        triangle_tests: &mut u64,
+        (box_tests, triangle_tests): (&mut u64, &mut u64),
         best: &mut [Nearest; P],
     ) {
         if P == narrow::RAYS && self.narrow && !self.nodes.is_empty() {
@@ -666,7 +687,7 @@ impl Bvh {
             ) {
                 (Ok(packet), Ok(limits), Ok(out)) => {
                     let tests = (&mut *box_tests, &mut *triangle_tests);
-                    narrow::traverse::<ANY>(avx2, self, packet, limits, tests, out)
+                    narrow::traverse::<ANY>(avx2, self, (packet, taking), limits, tests, out)
                 }
                 _ => false,
             };
@@ -674,7 +695,8 @@ impl Bvh {
                 return;
             }
         }
-        self.packet_in::<P, ANY, _>(avx2, rays, t_max, box_tests, triangle_tests, best)
+        let counts = (box_tests, triangle_tests);
+        self.packet_in::<P, ANY, _>(avx2, (rays, taking), t_max, counts, best)
     }
 
     /// The packet traversal itself, inlined into each of the two builds above.
@@ -682,10 +704,9 @@ impl Bvh {
     fn packet_in<const P: usize, const ANY: bool, I: Isa>(
         &self,
         isa: I,
-        rays: &[Ray; P],
+        (rays, taking): (&[Ray; P], u32),
         t_max: [f64; P],
-        box_tests: &mut u64,
-        triangle_tests: &mut u64,
+        (box_tests, triangle_tests): (&mut u64, &mut u64),
         best: &mut [Nearest; P],
     ) {
         let sheared: [Option<ShearedRay>; P] =
@@ -709,7 +730,7 @@ impl Bvh {
             triangle_tests,
             best,
         };
-        self.visit(&mut query, all, 0.0);
+        self.visit(&mut query, all & taking, 0.0);
     }
 
     /// One ray's walk: `leaf(slots, t_max)` tests a leaf's slots and returns the new t_max. With

@@ -183,9 +183,9 @@ impl Lanes {
     }
 }
 
-/// The nearest crack-free hits of sixteen rays in `bvh`, written into `best`, or with `ANY` a hit
-/// before each ray's t_max (a ray leaves the walk at its first); false when their numbers do not
-/// allow the f32 box test (the caller then takes the one-ray box test).
+/// The nearest crack-free hits of sixteen rays (those of `taking`, a bit set) in `bvh`, written into
+/// `best`, or with `ANY` a hit before each ray's t_max (a ray leaves the walk at its first); false
+/// when their numbers do not allow the f32 box test (the caller then takes the one-ray box test).
 ///
 /// # Safety
 /// Compiled with AVX2 and FMA: safe to call from code compiled with them (the packet traversal);
@@ -195,7 +195,7 @@ impl Lanes {
 pub fn traverse<const ANY: bool>(
     avx2: Avx2,
     bvh: &Bvh,
-    rays: &[Ray; RAYS],
+    (rays, taking): (&[Ray; RAYS], u32),
     t_max: [f64; RAYS],
     (box_tests, triangle_tests): (&mut u64, &mut u64),
     best: &mut [Nearest; RAYS],
@@ -216,7 +216,7 @@ pub fn traverse<const ANY: bool>(
         triangle_tests,
         best,
     };
-    bvh.visit(&mut query, (1 << RAYS) - 1, 0.0);
+    bvh.visit(&mut query, taking & ((1 << RAYS) - 1), 0.0);
     true
 }
 
