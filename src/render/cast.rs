@@ -582,33 +582,10 @@ fn nearer(
     best: &mut Option<Hit>,
     stats: &mut Stats,
 ) -> f64 {
-    let hit = if index == object_index::GATHERED {
-        gathered_nearest(prepared, ray, range, stats)
-    } else {
-        object_hit_between(prepared, index, ray, range, Find::Nearest, stats)
-    };
-    if let Some(hit) = hit {
+    if let Some(hit) = object_hit_between(prepared, index, ray, range, Find::Nearest, stats) {
         offer(best, hit);
     }
     best.map_or(range.1, |b| b.t)
-}
-
-/// The index's gathered lone triangles ([`object_index::Gathered`]): the nearest hit in
-/// (t_min, t_max] (ties to the earlier object and triangle), in world space, their own.
-fn gathered_nearest(
-    prepared: &Prepared,
-    ray: Ray,
-    range: (f64, f64),
-    stats: &mut Stats,
-) -> Option<Hit> {
-    let gathered = prepared.object_index().gathered()?;
-    let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
-    let (number, hit) =
-        gathered
-            .bvh
-            .nearest_crack_free(prepared.simd, &ray, range, boxes, triangles)?;
-    let (object, primitive) = gathered.owner(number);
-    Some(Hit::triangle(object, primitive, hit))
 }
 
 /// True when anything is hit with `t_min < t < t_max`: an any-hit query that stops at the first hit
@@ -643,13 +620,16 @@ pub fn any_hits(
 ) -> u32 {
     let each_ray = |stats: &mut Stats| {
         let mut blocked = 0;
-        for r in (0..TOGETHER).filter(|r| taking & (1 << r) != 0) {
+        for r in bits(taking) {
             blocked |= u32::from(any_hit(prepared, rays[r], (0.0, t_max[r]), stats)) << r;
         }
         blocked
     };
-    let all_finite = (0..TOGETHER).all(|r| taking & (1 << r) == 0 || rays[r].is_finite());
-    if !all_finite || !object_index::applies(prepared) {
+    // One ray (a scene with one light) goes alone: a packet's set-up would cost it more.
+    if taking.count_ones() < 2
+        || !bits(taking).all(|r| rays[r].is_finite())
+        || !object_index::applies(prepared)
+    {
         return each_ray(stats);
     }
     let mut boxes = 0;
@@ -680,10 +660,7 @@ fn lone_triangles_block(
     stats: &mut Stats,
 ) -> u32 {
     let mut blocked = 0;
-    let mut each = taking;
-    while each != 0 {
-        let r = each.trailing_zeros() as usize;
-        each &= each - 1;
+    for r in bits(taking) {
         let made = sheared[r].get_or_insert_with(|| ShearedRay::new(&rays[r].origin, &rays[r].dir));
         let Some(ray) = made else { continue };
         for triangle in triangles {
@@ -698,6 +675,16 @@ fn lone_triangles_block(
         }
     }
     blocked
+}
+
+/// The positions of `mask`'s set bits, lowest first (the rays of a packet that take part).
+#[inline(always)]
+pub fn bits(mut mask: u32) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        let bit = mask.trailing_zeros() as usize;
+        mask &= mask.wrapping_sub(1);
+        (bit < 32).then_some(bit)
+    })
 }
 
 /// Each ray's sheared form in world space, once made (`Some`; `Some(None)` for a ray without one).
@@ -715,31 +702,17 @@ fn objects_block(
     t_max: &[f64; TOGETHER],
     stats: &mut Stats,
 ) -> u32 {
-    if index == object_index::GATHERED
-        && taking.count_ones() > 1
-        && let Some(gathered) = prepared.object_index().gathered()
-    {
-        // In world space, their own: the rays as they are.
-        let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
-        let limits = *t_max;
-        let rays = (rays, taking);
-        return gathered
-            .bvh
-            .occluded_packet_of(prepared.simd, rays, limits, boxes, triangles);
-    }
-    let object = prepared.objects.get(index);
-    if let Some(object) = object
-        && let Geometry::Triangles {
-            triangles,
-            bvh: None,
-        } = &object.geometry
+    let object = &prepared.objects[index];
+    if let Geometry::Triangles {
+        triangles,
+        bvh: None,
+    } = &object.geometry
         && object.object_from_world.is_none()
         && crack_free_applies(prepared, object)
     {
         return lone_triangles_block(triangles, (rays, taking), sheared, t_max, stats);
     }
-    if let Some(object) = object
-        && let Geometry::Triangles { bvh: Some(bvh), .. } = &object.geometry
+    if let Geometry::Triangles { bvh: Some(bvh), .. } = &object.geometry
         && crack_free_applies(prepared, object)
         && taking.count_ones() > 1
     {
@@ -762,10 +735,74 @@ fn objects_block(
         let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
         return bvh.occluded_packet_of(prepared.simd, (&local, taking), limits, boxes, triangles);
     }
+    if let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry
+        && let Some(avx2) = prepared.simd
+        && let Some(solver) = Parallelogram4::new(avx2, [corner, e1, e2])
+    {
+        let shape = [corner, e1, e2];
+        return parallelogram_blocks(
+            prepared,
+            (object, shape, &solver),
+            (rays, taking),
+            t_max,
+            stats,
+        );
+    }
     let mut blocked = 0;
-    for r in (0..TOGETHER).filter(|r| taking & (1 << r) != 0) {
+    for r in bits(taking) {
         let range = (0.0, t_max[r]);
         blocked |= u32::from(object_blocks(prepared, index, rays[r], range, stats)) << r;
+    }
+    blocked
+}
+
+/// Which of the rays of `taking` a parallelogram blocks within (0, t_max), four rays at a time
+/// through seed 001's solver in lanes ([`Parallelogram4`], the same bits as the one-ray solver),
+/// the rays it leaves to the one-ray solver through [`test_parallelogram`]: what
+/// [`object_blocks`] answers (a hit with 0 < t ≤ the float below t_max).
+fn parallelogram_blocks(
+    prepared: &Prepared,
+    (object, shape, solver): (&PreparedObject, [&V3<f64>; 3], &Parallelogram4),
+    (rays, taking): (&[Ray; TOGETHER], u32),
+    t_max: &[f64; TOGETHER],
+    stats: &mut Stats,
+) -> u32 {
+    let mut blocked = 0;
+    for group in 0..TOGETHER / 4 {
+        let lanes = (taking >> (4 * group)) & 0b1111;
+        if lanes == 0 {
+            continue;
+        }
+        // A lane not taking part holds a copy of one that does.
+        let taken = |lane: usize| lanes & (1 << lane) != 0;
+        let ray_of = |lane: usize| {
+            4 * group
+                + if taken(lane) {
+                    lane
+                } else {
+                    lanes.trailing_zeros() as usize
+                }
+        };
+        let mut local = [rays[ray_of(0)]; 4];
+        for lane in (0..4).filter(|&lane| taken(lane)) {
+            local[lane] = to_object_space(object, rays[ray_of(lane)], prepared.bug, stats);
+        }
+        for lane in (0..4).filter(|&lane| !taken(lane)) {
+            local[lane] = local[ray_of(lane) - 4 * group];
+        }
+        let limits: [f64; 4] = std::array::from_fn(|lane| t_max[ray_of(lane)].next_down());
+        stats.parallelogram_tests += u64::from(lanes.count_ones());
+        let found = solver.solve(&local, &limits);
+        for lane in (0..4).filter(|&lane| taken(lane)) {
+            let t = if found.rare & (1 << lane) != 0 {
+                test_parallelogram(shape, None, local[lane], (0.0, limits[lane])).map(|h| h.t)
+            } else {
+                (found.hit & (1 << lane) != 0).then_some(found.t[lane])
+            };
+            if t.is_some_and(|t| t > 0.0 && t <= limits[lane]) {
+                blocked |= 1 << (4 * group + lane);
+            }
+        }
     }
     blocked
 }
@@ -790,15 +827,6 @@ fn object_blocks(
     (t_min, t_max): (f64, f64),
     stats: &mut Stats,
 ) -> bool {
-    if index == object_index::GATHERED {
-        let Some(gathered) = prepared.object_index().gathered() else {
-            return false;
-        };
-        let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
-        return gathered
-            .bvh
-            .occluded(prepared.simd, &ray, (t_min, t_max), boxes, triangles);
-    }
     let object = &prepared.objects[index];
     if let Geometry::Triangles { bvh: Some(bvh), .. } = &object.geometry
         && crack_free_applies(prepared, object)

@@ -87,20 +87,19 @@ pub struct ObjectIndex {
     unbounded: Vec<u32>,
     /// True when every object of triangles is an OBJ mesh (watertight by default).
     triangles_all_meshes: bool,
-    /// The lone triangles in one hierarchy (a leaf of the index, [`GATHERED`], in place of their
-    /// objects), when there are any.
+    /// The lone triangles in one hierarchy, for packets of primary rays, when there are any.
     gathered: Option<Gathered>,
 }
 
-/// The leaf of the index that stands for the [`Gathered`] lone triangles, as `visit` names it.
-pub const GATHERED: usize = 0x7fff_fffe;
-
 /// The triangles of every object that is [`gathers`]' kind (a triangle or a few, placed in the
 /// world without a transform, with no hierarchy of their own) in one BVH, in world space, which is
-/// their own: the Cornell box's twelve walls are one hierarchy of three four-triangle leaves
-/// rather than twelve objects. Taken only with the crack-free test ([`Gathered::applies`]), whose
-/// decisions are the triangle's alone, so each triangle is decided as it is alone. Triangles are
-/// numbered in object order, so the hierarchy's ties (to the lower number) are the objects'.
+/// their own: a packet of primary rays walks the Cornell box's twelve walls together, four
+/// triangles at a time, rather than testing twelve objects ray by ray. Taken only with the
+/// crack-free test ([`Gathered::applies`]), whose decisions are the triangle's alone, so each
+/// triangle is decided as it is alone. Triangles are numbered in object order, so the hierarchy's
+/// ties (to the lower number) are the objects'. (Secondary rays keep each wall's own box in the
+/// index: a shadow ray from the floor meets the floor's flat box and no other, where a leaf of the
+/// gathered hierarchy spans two walls; gathered, the Cornell box took 10% more instructions.)
 #[derive(Clone, Debug)]
 pub struct Gathered {
     /// The hierarchy over the triangles.

@@ -16,6 +16,10 @@ pub struct LoggedRay {
     pub kind: RayKind,
     pub ray: Ray,
     pub t_max: f64,
+    /// True for the first ray of the shadow or occlusion rays cast together
+    /// ([`cast::any_hits`]: a hit's occlusion rays, or its shadow rays); the packet's others
+    /// follow it.
+    pub starts_packet: bool,
 }
 
 impl LoggedRay {
@@ -36,7 +40,8 @@ impl LoggedRay {
 
 /// Casts `rays` again as the tracer casts them: primary rays sixteen at a time in packets
 /// ([`cast::nearest_hits`]; the log's are sixteen neighbours along a row, a render's a 4x4 tile),
-/// every other ray alone through the query it asked. How many met something.
+/// shadow and occlusion rays in the packets the tracer cast them in ([`cast::any_hits`]), every
+/// other ray alone through the query it asked. How many met something.
 pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats) -> usize {
     const PACKET: usize = 16;
     let mut met = 0;
@@ -45,7 +50,23 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
         let run = rest.iter().take_while(|r| r.kind == first.kind).count();
         let (same, after) = rest.split_at(run);
         let mut alone = same;
-        if first.kind == RayKind::Primary {
+        if first.any_hit() {
+            let mut packets = same;
+            while !packets.is_empty() {
+                let n = 1 + packets[1..]
+                    .iter()
+                    .take(cast::TOGETHER - 1)
+                    .take_while(|r| !r.starts_packet)
+                    .count();
+                let (packet, left) = packets.split_at(n);
+                let rays = std::array::from_fn(|r| packet[r.min(n - 1)].ray);
+                let t_max = std::array::from_fn(|r| packet[r.min(n - 1)].t_max);
+                let blocked = cast::any_hits(prepared, (&rays, (1 << n) - 1), &t_max, stats);
+                met += blocked.count_ones() as usize;
+                packets = left;
+            }
+            alone = &[];
+        } else if first.kind == RayKind::Primary {
             let (packets, left) = same.as_chunks::<PACKET>();
             for packet in packets {
                 let packet = packet.map(|logged| logged.ray);
@@ -66,16 +87,35 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
 
 /// Writes down each ray as the caster tells of it.
 #[derive(Default)]
-struct Log(Vec<LoggedRay>);
+struct Log {
+    rays: Vec<LoggedRay>,
+    /// The next any-hit query starts a packet.
+    packet_starts: bool,
+}
+
+impl Log {
+    fn push(&mut self, (kind, ray, t_max): (RayKind, Ray, f64), starts_packet: bool) {
+        self.rays.push(LoggedRay {
+            kind,
+            ray,
+            t_max,
+            starts_packet,
+        });
+    }
+}
 
 impl Record for Log {
     fn start(&mut self, kind: RayKind, _depth: u32, ray: Ray) {
-        let t_max = f64::INFINITY;
-        self.0.push(LoggedRay { kind, ray, t_max });
+        self.push((kind, ray, f64::INFINITY), false);
+    }
+
+    fn any_hits_together(&mut self) {
+        self.packet_starts = true;
     }
 
     fn any_hit_query(&mut self, kind: RayKind, ray: Ray, t_max: f64) {
-        self.0.push(LoggedRay { kind, ray, t_max });
+        let starts = std::mem::take(&mut self.packet_starts);
+        self.push((kind, ray, t_max), starts);
     }
 }
 
@@ -91,18 +131,13 @@ pub fn rays_cast(prepared: &Prepared) -> Vec<LoggedRay> {
             let mut stats = Stats::default();
             for column in 0..prepared.width {
                 let ray = prepared.ray(row, column);
-                let t_max = f64::INFINITY;
-                log.0.push(LoggedRay {
-                    kind: RayKind::Primary,
-                    ray,
-                    t_max,
-                });
+                log.push((RayKind::Primary, ray, f64::INFINITY), false);
                 if let Some(caster) = &caster {
                     let hit = cast::nearest_hit(prepared, ray, &mut stats);
                     caster.pixel_told((row, column), (ray, hit), &mut log, &mut stats);
                 }
             }
-            log.0
+            log.rays
         })
         .collect();
     rows.concat()
@@ -145,6 +180,16 @@ mod tests {
                 .filter(|r| r.any_hit() && r.cast_again(&prepared, &mut again))
                 .count() as u64;
             assert_eq!(blocked, stats.secondary.blocked, "{file}");
+            // Cast again in the packets the tracer cast them in, as blocked as alone.
+            let any_hit: Vec<LoggedRay> = logged.iter().filter(|r| r.any_hit()).copied().collect();
+            let in_packets = cast_all_again(&prepared, &any_hit, &mut again) as u64;
+            assert_eq!(in_packets, stats.secondary.blocked, "{file}");
+            let packets = any_hit.iter().filter(|r| r.starts_packet).count();
+            assert_eq!(
+                packets > 0,
+                !any_hit.is_empty(),
+                "{file}: {packets} packets"
+            );
             // The primary rays in packets meet what they met in the render.
             let primary: Vec<LoggedRay> = logged
                 .iter()

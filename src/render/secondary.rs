@@ -67,6 +67,8 @@ pub trait Record {
     fn light(&mut self, _index: usize, _test: LightTest) {}
     /// The current hit's ambient-occlusion rays: `cast` of them, `blocked` found something.
     fn occlusion(&mut self, _cast: u32, _blocked: u32) {}
+    /// The shadow or occlusion rays told of next (until the next call) are cast together.
+    fn any_hits_together(&mut self) {}
     /// A shadow or occlusion ray (`kind`) asks whether anything lies on it within (0, t_max).
     fn any_hit_query(&mut self, _kind: RayKind, _ray: Ray, _t_max: f64) {}
 }
@@ -294,18 +296,20 @@ impl<'a> SecondaryCaster<'a> {
         // Sixteen lights at a time: their shadow rays are cast together (they share their origin,
         // or nearly, and go to lights near one another, so they meet the same boxes).
         for (chunk, sources) in lighting.lights.chunks(cast::TOGETHER).enumerate() {
-            let mut seen = [None; cast::TOGETHER];
-            let mut rays = [Ray::new(*point, *front); cast::TOGETHER];
+            // Each light's cosine (0: the surface faces away) and shadow ray; the light it brings
+            // is worked out again below (the same numbers), which costs less than keeping it.
+            let mut cosines = [0.0; cast::TOGETHER];
+            let mut rays = [UNUSED_LANE; cast::TOGETHER];
             let mut t_max = [0.0; cast::TOGETHER];
             let mut tested = 0u32;
             for (i, source) in sources.iter().enumerate() {
                 stats.secondary.light_evaluations += 1;
                 let incoming = incoming(source, point);
                 let cosine = lambert(front, &incoming.toward);
+                cosines[i] = cosine;
                 if cosine == 0.0 {
                     continue;
                 }
-                seen[i] = Some((incoming, cosine));
                 if self.on.shadows {
                     let from = self.off_surface(spot, &incoming.toward);
                     rays[i] = Ray::new(from, incoming.toward_from(point, &from));
@@ -315,12 +319,12 @@ impl<'a> SecondaryCaster<'a> {
             }
             let blocked =
                 self.blocked_together((&rays, tested), &t_max, RayKind::Shadow, rec, stats);
-            for (i, seen) in seen.iter().enumerate().take(sources.len()) {
+            for (i, (source, &cosine)) in sources.iter().zip(&cosines).enumerate() {
                 let index = chunk * cast::TOGETHER + i;
-                let Some((incoming, cosine)) = seen else {
+                if cosine == 0.0 {
                     rec.light(index, LightTest::FacesAway);
                     continue;
-                };
+                }
                 let (ray, t_max) = (rays[i], t_max[i]);
                 match (tested >> i & 1 != 0, blocked >> i & 1 != 0) {
                     (false, _) => rec.light(index, LightTest::Untested),
@@ -330,7 +334,7 @@ impl<'a> SecondaryCaster<'a> {
                     }
                     (true, false) => rec.light(index, LightTest::Lit(ray, t_max)),
                 }
-                for (l, e) in light.iter_mut().zip(incoming.irradiance) {
+                for (l, e) in light.iter_mut().zip(incoming(source, point).irradiance) {
                     *l += e * cosine;
                 }
             }
@@ -357,7 +361,7 @@ impl<'a> SecondaryCaster<'a> {
         while left > 0 {
             let n = left.min(cast::TOGETHER);
             left -= n;
-            let mut rays = [Ray::new(from, spot.front); cast::TOGETHER];
+            let mut rays = [UNUSED_LANE; cast::TOGETHER];
             for ray in &mut rays[..n] {
                 *ray = Ray::new(from, cosine_hemisphere(&spot.front, rng));
             }
@@ -383,7 +387,8 @@ impl<'a> SecondaryCaster<'a> {
         if taking == 0 {
             return 0;
         }
-        for r in (0..cast::TOGETHER).filter(|r| taking & (1 << r) != 0) {
+        rec.any_hits_together();
+        for r in cast::bits(taking) {
             stats.secondary.count(kind);
             rec.any_hit_query(kind, rays[r], t_max[r]);
         }
@@ -454,6 +459,10 @@ impl<'a> SecondaryCaster<'a> {
         std::array::from_fn(|k| spot.point[k] + offset * spot.face[k])
     }
 }
+
+/// What a packet's lanes hold before their rays are written: zeros, which cost less to write than
+/// a ray; a lane no ray takes is never read ([`cast::any_hits`]).
+const UNUSED_LANE: Ray = Ray::new([0.0; 3], [0.0; 3]);
 
 /// Where secondary rays leave a hit.
 struct Spot {
