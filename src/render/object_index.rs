@@ -65,6 +65,11 @@ struct Binary {
     leaf: bool,
 }
 
+/// The walks' stack entries, at most: each node's visit replaces one entry with at most four, and
+/// the build keeps a quarter of the objects on each side of a split, so 3 entries for each of
+/// log₄⁄₃ 2³² < 78 levels, and the root.
+const STACK: usize = 3 * 78 + 1;
+
 /// A lane of a wide node that holds nothing.
 const EMPTY: u32 = u32::MAX;
 /// Marks a lane's child as an object rather than a node.
@@ -347,9 +352,7 @@ impl ObjectIndex {
             return;
         }
         let slabs = Slabs::of(ray);
-        // Each node's visit replaces one entry with at most four, and the build keeps a quarter of
-        // the objects on each side of a split: 3 entries for each of log₄⁄₃ 2³² < 78 levels.
-        let mut stack = [const { MaybeUninit::<(u32, f64)>::uninit() }; 3 * 78 + 1];
+        let mut stack = [const { MaybeUninit::<(u32, f64)>::uninit() }; STACK];
         stack[0] = MaybeUninit::new((0, t_min));
         let mut depth = 1;
         while depth > 0 {
@@ -433,8 +436,7 @@ impl ObjectIndex {
             each &= each - 1;
             slabs[r] = Slabs::of(&rays[r]);
         }
-        // As in `visit`: each node's visit replaces one entry with at most four.
-        let mut stack = [const { MaybeUninit::<(u32, u32)>::uninit() }; 3 * 78 + 1];
+        let mut stack = [const { MaybeUninit::<(u32, u32)>::uninit() }; STACK];
         stack[0] = MaybeUninit::new((0, open));
         let mut depth = 1;
         while depth > 0 {
