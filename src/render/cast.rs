@@ -221,9 +221,12 @@ pub fn nearest_hits<const P: usize>(
     *best = [None; P];
     let four = four_lanes::<P>(prepared);
     // The lone triangles gathered in one hierarchy, tested together, in place of their objects.
-    let gathered = object_index::Gathered::applies(prepared)
-        .then(|| prepared.object_index().gathered())
-        .flatten();
+    // (Without a method of the scene's, lone triangles take Möller–Trumbore: the index, which
+    // gathers them, is not built for nothing.)
+    let gathered = prepared
+        .method
+        .and_then(|_| prepared.object_index().gathered())
+        .filter(|gathered| gathered.applies(prepared));
     if let Some(gathered) = gathered {
         let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
         let mut hits = [None; P];

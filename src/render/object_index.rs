@@ -17,6 +17,7 @@ use std::mem::MaybeUninit;
 
 use glam::DVec3;
 
+use super::cast::bits;
 use super::kernels::Avx2;
 use super::objects::{Geometry, PreparedObject};
 use super::{Prepared, Ray};
@@ -120,14 +121,12 @@ impl Gathered {
         (object as usize, primitive as usize)
     }
 
-    /// True when `prepared` tests the gathered triangles with the crack-free test: the method is
-    /// `watertight` and no bug changes the test (the objects gathered are not meshes, whose
-    /// default it is).
-    pub fn applies(prepared: &Prepared) -> bool {
-        use super::Bug;
-        use crate::intersect::Method;
-        prepared.method == Some(Method::Watertight)
-            && matches!(prepared.bug, None | Some(Bug::ShadowAcne))
+    /// True when `prepared` tests the gathered triangles with the crack-free test: what
+    /// [`super::cast::crack_free_applies`] says of their objects, alike in all that decides it
+    /// (none is a mesh, so the method is the scene's).
+    pub fn applies(&self, prepared: &Prepared) -> bool {
+        let (first, _) = self.owner(0);
+        super::cast::crack_free_applies(prepared, &prepared.objects[first])
     }
 }
 
@@ -367,7 +366,7 @@ impl ObjectIndex {
                 continue;
             }
             let node = &self.nodes[child as usize];
-            *box_tests += node.child.iter().filter(|c| **c != EMPTY).count() as u64;
+            *box_tests += node.children();
             let (near, met) = slabs.enter_on(simd, node, (t_min, t_max));
             // Farthest first, so the nearest is popped next.
             let mut lanes = [0usize; 4];
@@ -430,10 +429,7 @@ impl ObjectIndex {
             inverse: [0.0; 3],
         };
         let mut slabs = [unused; P];
-        let mut each = taking;
-        while each != 0 {
-            let r = each.trailing_zeros() as usize;
-            each &= each - 1;
+        for r in bits(taking) {
             slabs[r] = Slabs::of(&rays[r]);
         }
         let mut stack = [const { MaybeUninit::<(u32, u32)>::uninit() }; STACK];
@@ -452,13 +448,9 @@ impl ObjectIndex {
                 continue;
             }
             let node = &self.nodes[child as usize];
-            let children = node.child.iter().filter(|c| **c != EMPTY).count() as u64;
             let mut met_by = [0u32; 4];
-            let mut each = live;
-            while each != 0 {
-                let r = each.trailing_zeros() as usize;
-                each &= each - 1;
-                *box_tests += children;
+            for r in bits(live) {
+                *box_tests += node.children();
                 let (_, met) = slabs[r].enter_on(simd, node, (t_min, t_max[r]));
                 for (lane, rays) in met_by.iter_mut().enumerate() {
                     *rays |= ((met >> lane) & 1) << r;
@@ -476,6 +468,11 @@ impl ObjectIndex {
 }
 
 impl Wide {
+    /// Its lanes that hold something: the boxes one ray tests here.
+    fn children(&self) -> u64 {
+        self.child.iter().filter(|c| **c != EMPTY).count() as u64
+    }
+
     /// The wide node over binary nodes `lanes` (leaves become objects; inner nodes are filled in
     /// by the caller).
     fn of(binary: &[Binary], lanes: &[usize]) -> Wide {
