@@ -475,6 +475,10 @@ pub const QUICK_FRAME_SECONDS: f64 = 0.025;
 /// The most a quick frame divides the image's sides by.
 pub const MAX_QUICK_DIVISOR: u32 = 16;
 
+/// The least a quick frame divides the image's sides by: a frame while the camera moves is
+/// always smaller than the image (and says so), even where the full image would keep up.
+pub const MIN_QUICK_DIVISOR: u32 = 2;
+
 impl Prepared {
     /// Camera rays a pixel: k² with antialiasing (k = samples_per_side), else one.
     pub fn samples_per_pixel(&self) -> usize {
@@ -504,6 +508,7 @@ impl Prepared {
 /// The divisor of the next quick frame after a frame that took `seconds`: a quick frame of
 /// divisor `n` (`Some(n)`) moves it one step towards frames of [`QUICK_FRAME_SECONDS`]; a full
 /// frame (`None`) gives the first guess, as a frame's time falls with its pixels (n² fewer).
+/// Within [`MIN_QUICK_DIVISOR`] to [`MAX_QUICK_DIVISOR`].
 pub fn next_quick_divisor(last: Option<u32>, seconds: f64) -> u32 {
     let n = match last {
         Some(n) if seconds > 1.3 * QUICK_FRAME_SECONDS => n + 1,
@@ -511,7 +516,7 @@ pub fn next_quick_divisor(last: Option<u32>, seconds: f64) -> u32 {
         Some(n) => n,
         None => (seconds / QUICK_FRAME_SECONDS).sqrt().ceil() as u32,
     };
-    n.clamp(1, MAX_QUICK_DIVISOR)
+    n.clamp(MIN_QUICK_DIVISOR, MAX_QUICK_DIVISOR)
 }
 
 /// A finished render: the image, the work, and the seconds it took.
@@ -723,7 +728,7 @@ mod tests {
 
     /// A quick frame is the render at 1/n of its sides, one sample a pixel; its divisor starts from
     /// the full frame's time (n² fewer pixels) and moves a step at a time towards the frame time,
-    /// within 1 to 16.
+    /// within 2 to 16.
     #[test]
     fn quick_frames_divide_the_image_towards_their_frame_time() {
         let mut prepared = one_triangle(vec![Effect::Coverage, Effect::Antialiasing]);
@@ -736,12 +741,13 @@ mod tests {
         assert_eq!(render(&quick).0.width, 60);
         let frame = QUICK_FRAME_SECONDS;
         assert_eq!(next_quick_divisor(None, 16.0 * frame), 4);
-        assert_eq!(next_quick_divisor(None, 0.5 * frame), 1);
+        // A full frame that keeps up still moves as a smaller one.
+        assert_eq!(next_quick_divisor(None, 0.5 * frame), MIN_QUICK_DIVISOR);
         assert_eq!(next_quick_divisor(None, 1e6), MAX_QUICK_DIVISOR);
         assert_eq!(next_quick_divisor(Some(4), 2.0 * frame), 5);
         assert_eq!(next_quick_divisor(Some(4), 0.2 * frame), 3);
         assert_eq!(next_quick_divisor(Some(4), frame), 4);
-        assert_eq!(next_quick_divisor(Some(1), 0.0), 1);
+        assert_eq!(next_quick_divisor(Some(2), 0.0), MIN_QUICK_DIVISOR);
         assert_eq!(
             next_quick_divisor(Some(MAX_QUICK_DIVISOR), 1.0),
             MAX_QUICK_DIVISOR

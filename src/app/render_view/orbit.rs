@@ -51,7 +51,8 @@ impl Orbit {
 
     /// The next frame's quick-frame divisor, while the camera moves.
     pub(super) fn draft(&self) -> Option<u32> {
-        self.moving.then_some(self.factor.max(1))
+        self.moving
+            .then_some(self.factor.max(crate::render::MIN_QUICK_DIVISOR))
     }
 
     /// Seconds until the camera counts as still, when a repaint must come then.
