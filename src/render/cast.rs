@@ -300,6 +300,61 @@ pub fn nearest_hits<const P: usize>(
     }
 }
 
+/// True when some object takes the crack-free test: then rays cast together in packets
+/// ([`nearest_hits`]) share the packet walk, which pays; otherwise each would test every object
+/// alone, without the object index.
+pub fn packets_pay(prepared: &Prepared) -> bool {
+    prepared
+        .objects
+        .iter()
+        .any(|object| crack_free_applies(prepared, object))
+}
+
+/// The nearest hits with t in (0, ∞) of `P` rays at once, written into `best`: the same hits as
+/// [`nearest_hit_between`] for each (the antialiasing samples of neighbouring pixels).
+///
+/// [`nearest_hits`] asks each object what [`nearest_hit_between`] asks it, except that a primary
+/// ray also takes a parallelogram's hit at t = 0 (and a bug's at t < 0). So where its hit has
+/// t > 0, no hit at t ≤ 0 was offered (the nearest would have been kept) and the two searches
+/// saw the same candidates; a ray whose hit has t ≤ 0 is cast again alone.
+pub fn nearest_hits_between<const P: usize>(
+    prepared: &Prepared,
+    rays: &[Ray; P],
+    stats: &mut Stats,
+    best: &mut [Option<Hit>; P],
+) {
+    nearest_hits(prepared, rays, stats, best);
+    for (best, ray) in best.iter_mut().zip(rays) {
+        if best.is_some_and(|hit| hit.t <= 0.0 || hit.t.is_nan()) {
+            *best = nearest_hit_between(prepared, *ray, (0.0, f64::INFINITY), stats);
+        }
+    }
+}
+
+/// The nearest hit with t in (0, ∞) of each ray (the hits of [`nearest_hit_between`]):
+/// [`TOGETHER`] at a time through [`nearest_hits_between`] where [`packets_pay`], the rest alone.
+pub fn nearest_hits_of_each(
+    prepared: &Prepared,
+    rays: &[Ray],
+    stats: &mut Stats,
+) -> Vec<Option<Hit>> {
+    let mut hits = vec![None; rays.len()];
+    let alone = if packets_pay(prepared) {
+        let (packets, rest) = rays.as_chunks::<TOGETHER>();
+        let (found, _) = hits.as_chunks_mut::<TOGETHER>();
+        for (packet, found) in packets.iter().zip(found) {
+            nearest_hits_between(prepared, packet, stats, found);
+        }
+        rays.len() - rest.len()
+    } else {
+        0
+    };
+    for (hit, ray) in hits[alone..].iter_mut().zip(&rays[alone..]) {
+        *hit = nearest_hit_between(prepared, *ray, (0.0, f64::INFINITY), stats);
+    }
+    hits
+}
+
 /// The bug the primitive tests see: shadow acne moves secondary rays' origins, not a test.
 fn test_bug(prepared: &Prepared) -> Option<Bug> {
     prepared.bug.filter(|&bug| bug != Bug::ShadowAcne)

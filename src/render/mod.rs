@@ -345,10 +345,7 @@ impl Prepared {
         // The rays are made in place, each inlined (`camera_ray_in`), in plain loops: through a
         // closure or `array::from_fn` they were left as calls, a pixel at a time.
         let mut rays = [Ray::new([0.0; 3], [0.0; 3]); PACKET];
-        let packets = self
-            .objects
-            .iter()
-            .any(|o| cast::crack_free_applies(self, o));
+        let packets = cast::packets_pay(self);
         let mut hits = 0;
         let mut deliver = |pixel, ray, hit: Option<Hit>, stats: &mut Stats| {
             hits += u64::from(hit.is_some());

@@ -778,7 +778,10 @@ mod tests {
     /// with every ray, every other one or a single one taking part, and each ray ending just
     /// before, at or past its nearest hit, or at a few lengths.
     fn together(name: &str, prepared: &Prepared, rays: &[Ray]) {
-        use crate::render::cast::{TOGETHER, any_hits, nearest_hit, nearest_hits};
+        use crate::render::cast::{
+            TOGETHER, any_hits, nearest_hit, nearest_hit_between, nearest_hits,
+            nearest_hits_between,
+        };
         let mut stats = Stats::default();
         let bits = |h: Option<crate::render::Hit>| {
             h.map(|h| {
@@ -800,6 +803,17 @@ mod tests {
                     bits(found[r]),
                     bits(single),
                     "{name}: group {group}, ray {r}"
+                );
+            }
+            // Sample rays together: the hits of one at a time with t in (0, ∞).
+            let mut between = [None; TOGETHER];
+            nearest_hits_between(prepared, &packet, &mut stats, &mut between);
+            for (r, ray) in packet.iter().enumerate() {
+                let single = nearest_hit_between(prepared, *ray, (0.0, f64::INFINITY), &mut stats);
+                assert_eq!(
+                    bits(between[r]),
+                    bits(single),
+                    "{name}: group {group}, ray {r} {ray:?}, between"
                 );
             }
             for end in 0..4 {
@@ -851,6 +865,55 @@ mod tests {
             );
         }
         assert!(met > 20_000, "{met}");
+    }
+
+    /// Sample rays cast together meet what they meet alone with t in (0, ∞), also under each
+    /// bug (where a primary ray takes hits at t ≤ 0) and from points on a parallelogram, where
+    /// a primary ray's hit is at t = 0.
+    #[test]
+    fn sample_packets_find_what_single_rays_find_past_zero() {
+        use crate::render::Bug;
+        use crate::render::cast::{TOGETHER, nearest_hit_between, nearest_hits_between};
+        let mut zero_hits = 0;
+        for (name, prepared) in shipped() {
+            let mut rays: Vec<Ray> = rays_cast(&prepared).iter().map(|r| r.ray).collect();
+            rays.truncate(320);
+            // From the middle of each parallelogram, across it and along it.
+            for object in prepared.objects.iter() {
+                if let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry {
+                    let middle = std::array::from_fn(|k| corner[k] + 0.5 * (e1[k] + e2[k]));
+                    let across = crate::math::linalg::cross(e1, e2);
+                    for dir in [across, across.map(|c| -c), *e1, [0.3, -0.2, 0.9]] {
+                        rays.push(Ray::new(middle, dir));
+                    }
+                }
+            }
+            let bugs = [
+                None,
+                Some(Bug::NegativeT),
+                Some(Bug::AndForOr),
+                Some(Bug::ShadowAcne),
+            ];
+            for bug in bugs {
+                let mut variant = prepared.clone();
+                variant.bug = bug;
+                let mut stats = Stats::default();
+                for chunk in rays.chunks(TOGETHER) {
+                    let packet: [Ray; TOGETHER] = std::array::from_fn(|r| chunk[r % chunk.len()]);
+                    let mut found = [None; TOGETHER];
+                    crate::render::cast::nearest_hits(&variant, &packet, &mut stats, &mut found);
+                    zero_hits += found.iter().flatten().filter(|hit| hit.t <= 0.0).count();
+                    nearest_hits_between(&variant, &packet, &mut stats, &mut found);
+                    for (r, ray) in packet.iter().enumerate() {
+                        let alone =
+                            nearest_hit_between(&variant, *ray, (0.0, f64::INFINITY), &mut stats);
+                        assert_eq!(found[r], alone, "{name} {bug:?}: ray {ray:?}");
+                    }
+                }
+            }
+        }
+        // The case the packets cast again alone was met.
+        assert!(zero_hits > 0);
     }
 
     /// The AVX2 box test gives the portable one's answers to the bit: random boxes, empty lanes,

@@ -40,8 +40,10 @@ impl LoggedRay {
 
 /// Casts `rays` again as the tracer casts them: primary rays sixteen at a time in packets
 /// ([`cast::nearest_hits`]; the log's are sixteen neighbours along a row, a render's a 4x4 tile),
-/// shadow and occlusion rays in the packets the tracer cast them in ([`cast::any_hits`]), every
-/// other ray alone through the query it asked. How many met something.
+/// antialiasing samples sixteen at a time in the order logged (a render's are neighbouring
+/// pixels' in row order too, [`cast::nearest_hits_of_each`]), shadow and occlusion rays in the
+/// packets the tracer cast them in ([`cast::any_hits`]), every other ray alone through the query
+/// it asked. How many met something.
 pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats) -> usize {
     const PACKET: usize = 16;
     let mut met = 0;
@@ -75,6 +77,12 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
                 met += hits.iter().filter(|hit| hit.is_some()).count();
             }
             alone = left;
+        } else if first.kind == RayKind::Sample {
+            // Neighbouring pixels' samples together, as the render casts them.
+            let rays: Vec<Ray> = same.iter().map(|logged| logged.ray).collect();
+            let hits = cast::nearest_hits_of_each(prepared, &rays, stats);
+            met += hits.iter().filter(|hit| hit.is_some()).count();
+            alone = &[];
         }
         met += alone
             .iter()
@@ -198,6 +206,18 @@ mod tests {
                 .collect();
             let met = cast_all_again(&prepared, &primary, &mut again) as u64;
             assert_eq!(met, stats.hits, "{file}");
+            // So do the samples, sixteen at a time.
+            let samples: Vec<LoggedRay> = logged
+                .iter()
+                .filter(|r| r.kind == RayKind::Sample)
+                .copied()
+                .collect();
+            let met = cast_all_again(&prepared, &samples, &mut again);
+            let alone = samples
+                .iter()
+                .filter(|r| r.cast_again(&prepared, &mut again))
+                .count();
+            assert_eq!(met, alone, "{file}");
         }
     }
 }

@@ -122,6 +122,13 @@ impl<'a> SecondaryCaster<'a> {
         let primary = self
             .prepared
             .cast_rows(rows, self.basis.as_ref(), &mut stats);
+        if self.on.antialiasing && cast::packets_pay(self.prepared) {
+            self.sample_rows(first, &primary, pixels, &mut stats);
+            for (covered, (_, hit)) in covered.iter_mut().zip(&primary) {
+                *covered = hit.is_some();
+            }
+            return stats;
+        }
         for (at, (ray, hit)) in primary.into_iter().enumerate() {
             let colour = self.pixel((first + at / width, at % width), ray, hit, &mut stats);
             pixels[at] = colour.map(|c| c as f32);
@@ -167,15 +174,66 @@ impl<'a> SecondaryCaster<'a> {
         if let Some(hit) = hit {
             self.surface_at(&hit, &centre, stats);
         }
-        let samples = stratified(p.lighting.settings.samples_per_side, &mut rng);
+        let rays = self.sample_rays((row, column), &mut rng);
+        let hits: Vec<Option<Hit>> = rays.iter().map(|ray| self.cast(*ray, stats)).collect();
+        self.mean_of_samples((&rays, &hits), (&mut rng, rec), stats)
+    }
+
+    /// The pixels of rows `first..` with antialiasing, as [`SecondaryCaster::pixel`] colours them
+    /// from their centres' rays and hits (`primary`), but with the sample rays of neighbouring
+    /// pixels cast together ([`cast::nearest_hits_of_each`]: the same hits as one at a time).
+    /// Each pixel's generator makes its sample rays, then shades what they met, as before.
+    fn sample_rows(
+        &self,
+        first: usize,
+        primary: &[(Ray, Option<Hit>)],
+        pixels: &mut [[f32; 3]],
+        stats: &mut Stats,
+    ) {
+        let p = self.prepared;
+        let mut generators = Vec::with_capacity(primary.len());
+        let mut rays = Vec::new();
+        for (at, (centre, hit)) in primary.iter().enumerate() {
+            let (row, column) = (first + at / p.width, at % p.width);
+            let mut rng = pixel_rng(p.lighting.settings.seed, row * p.width + column);
+            if let Some(hit) = hit {
+                self.surface_at(hit, centre, stats);
+            }
+            rays.extend(self.sample_rays((row, column), &mut rng));
+            generators.push(rng);
+        }
+        let hits = secondary_work(stats, |s| cast::nearest_hits_of_each(p, &rays, s));
+        let per_pixel = rays.len() / primary.len().max(1);
+        let each = rays.chunks(per_pixel).zip(hits.chunks(per_pixel));
+        for ((pixel, mut rng), samples) in pixels.iter_mut().zip(generators).zip(each) {
+            let colour = self.mean_of_samples(samples, (&mut rng, &mut Silent), stats);
+            *pixel = colour.map(|c| c as f32);
+        }
+    }
+
+    /// A pixel's k×k stratified sample rays, drawn from its generator.
+    fn sample_rays(&self, (row, column): (usize, usize), rng: &mut Pcg32) -> Vec<Ray> {
+        let samples = stratified(self.prepared.lighting.settings.samples_per_side, rng);
+        // Cell (x, y) of the pixel around its centre.
+        let ray_in =
+            |(x, y): &(f64, f64)| self.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
+        samples.iter().map(ray_in).collect()
+    }
+
+    /// The mean colour of a pixel's sample rays, given what each met.
+    fn mean_of_samples<R: Record>(
+        &self,
+        (rays, hits): (&[Ray], &[Option<Hit>]),
+        (rng, rec): (&mut Pcg32, &mut R),
+        stats: &mut Stats,
+    ) -> V3<f64> {
         let mut sum = [0.0; 3];
-        for (x, y) in &samples {
-            // Cell (x, y) of the pixel around its centre.
-            let ray = self.ray_at(row as f64 + y - 0.5, column as f64 + x - 0.5);
-            let c = self.trace(ray, (RayKind::Sample, 0), (&mut rng, &mut *rec), stats);
+        for (ray, hit) in rays.iter().zip(hits) {
+            let kind = (RayKind::Sample, 0);
+            let c = self.colour_met(*ray, *hit, kind, (&mut *rng, &mut *rec), stats);
             sum = std::array::from_fn(|k| sum[k] + c[k]);
         }
-        sum.map(|c| c / samples.len() as f64)
+        sum.map(|c| c / rays.len() as f64)
     }
 
     /// The surface a ray hit, with its shading work counted in `stats`.
@@ -206,11 +264,28 @@ impl<'a> SecondaryCaster<'a> {
         (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> V3<f64> {
+        let hit = self.cast(ray, stats);
+        self.colour_met(ray, hit, (kind, depth), (rng, rec), stats)
+    }
+
+    /// The nearest hit of a secondary ray, its work counted as the effects'.
+    fn cast(&self, ray: Ray, stats: &mut Stats) -> Option<Hit> {
+        secondary_work(stats, |s| {
+            cast::nearest_hit_between(self.prepared, ray, (0.0, f64::INFINITY), s)
+        })
+    }
+
+    /// [`SecondaryCaster::trace`] given what the ray met: the colour it brings back.
+    fn colour_met<R: Record>(
+        &self,
+        ray: Ray,
+        hit: Option<Hit>,
+        (kind, depth): (RayKind, u32),
+        (rng, rec): (&mut Pcg32, &mut R),
+        stats: &mut Stats,
+    ) -> V3<f64> {
         stats.secondary.count(kind);
         rec.start(kind, depth, ray);
-        let hit = secondary_work(stats, |s| {
-            cast::nearest_hit_between(self.prepared, ray, (0.0, f64::INFINITY), s)
-        });
         rec.met(hit);
         let colour = match hit {
             Some(hit) => {
