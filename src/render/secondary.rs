@@ -21,6 +21,7 @@ use super::shading::sampling::{cosine_hemisphere, pixel_rng, stratified};
 use super::shading::shade::{Shader, Surface};
 use super::{Basis, Prepared, Ray, Stats, camera_ray_at, pinhole_basis};
 use crate::math::linalg::{V3, dot};
+use crate::scene::render::Light;
 use crate::scene::render::{Effect, Material};
 
 /// True when the scene calls for an effect past ray casting, or has lights to shade by.
@@ -357,7 +358,17 @@ impl<'a> SecondaryCaster<'a> {
         stats: &mut Stats,
     ) -> V3<f64> {
         let lighting = &self.prepared.lighting;
-        let (point, front) = (&spot.point, &spot.front);
+        let occlusion_rays = lighting.settings.occlusion_rays as usize;
+        // A hit's occlusion rays and its lights' shadow rays in one packet when they fit: they
+        // leave the same point, so they walk the index and the meshes near it once.
+        let together = self.on.occlusion
+            && self.on.shadows
+            && !lighting.lights.is_empty()
+            && occlusion_rays > 0
+            && occlusion_rays + lighting.lights.len() <= cast::TOGETHER;
+        if together {
+            return self.local_together(surface, spot, (rng, rec), stats);
+        }
         let open = if self.on.occlusion {
             self.openness(spot, (rng, &mut *rec), stats)
         } else {
@@ -371,50 +382,141 @@ impl<'a> SecondaryCaster<'a> {
         // Sixteen lights at a time: their shadow rays are cast together (they share their origin,
         // or nearly, and go to lights near one another, so they meet the same boxes).
         for (chunk, sources) in lighting.lights.chunks(cast::TOGETHER).enumerate() {
-            // Each light's cosine (0: the surface faces away) and shadow ray; the light it brings
-            // is worked out again below (the same numbers), which costs less than keeping it.
-            let mut cosines = [0.0; cast::TOGETHER];
-            let mut rays = [UNUSED_LANE; cast::TOGETHER];
-            let mut t_max = [0.0; cast::TOGETHER];
-            let mut tested = 0u32;
-            for (i, source) in sources.iter().enumerate() {
-                stats.secondary.light_evaluations += 1;
-                let incoming = incoming(source, point);
-                let cosine = lambert(front, &incoming.toward);
-                cosines[i] = cosine;
-                if cosine == 0.0 {
-                    continue;
-                }
-                if self.on.shadows {
-                    let from = self.off_surface(spot, &incoming.toward);
-                    rays[i] = Ray::new(from, incoming.toward_from(point, &from));
-                    t_max[i] = incoming.t_max;
-                    tested |= 1 << i;
-                }
-            }
-            let blocked =
-                self.blocked_together((&rays, tested), &t_max, RayKind::Shadow, rec, stats);
-            for (i, (source, &cosine)) in sources.iter().zip(&cosines).enumerate() {
-                let index = chunk * cast::TOGETHER + i;
-                if cosine == 0.0 {
-                    rec.light(index, LightTest::FacesAway);
-                    continue;
-                }
-                let (ray, t_max) = (rays[i], t_max[i]);
-                match (tested >> i & 1 != 0, blocked >> i & 1 != 0) {
-                    (false, _) => rec.light(index, LightTest::Untested),
-                    (true, true) => {
-                        rec.light(index, LightTest::Blocked(ray, t_max));
-                        continue;
-                    }
-                    (true, false) => rec.light(index, LightTest::Lit(ray, t_max)),
-                }
-                for (l, e) in light.iter_mut().zip(incoming(source, point).irradiance) {
-                    *l += e * cosine;
-                }
-            }
+            let shadows = self.shadow_packet(spot, sources, stats);
+            let (rays, t_max) = (&shadows.rays, &shadows.t_max);
+            let tested = (rays, shadows.tested);
+            let blocked = self.blocked_together(tested, t_max, RayKind::Shadow, rec, stats);
+            let first = chunk * cast::TOGETHER;
+            self.add_light(
+                &mut light,
+                (first, sources),
+                &spot.point,
+                (&shadows, blocked),
+                rec,
+            );
         }
         std::array::from_fn(|k| surface.base[k] * light[k])
+    }
+
+    /// [`SecondaryCaster::local`] with the occlusion rays (lanes from 0) and the shadow rays (the
+    /// lanes after them) cast as one packet: each ray's answer is the same as in a packet of its
+    /// own kind ([`cast::any_hits`] answers each ray as alone), told to `rec` in the same order.
+    fn local_together<R: Record>(
+        &self,
+        surface: &Surface,
+        spot: &Spot,
+        (rng, rec): (&mut Pcg32, &mut R),
+        stats: &mut Stats,
+    ) -> V3<f64> {
+        let lighting = &self.prepared.lighting;
+        let cast = lighting.settings.occlusion_rays;
+        let n = cast as usize;
+        let occlusion = self.occlusion_packet(spot, n, rng);
+        let reach = [self.reach(); cast::TOGETHER];
+        let shadows = self.shadow_packet(spot, &lighting.lights, stats);
+        let (mut rays, mut t_max) = (occlusion, reach);
+        rays[n..].copy_from_slice(&shadows.rays[..cast::TOGETHER - n]);
+        t_max[n..].copy_from_slice(&shadows.t_max[..cast::TOGETHER - n]);
+        let occluding = (1u32 << n) - 1;
+        let taking = occluding | shadows.tested << n;
+        self.tell_any_hits(
+            (&occlusion, occluding),
+            &reach,
+            RayKind::Occlusion,
+            rec,
+            stats,
+        );
+        let blocked = secondary_work(stats, |s| {
+            cast::any_hits(self.prepared, (&rays, taking), &t_max, s)
+        });
+        stats.secondary.blocked += u64::from(blocked.count_ones());
+        let occluded = (blocked & occluding).count_ones();
+        rec.occlusion(cast, occluded);
+        let open = f64::from(cast - occluded) / f64::from(cast);
+        let (shadow_rays, shadow_t_max) = (&shadows.rays, &shadows.t_max);
+        let shadowed = (shadow_rays, shadows.tested);
+        self.tell_any_hits(shadowed, shadow_t_max, RayKind::Shadow, rec, stats);
+        let mut light = [lighting.settings.ambient * open; 3];
+        let blocked = (&shadows, blocked >> n);
+        self.add_light(&mut light, (0, &lighting.lights), &spot.point, blocked, rec);
+        std::array::from_fn(|k| surface.base[k] * light[k])
+    }
+
+    /// The shadow rays of up to sixteen lights from `spot`: each light's cosine (0: the surface
+    /// faces away), and the ray and its length where the light is tested.
+    fn shadow_packet(&self, spot: &Spot, sources: &[Light], stats: &mut Stats) -> ShadowPacket {
+        let (point, front) = (&spot.point, &spot.front);
+        let mut packet = ShadowPacket {
+            cosines: [0.0; cast::TOGETHER],
+            rays: [UNUSED_LANE; cast::TOGETHER],
+            t_max: [0.0; cast::TOGETHER],
+            tested: 0,
+        };
+        for (i, source) in sources.iter().enumerate() {
+            stats.secondary.light_evaluations += 1;
+            let incoming = incoming(source, point);
+            let cosine = lambert(front, &incoming.toward);
+            packet.cosines[i] = cosine;
+            if cosine == 0.0 {
+                continue;
+            }
+            if self.on.shadows {
+                let from = self.off_surface(spot, &incoming.toward);
+                packet.rays[i] = Ray::new(from, incoming.toward_from(point, &from));
+                packet.t_max[i] = incoming.t_max;
+                packet.tested |= 1 << i;
+            }
+        }
+        packet
+    }
+
+    /// Adds to `light` what `sources` (lights `first..` of the scene) bring to `point`, given
+    /// their shadow rays and which of them were blocked (a bit set), telling `rec` of each.
+    fn add_light<R: Record>(
+        &self,
+        light: &mut V3<f64>,
+        (first, sources): (usize, &[Light]),
+        point: &V3<f64>,
+        (shadows, blocked): (&ShadowPacket, u32),
+        rec: &mut R,
+    ) {
+        for (i, (source, &cosine)) in sources.iter().zip(&shadows.cosines).enumerate() {
+            let index = first + i;
+            if cosine == 0.0 {
+                rec.light(index, LightTest::FacesAway);
+                continue;
+            }
+            let (ray, t_max) = (shadows.rays[i], shadows.t_max[i]);
+            match (shadows.tested >> i & 1 != 0, blocked >> i & 1 != 0) {
+                (false, _) => rec.light(index, LightTest::Untested),
+                (true, true) => {
+                    rec.light(index, LightTest::Blocked(ray, t_max));
+                    continue;
+                }
+                (true, false) => rec.light(index, LightTest::Lit(ray, t_max)),
+            }
+            // The light worked out again (the same numbers), which costs less than keeping it.
+            for (l, e) in light.iter_mut().zip(incoming(source, point).irradiance) {
+                *l += e * cosine;
+            }
+        }
+    }
+
+    /// How far an occlusion ray looks.
+    fn reach(&self) -> f64 {
+        let settings = &self.prepared.lighting.settings;
+        settings.occlusion_distance.unwrap_or(f64::INFINITY)
+    }
+
+    /// `n` (at most sixteen) cosine-weighted occlusion rays over the hemisphere about the shading
+    /// normal, drawn from `rng`, in lanes from 0. They leave from the normal's side.
+    fn occlusion_packet(&self, spot: &Spot, n: usize, rng: &mut Pcg32) -> [Ray; cast::TOGETHER] {
+        let from = self.off_surface(spot, &spot.front);
+        let mut rays = [UNUSED_LANE; cast::TOGETHER];
+        for ray in &mut rays[..n] {
+            *ray = Ray::new(from, cosine_hemisphere(&spot.front, rng));
+        }
+        rays
     }
 
     /// The share of `occlusion_rays` cosine-weighted rays over the hemisphere that escape (within
@@ -425,22 +527,15 @@ impl<'a> SecondaryCaster<'a> {
         (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> f64 {
-        let settings = &self.prepared.lighting.settings;
-        let reach = settings.occlusion_distance.unwrap_or(f64::INFINITY);
-        // The rays go over the hemisphere about the shading normal: they leave from its side.
-        let from = self.off_surface(spot, &spot.front);
-        let cast = settings.occlusion_rays;
+        let cast = self.prepared.lighting.settings.occlusion_rays;
+        let t_max = [self.reach(); cast::TOGETHER];
         let mut blocked = 0;
         // Cast together, up to sixteen at a time (they share their origin).
         let mut left = cast as usize;
         while left > 0 {
             let n = left.min(cast::TOGETHER);
             left -= n;
-            let mut rays = [UNUSED_LANE; cast::TOGETHER];
-            for ray in &mut rays[..n] {
-                *ray = Ray::new(from, cosine_hemisphere(&spot.front, rng));
-            }
-            let t_max = [reach; cast::TOGETHER];
+            let rays = self.occlusion_packet(spot, n, rng);
             let tested = (&rays, (1u32 << n) - 1);
             let found = self.blocked_together(tested, &t_max, RayKind::Occlusion, rec, stats);
             blocked += found.count_ones();
@@ -462,16 +557,32 @@ impl<'a> SecondaryCaster<'a> {
         if taking == 0 {
             return 0;
         }
-        rec.any_hits_together();
-        for r in cast::bits(taking) {
-            stats.secondary.count(kind);
-            rec.any_hit_query(kind, rays[r], t_max[r]);
-        }
+        self.tell_any_hits((rays, taking), t_max, kind, rec, stats);
         let blocked = secondary_work(stats, |s| {
             cast::any_hits(self.prepared, (rays, taking), t_max, s)
         });
         stats.secondary.blocked += u64::from(blocked.count_ones());
         blocked
+    }
+
+    /// Counts the rays of `taking` as cast and tells `rec` of them, as a packet of `kind` (none
+    /// when no ray takes part).
+    fn tell_any_hits<R: Record>(
+        &self,
+        (rays, taking): (&[Ray; cast::TOGETHER], u32),
+        t_max: &[f64; cast::TOGETHER],
+        kind: RayKind,
+        rec: &mut R,
+        stats: &mut Stats,
+    ) {
+        if taking == 0 {
+            return;
+        }
+        rec.any_hits_together();
+        for r in cast::bits(taking) {
+            stats.secondary.count(kind);
+            rec.any_hit_query(kind, rays[r], t_max[r]);
+        }
     }
 
     /// The colour along the mirror direction of `dir` about `front`.
@@ -538,6 +649,16 @@ impl<'a> SecondaryCaster<'a> {
 /// What a packet's lanes hold before their rays are written: zeros, which cost less to write than
 /// a ray; a lane no ray takes is never read ([`cast::any_hits`]).
 const UNUSED_LANE: Ray = Ray::new([0.0; 3], [0.0; 3]);
+
+/// The shadow rays of up to sixteen lights from one hit.
+struct ShadowPacket {
+    /// Each light's cosine at the hit (0: the surface faces away).
+    cosines: [f64; cast::TOGETHER],
+    rays: [Ray; cast::TOGETHER],
+    t_max: [f64; cast::TOGETHER],
+    /// The lights whose shadow rays are cast (a bit set).
+    tested: u32,
+}
 
 /// Where secondary rays leave a hit.
 struct Spot {
