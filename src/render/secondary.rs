@@ -444,6 +444,7 @@ impl<'a> SecondaryCaster<'a> {
 
     /// The shadow rays of up to sixteen lights from `spot`: each light's cosine (0: the surface
     /// faces away), and the ray and its length where the light is tested.
+    #[inline(always)]
     fn shadow_packet(&self, spot: &Spot, sources: &[Light], stats: &mut Stats) -> ShadowPacket {
         let (point, front) = (&spot.point, &spot.front);
         let mut packet = ShadowPacket {
@@ -472,6 +473,7 @@ impl<'a> SecondaryCaster<'a> {
 
     /// Adds to `light` what `sources` (lights `first..` of the scene) bring to `point`, given
     /// their shadow rays and which of them were blocked (a bit set), telling `rec` of each.
+    #[inline(always)]
     fn add_light<R: Record>(
         &self,
         light: &mut V3<f64>,
