@@ -204,7 +204,8 @@ impl<'a> SecondaryCaster<'a> {
             generators.push(rng);
         }
         let hits = secondary_work(stats, |s| cast::nearest_hits_of_each(p, &rays, s));
-        let per_pixel = rays.len() / primary.len().max(1);
+        // At least one sample a pixel (k ≥ 1), and no pixel at all in an empty band.
+        let per_pixel = (rays.len() / primary.len().max(1)).max(1);
         let each = rays.chunks(per_pixel).zip(hits.chunks(per_pixel));
         for ((pixel, mut rng), samples) in pixels.iter_mut().zip(generators).zip(each) {
             let colour = self.mean_of_samples(samples, (&mut rng, &mut Silent), stats);
