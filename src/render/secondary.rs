@@ -688,3 +688,19 @@ fn secondary_work<T>(stats: &mut Stats, cast: impl FnOnce(&mut Stats) -> T) -> T
     s.transforms += own.transforms;
     answer
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A band of no rows renders nothing and casts nothing, also where antialiasing's samples are
+    /// cast together (the Cornell box, the antialiasing scene).
+    #[test]
+    fn an_empty_band_renders_nothing() {
+        for (name, prepared) in crate::render::shipped_scenes(24, 16) {
+            let stats = SecondaryCaster::new(&prepared).render_rows(0, &mut [], &mut []);
+            assert_eq!(stats.rays, 0, "{name}");
+            assert_eq!(stats.secondary, Default::default(), "{name}");
+        }
+    }
+}
