@@ -228,17 +228,8 @@ pub fn nearest_hits<const P: usize>(
         .and_then(|_| prepared.object_index().gathered())
         .filter(|gathered| gathered.applies(prepared));
     if let Some(gathered) = gathered {
-        let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
-        let mut hits = [None; P];
-        let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
-        let bvh = &gathered.bvh;
-        bvh.nearest_crack_free_packet(prepared.simd, rays, t_max, boxes, triangles, &mut hits);
-        for (best, hit) in best.iter_mut().zip(&hits) {
-            if let Some((number, hit)) = *hit {
-                let (object, primitive) = gathered.owner(number);
-                offer(best, Hit::triangle(object, primitive, hit));
-            }
-        }
+        let owner = |number| gathered.owner(number);
+        packet_hits(prepared, &gathered.bvh, rays, best, stats, owner);
     }
     for (index, object) in prepared.objects.iter().enumerate() {
         if gathered.is_some() && object_index::gathers(object) {
@@ -282,20 +273,31 @@ pub fn nearest_hits<const P: usize>(
                 &moved
             }
         };
-        let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
-        let mut hits = [None; P];
-        bvh.nearest_crack_free_packet(
-            prepared.simd,
-            local,
-            t_max,
-            &mut stats.box_tests,
-            &mut stats.triangle_tests,
-            &mut hits,
-        );
-        for (best, hit) in best.iter_mut().zip(&hits) {
-            if let Some((primitive, hit)) = *hit {
-                offer(best, Hit::triangle(index, primitive, hit));
-            }
+        packet_hits(prepared, bvh, local, best, stats, |primitive| {
+            (index, primitive)
+        });
+    }
+}
+
+/// Walks `bvh` with the packet's rays (in its space), each up to its hit so far, keeping the
+/// nearer hits in `best`; `owner` names the object and triangle of the hierarchy's triangle.
+#[inline(always)]
+fn packet_hits<const P: usize>(
+    prepared: &Prepared,
+    bvh: &Bvh,
+    rays: &[Ray; P],
+    best: &mut [Option<Hit>; P],
+    stats: &mut Stats,
+    owner: impl Fn(usize) -> (usize, usize),
+) {
+    let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
+    let mut hits = [None; P];
+    let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
+    bvh.nearest_crack_free_packet(prepared.simd, rays, t_max, boxes, triangles, &mut hits);
+    for (best, hit) in best.iter_mut().zip(&hits) {
+        if let Some((number, hit)) = *hit {
+            let (object, primitive) = owner(number);
+            offer(best, Hit::triangle(object, primitive, hit));
         }
     }
 }
@@ -774,22 +776,8 @@ fn objects_block(
         && crack_free_applies(prepared, object)
         && taking.count_ones() > 1
     {
-        // The lanes not taking part hold a copy of the first ray that does (a packet's every lane
-        // must be a ray); they are neither tested nor reported.
-        let first = taking.trailing_zeros() as usize;
-        let stand_in = to_object_space(object, rays[first], prepared.bug, stats);
-        let local: [Ray; TOGETHER] = std::array::from_fn(|r| match r {
-            _ if r == first => stand_in,
-            _ if taking & (1 << r) != 0 => to_object_space(object, rays[r], prepared.bug, stats),
-            _ => stand_in,
-        });
-        let limits = std::array::from_fn(|r| {
-            if taking & (1 << r) != 0 {
-                t_max[r]
-            } else {
-                t_max[first]
-            }
-        });
+        let local = taking_rays_in(object, (rays, taking), prepared.bug, stats);
+        let limits = stand_ins(*t_max, taking);
         let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
         return bvh.occluded_packet_of(prepared.simd, (&local, taking), limits, boxes, triangles);
     }
@@ -814,6 +802,28 @@ fn objects_block(
     blocked
 }
 
+/// `lanes` with each lane not in `taking` (not empty) holding the first taking lane's value: a
+/// packet's every lane must hold a ray, and those lanes are neither tested nor reported.
+fn stand_ins<T: Copy, const N: usize>(lanes: [T; N], taking: u32) -> [T; N] {
+    let first = taking.trailing_zeros() as usize;
+    std::array::from_fn(|r| lanes[if taking & (1 << r) != 0 { r } else { first }])
+}
+
+/// The rays of `taking` in `object`'s space, each made once, and the other lanes' stand-ins
+/// ([`stand_ins`]).
+fn taking_rays_in<const N: usize>(
+    object: &PreparedObject,
+    (rays, taking): (&[Ray; N], u32),
+    bug: Option<Bug>,
+    stats: &mut Stats,
+) -> [Ray; N] {
+    let mut local = *rays;
+    for r in bits(taking) {
+        local[r] = to_object_space(object, rays[r], bug, stats);
+    }
+    stand_ins(local, taking)
+}
+
 /// Which of the rays of `taking` a parallelogram blocks within (0, t_max), four rays at a time
 /// through seed 001's solver in lanes ([`Parallelogram4`], the same bits as the one-ray solver),
 /// the rays it leaves to the one-ray solver through [`test_parallelogram`]: what
@@ -831,24 +841,11 @@ fn parallelogram_blocks(
         if lanes == 0 {
             continue;
         }
-        // A lane not taking part holds a copy of one that does.
         let taken = |lane: usize| lanes & (1 << lane) != 0;
-        let ray_of = |lane: usize| {
-            4 * group
-                + if taken(lane) {
-                    lane
-                } else {
-                    lanes.trailing_zeros() as usize
-                }
-        };
-        let mut local = [rays[ray_of(0)]; 4];
-        for lane in (0..4).filter(|&lane| taken(lane)) {
-            local[lane] = to_object_space(object, rays[ray_of(lane)], prepared.bug, stats);
-        }
-        for lane in (0..4).filter(|&lane| !taken(lane)) {
-            local[lane] = local[ray_of(lane) - 4 * group];
-        }
-        let limits: [f64; 4] = std::array::from_fn(|lane| t_max[ray_of(lane)].next_down());
+        let four: [Ray; 4] = std::array::from_fn(|lane| rays[4 * group + lane]);
+        let local = taking_rays_in(object, (&four, lanes), prepared.bug, stats);
+        let ends: [f64; 4] = std::array::from_fn(|lane| t_max[4 * group + lane].next_down());
+        let limits = stand_ins(ends, lanes);
         stats.parallelogram_tests += u64::from(lanes.count_ones());
         let found = solver.solve(&local, &limits);
         for lane in (0..4).filter(|&lane| taken(lane)) {

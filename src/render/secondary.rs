@@ -367,80 +367,73 @@ impl<'a> SecondaryCaster<'a> {
             && !lighting.lights.is_empty()
             && occlusion_rays > 0
             && occlusion_rays + lighting.lights.len() <= cast::TOGETHER;
-        if together {
-            return self.local_together(surface, spot, (rng, rec), stats);
-        }
-        let open = if self.on.occlusion {
-            self.openness(spot, (rng, &mut *rec), stats)
-        } else {
-            1.0
+        // Every light's shadow ray, made before the occlusion rays are cast with them.
+        let all_lights = together.then(|| self.shadow_packet(spot, &lighting.lights, stats));
+        let (open, shadows_blocked) = match &all_lights {
+            Some(shadows) => {
+                let (open, blocked) =
+                    self.openness_with_shadows(spot, shadows, (rng, &mut *rec), stats);
+                (open, blocked)
+            }
+            None if self.on.occlusion => (self.openness(spot, (rng, &mut *rec), stats), 0),
+            None => (1.0, 0),
         };
         if lighting.lights.is_empty() {
             let ratio = surface.facing.map_or(1.0, |f| f.max(0.0));
             return surface.base.map(|c| c * ratio * open);
         }
         let mut light = [lighting.settings.ambient * open; 3];
-        // Sixteen lights at a time: their shadow rays are cast together (they share their origin,
-        // or nearly, and go to lights near one another, so they meet the same boxes).
-        for (chunk, sources) in lighting.lights.chunks(cast::TOGETHER).enumerate() {
-            let shadows = self.shadow_packet(spot, sources, stats);
-            let (rays, t_max) = (&shadows.rays, &shadows.t_max);
-            let tested = (rays, shadows.tested);
-            let blocked = self.blocked_together(tested, t_max, RayKind::Shadow, rec, stats);
-            let first = chunk * cast::TOGETHER;
-            self.add_light(
-                &mut light,
-                (first, sources),
-                &spot.point,
-                (&shadows, blocked),
-                rec,
-            );
+        let point = &spot.point;
+        match &all_lights {
+            // Every light's shadow ray was cast with the occlusion rays.
+            Some(shadows) => {
+                let found = (shadows, shadows_blocked);
+                self.add_light(&mut light, (0, &lighting.lights), point, found, rec);
+            }
+            // Sixteen lights at a time: their shadow rays are cast together (they share their
+            // origin, or nearly, and go to lights near one another, so they meet the same boxes).
+            None => {
+                for (chunk, sources) in lighting.lights.chunks(cast::TOGETHER).enumerate() {
+                    let shadows = self.shadow_packet(spot, sources, stats);
+                    let tested = (&shadows.rays, shadows.tested);
+                    let kind = RayKind::Shadow;
+                    let blocked = self.blocked_together(tested, &shadows.t_max, kind, rec, stats);
+                    let first = chunk * cast::TOGETHER;
+                    let found = (&shadows, blocked);
+                    self.add_light(&mut light, (first, sources), point, found, rec);
+                }
+            }
         }
         std::array::from_fn(|k| surface.base[k] * light[k])
     }
 
-    /// [`SecondaryCaster::local`] with the occlusion rays (lanes from 0) and the shadow rays (the
-    /// lanes after them) cast as one packet: each ray's answer is the same as in a packet of its
-    /// own kind ([`cast::any_hits`] answers each ray as alone), told to `rec` in the same order.
-    fn local_together<R: Record>(
+    /// [`SecondaryCaster::openness`] with every light's shadow ray (`shadows`) cast in the same
+    /// packet, the occlusion rays in lanes from 0 and the shadow rays after them: the share of
+    /// occlusion rays that escape, and the set of shadow rays blocked. Each ray's answer is the
+    /// same as in a packet of its own kind ([`cast::any_hits`] answers each ray as alone), told to
+    /// `rec` as two packets, in the order they were cast before.
+    #[inline(always)]
+    fn openness_with_shadows<R: Record>(
         &self,
-        surface: &Surface,
         spot: &Spot,
+        shadows: &ShadowPacket,
         (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
-    ) -> V3<f64> {
-        let lighting = &self.prepared.lighting;
-        let cast = lighting.settings.occlusion_rays;
-        let n = cast as usize;
+    ) -> (f64, u32) {
+        let n = self.prepared.lighting.settings.occlusion_rays as usize;
         let occlusion = self.occlusion_packet(spot, n, rng);
         let reach = [self.reach(); cast::TOGETHER];
-        let shadows = self.shadow_packet(spot, &lighting.lights, stats);
         let (mut rays, mut t_max) = (occlusion, reach);
         rays[n..].copy_from_slice(&shadows.rays[..cast::TOGETHER - n]);
         t_max[n..].copy_from_slice(&shadows.t_max[..cast::TOGETHER - n]);
         let occluding = (1u32 << n) - 1;
-        let taking = occluding | shadows.tested << n;
-        self.tell_any_hits(
-            (&occlusion, occluding),
-            &reach,
-            RayKind::Occlusion,
-            rec,
-            stats,
-        );
-        let blocked = secondary_work(stats, |s| {
-            cast::any_hits(self.prepared, (&rays, taking), &t_max, s)
-        });
-        stats.secondary.blocked += u64::from(blocked.count_ones());
-        let occluded = (blocked & occluding).count_ones();
-        rec.occlusion(cast, occluded);
-        let open = f64::from(cast - occluded) / f64::from(cast);
-        let (shadow_rays, shadow_t_max) = (&shadows.rays, &shadows.t_max);
-        let shadowed = (shadow_rays, shadows.tested);
-        self.tell_any_hits(shadowed, shadow_t_max, RayKind::Shadow, rec, stats);
-        let mut light = [lighting.settings.ambient * open; 3];
-        let blocked = (&shadows, blocked >> n);
-        self.add_light(&mut light, (0, &lighting.lights), &spot.point, blocked, rec);
-        std::array::from_fn(|k| surface.base[k] * light[k])
+        let kind = RayKind::Occlusion;
+        self.tell_any_hits((&occlusion, occluding), &reach, kind, rec, stats);
+        let blocked = self.cast_any_hits((&rays, occluding | shadows.tested << n), &t_max, stats);
+        let open = self.share_escaping((blocked & occluding).count_ones(), rec);
+        let (shadow_rays, kind) = ((&shadows.rays, shadows.tested), RayKind::Shadow);
+        self.tell_any_hits(shadow_rays, &shadows.t_max, kind, rec, stats);
+        (open, blocked >> n)
     }
 
     /// The shadow rays of up to sixteen lights from `spot`: each light's cosine (0: the surface
@@ -543,6 +536,12 @@ impl<'a> SecondaryCaster<'a> {
             let found = self.blocked_together(tested, &t_max, RayKind::Occlusion, rec, stats);
             blocked += found.count_ones();
         }
+        self.share_escaping(blocked, rec)
+    }
+
+    /// The share of the occlusion rays that escape, `blocked` of them not (told to `rec`).
+    fn share_escaping<R: Record>(&self, blocked: u32, rec: &mut R) -> f64 {
+        let cast = self.prepared.lighting.settings.occlusion_rays;
         rec.occlusion(cast, blocked);
         f64::from(cast - blocked) / f64::from(cast)
     }
@@ -561,6 +560,17 @@ impl<'a> SecondaryCaster<'a> {
             return 0;
         }
         self.tell_any_hits((rays, taking), t_max, kind, rec, stats);
+        self.cast_any_hits((rays, taking), t_max, stats)
+    }
+
+    /// Casts the shadow or occlusion rays of `taking` together ([`cast::any_hits`]), their work
+    /// counted as the effects'; the set of those blocked.
+    fn cast_any_hits(
+        &self,
+        (rays, taking): (&[Ray; cast::TOGETHER], u32),
+        t_max: &[f64; cast::TOGETHER],
+        stats: &mut Stats,
+    ) -> u32 {
         let blocked = secondary_work(stats, |s| {
             cast::any_hits(self.prepared, (rays, taking), t_max, s)
         });
