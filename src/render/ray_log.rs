@@ -20,6 +20,9 @@ pub struct LoggedRay {
     /// ([`cast::any_hits`]: a hit's occlusion rays, or its shadow rays); the packet's others
     /// follow it.
     pub starts_packet: bool,
+    /// The bounces that led to it (0 for primary rays and samples): a render casts its band's
+    /// mirror and glass rays together bounce by bounce.
+    pub depth: u32,
 }
 
 impl LoggedRay {
@@ -40,10 +43,10 @@ impl LoggedRay {
 
 /// Casts `rays` again as the tracer casts them: primary rays sixteen at a time in packets
 /// ([`cast::nearest_hits`]; the log's are sixteen neighbours along a row, a render's a 4x4 tile),
-/// antialiasing samples sixteen at a time in the order logged (a render's are neighbouring
-/// pixels' in row order too, [`cast::nearest_hits_of_each`]), shadow and occlusion rays in the
-/// packets the tracer cast them in ([`cast::any_hits`]), every other ray alone through the query
-/// it asked. How many met something.
+/// antialiasing samples, and mirror and glass rays bounce by bounce, sixteen at a time in the
+/// order logged (a render's are neighbouring pixels' in row order too, cast ahead of their
+/// shading, [`cast::nearest_hits_of_each`]), shadow and occlusion rays in the packets the tracer
+/// cast them in ([`cast::any_hits`]). How many met something.
 pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats) -> usize {
     const PACKET: usize = 16;
     let mut met = 0;
@@ -51,8 +54,7 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
     while let Some(first) = rest.first() {
         let run = rest.iter().take_while(|r| r.kind == first.kind).count();
         let (same, after) = rest.split_at(run);
-        let mut alone = same;
-        if first.any_hit() {
+        let alone: Vec<&LoggedRay> = if first.any_hit() {
             let mut packets = same;
             while !packets.is_empty() {
                 let n = 1 + packets[1..]
@@ -67,7 +69,7 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
                 met += blocked.count_ones() as usize;
                 packets = left;
             }
-            alone = &[];
+            Vec::new()
         } else if first.kind == RayKind::Primary {
             let (packets, left) = same.as_chunks::<PACKET>();
             for packet in packets {
@@ -76,14 +78,17 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
                 cast::nearest_hits(prepared, &packet, stats, &mut hits);
                 met += hits.iter().filter(|hit| hit.is_some()).count();
             }
-            alone = left;
-        } else if first.kind == RayKind::Sample {
-            // Neighbouring pixels' samples together, as the render casts them.
-            let rays: Vec<Ray> = same.iter().map(|logged| logged.ray).collect();
+            left.iter().collect()
+        } else {
+            // Neighbouring pixels' samples, and their mirror and glass rays a bounce at a time,
+            // together, as the render casts them.
+            let mut by_bounce: Vec<&LoggedRay> = same.iter().collect();
+            by_bounce.sort_by_key(|logged| logged.depth);
+            let rays: Vec<Ray> = by_bounce.iter().map(|logged| logged.ray).collect();
             let hits = cast::nearest_hits_of_each(prepared, &rays, stats);
             met += hits.iter().filter(|hit| hit.is_some()).count();
-            alone = &[];
-        }
+            Vec::new()
+        };
         met += alone
             .iter()
             .filter(|ray| ray.cast_again(prepared, stats))
@@ -108,13 +113,17 @@ impl Log {
             ray,
             t_max,
             starts_packet,
+            depth: 0,
         });
     }
 }
 
 impl Record for Log {
-    fn start(&mut self, kind: RayKind, _depth: u32, ray: Ray) {
+    fn start(&mut self, kind: RayKind, depth: u32, ray: Ray) {
         self.push((kind, ray, f64::INFINITY), false);
+        if let Some(logged) = self.rays.last_mut() {
+            logged.depth = depth;
+        }
     }
 
     fn any_hits_together(&mut self) {
@@ -206,18 +215,17 @@ mod tests {
                 .collect();
             let met = cast_all_again(&prepared, &primary, &mut again) as u64;
             assert_eq!(met, stats.hits, "{file}");
-            // So do the samples, sixteen at a time.
-            let samples: Vec<LoggedRay> = logged
-                .iter()
-                .filter(|r| r.kind == RayKind::Sample)
-                .copied()
-                .collect();
-            let met = cast_all_again(&prepared, &samples, &mut again);
-            let alone = samples
-                .iter()
-                .filter(|r| r.cast_again(&prepared, &mut again))
-                .count();
-            assert_eq!(met, alone, "{file}");
+            // So do the samples and the mirror and glass rays, sixteen at a time.
+            for kind in [RayKind::Sample, RayKind::Reflection, RayKind::Refraction] {
+                let of_kind: Vec<LoggedRay> =
+                    logged.iter().filter(|r| r.kind == kind).copied().collect();
+                let met = cast_all_again(&prepared, &of_kind, &mut again);
+                let alone = of_kind
+                    .iter()
+                    .filter(|r| r.cast_again(&prepared, &mut again))
+                    .count();
+                assert_eq!(met, alone, "{file}: {}", kind.name());
+            }
         }
     }
 }

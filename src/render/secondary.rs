@@ -8,6 +8,9 @@
 //! they leave by. Without that ([`Bug::ShadowAcne`]) a rounded hit point below its surface sees the
 //! surface itself at t ≈ 1e-16: shadow acne.
 
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hash, Hasher};
+
 use rand_pcg::Pcg32;
 
 use super::Bug;
@@ -72,6 +75,12 @@ pub trait Record {
     fn any_hits_together(&mut self) {}
     /// A shadow or occlusion ray (`kind`) asks whether anything lies on it within (0, t_max).
     fn any_hit_query(&mut self, _kind: RayKind, _ray: Ray, _t_max: f64) {}
+    /// The nearest hit (t in (0, ∞)) of `ray` where it was cast ahead, together with its
+    /// neighbours' (a render's mirror and glass rays, [`FoundAhead`]); `None`: cast it now.
+    /// Listeners cast nothing ahead.
+    fn cast_ahead(&mut self, _ray: &Ray) -> Option<Option<Hit>> {
+        None
+    }
 }
 
 /// Records nothing: a render.
@@ -130,8 +139,10 @@ impl<'a> SecondaryCaster<'a> {
             }
             return stats;
         }
+        let ahead = self.cast_ahead(&primary, &mut stats);
         for (at, (ray, hit)) in primary.into_iter().enumerate() {
-            let colour = self.pixel((first + at / width, at % width), ray, hit, &mut stats);
+            let place = (first + at / width, at % width);
+            let colour = self.pixel_told(place, (ray, hit), &mut ahead.found(), &mut stats);
             pixels[at] = colour.map(|c| c as f32);
             covered[at] = hit.is_some();
         }
@@ -206,11 +217,73 @@ impl<'a> SecondaryCaster<'a> {
         let hits = secondary_work(stats, |s| cast::nearest_hits_of_each(p, &rays, s));
         // At least one sample a pixel (k ≥ 1), and no pixel at all in an empty band.
         let per_pixel = (rays.len() / primary.len().max(1)).max(1);
+        let met: Vec<(Ray, Option<Hit>)> = rays.iter().copied().zip(hits.iter().copied()).collect();
+        let ahead = self.cast_ahead(&met, stats);
         let each = rays.chunks(per_pixel).zip(hits.chunks(per_pixel));
         for ((pixel, mut rng), samples) in pixels.iter_mut().zip(generators).zip(each) {
-            let colour = self.mean_of_samples(samples, (&mut rng, &mut Silent), stats);
+            let colour = self.mean_of_samples(samples, (&mut rng, &mut ahead.found()), stats);
             *pixel = colour.map(|c| c as f32);
         }
+    }
+
+    /// A band's mirror and glass rays, cast together ahead of the shading that asks for them,
+    /// bounce by bounce: `met` holds what the pixels' rays met (their centres', or their
+    /// samples'); each hit's onward rays are those [`SecondaryCaster::radiance`] traces from it
+    /// ([`SecondaryCaster::onward`]), so each ray cast ahead is asked for once. Their hits are
+    /// those of [`cast::nearest_hit_between`] ([`cast::nearest_hits_of_each`]): the image is the
+    /// same as with each ray cast when asked for.
+    fn cast_ahead(&self, met: &[(Ray, Option<Hit>)], stats: &mut Stats) -> CastAhead {
+        let mut ahead = CastAhead::default();
+        if !(self.on.reflections || self.on.refraction) {
+            return ahead;
+        }
+        let p = self.prepared;
+        let mut depth = 0;
+        let mut rays = self.onward_rays(met, depth);
+        while !rays.is_empty() {
+            let hits = secondary_work(stats, |s| cast::nearest_hits_of_each(p, &rays, s));
+            let bounce: Vec<(Ray, Option<Hit>)> = rays.into_iter().zip(hits).collect();
+            ahead
+                .hits
+                .extend(bounce.iter().map(|(ray, hit)| (ray_bits(ray), *hit)));
+            depth += 1;
+            rays = self.onward_rays(&bounce, depth);
+        }
+        ahead
+    }
+
+    /// The rays the mirror and glass hits of `met` send on (rays that took `depth` bounces): the
+    /// glass's refracted rays (and those reflected inside it) in order, then the reflected rays in
+    /// order, so that a packet's rays go much the same way.
+    fn onward_rays(&self, met: &[(Ray, Option<Hit>)], depth: u32) -> Vec<Ray> {
+        let (mut onward, mut reflections) = (Vec::new(), Vec::new());
+        for (ray, hit) in met {
+            let Some(hit) = hit else { continue };
+            if !matches!(
+                self.prepared.lighting.material(hit.object),
+                Material::Mirror { .. } | Material::Glass { .. }
+            ) {
+                continue;
+            }
+            // The shading's counters are the render's, counted where the hit is shaded.
+            let surface = self.surface_at(hit, ray, &mut Stats::default());
+            let spot = Spot::of(&surface, ray, hit.t);
+            match self.onward(hit.object, (&ray.dir, depth), &surface, &spot) {
+                Onward::Stops => {}
+                Onward::Mirror { reflected, .. } => reflections.push(reflected),
+                Onward::Inside { reflected } => onward.push(reflected),
+                Onward::Glass {
+                    refracted,
+                    reflected,
+                    ..
+                } => {
+                    onward.push(refracted);
+                    reflections.extend(reflected);
+                }
+            }
+        }
+        onward.append(&mut reflections);
+        onward
     }
 
     /// A pixel's k×k stratified sample rays, drawn from its generator.
@@ -266,7 +339,10 @@ impl<'a> SecondaryCaster<'a> {
         (rng, rec): (&mut Pcg32, &mut R),
         stats: &mut Stats,
     ) -> V3<f64> {
-        let hit = self.cast(ray, stats);
+        let hit = match rec.cast_ahead(&ray) {
+            Some(hit) => hit,
+            None => self.cast(ray, stats),
+        };
         self.colour_met(ray, hit, (kind, depth), (rng, rec), stats)
     }
 
@@ -316,36 +392,80 @@ impl<'a> SecondaryCaster<'a> {
         } else {
             self.surface_at(&hit, &ray, &mut Stats::default())
         };
-        let spot = Spot {
-            point: ray.at(hit.t),
-            // The normal on the side the ray came from.
-            front: if dot(&surface.normal, &ray.dir) > 0.0 {
-                surface.normal.map(|c| -c)
-            } else {
-                surface.normal
-            },
-            face: surface.face,
-        };
+        let spot = Spot::of(&surface, &ray, hit.t);
         let local = self.local(&surface, &spot, (&mut *rng, &mut *rec), stats);
         let local = local.map(|c| c * surface.fade);
-        let bounce = depth < self.prepared.lighting.settings.max_depth;
-        match self.prepared.lighting.material(hit.object) {
-            Material::Mirror { reflectance } if self.on.reflections && bounce => {
-                let mirrored = self.mirrored(
-                    &spot,
-                    &ray.dir,
-                    (RayKind::Reflection, depth),
-                    (rng, rec),
-                    stats,
-                );
+        let kind_on = |kind| (kind, depth + 1);
+        match self.onward(hit.object, (&ray.dir, depth), &surface, &spot) {
+            Onward::Stops => local,
+            Onward::Mirror {
+                reflected,
+                reflectance,
+            } => {
+                let kind = kind_on(RayKind::Reflection);
+                let mirrored = self.trace(reflected, kind, (rng, rec), stats);
                 mix(&local, &mirrored, reflectance)
             }
-            Material::Glass { ior } if self.on.refraction && bounce => {
-                let entering = dot(&surface.normal, &ray.dir) < 0.0;
-                let etas = if entering { (1.0, ior) } else { (ior, 1.0) };
-                self.glass(&local, &spot, (&ray.dir, depth), etas, (rng, rec), stats)
+            Onward::Inside { reflected } => {
+                let kind = kind_on(RayKind::Refraction);
+                self.trace(reflected, kind, (rng, rec), stats)
             }
-            _ => local,
+            Onward::Glass {
+                refracted,
+                reflected,
+                fresnel,
+            } => {
+                let kind = kind_on(RayKind::Refraction);
+                let through = self.trace(refracted, kind, (&mut *rng, &mut *rec), stats);
+                let mirrored = match reflected {
+                    Some(ray) => self.trace(ray, kind_on(RayKind::Reflection), (rng, rec), stats),
+                    // Without `reflections` the surface's own colour stands in for the reflection.
+                    None => local,
+                };
+                mix(&through, &mirrored, fresnel)
+            }
+        }
+    }
+
+    /// The rays the material of `object` sends on from a hit of a ray along `dir` that took
+    /// `depth` bounces: a mirror's reflected ray; glass's refracted ray and reflected one (mixed by
+    /// Schlick's Fresnel term), or past the critical angle the ray reflected wholly, inside the
+    /// glass. None where the material's effect is off or the depth limit is reached.
+    fn onward(
+        &self,
+        object: usize,
+        (dir, depth): (&V3<f64>, u32),
+        surface: &Surface,
+        spot: &Spot,
+    ) -> Onward {
+        if depth >= self.prepared.lighting.settings.max_depth {
+            return Onward::Stops;
+        }
+        let mirrored = |d: &V3<f64>| {
+            let reflected = reflect(d, &spot.front);
+            Ray::new(self.off_surface(spot, &reflected), reflected)
+        };
+        match self.prepared.lighting.material(object) {
+            Material::Mirror { reflectance } if self.on.reflections => Onward::Mirror {
+                reflected: mirrored(dir),
+                reflectance,
+            },
+            Material::Glass { ior } if self.on.refraction => {
+                let entering = dot(&surface.normal, dir) < 0.0;
+                let (from_eta, to_eta) = if entering { (1.0, ior) } else { (ior, 1.0) };
+                let d = unit(*dir);
+                let Some(through) = refract(&d, &spot.front, from_eta, to_eta) else {
+                    return Onward::Inside {
+                        reflected: mirrored(&d),
+                    };
+                };
+                Onward::Glass {
+                    refracted: Ray::new(self.off_surface(spot, &through), through),
+                    reflected: self.on.reflections.then(|| mirrored(&d)),
+                    fresnel: schlick(-dot(&d, &spot.front), from_eta, to_eta),
+                }
+            }
+            _ => Onward::Stops,
         }
     }
 
@@ -598,49 +718,6 @@ impl<'a> SecondaryCaster<'a> {
         }
     }
 
-    /// The colour along the mirror direction of `dir` about `front`.
-    fn mirrored<R: Record>(
-        &self,
-        spot: &Spot,
-        dir: &V3<f64>,
-        (kind, depth): (RayKind, u32),
-        rng_rec: (&mut Pcg32, &mut R),
-        stats: &mut Stats,
-    ) -> V3<f64> {
-        let reflected = reflect(dir, &spot.front);
-        let from = self.off_surface(spot, &reflected);
-        self.trace(Ray::new(from, reflected), (kind, depth + 1), rng_rec, stats)
-    }
-
-    /// Glass: the refracted ray mixed with the reflected one by Schlick's Fresnel term (the surface's
-    /// own colour stands in for the reflection without `reflections`); past the critical angle the
-    /// ray is reflected wholly, inside the glass (a refraction ray).
-    fn glass<R: Record>(
-        &self,
-        local: &V3<f64>,
-        spot: &Spot,
-        (dir, depth): (&V3<f64>, u32),
-        (from_eta, to_eta): (f64, f64),
-        (rng, rec): (&mut Pcg32, &mut R),
-        stats: &mut Stats,
-    ) -> V3<f64> {
-        let d = unit(*dir);
-        let Some(through) = refract(&d, &spot.front, from_eta, to_eta) else {
-            let kind = (RayKind::Refraction, depth);
-            return self.mirrored(spot, &d, kind, (rng, rec), stats);
-        };
-        let fresnel = schlick(-dot(&d, &spot.front), from_eta, to_eta);
-        let from = self.off_surface(spot, &through);
-        let kind = (RayKind::Refraction, depth + 1);
-        let refracted = self.trace(Ray::new(from, through), kind, (&mut *rng, &mut *rec), stats);
-        let reflected = if self.on.reflections {
-            self.mirrored(spot, &d, (RayKind::Reflection, depth), (rng, rec), stats)
-        } else {
-            *local
-        };
-        mix(&refracted, &reflected, fresnel)
-    }
-
     /// The origin of a secondary ray going along `toward`: the hit point moved `offset` along the
     /// face's normal, to the side of the face the ray goes to, so the ray cannot meet the face it
     /// leaves (along an interpolated normal it could: the shadow acne the app shows as a bug). The
@@ -683,6 +760,104 @@ struct Spot {
     face: V3<f64>,
 }
 
+/// A band's mirror and glass rays and their hits, cast ahead ([`SecondaryCaster::cast_ahead`]),
+/// by the rays' bits.
+#[derive(Default)]
+struct CastAhead {
+    hits: HashMap<RayBits, Option<Hit>, BuildHasherDefault<Mixed>>,
+}
+
+/// A ray's numbers as bits: a ray the same to the bit has the same hit.
+#[derive(PartialEq, Eq)]
+struct RayBits([u64; 6]);
+
+fn ray_bits(ray: &Ray) -> RayBits {
+    let [o, d] = [ray.origin, ray.dir].map(|v| v.map(f64::to_bits));
+    RayBits([o[0], o[1], o[2], d[0], d[1], d[2]])
+}
+
+impl Hash for RayBits {
+    /// One word for the six, multiplied and rotated in (a map's hasher by default, SipHash, took
+    /// 3% of the Cornell box's instructions for these few lookups).
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        let mixed = self.0.iter().fold(0u64, |h, word| {
+            (h.rotate_left(23) ^ word).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+        });
+        state.write_u64(mixed);
+    }
+}
+
+/// The hasher of [`RayBits`]: the one word it is given, its high bits moved down (the map picks
+/// a bucket by the low bits, and the multiply mixes upward).
+#[derive(Default)]
+struct Mixed(u64);
+
+impl Hasher for Mixed {
+    fn finish(&self) -> u64 {
+        self.0 ^ (self.0 >> 32)
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for byte in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(*byte)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+        }
+    }
+
+    fn write_u64(&mut self, word: u64) {
+        self.0 = word;
+    }
+}
+
+impl CastAhead {
+    /// The hits cast ahead, for the shading to find ([`Record::cast_ahead`]).
+    fn found(&self) -> FoundAhead<'_> {
+        FoundAhead(&self.hits)
+    }
+}
+
+/// The hits of rays cast ahead, as a band's shading asks for them; records nothing.
+pub struct FoundAhead<'a>(&'a HashMap<RayBits, Option<Hit>, BuildHasherDefault<Mixed>>);
+
+impl Record for FoundAhead<'_> {
+    fn cast_ahead(&mut self, ray: &Ray) -> Option<Option<Hit>> {
+        self.0.get(&ray_bits(ray)).copied()
+    }
+}
+
+/// What a hit's material sends on ([`SecondaryCaster::onward`]).
+enum Onward {
+    /// Neither mirror nor glass, its effect off, or the depth limit reached.
+    Stops,
+    /// A mirror's reflected ray, mixed with the surface's own colour by `reflectance`.
+    Mirror { reflected: Ray, reflectance: f64 },
+    /// Glass past the critical angle: the ray reflected wholly, inside the glass (a refraction
+    /// ray).
+    Inside { reflected: Ray },
+    /// Glass: the refracted ray, mixed with the reflected one (`None` without `reflections`: the
+    /// surface's own colour stands in) by Schlick's Fresnel term.
+    Glass {
+        refracted: Ray,
+        reflected: Option<Ray>,
+        fresnel: f64,
+    },
+}
+
+impl Spot {
+    /// Where a ray meets `surface` at `t`.
+    fn of(surface: &Surface, ray: &Ray, t: f64) -> Spot {
+        Spot {
+            point: ray.at(t),
+            // The normal on the side the ray came from.
+            front: if dot(&surface.normal, &ray.dir) > 0.0 {
+                surface.normal.map(|c| -c)
+            } else {
+                surface.normal
+            },
+            face: surface.face,
+        }
+    }
+}
+
 /// (1 − w)·a + w·b.
 fn mix(a: &V3<f64>, b: &V3<f64>, w: f64) -> V3<f64> {
     std::array::from_fn(|k| (1.0 - w) * a[k] + w * b[k])
@@ -702,6 +877,51 @@ fn secondary_work<T>(stats: &mut Stats, cast: impl FnOnce(&mut Stats) -> T) -> T
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A band's pixels, with its first mirror and glass rays cast ahead together (and its samples),
+    /// are the same to the bit as each pixel shaded alone, every ray cast one at a time: in every
+    /// shipped scene, with and without antialiasing, with and without the shadow-acne bug (whose
+    /// rays leave from the surface itself).
+    #[test]
+    fn a_band_renders_each_pixel_as_alone() {
+        let mut mirrors_and_glass = 0;
+        for (name, shipped) in crate::render::shipped_scenes(40, 30) {
+            for (antialiasing, bug) in [(true, None), (false, None), (true, Some(Bug::ShadowAcne))]
+            {
+                let mut prepared = shipped.clone();
+                prepared.bug = bug;
+                if !antialiasing {
+                    prepared.effects.retain(|e| *e != Effect::Antialiasing);
+                }
+                if !applies(&prepared) {
+                    continue;
+                }
+                let caster = SecondaryCaster::new(&prepared);
+                let width = prepared.width;
+                let mut pixels = vec![[0.0f32; 3]; width * prepared.height];
+                let mut covered = vec![false; pixels.len()];
+                let stats = caster.render_rows(0, &mut pixels, &mut covered);
+                mirrors_and_glass += stats.rays_of(RayKind::Reflection);
+                mirrors_and_glass += stats.rays_of(RayKind::Refraction);
+                for (at, shown) in pixels.iter().enumerate() {
+                    let (row, column) = (at / width, at % width);
+                    let centre = prepared.ray(row, column);
+                    let hit = cast::nearest_hit(&prepared, centre, &mut Stats::default());
+                    let alone = caster.pixel((row, column), centre, hit, &mut Stats::default());
+                    let alone = alone.map(|c| (c as f32).to_bits());
+                    assert_eq!(
+                        shown.map(f32::to_bits),
+                        alone,
+                        "{name}, antialiasing {antialiasing}, {bug:?}: pixel ({row}, {column})"
+                    );
+                }
+            }
+        }
+        assert!(
+            mirrors_and_glass > 1000,
+            "{mirrors_and_glass} mirror and glass rays"
+        );
+    }
 
     /// A band of no rows renders nothing and casts nothing, also where antialiasing's samples are
     /// cast together (the Cornell box, the antialiasing scene).
