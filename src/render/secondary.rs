@@ -923,6 +923,58 @@ mod tests {
         );
     }
 
+    /// Every mirror and glass ray a pixel's shading asks for was cast ahead, at every bounce
+    /// (a ray the band's cast missed would be cast again alone: the same image, the time lost).
+    /// At 100x75 the glass sphere of the refraction scene reflects some rays wholly inside.
+    #[test]
+    fn every_mirror_and_glass_ray_is_found_ahead() {
+        /// Asks the rays cast ahead, counting those not found.
+        struct Asking<'a> {
+            found: FoundAhead<'a>,
+            asked: u64,
+            missed: u64,
+        }
+        impl Record for Asking<'_> {
+            fn cast_ahead(&mut self, ray: &Ray) -> Option<Option<Hit>> {
+                let found = self.found.cast_ahead(ray);
+                self.asked += 1;
+                self.missed += u64::from(found.is_none());
+                found
+            }
+        }
+        let mut asked = 0;
+        for (name, mut prepared) in crate::render::shipped_scenes(100, 75) {
+            prepared.effects.retain(|e| *e != Effect::Antialiasing);
+            if !applies(&prepared) {
+                continue;
+            }
+            let caster = SecondaryCaster::new(&prepared);
+            let width = prepared.width;
+            let met: Vec<(Ray, Option<Hit>)> = (0..width * prepared.height)
+                .map(|at| {
+                    let ray = prepared.ray(at / width, at % width);
+                    (
+                        ray,
+                        cast::nearest_hit(&prepared, ray, &mut Stats::default()),
+                    )
+                })
+                .collect();
+            let ahead = caster.cast_ahead(&met, &mut Stats::default());
+            let mut asking = Asking {
+                found: ahead.found(),
+                asked: 0,
+                missed: 0,
+            };
+            for (at, met) in met.iter().enumerate() {
+                let place = (at / width, at % width);
+                caster.pixel_told(place, *met, &mut asking, &mut Stats::default());
+            }
+            assert_eq!(asking.missed, 0, "{name}: of {} asked", asking.asked);
+            asked += asking.asked;
+        }
+        assert!(asked > 1000, "{asked} mirror and glass rays asked for");
+    }
+
     /// A band of no rows renders nothing and casts nothing, also where antialiasing's samples are
     /// cast together (the Cornell box, the antialiasing scene).
     #[test]
