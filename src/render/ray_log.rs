@@ -20,8 +20,8 @@ pub struct LoggedRay {
     /// ([`cast::any_hits`]: a hit's occlusion rays, or its shadow rays); the packet's others
     /// follow it.
     pub starts_packet: bool,
-    /// The bounces that led to it (0 for primary rays and samples): a render casts its band's
-    /// mirror and glass rays together bounce by bounce.
+    /// The bounces that led to a mirror or glass ray (0 for every other kind): a render casts its
+    /// band's mirror and glass rays together bounce by bounce.
     pub depth: u32,
 }
 
@@ -54,7 +54,7 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
     while let Some(first) = rest.first() {
         let run = rest.iter().take_while(|r| r.kind == first.kind).count();
         let (same, after) = rest.split_at(run);
-        let alone: Vec<&LoggedRay> = if first.any_hit() {
+        if first.any_hit() {
             let mut packets = same;
             while !packets.is_empty() {
                 let n = 1 + packets[1..]
@@ -69,7 +69,6 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
                 met += blocked.count_ones() as usize;
                 packets = left;
             }
-            Vec::new()
         } else if first.kind == RayKind::Primary {
             let (packets, left) = same.as_chunks::<PACKET>();
             for packet in packets {
@@ -78,7 +77,10 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
                 cast::nearest_hits(prepared, &packet, stats, &mut hits);
                 met += hits.iter().filter(|hit| hit.is_some()).count();
             }
-            left.iter().collect()
+            met += left
+                .iter()
+                .filter(|ray| ray.cast_again(prepared, stats))
+                .count();
         } else {
             // Neighbouring pixels' samples, and their mirror and glass rays a bounce at a time,
             // together, as the render casts them.
@@ -87,12 +89,7 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
             let rays: Vec<Ray> = by_bounce.iter().map(|logged| logged.ray).collect();
             let hits = cast::nearest_hits_of_each(prepared, &rays, stats);
             met += hits.iter().filter(|hit| hit.is_some()).count();
-            Vec::new()
-        };
-        met += alone
-            .iter()
-            .filter(|ray| ray.cast_again(prepared, stats))
-            .count();
+        }
         rest = after;
     }
     met
@@ -107,23 +104,20 @@ struct Log {
 }
 
 impl Log {
-    fn push(&mut self, (kind, ray, t_max): (RayKind, Ray, f64), starts_packet: bool) {
+    fn push(&mut self, (kind, ray, t_max): (RayKind, Ray, f64), starts_packet: bool, depth: u32) {
         self.rays.push(LoggedRay {
             kind,
             ray,
             t_max,
             starts_packet,
-            depth: 0,
+            depth,
         });
     }
 }
 
 impl Record for Log {
     fn start(&mut self, kind: RayKind, depth: u32, ray: Ray) {
-        self.push((kind, ray, f64::INFINITY), false);
-        if let Some(logged) = self.rays.last_mut() {
-            logged.depth = depth;
-        }
+        self.push((kind, ray, f64::INFINITY), false, depth);
     }
 
     fn any_hits_together(&mut self) {
@@ -132,7 +126,7 @@ impl Record for Log {
 
     fn any_hit_query(&mut self, kind: RayKind, ray: Ray, t_max: f64) {
         let starts = std::mem::take(&mut self.packet_starts);
-        self.push((kind, ray, t_max), starts);
+        self.push((kind, ray, t_max), starts, 0);
     }
 }
 
@@ -148,7 +142,7 @@ pub fn rays_cast(prepared: &Prepared) -> Vec<LoggedRay> {
             let mut stats = Stats::default();
             for column in 0..prepared.width {
                 let ray = prepared.ray(row, column);
-                log.push((RayKind::Primary, ray, f64::INFINITY), false);
+                log.push((RayKind::Primary, ray, f64::INFINITY), false, 0);
                 if let Some(caster) = &caster {
                     let hit = cast::nearest_hit(prepared, ray, &mut stats);
                     caster.pixel_told((row, column), (ray, hit), &mut log, &mut stats);

@@ -76,7 +76,7 @@ pub trait Record {
     /// A shadow or occlusion ray (`kind`) asks whether anything lies on it within (0, t_max).
     fn any_hit_query(&mut self, _kind: RayKind, _ray: Ray, _t_max: f64) {}
     /// The nearest hit (t in (0, ∞)) of `ray` where it was cast ahead, together with its
-    /// neighbours' (a render's mirror and glass rays, [`FoundAhead`]); `None`: cast it now.
+    /// neighbours' (a render's mirror and glass rays, `FoundAhead`); `None`: cast it now.
     /// Listeners cast nothing ahead.
     fn cast_ahead(&mut self, _ray: &Ray) -> Option<Option<Hit>> {
         None
@@ -234,9 +234,6 @@ impl<'a> SecondaryCaster<'a> {
     /// same as with each ray cast when asked for.
     fn cast_ahead(&self, met: &[(Ray, Option<Hit>)], stats: &mut Stats) -> CastAhead {
         let mut ahead = CastAhead::default();
-        if !(self.on.reflections || self.on.refraction) {
-            return ahead;
-        }
         let p = self.prepared;
         let mut depth = 0;
         let mut rays = self.onward_rays(met, depth);
@@ -258,15 +255,12 @@ impl<'a> SecondaryCaster<'a> {
     fn onward_rays(&self, met: &[(Ray, Option<Hit>)], depth: u32) -> Vec<Ray> {
         let (mut onward, mut reflections) = (Vec::new(), Vec::new());
         for (ray, hit) in met {
-            let Some(hit) = hit else { continue };
-            if !matches!(
-                self.prepared.lighting.material(hit.object),
-                Material::Mirror { .. } | Material::Glass { .. }
-            ) {
+            // Only a hit that sends rays on needs its surface worked out here.
+            let Some(hit) = hit.filter(|hit| self.sending_on(hit.object, depth).is_some()) else {
                 continue;
-            }
+            };
             // The shading's counters are the render's, counted where the hit is shaded.
-            let surface = self.surface_at(hit, ray, &mut Stats::default());
+            let surface = self.surface_at(&hit, ray, &mut Stats::default());
             let spot = Spot::of(&surface, ray, hit.t);
             match self.onward(hit.object, (&ray.dir, depth), &surface, &spot) {
                 Onward::Stops => {}
@@ -438,19 +432,16 @@ impl<'a> SecondaryCaster<'a> {
         surface: &Surface,
         spot: &Spot,
     ) -> Onward {
-        if depth >= self.prepared.lighting.settings.max_depth {
-            return Onward::Stops;
-        }
         let mirrored = |d: &V3<f64>| {
             let reflected = reflect(d, &spot.front);
             Ray::new(self.off_surface(spot, &reflected), reflected)
         };
-        match self.prepared.lighting.material(object) {
-            Material::Mirror { reflectance } if self.on.reflections => Onward::Mirror {
+        match self.sending_on(object, depth) {
+            Some(Material::Mirror { reflectance }) => Onward::Mirror {
                 reflected: mirrored(dir),
                 reflectance,
             },
-            Material::Glass { ior } if self.on.refraction => {
+            Some(Material::Glass { ior }) => {
                 let entering = dot(&surface.normal, dir) < 0.0;
                 let (from_eta, to_eta) = if entering { (1.0, ior) } else { (ior, 1.0) };
                 let d = unit(*dir);
@@ -466,6 +457,20 @@ impl<'a> SecondaryCaster<'a> {
                 }
             }
             _ => Onward::Stops,
+        }
+    }
+
+    /// The material of `object` where a hit on it after `depth` bounces sends rays on: a mirror
+    /// with `reflections`, glass with `refraction`, below the depth limit.
+    fn sending_on(&self, object: usize, depth: u32) -> Option<Material> {
+        if depth >= self.prepared.lighting.settings.max_depth {
+            return None;
+        }
+        let material = self.prepared.lighting.material(object);
+        match material {
+            Material::Mirror { .. } if self.on.reflections => Some(material),
+            Material::Glass { .. } if self.on.refraction => Some(material),
+            _ => None,
         }
     }
 
@@ -816,7 +821,7 @@ impl CastAhead {
 }
 
 /// The hits of rays cast ahead, as a band's shading asks for them; records nothing.
-pub struct FoundAhead<'a>(&'a HashMap<RayBits, Option<Hit>, BuildHasherDefault<Mixed>>);
+struct FoundAhead<'a>(&'a HashMap<RayBits, Option<Hit>, BuildHasherDefault<Mixed>>);
 
 impl Record for FoundAhead<'_> {
     fn cast_ahead(&mut self, ray: &Ray) -> Option<Option<Hit>> {
