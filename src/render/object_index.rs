@@ -235,7 +235,7 @@ impl Slabs {
     /// (`_mm256_min_pd(a, b)` is `if a < b { a } else { b }`, NaN included, and `max` alike), so
     /// the same answers. Left to the compiler, the loop took 118 instructions a call.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
+    #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
     fn enter_avx2(&self, node: &Wide, (t_min, t_max): (f64, f64)) -> ([f64; 4], u32) {
         use std::arch::x86_64::*;
         // SAFETY: each row is four f64s, read unaligned; the target features are enabled here.
@@ -265,6 +265,76 @@ impl Slabs {
         // SAFETY: four f64s into a four-f64 array.
         unsafe { _mm256_storeu_pd(nears.as_mut_ptr(), near) };
         (nears, _mm256_movemask_pd(inside) as u32)
+    }
+}
+
+/// A packet's [`Slabs`], a row per axis and a lane per ray, so that one box is tested against
+/// four rays at once.
+#[cfg(target_arch = "x86_64")]
+#[repr(C, align(32))]
+struct PacketSlabs<const P: usize> {
+    origin: [[f64; P]; 3],
+    inverse: [[f64; P]; 3],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<const P: usize> PacketSlabs<P> {
+    fn of(slabs: &[Slabs; P]) -> PacketSlabs<P> {
+        PacketSlabs {
+            origin: std::array::from_fn(|k| std::array::from_fn(|r| slabs[r].origin[k])),
+            inverse: std::array::from_fn(|k| std::array::from_fn(|r| slabs[r].inverse[k])),
+        }
+    }
+
+    /// Per lane of `node`, the rays of `live` that meet its box within [t_min, t_max[r]]: what
+    /// [`Slabs::enter`] answers for each ray, by the same operations in the same order (a ray a
+    /// lane rather than a box a lane), so the same bits.
+    ///
+    /// # Safety
+    /// Only call on a processor with AVX2 and FMA; `P` is a multiple of four.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+    fn enter_avx2(&self, node: &Wide, live: u32, (t_min, t_max): (f64, &[f64; P])) -> [u32; 4] {
+        use std::arch::x86_64::*;
+        let sign = _mm256_set1_pd(-0.0);
+        let slack = _mm256_set1_pd(T_SLACK);
+        let low = _mm256_set1_pd(t_min);
+        let mut met_by = [0u32; 4];
+        for group in 0..P / 4 {
+            if (live >> (4 * group)) & 0b1111 == 0 {
+                continue;
+            }
+            let at = 4 * group;
+            // SAFETY: four f64s at lane `at` (a multiple of four, below P) of P-f64 rows, read
+            // unaligned; the target features are enabled here.
+            let row = |row: &[f64; P]| unsafe { _mm256_loadu_pd(row.as_ptr().add(at)) };
+            let origin = [0, 1, 2].map(|k| row(&self.origin[k]));
+            let inverse = [0, 1, 2].map(|k| row(&self.inverse[k]));
+            let high = row(t_max);
+            for (lane, met) in met_by.iter_mut().enumerate() {
+                let mut near = low;
+                let mut far = _mm256_set1_pd(f64::INFINITY);
+                for k in 0..3 {
+                    let lo = _mm256_set1_pd(node.lo[k][lane]);
+                    let hi = _mm256_set1_pd(node.hi[k][lane]);
+                    let a = _mm256_mul_pd(_mm256_sub_pd(lo, origin[k]), inverse[k]);
+                    let b = _mm256_mul_pd(_mm256_sub_pd(hi, origin[k]), inverse[k]);
+                    near = _mm256_max_pd(near, _mm256_min_pd(a, b));
+                    far = _mm256_min_pd(far, _mm256_max_pd(a, b));
+                }
+                near = _mm256_sub_pd(near, _mm256_mul_pd(slack, _mm256_andnot_pd(sign, near)));
+                far = _mm256_add_pd(far, _mm256_mul_pd(slack, _mm256_andnot_pd(sign, far)));
+                let inside = _mm256_and_pd(
+                    _mm256_cmp_pd::<_CMP_LE_OQ>(near, far),
+                    _mm256_and_pd(
+                        _mm256_cmp_pd::<_CMP_GE_OQ>(far, low),
+                        _mm256_cmp_pd::<_CMP_LE_OQ>(near, high),
+                    ),
+                );
+                *met |= (_mm256_movemask_pd(inside) as u32) << at;
+            }
+        }
+        met_by.map(|rays| rays & live)
     }
 }
 
@@ -432,6 +502,8 @@ impl ObjectIndex {
         for r in bits(taking) {
             slabs[r] = Slabs::of(&rays[r]);
         }
+        #[cfg(target_arch = "x86_64")]
+        let lanes = PacketSlabs::of(&slabs);
         let mut stack = [const { MaybeUninit::<(u32, u32)>::uninit() }; STACK];
         stack[0] = MaybeUninit::new((0, open));
         let mut depth = 1;
@@ -448,14 +520,24 @@ impl ObjectIndex {
                 continue;
             }
             let node = &self.nodes[child as usize];
-            let mut met_by = [0u32; 4];
-            for r in bits(live) {
-                *box_tests += node.children();
-                let (_, met) = slabs[r].enter_on(simd, node, (t_min, t_max[r]));
-                for (lane, rays) in met_by.iter_mut().enumerate() {
-                    *rays |= ((met >> lane) & 1) << r;
+            *box_tests += node.children() * u64::from(live.count_ones());
+            let met_by = match simd {
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+                Some(_) if P.is_multiple_of(4) => unsafe {
+                    lanes.enter_avx2(node, live, (t_min, t_max))
+                },
+                _ => {
+                    let mut met_by = [0u32; 4];
+                    for r in bits(live) {
+                        let (_, met) = slabs[r].enter(node, (t_min, t_max[r]));
+                        for (lane, rays) in met_by.iter_mut().enumerate() {
+                            *rays |= ((met >> lane) & 1) << r;
+                        }
+                    }
+                    met_by
                 }
-            }
+            };
             for (rays, child) in met_by.into_iter().zip(node.child) {
                 if rays != 0 && child != EMPTY {
                     stack[depth] = MaybeUninit::new((child, rays));
@@ -628,6 +710,8 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use std::sync::Arc;
 
+    #[cfg(target_arch = "x86_64")]
+    use super::PacketSlabs;
     use super::{EMPTY, OBJECT, Slabs, Wide};
     use crate::intersect::Method;
     use crate::render::cast::{
@@ -960,6 +1044,68 @@ mod tests {
                 "case {i}"
             );
         }
+    }
+
+    /// The packet's box test (a ray a lane) meets, for each ray it is given, the boxes the one-ray
+    /// test meets: random boxes, flat ones, empty lanes, rays from a box's corner and parallel to
+    /// an axis, each ray with its own t_max, only the rays asked for.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn the_packet_box_test_agrees_with_each_ray_alone() {
+        let Some(_) = crate::render::kernels::Avx2::detect() else {
+            return;
+        };
+        let mut random = rand_pcg::Pcg64::seed_from_u64(5);
+        let mut met_some = 0;
+        for i in 0..4_000 {
+            let mut node = Wide {
+                lo: [[f64::INFINITY; 4]; 3],
+                hi: [[f64::NEG_INFINITY; 4]; 3],
+                child: [EMPTY; 4],
+            };
+            for lane in 0..(1 + i % 4) {
+                for k in 0..3 {
+                    let (a, b): (f64, f64) = (
+                        random.random_range(-3.0..3.0),
+                        random.random_range(-3.0..3.0),
+                    );
+                    node.lo[k][lane] = a.min(b);
+                    node.hi[k][lane] = if i % 7 == 0 { a.min(b) } else { a.max(b) };
+                }
+                node.child[lane] = OBJECT | lane as u32;
+            }
+            let slabs: [Slabs; 16] = std::array::from_fn(|r| {
+                let mut origin: [f64; 3] = std::array::from_fn(|_| random.random_range(-4.0..4.0));
+                if r % 5 == 0 {
+                    origin = std::array::from_fn(|k| node.lo[k][0]);
+                }
+                let mut dir: [f64; 3] = std::array::from_fn(|_| random.random_range(-1.0..1.0));
+                if r % 3 == 0 {
+                    dir[r % 4 % 3] = 0.0;
+                }
+                Slabs::of(&Ray::new(origin, dir))
+            });
+            let t_max: [f64; 16] =
+                std::array::from_fn(|r| [f64::INFINITY, 1.0, 2.0, 0.25][(r + i) % 4]);
+            let live = random.random::<u32>() & 0xffff;
+            #[cfg(target_arch = "x86_64")]
+            let lanes = PacketSlabs::of(&slabs);
+            // SAFETY: the processor has AVX2 and FMA (detected above).
+            let met_by = unsafe { lanes.enter_avx2(&node, live, (0.0, &t_max)) };
+            for r in 0..16 {
+                let (_, met) = slabs[r].enter(&node, (0.0, t_max[r]));
+                for (lane, rays) in met_by.iter().enumerate() {
+                    let alone = live & (1 << r) != 0 && met & (1 << lane) != 0;
+                    assert_eq!(
+                        rays & (1 << r) != 0,
+                        alone,
+                        "case {i}, ray {r}, lane {lane}"
+                    );
+                    met_some += u32::from(alone);
+                }
+            }
+        }
+        assert!(met_some > 10_000, "{met_some} boxes met");
     }
 
     /// A ray with no finite numbers, or none at all, and a box on a ray's plane: nothing panics,
