@@ -447,7 +447,7 @@ impl Bvh {
 
     /// [`Bvh::one_ray`] compiled with AVX2 and FMA.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
+    #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
     fn one_ray_avx2<const ANY: bool>(
         &self,
         avx2: Avx2,
@@ -668,7 +668,7 @@ impl Bvh {
     /// The packet traversal compiled with AVX2 and FMA: sixteen rays whose numbers allow it take
     /// [`narrow`]'s f32 box test of eight rays at once.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
+    #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
     fn packet_avx2<const P: usize, const ANY: bool>(
         &self,
         avx2: Avx2,

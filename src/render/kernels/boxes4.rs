@@ -34,7 +34,7 @@ pub(in crate::render) fn test(
 /// # Safety
 /// Only call on a processor with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 unsafe fn test_unchecked(
     (min, max): (&[[f32; 4]; 3], &[[f32; 4]; 3]),

@@ -85,7 +85,7 @@ pub fn intersect4(_: Avx2, ray: &ShearedRay, quad: &Quad, t_min: f64, lanes: u32
 /// # Safety
 /// Only call on a processor with AVX2 and FMA (the function is compiled for them).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 unsafe fn intersect4_unchecked(ray: &ShearedRay, quad: &Quad, t_min: f64, lanes: u32) -> QuadHits {
     use std::arch::x86_64::*;
@@ -170,7 +170,7 @@ unsafe fn intersect4_unchecked(ray: &ShearedRay, quad: &Quad, t_min: f64, lanes:
 /// # Safety
 /// Only call on a processor with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 unsafe fn finish(
     [a, b, c]: &[[F4; 3]; 3],
@@ -229,7 +229,7 @@ unsafe fn finish(
 /// # Safety
 /// Only call on a processor with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline(never)]
 unsafe fn settle_exactly(
     vertices: &[[F4; 3]; 3],

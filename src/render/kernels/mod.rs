@@ -43,7 +43,8 @@ pub mod moller_trumbore4;
 pub mod narrow;
 pub mod parallelogram4;
 
-/// Proof that the processor runs AVX2 and FMA: a value exists only where [`Avx2::detect`] found
+/// Proof that the processor runs AVX2 and FMA (with POPCNT and BMI1, which every processor with
+/// AVX2 has, for the bit sets of rays): a value exists only where [`Avx2::detect`] found
 /// them (the field is private), so a function that takes one may run AVX2 code.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Avx2 {
@@ -58,7 +59,10 @@ impl Avx2 {
     /// web page).
     pub fn detect() -> Option<Avx2> {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        if std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("fma")
+            && std::arch::is_x86_feature_detected!("popcnt")
+            && std::arch::is_x86_feature_detected!("bmi1")
         {
             return Some(Avx2 { _detected: () });
         }

@@ -25,7 +25,7 @@ pub(super) type Lanes3 = [__m256d; 3];
 
 /// `a × b` as [`crate::math::linalg::cross`] computes it.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn cross4(a: &Lanes3, b: &Lanes3) -> Lanes3 {
     let c =
@@ -35,7 +35,7 @@ fn cross4(a: &Lanes3, b: &Lanes3) -> Lanes3 {
 
 /// `a · b` as [`crate::math::linalg::dot`] computes it (a fold from zero).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn dot4(a: &Lanes3, b: &Lanes3) -> __m256d {
     let mut sum = _mm256_setzero_pd();
@@ -47,7 +47,7 @@ fn dot4(a: &Lanes3, b: &Lanes3) -> __m256d {
 
 /// One vector in every lane.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 pub(super) fn splat(v: &V3<f64>) -> Lanes3 {
     // Written out: a closure passed to `map` may be left uninlined, outside this AVX2 function.
@@ -59,7 +59,7 @@ pub(super) fn splat(v: &V3<f64>) -> Lanes3 {
 }
 
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn sub4(a: &Lanes3, b: &Lanes3) -> Lanes3 {
     [
@@ -70,7 +70,7 @@ fn sub4(a: &Lanes3, b: &Lanes3) -> Lanes3 {
 }
 
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn load(rows: &[[f64; 4]; 3]) -> Lanes3 {
     // SAFETY: each row is four f64s, read unaligned.
@@ -85,7 +85,7 @@ fn load(rows: &[[f64; 4]; 3]) -> Lanes3 {
 
 /// Four lanes out to an array.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 pub(super) fn store(x: __m256d) -> [f64; 4] {
     let mut out = [0.0; 4];
@@ -116,7 +116,7 @@ pub fn moller_trumbore(avx2: Avx2, triangle: &[V3<f64>; 3], rays: &Rays4) -> (u3
 /// # Safety
 /// Only call on a processor with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 unsafe fn moller_trumbore4([a, b, c]: &[V3<f64>; 3], rays: &Rays4) -> (u32, [[f64; 4]; 3]) {
     let (a, b, c) = (splat(a), splat(b), splat(c));

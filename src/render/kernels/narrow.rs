@@ -64,14 +64,15 @@ fn up(x: f64) -> f32 {
 }
 
 impl Lanes {
-    /// The lanes, or `None` when a ray's numbers are outside the range the error bound holds in.
+    /// The lanes of the rays of `taking` (a bit set), or `None` when one of those rays' numbers
+    /// is outside the range the error bound holds in.
     ///
     /// # Safety
     /// Only call on a processor with AVX2 and FMA.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
+    #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
     #[inline]
-    unsafe fn new(rays: &[Ray; RAYS], t_max: &[f64; RAYS]) -> Option<Lanes> {
+    unsafe fn new((rays, taking): (&[Ray; RAYS], u32), t_max: &[f64; RAYS]) -> Option<Lanes> {
         use std::arch::x86_64::*;
         let mut lanes = Lanes {
             inverse: [[0.0; RAYS]; 3],
@@ -91,6 +92,11 @@ impl Lanes {
         for k in 0..3 {
             for (quarter, slack) in slack.iter_mut().enumerate() {
                 let r = 4 * quarter;
+                // Four lanes no ray takes are left zero: whatever their box tests say is masked
+                // off (a packet of a hit's four shadow rays fills one quarter).
+                if (taking >> r) & 0b1111 == 0 {
+                    continue;
+                }
                 let dir = _mm256_setr_pd(
                     rays[r].dir[k],
                     rays[r + 1].dir[k],
@@ -191,7 +197,7 @@ impl Lanes {
 /// Compiled with AVX2 and FMA: safe to call from code compiled with them (the packet traversal);
 /// `avx2` proves the processor has them.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 pub fn traverse<const ANY: bool>(
     avx2: Avx2,
     bvh: &Bvh,
@@ -201,7 +207,7 @@ pub fn traverse<const ANY: bool>(
     best: &mut [Nearest; RAYS],
 ) -> bool {
     // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
-    let Some(mut lanes) = (unsafe { Lanes::new(rays, &t_max) }) else {
+    let Some(mut lanes) = (unsafe { Lanes::new((rays, taking), &t_max) }) else {
         return false;
     };
     let mut query = Narrow::<ANY> {
@@ -296,7 +302,7 @@ macro_rules! load {
 /// # Safety
 /// Only call on a processor with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 unsafe fn live_unchecked(lanes: &Lanes, rays: u32, near: f32) -> u32 {
     use std::arch::x86_64::*;
@@ -313,7 +319,7 @@ unsafe fn live_unchecked(lanes: &Lanes, rays: u32, near: f32) -> u32 {
 /// # Safety
 /// Only call on a processor with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 unsafe fn boxes_unchecked(lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
     use std::arch::x86_64::*;
@@ -411,32 +417,35 @@ unsafe fn boxes_unchecked(lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn prefetch(bvh: &Bvh, child: u32, count: u32) {
-    {
+    use crate::render::bvh::Node;
+    use std::mem::size_of;
+    /// The cache lines a node and a quad of triangles span (a fixed count, so the loop below
+    /// unrolls: the range's iterator cost more than the prefetches).
+    const NODE_LINES: usize = size_of::<Node>().div_ceil(64);
+    const QUAD_LINES: usize = size_of::<super::crack_free4::Quad>().div_ceil(64);
+    #[inline(always)]
+    fn lines<T>(start: *const T, n: usize) {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        let (start, bytes) = if count == 0 {
-            let node = bvh.nodes.as_ptr().wrapping_add(child as usize);
-            (
-                node.cast::<i8>(),
-                std::mem::size_of::<crate::render::bvh::Node>(),
-            )
-        } else {
-            let quad = bvh.quads.as_ptr().wrapping_add(child as usize / 4);
-            (
-                quad.cast::<i8>(),
-                std::mem::size_of::<super::crack_free4::Quad>(),
-            )
-        };
-        for line in (0..bytes).step_by(64) {
+        let start = start.cast::<i8>();
+        for line in 0..n {
             // SAFETY: a prefetch changes no memory and no program state, whatever the address
             // (`wrapping_add` keeps the pointer arithmetic itself defined).
-            unsafe { _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(line)) };
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(64 * line)) };
         }
+    }
+    if count == 0 {
+        lines(bvh.nodes.as_ptr().wrapping_add(child as usize), NODE_LINES);
+    } else {
+        lines(
+            bvh.quads.as_ptr().wrapping_add(child as usize / 4),
+            QUAD_LINES,
+        );
     }
 }
 
 /// The smallest of eight f32s.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn horizontal_min(x: std::arch::x86_64::__m256) -> f32 {
     use std::arch::x86_64::*;

@@ -99,7 +99,7 @@ fn largest(v: &V3<f64>) -> f64 {
 /// Four numbers into lanes, read one by one: the caller has just written them one by one, and a
 /// 256-bit load of four scalar stores would wait for them (no store forwarding).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn gather(x: [f64; 4]) -> __m256d {
     _mm256_set_pd(x[3], x[2], x[1], x[0])
@@ -107,7 +107,7 @@ fn gather(x: [f64; 4]) -> __m256d {
 
 /// The rays' origins (`which` 0) or directions (1) as `[axis]` lanes.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn rays_lanes(rays: &Rays4, which: usize) -> Lanes3 {
     let part = |lane: usize| {
@@ -123,7 +123,7 @@ fn rays_lanes(rays: &Rays4, which: usize) -> Lanes3 {
 
 /// −x, as the solver's `neg`: the sign bit flipped.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn negate(x: __m256d) -> __m256d {
     _mm256_xor_pd(x, _mm256_set1_pd(-0.0))
@@ -131,7 +131,7 @@ fn negate(x: __m256d) -> __m256d {
 
 /// |x|.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn abs(x: __m256d) -> __m256d {
     _mm256_andnot_pd(_mm256_set1_pd(-0.0), x)
@@ -139,7 +139,7 @@ fn abs(x: __m256d) -> __m256d {
 
 /// All ones where x is finite (not NaN, not ±∞).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn finite(x: __m256d) -> __m256d {
     _mm256_cmp_pd::<_CMP_LT_OQ>(abs(x), _mm256_set1_pd(f64::INFINITY))
@@ -147,7 +147,7 @@ fn finite(x: __m256d) -> __m256d {
 
 /// a ∧ b ∧ c, lane by lane.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn all3(a: __m256d, b: __m256d, c: __m256d) -> __m256d {
     _mm256_and_pd(_mm256_and_pd(a, b), c)
@@ -155,7 +155,7 @@ fn all3(a: __m256d, b: __m256d, c: __m256d) -> __m256d {
 
 /// All ones where x = 0 (either sign).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn is_zero(x: __m256d) -> __m256d {
     _mm256_cmp_pd::<_CMP_EQ_OQ>(x, _mm256_setzero_pd())
@@ -163,7 +163,7 @@ fn is_zero(x: __m256d) -> __m256d {
 
 /// All ones where 0 ≤ x ≤ 1 (the solver's `in_unit`).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn in_unit(x: __m256d) -> __m256d {
     _mm256_and_pd(
@@ -174,7 +174,7 @@ fn in_unit(x: __m256d) -> __m256d {
 
 /// The 2x2 determinant `ad − bc`, as `det2`.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn det2(m: &[[__m256d; 2]; 2]) -> __m256d {
     _mm256_sub_pd(
@@ -185,7 +185,7 @@ fn det2(m: &[[__m256d; 2]; 2]) -> __m256d {
 
 /// The minor of a 3x3 matrix without `row` and `col`, as `minor3`.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn minor3(m: &[Lanes3; 3], row: usize, col: usize) -> [[__m256d; 2]; 2] {
     let (rows, cols) = (other_two(row), other_two(col));
@@ -197,7 +197,7 @@ fn minor3(m: &[Lanes3; 3], row: usize, col: usize) -> [[__m256d; 2]; 2] {
 
 /// The adjugate as `adjugate3`: adj[i][j] = (−1)^(i+j) |minor(j, i)|.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn adjugate(m: &[Lanes3; 3]) -> [Lanes3; 3] {
     let entry = |i: usize, j: usize| {
@@ -218,7 +218,7 @@ fn adjugate(m: &[Lanes3; 3]) -> [Lanes3; 3] {
 /// Row i of the solver's M⁻¹ (o − c): ((0 + (adj[i][0] / |M|) y₀) + (adj[i][1] / |M|) y₁) +
 /// (adj[i][2] / |M|) y₂, as `dot(&adjugate[i].map(|x| x / det), &y)`.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn solved_row(adjugate_row: &Lanes3, det: __m256d, y: &Lanes3) -> __m256d {
     let mut sum = _mm256_setzero_pd();
@@ -233,7 +233,7 @@ fn solved_row(adjugate_row: &Lanes3, det: __m256d, y: &Lanes3) -> __m256d {
 /// # Safety
 /// Only call on a processor with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 unsafe fn solve4(shape: &Parallelogram4, rays: &Rays4, t_max: &[f64; 4]) -> Found4 {
     let (origin, dir) = (rays_lanes(rays, 0), rays_lanes(rays, 1));
