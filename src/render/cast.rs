@@ -127,18 +127,22 @@ fn surely_outside(
     let det = dot(e1, &p);
     let s = sub(origin, corner);
     let q = cross(&s, e1);
-    let (alpha, beta) = (dot(&s, &p) / det, dot(dir, &q) / det);
+    // One division: each quotient below then carries one more rounding, a 2⁻⁵³ part of what the
+    // margins allow. (Where 1/det overflows, α is not finite and the solver decides.)
+    let inverse = 1.0 / det;
+    let inverse_size = inverse.abs();
+    let (alpha, beta) = (dot(&s, &p) * inverse, dot(dir, &q) * inverse);
     // |det| against |d|·|e1|·|e2| (1-norms bound the 2-norms' product from above).
     let conditioned = det.abs() > 1e-6 * l1(dir) * l1(e1) * l1(e2);
-    let margin = |a: &V3<f64>, b: &V3<f64>| 1e-6 * (1.0 + l1(a) * l1(b) / det.abs());
+    let margin = |a: &V3<f64>, b: &V3<f64>| 1e-6 * (1.0 + l1(a) * l1(b) * inverse_size);
     let outside = |x: f64, m: f64| x < -m || x > 1.0 + m;
     // Möller–Trumbore's t = e2·q / |M|; the solver's t is (e1 × e2)·(o − c) / |M| rounded
     // otherwise: both within a few roundings of |e1| |e2| |o − c| / |M| (q = s × e1) from the
     // true t, a million times less than the margin. With |M| > 1e-200, underflow in the
     // numerators (below 1e-321) moves t by less than 1e-100.
     let off_range = || {
-        let t = dot(e2, &q) / det;
-        let error = t.abs() + l1(e1) * l1(e2) * l1(&s) / det.abs();
+        let t = dot(e2, &q) * inverse;
+        let error = t.abs() + l1(e1) * l1(e2) * l1(&s) * inverse_size;
         let beyond = t_max < f64::INFINITY && t - (1e-6 * error + 1e-100) > t_max;
         let before = t_min > f64::NEG_INFINITY && t + (1e-12 * error + 1e-100) < t_min;
         det.abs() > 1e-200 && t.is_finite() && (beyond || before)

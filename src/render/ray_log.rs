@@ -63,11 +63,16 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
                     .take_while(|r| !r.starts_packet)
                     .count();
                 let (packet, left) = packets.split_at(n);
+                packets = left;
+                if let [alone] = packet {
+                    // As `cast::any_hits` casts a packet of one, without filling sixteen lanes.
+                    met += usize::from(alone.cast_again(prepared, stats));
+                    continue;
+                }
                 let rays = std::array::from_fn(|r| packet[r.min(n - 1)].ray);
                 let t_max = std::array::from_fn(|r| packet[r.min(n - 1)].t_max);
                 let blocked = cast::any_hits(prepared, (&rays, (1 << n) - 1), &t_max, stats);
                 met += blocked.count_ones() as usize;
-                packets = left;
             }
         } else if first.kind == RayKind::Primary {
             let (packets, left) = same.as_chunks::<PACKET>();
