@@ -473,7 +473,9 @@ impl ObjectIndex {
     /// [t_min, t_max[r]] meets the object's box, in no particular order (an any-hit answer does not
     /// depend on it), and first for the objects without a box. `test` answers which of those rays
     /// the object blocks; they leave the walk, which ends when none is left. Each ray's numbers
-    /// must be finite. Counts the box tests, one ray at a time. Returns the rays blocked.
+    /// must be finite. A node's boxes are tested four rays at once where `simd` allows (the same
+    /// answers as each ray alone). Counts the box tests, one ray at a time. Returns the rays
+    /// blocked.
     #[inline(always)]
     pub fn visit_any<const P: usize>(
         &self,
