@@ -1002,6 +1002,32 @@ mod tests {
         assert!(zero_hits > 0);
     }
 
+    /// Case `i`'s node: 1 + i mod 4 random boxes (flat on every axis when 7 divides i), the
+    /// other lanes empty.
+    fn random_node(random: &mut rand_pcg::Pcg64, i: usize) -> Wide {
+        let mut node = Wide {
+            lo: [[f64::INFINITY; 4]; 3],
+            hi: [[f64::NEG_INFINITY; 4]; 3],
+            child: [EMPTY; 4],
+        };
+        for lane in 0..(1 + i % 4) {
+            for k in 0..3 {
+                let (a, b): (f64, f64) = (
+                    random.random_range(-3.0..3.0),
+                    random.random_range(-3.0..3.0),
+                );
+                node.lo[k][lane] = a.min(b);
+                node.hi[k][lane] = if i.is_multiple_of(7) {
+                    a.min(b)
+                } else {
+                    a.max(b)
+                };
+            }
+            node.child[lane] = OBJECT | lane as u32;
+        }
+        node
+    }
+
     /// The AVX2 box test gives the portable one's answers to the bit: random boxes, empty lanes,
     /// boxes the ray starts in or on, and rays parallel to an axis (1/d = ±10³⁰⁰).
     #[test]
@@ -1011,22 +1037,7 @@ mod tests {
         };
         let mut random = rand_pcg::Pcg64::seed_from_u64(4);
         for i in 0..20_000 {
-            let mut node = Wide {
-                lo: [[f64::INFINITY; 4]; 3],
-                hi: [[f64::NEG_INFINITY; 4]; 3],
-                child: [EMPTY; 4],
-            };
-            for lane in 0..(1 + i % 4) {
-                for k in 0..3 {
-                    let (a, b): (f64, f64) = (
-                        random.random_range(-3.0..3.0),
-                        random.random_range(-3.0..3.0),
-                    );
-                    node.lo[k][lane] = a.min(b);
-                    node.hi[k][lane] = if i % 7 == 0 { a.min(b) } else { a.max(b) };
-                }
-                node.child[lane] = OBJECT | lane as u32;
-            }
+            let node = random_node(&mut random, i);
             let mut origin: [f64; 3] = std::array::from_fn(|_| random.random_range(-4.0..4.0));
             if i % 5 == 0 {
                 origin = std::array::from_fn(|k| node.lo[k][0]);
@@ -1060,22 +1071,7 @@ mod tests {
         let mut random = rand_pcg::Pcg64::seed_from_u64(5);
         let mut met_some = 0;
         for i in 0..4_000 {
-            let mut node = Wide {
-                lo: [[f64::INFINITY; 4]; 3],
-                hi: [[f64::NEG_INFINITY; 4]; 3],
-                child: [EMPTY; 4],
-            };
-            for lane in 0..(1 + i % 4) {
-                for k in 0..3 {
-                    let (a, b): (f64, f64) = (
-                        random.random_range(-3.0..3.0),
-                        random.random_range(-3.0..3.0),
-                    );
-                    node.lo[k][lane] = a.min(b);
-                    node.hi[k][lane] = if i % 7 == 0 { a.min(b) } else { a.max(b) };
-                }
-                node.child[lane] = OBJECT | lane as u32;
-            }
+            let node = random_node(&mut random, i);
             let slabs: [Slabs; 16] = std::array::from_fn(|r| {
                 let mut origin: [f64; 3] = std::array::from_fn(|_| random.random_range(-4.0..4.0));
                 if r % 5 == 0 {
