@@ -290,9 +290,11 @@ impl<const P: usize> PacketSlabs<P> {
     /// [`Slabs::enter`] answers for each ray, by the same operations in the same order (a ray a
     /// lane rather than a box a lane), so the same bits.
     ///
+    /// The rays are taken four at a time: `P` must be a multiple of four (the caller checks), or
+    /// the last few would go untested.
+    ///
     /// # Safety
-    /// Only call on a processor with AVX2 and FMA; `P` is a multiple of four.
-    #[cfg(target_arch = "x86_64")]
+    /// Only call on a processor with AVX2 and FMA.
     #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
     fn enter_avx2(&self, node: &Wide, live: u32, (t_min, t_max): (f64, &[f64; P])) -> [u32; 4] {
         use std::arch::x86_64::*;
@@ -532,7 +534,7 @@ impl ObjectIndex {
                 _ => {
                     let mut met_by = [0u32; 4];
                     for r in bits(live) {
-                        let (_, met) = slabs[r].enter(node, (t_min, t_max[r]));
+                        let (_, met) = slabs[r].enter_on(simd, node, (t_min, t_max[r]));
                         for (lane, rays) in met_by.iter_mut().enumerate() {
                             *rays |= ((met >> lane) & 1) << r;
                         }

@@ -769,8 +769,11 @@ struct Spot {
 /// by the rays' bits.
 #[derive(Default)]
 struct CastAhead {
-    hits: HashMap<RayBits, Option<Hit>, BuildHasherDefault<Mixed>>,
+    hits: HitsByRay,
 }
+
+/// Hits by their rays' bits.
+type HitsByRay = HashMap<RayBits, Option<Hit>, BuildHasherDefault<Mixed>>;
 
 /// A ray's numbers as bits: a ray the same to the bit has the same hit.
 #[derive(PartialEq, Eq)]
@@ -821,7 +824,7 @@ impl CastAhead {
 }
 
 /// The hits of rays cast ahead, as a band's shading asks for them; records nothing.
-struct FoundAhead<'a>(&'a HashMap<RayBits, Option<Hit>, BuildHasherDefault<Mixed>>);
+struct FoundAhead<'a>(&'a HitsByRay);
 
 impl Record for FoundAhead<'_> {
     fn cast_ahead(&mut self, ray: &Ray) -> Option<Option<Hit>> {
