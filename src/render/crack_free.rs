@@ -37,7 +37,8 @@ impl ShearedRay {
     /// The ray o + t d; `None` when d is zero or the ray is not finite (it hits nothing).
     #[inline(always)]
     pub fn new(origin: &V3<f64>, dir: &V3<f64>) -> Option<ShearedRay> {
-        if !origin.iter().chain(dir).all(|c| c.is_finite()) {
+        // Each array alone: a chained iterator was left uninlined in the hot walks.
+        if !(origin.iter().all(|c| c.is_finite()) && dir.iter().all(|c| c.is_finite())) {
             return None;
         }
         let a = dir.map(f64::abs);

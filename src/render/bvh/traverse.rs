@@ -23,7 +23,7 @@ use super::{Bvh, EMPTY, Node, SAH_DEPTH};
 pub(in crate::render) const MAX_DEPTH: usize = SAH_DEPTH + 32 + 1;
 
 /// Entries on the stack, at most: the root, then three more for each inner level.
-const STACK: usize = 3 * MAX_DEPTH + 1;
+pub(in crate::render) const STACK: usize = 3 * MAX_DEPTH + 1;
 
 /// A child to visit: an inner node (`count` 0) or a leaf's slots, the rays of the query that meet
 /// its box, and the nearest distance at which one of them enters it.

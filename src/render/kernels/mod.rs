@@ -9,7 +9,7 @@
 //! | [`parallelogram4`] | four rays, one parallelogram | seed 001's lean solver |
 //! | [`crack_free4`] | one ray, four triangles of a BVH leaf | [`super::crack_free::ShearedRay::intersect`] |
 //! | [`boxes4`] | one ray, a BVH node's four boxes | the node's portable box test |
-//! | [`narrow`] | sixteen rays, f32 box tests eight at a time | the one-ray box test (it only culls) |
+//! | [`narrow`] | sixteen rays, f32 box tests eight at a time; or one ray, a node's four boxes in f32 | the one-ray box test (it only culls) |
 //! | the coverage rows ([`super::coverage_rows`]) | a row of rays compiled with AVX2 | the same loop compiled for the baseline |
 //!
 //! No safe function runs AVX2 code on a processor without it: every kernel takes an [`Avx2`], a

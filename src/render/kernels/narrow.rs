@@ -1,7 +1,9 @@
 //! The packet traversal's fast path: sixteen neighbouring rays traverse together, each child box
 //! tested against eight rays at once in f32 with AVX2 (SIMD across rays), the leaves tested ray by
 //! ray with the crack-free test four triangles at a time. The hits are the same as the one-ray
-//! traversal's: the box test only culls, and it is conservative.
+//! traversal's: the box test only culls, and it is conservative. One ray's any-hit walk
+//! ([`occluded_one_ray`]) takes the same f32 test across a node's four boxes instead of across
+//! rays, each lane's numbers made as a packet's lane's are, so the same bound holds.
 //!
 //! **Why no hit is lost.** A slab distance (box − o)/d is computed as box·(1/d) − o/d, one fused
 //! multiply-add from 1/d and o/d rounded to f32. Rounding 1/d and o/d (through f64) and the result
@@ -22,6 +24,8 @@
 )]
 // The AVX2 kernel: each unsafe block says in a SAFETY comment why it is sound.
 #![allow(unsafe_code)]
+
+use std::mem::MaybeUninit;
 
 use super::Avx2;
 use crate::render::Ray;
@@ -453,4 +457,180 @@ fn horizontal_min(x: std::arch::x86_64::__m256) -> f32 {
     let pairs = _mm_min_ps(halves, _mm_movehl_ps(halves, halves));
     let one = _mm_min_ss(pairs, _mm_shuffle_ps::<1>(pairs, pairs));
     _mm_cvtss_f32(one)
+}
+
+/// One ray's numbers for the f32 box test of a node's four boxes at once: the numbers a lane of
+/// [`Lanes`] holds, made the same way, so the same bound holds (see the module's note).
+struct OneRay {
+    inverse: [f32; 3],
+    offset: [f32; 3],
+    slack: f32,
+    t_max: f32,
+    parallel: [bool; 3],
+    origin_down: [f32; 3],
+    origin_up: [f32; 3],
+}
+
+impl OneRay {
+    /// The numbers of `ray` looking up to `t_max`, or `None` when they are outside the range the
+    /// error bound holds in (as [`Lanes::new`] refuses a packet).
+    #[inline(always)]
+    fn new(ray: &Ray, t_max: f64) -> Option<OneRay> {
+        let mut one = OneRay {
+            inverse: [0.0; 3],
+            offset: [0.0; 3],
+            slack: 0.0,
+            t_max: up(t_max),
+            parallel: [false; 3],
+            origin_down: [0.0; 3],
+            origin_up: [0.0; 3],
+        };
+        let mut slack = 0.0f64;
+        for k in 0..3 {
+            let (origin, dir) = (ray.origin[k], ray.dir[k]);
+            let parallel = dir == 0.0;
+            let inverse = if parallel { 0.0 } else { 1.0 / dir };
+            let offset = origin * inverse;
+            // 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ (or d = 0), |o/d| ≤ 2¹⁰⁰ and |o| ≤ 2¹⁰⁰ (false for NaN).
+            let inverse_in_range =
+                (8.673_617_379_884_035e-19..=1.152_921_504_606_847e18).contains(&inverse.abs());
+            if !((parallel || inverse_in_range)
+                && offset.abs() <= 1.27e30
+                && origin.abs() <= 1.27e30)
+            {
+                return None;
+            }
+            // o rounded to nearest (within 2⁻²⁴|o|), moved out by 2⁻²²|o| + 10⁻³⁷.
+            let near_origin = origin as f32;
+            let widen = near_origin.abs().mul_add(1.0 / 4_194_304.0, 1e-37);
+            one.origin_down[k] = near_origin - widen;
+            one.origin_up[k] = near_origin + widen;
+            one.parallel[k] = parallel;
+            one.inverse[k] = inverse as f32;
+            one.offset[k] = offset as f32;
+            slack = slack.max(offset.abs() * (1.0 / 2_097_152.0) + 7.6e-37);
+        }
+        if one.parallel.iter().all(|&p| p) {
+            return None;
+        }
+        // Rounded to nearest, then raised by 2⁻²⁰ relative: at least the f64 slack.
+        one.slack = (slack as f32) * (1.0 + 1.0 / 1_048_576.0);
+        Some(one)
+    }
+}
+
+/// Whether the crack-free test finds a triangle of `bvh` that `ray` meets at 0 < t < t_max: what
+/// [`Bvh::occluded`] answers from t_min = 0, one ray through the f32 box test of a node's four
+/// boxes at once; `None` when the ray's numbers do not allow the f32 test (the caller then takes
+/// the f64 walk). The first hit found ends the walk, so the children are visited in the order the
+/// node holds them, not nearest first: any hit before t_max answers, and nearest first (tried)
+/// tested more triangles, the nearest box mostly holding the surface the ray leaves.
+///
+/// # Safety
+/// Compiled with AVX2 and FMA: safe to call from code compiled with them; `avx2` proves the
+/// processor has them.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+pub fn occluded_one_ray(
+    avx2: Avx2,
+    bvh: &Bvh,
+    ray: &Ray,
+    t_max: f64,
+    (box_tests, triangle_tests): (&mut u64, &mut u64),
+) -> Option<bool> {
+    use crate::render::bvh::traverse::STACK;
+    if !bvh.narrow || bvh.nodes.is_empty() {
+        return None;
+    }
+    let one = OneRay::new(ray, t_max)?;
+    let mut sheared: Option<Option<ShearedRay>> = None;
+    // (child, count) of the children still to visit; the build bounds the depth, so `STACK`
+    // entries suffice (the index is checked: more would be a bug, and panics).
+    let mut stack = [const { MaybeUninit::<(u32, u32)>::uninit() }; STACK];
+    // Node 0 holds the mesh's box as its one child: start below it, as the object index has
+    // mostly tested that box already (a skipped box test only culls less, never answers).
+    let root = &bvh.nodes[0];
+    stack[0].write((root.child[0], root.count[0]));
+    let mut len = 1;
+    while len > 0 {
+        len -= 1;
+        // SAFETY: the entries below `len` were written.
+        let (child, count) = unsafe { stack[len].assume_init() };
+        if count > 0 {
+            *triangle_tests += u64::from(count);
+            let ray = sheared.get_or_insert_with(|| ShearedRay::new(&ray.origin, &ray.dir));
+            let Some(ray) = ray else { return Some(false) };
+            let slots = child as usize..(child + count) as usize;
+            if bvh.leaf_blocks(avx2, ray, slots, t_max) {
+                return Some(true);
+            }
+            continue;
+        }
+        let node = &bvh.nodes[child as usize];
+        // SAFETY: compiled with AVX2 and FMA, which `avx2` proves the processor has.
+        let (met, tested) = unsafe { one_ray_boxes(&one, node) };
+        *box_tests += u64::from(tested);
+        let mut met = met;
+        while met != 0 {
+            let lane = met.trailing_zeros() as usize;
+            met &= met - 1;
+            prefetch(bvh, node.child[lane], node.count[lane]);
+            stack[len].write((node.child[lane], node.count[lane]));
+            len += 1;
+        }
+    }
+    Some(false)
+}
+
+/// Which of `node`'s boxes `one` meets (a bit per lane) and how many boxes the node has.
+///
+/// # Safety
+/// Only call on a processor with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+#[inline]
+unsafe fn one_ray_boxes(one: &OneRay, node: &Node) -> (u32, u32) {
+    use std::arch::x86_64::*;
+    let mut near = _mm_setzero_ps();
+    let mut far = _mm_set1_ps(one.t_max);
+    let mut outside = _mm_setzero_ps();
+    for k in 0..3 {
+        // SAFETY: each row is four f32s, read unaligned.
+        let (lo, hi) = unsafe {
+            (
+                _mm_loadu_ps(node.min[k].as_ptr()),
+                _mm_loadu_ps(node.max[k].as_ptr()),
+            )
+        };
+        if one.parallel[k] {
+            // The whole line, or nothing when o is outside the slab.
+            let beyond = _mm_or_ps(
+                _mm_cmplt_ps(_mm_set1_ps(one.origin_up[k]), lo),
+                _mm_cmpgt_ps(_mm_set1_ps(one.origin_down[k]), hi),
+            );
+            outside = _mm_or_ps(outside, beyond);
+            continue;
+        }
+        // The entry face is the low one where 1/d ≥ 0 (its sign bit picks).
+        let (entry, exit) = if one.inverse[k].is_sign_negative() {
+            (hi, lo)
+        } else {
+            (lo, hi)
+        };
+        let inverse = _mm_set1_ps(one.inverse[k]);
+        let offset = _mm_set1_ps(one.offset[k]);
+        near = _mm_max_ps(near, _mm_fmsub_ps(entry, inverse, offset));
+        far = _mm_min_ps(far, _mm_fmsub_ps(exit, inverse, offset));
+    }
+    // near ≥ 0: lowered as near·(1 − 2⁻¹⁹) − slack; far raised by as much.
+    let slack = _mm_set1_ps(one.slack);
+    let near = _mm_fmsub_ps(near, _mm_set1_ps(1.0 - RELATIVE), slack);
+    let far_size = _mm_andnot_ps(_mm_set1_ps(-0.0), far);
+    let far = _mm_fmadd_ps(_mm_set1_ps(RELATIVE), far_size, _mm_add_ps(far, slack));
+    let meets = _mm_andnot_ps(outside, _mm_cmple_ps(near, far));
+    // SAFETY: four u32s.
+    let child = unsafe { _mm_loadu_si128(node.child.as_ptr().cast()) };
+    let empty = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(child, _mm_set1_epi32(-1))));
+    let boxes = !empty as u32 & 0b1111;
+    (_mm_movemask_ps(meets) as u32 & boxes, boxes.count_ones())
 }
