@@ -460,62 +460,122 @@ fn horizontal_min(x: std::arch::x86_64::__m256) -> f32 {
 }
 
 /// One ray's numbers for the f32 box test of a node's four boxes at once: the numbers a lane of
-/// [`Lanes`] holds, made the same way, so the same bound holds (see the module's note).
+/// [`Lanes`] holds, made the same way (the same operations, four axes in the lanes where
+/// [`Lanes::new`] has four rays), so the same bound holds (see the module's note). Each is held
+/// broadcast to the four lanes of a node's boxes.
+#[cfg(target_arch = "x86_64")]
 struct OneRay {
-    inverse: [f32; 3],
-    offset: [f32; 3],
-    slack: f32,
-    t_max: f32,
+    /// 1/d and o/d per axis.
+    inverse: [std::arch::x86_64::__m128; 3],
+    offset: [std::arch::x86_64::__m128; 3],
+    /// Per axis, where a node's entry and exit faces are, in f32s from the node's start (its
+    /// minima, then its maxima): the low face is the entry where 1/d ≥ 0.
+    entry_row: [usize; 3],
+    exit_row: [usize; 3],
+    slack: std::arch::x86_64::__m128,
+    t_max: std::arch::x86_64::__m128,
+    /// Per axis, whether d is zero there, and whether it is on any axis.
     parallel: [bool; 3],
-    origin_down: [f32; 3],
-    origin_up: [f32; 3],
+    any_parallel: bool,
+    /// o rounded down and up to f32 (below and above o), for the parallel axes.
+    origin_down: [std::arch::x86_64::__m128; 3],
+    origin_up: [std::arch::x86_64::__m128; 3],
 }
 
+#[cfg(target_arch = "x86_64")]
 impl OneRay {
     /// The numbers of `ray` looking up to `t_max`, or `None` when they are outside the range the
     /// error bound holds in (as [`Lanes::new`] refuses a packet).
-    #[inline(always)]
-    fn new(ray: &Ray, t_max: f64) -> Option<OneRay> {
-        let mut one = OneRay {
-            inverse: [0.0; 3],
-            offset: [0.0; 3],
-            slack: 0.0,
-            t_max: up(t_max),
-            parallel: [false; 3],
-            origin_down: [0.0; 3],
-            origin_up: [0.0; 3],
-        };
-        let mut slack = 0.0f64;
-        for k in 0..3 {
-            let (origin, dir) = (ray.origin[k], ray.dir[k]);
-            let parallel = dir == 0.0;
-            let inverse = if parallel { 0.0 } else { 1.0 / dir };
-            let offset = origin * inverse;
-            // 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ (or d = 0), |o/d| ≤ 2¹⁰⁰ and |o| ≤ 2¹⁰⁰ (false for NaN).
-            let inverse_in_range =
-                (8.673_617_379_884_035e-19..=1.152_921_504_606_847e18).contains(&inverse.abs());
-            if !((parallel || inverse_in_range)
-                && offset.abs() <= 1.27e30
-                && origin.abs() <= 1.27e30)
-            {
-                return None;
-            }
-            // o rounded to nearest (within 2⁻²⁴|o|), moved out by 2⁻²²|o| + 10⁻³⁷.
-            let near_origin = origin as f32;
-            let widen = near_origin.abs().mul_add(1.0 / 4_194_304.0, 1e-37);
-            one.origin_down[k] = near_origin - widen;
-            one.origin_up[k] = near_origin + widen;
-            one.parallel[k] = parallel;
-            one.inverse[k] = inverse as f32;
-            one.offset[k] = offset as f32;
-            slack = slack.max(offset.abs() * (1.0 / 2_097_152.0) + 7.6e-37);
-        }
-        if one.parallel.iter().all(|&p| p) {
+    ///
+    /// # Safety
+    /// Only call on a processor with AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+    #[inline]
+    unsafe fn new(ray: &Ray, t_max: f64) -> Option<OneRay> {
+        use std::arch::x86_64::*;
+        let magnitude = _mm256_set1_pd(-0.0);
+        // Lane k is axis k; lane 3 a stand-in (d = 1, o = 0) that passes every check.
+        let dir = _mm256_setr_pd(ray.dir[0], ray.dir[1], ray.dir[2], 1.0);
+        let origin = _mm256_setr_pd(ray.origin[0], ray.origin[1], ray.origin[2], 0.0);
+        let parallel = _mm256_cmp_pd::<_CMP_EQ_OQ>(dir, _mm256_setzero_pd());
+        let inverse = _mm256_andnot_pd(parallel, _mm256_div_pd(_mm256_set1_pd(1.0), dir));
+        let offset = _mm256_mul_pd(origin, inverse);
+        let inverse_size = _mm256_andnot_pd(magnitude, inverse);
+        let offset_size = _mm256_andnot_pd(magnitude, offset);
+        let origin_size = _mm256_andnot_pd(magnitude, origin);
+        // 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ (or d = 0), |o/d| ≤ 2¹⁰⁰ and |o| ≤ 2¹⁰⁰ (false for NaN).
+        let inverse_in_range = _mm256_and_pd(
+            _mm256_cmp_pd::<_CMP_GE_OQ>(inverse_size, _mm256_set1_pd(8.673_617_379_884_035e-19)),
+            _mm256_cmp_pd::<_CMP_LE_OQ>(inverse_size, _mm256_set1_pd(1.152_921_504_606_847e18)),
+        );
+        let in_range = _mm256_and_pd(
+            _mm256_or_pd(parallel, inverse_in_range),
+            _mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_LE_OQ>(offset_size, _mm256_set1_pd(1.27e30)),
+                _mm256_cmp_pd::<_CMP_LE_OQ>(origin_size, _mm256_set1_pd(1.27e30)),
+            ),
+        );
+        let parallel_axes = _mm256_movemask_pd(parallel) as u32;
+        if _mm256_movemask_pd(in_range) != 0b1111 || parallel_axes == 0b0111 {
             return None;
         }
+        // o rounded to nearest (within 2⁻²⁴|o|), moved out by 2⁻²²|o| + 10⁻³⁷.
+        let near_origin = _mm256_cvtpd_ps(origin);
+        let widen = _mm_fmadd_ps(
+            _mm_andnot_ps(_mm_set1_ps(-0.0), near_origin),
+            _mm_set1_ps(1.0 / 4_194_304.0),
+            _mm_set1_ps(1e-37),
+        );
+        let (below, above) = (
+            _mm_sub_ps(near_origin, widen),
+            _mm_add_ps(near_origin, widen),
+        );
+        let axis_slack = _mm256_add_pd(
+            _mm256_mul_pd(offset_size, _mm256_set1_pd(1.0 / 2_097_152.0)),
+            _mm256_set1_pd(7.6e-37),
+        );
+        // The largest over the axes (lane 3's is the least a slack can be).
+        let halves = _mm_max_pd(
+            _mm256_castpd256_pd128(axis_slack),
+            _mm256_extractf128_pd::<1>(axis_slack),
+        );
+        let slack = _mm_max_sd(halves, _mm_unpackhi_pd(halves, halves));
         // Rounded to nearest, then raised by 2⁻²⁰ relative: at least the f64 slack.
-        one.slack = (slack as f32) * (1.0 + 1.0 / 1_048_576.0);
-        Some(one)
+        let slack = _mm_mul_ss(
+            _mm_cvtsd_ss(_mm_setzero_ps(), slack),
+            _mm_set1_ps(1.0 + 1.0 / 1_048_576.0),
+        );
+        let (inverse, offset) = (_mm256_cvtpd_ps(inverse), _mm256_cvtpd_ps(offset));
+        let negative = _mm_movemask_ps(inverse) as u32;
+        let parallel = std::array::from_fn(|k| (parallel_axes >> k) & 1 == 1);
+        Some(OneRay {
+            inverse: [
+                _mm_permute_ps::<0x00>(inverse),
+                _mm_permute_ps::<0x55>(inverse),
+                _mm_permute_ps::<0xaa>(inverse),
+            ],
+            offset: [
+                _mm_permute_ps::<0x00>(offset),
+                _mm_permute_ps::<0x55>(offset),
+                _mm_permute_ps::<0xaa>(offset),
+            ],
+            entry_row: std::array::from_fn(|k| 4 * k + 12 * ((negative >> k) & 1) as usize),
+            exit_row: std::array::from_fn(|k| 4 * k + 12 * (1 - ((negative >> k) & 1)) as usize),
+            slack: _mm_permute_ps::<0x00>(slack),
+            t_max: _mm_set1_ps(up(t_max)),
+            parallel,
+            any_parallel: parallel_axes != 0,
+            origin_down: [
+                _mm_permute_ps::<0x00>(below),
+                _mm_permute_ps::<0x55>(below),
+                _mm_permute_ps::<0xaa>(below),
+            ],
+            origin_up: [
+                _mm_permute_ps::<0x00>(above),
+                _mm_permute_ps::<0x55>(above),
+                _mm_permute_ps::<0xaa>(above),
+            ],
+        })
     }
 }
 
@@ -542,7 +602,8 @@ pub fn occluded_one_ray(
     if !bvh.narrow || bvh.nodes.is_empty() {
         return None;
     }
-    let one = OneRay::new(ray, t_max)?;
+    // SAFETY: compiled with AVX2 and FMA, which `avx2` proves the processor has.
+    let one = unsafe { OneRay::new(ray, t_max) }?;
     let mut sheared: Option<Option<ShearedRay>> = None;
     // (child, count) of the children still to visit; the build bounds the depth, so `STACK`
     // entries suffice (the index is checked: more would be a bug, and panics).
@@ -591,42 +652,41 @@ pub fn occluded_one_ray(
 #[inline]
 unsafe fn one_ray_boxes(one: &OneRay, node: &Node) -> (u32, u32) {
     use std::arch::x86_64::*;
+    const { assert!(std::mem::offset_of!(Node, max) == 12 * size_of::<f32>()) };
+    let faces = std::ptr::from_ref(node).cast::<f32>();
+    // SAFETY: a row starts at a multiple of four f32s below 24, the node's 24 box f32s.
+    let row = |at: usize| unsafe { _mm_loadu_ps(faces.add(at)) };
     let mut near = _mm_setzero_ps();
-    let mut far = _mm_set1_ps(one.t_max);
+    let mut far = one.t_max;
     let mut outside = _mm_setzero_ps();
-    for k in 0..3 {
-        // SAFETY: each row is four f32s, read unaligned.
-        let (lo, hi) = unsafe {
-            (
-                _mm_loadu_ps(node.min[k].as_ptr()),
-                _mm_loadu_ps(node.max[k].as_ptr()),
-            )
-        };
-        if one.parallel[k] {
-            // The whole line, or nothing when o is outside the slab.
-            let beyond = _mm_or_ps(
-                _mm_cmplt_ps(_mm_set1_ps(one.origin_up[k]), lo),
-                _mm_cmpgt_ps(_mm_set1_ps(one.origin_down[k]), hi),
-            );
-            outside = _mm_or_ps(outside, beyond);
-            continue;
+    if one.any_parallel {
+        for k in 0..3 {
+            if one.parallel[k] {
+                // The whole line, or nothing when o is outside the slab.
+                let beyond = _mm_or_ps(
+                    _mm_cmplt_ps(one.origin_up[k], row(4 * k)),
+                    _mm_cmpgt_ps(one.origin_down[k], row(12 + 4 * k)),
+                );
+                outside = _mm_or_ps(outside, beyond);
+            } else {
+                let entry = _mm_fmsub_ps(row(one.entry_row[k]), one.inverse[k], one.offset[k]);
+                let exit = _mm_fmsub_ps(row(one.exit_row[k]), one.inverse[k], one.offset[k]);
+                near = _mm_max_ps(near, entry);
+                far = _mm_min_ps(far, exit);
+            }
         }
-        // The entry face is the low one where 1/d ≥ 0 (its sign bit picks).
-        let (entry, exit) = if one.inverse[k].is_sign_negative() {
-            (hi, lo)
-        } else {
-            (lo, hi)
-        };
-        let inverse = _mm_set1_ps(one.inverse[k]);
-        let offset = _mm_set1_ps(one.offset[k]);
-        near = _mm_max_ps(near, _mm_fmsub_ps(entry, inverse, offset));
-        far = _mm_min_ps(far, _mm_fmsub_ps(exit, inverse, offset));
+    } else {
+        for k in 0..3 {
+            let entry = _mm_fmsub_ps(row(one.entry_row[k]), one.inverse[k], one.offset[k]);
+            let exit = _mm_fmsub_ps(row(one.exit_row[k]), one.inverse[k], one.offset[k]);
+            near = _mm_max_ps(near, entry);
+            far = _mm_min_ps(far, exit);
+        }
     }
     // near ≥ 0: lowered as near·(1 − 2⁻¹⁹) − slack; far raised by as much.
-    let slack = _mm_set1_ps(one.slack);
-    let near = _mm_fmsub_ps(near, _mm_set1_ps(1.0 - RELATIVE), slack);
+    let near = _mm_fmsub_ps(near, _mm_set1_ps(1.0 - RELATIVE), one.slack);
     let far_size = _mm_andnot_ps(_mm_set1_ps(-0.0), far);
-    let far = _mm_fmadd_ps(_mm_set1_ps(RELATIVE), far_size, _mm_add_ps(far, slack));
+    let far = _mm_fmadd_ps(_mm_set1_ps(RELATIVE), far_size, _mm_add_ps(far, one.slack));
     let meets = _mm_andnot_ps(outside, _mm_cmple_ps(near, far));
     // SAFETY: four u32s.
     let child = unsafe { _mm_loadu_si128(node.child.as_ptr().cast()) };
