@@ -674,7 +674,7 @@ pub fn any_hit(prepared: &Prepared, ray: Ray, range: (f64, f64), stats: &mut Sta
 /// answered as [`any_hit`] answers it. Through the object index, the rays together; each object
 /// whose box some of them meet is then tested ray by ray (a mesh's hierarchy walked by each ray
 /// alone through the f32 test of a node's four boxes at once, [`Bvh::occluded`]: a packet walk,
-/// [`Bvh::occluded_packet_of`], met a mesh with three rays of eight on average and took 15% more
+/// [`Bvh::occluded_packet_of`], met a mesh with three rays of eight on average and took more
 /// time). Where the index does not apply, or a ray's numbers are not finite, each ray takes
 /// [`any_hit`].
 pub fn any_hits(
