@@ -549,34 +549,31 @@ impl OneRay {
         let negative = _mm_movemask_ps(inverse) as u32;
         let parallel = std::array::from_fn(|k| (parallel_axes >> k) & 1 == 1);
         Some(OneRay {
-            inverse: [
-                _mm_permute_ps::<0x00>(inverse),
-                _mm_permute_ps::<0x55>(inverse),
-                _mm_permute_ps::<0xaa>(inverse),
-            ],
-            offset: [
-                _mm_permute_ps::<0x00>(offset),
-                _mm_permute_ps::<0x55>(offset),
-                _mm_permute_ps::<0xaa>(offset),
-            ],
+            inverse: each_axis(inverse),
+            offset: each_axis(offset),
             entry_row: std::array::from_fn(|k| 4 * k + 12 * ((negative >> k) & 1) as usize),
             exit_row: std::array::from_fn(|k| 4 * k + 12 * (1 - ((negative >> k) & 1)) as usize),
             slack: _mm_permute_ps::<0x00>(slack),
             t_max: _mm_set1_ps(up(t_max)),
             parallel,
             any_parallel: parallel_axes != 0,
-            origin_down: [
-                _mm_permute_ps::<0x00>(below),
-                _mm_permute_ps::<0x55>(below),
-                _mm_permute_ps::<0xaa>(below),
-            ],
-            origin_up: [
-                _mm_permute_ps::<0x00>(above),
-                _mm_permute_ps::<0x55>(above),
-                _mm_permute_ps::<0xaa>(above),
-            ],
+            origin_down: each_axis(below),
+            origin_up: each_axis(above),
         })
     }
+}
+
+/// Lanes 0, 1 and 2 of `lanes` (x, y, z), each broadcast to four lanes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+#[inline]
+fn each_axis(lanes: std::arch::x86_64::__m128) -> [std::arch::x86_64::__m128; 3] {
+    use std::arch::x86_64::_mm_permute_ps;
+    [
+        _mm_permute_ps::<0x00>(lanes),
+        _mm_permute_ps::<0x55>(lanes),
+        _mm_permute_ps::<0xaa>(lanes),
+    ]
 }
 
 /// Whether the crack-free test finds a triangle of `bvh` that `ray` meets at 0 < t < t_max: what
