@@ -88,7 +88,6 @@ impl Lanes {
             origin_up: [[0.0; RAYS]; 3],
             any_parallel: [false; 3],
         };
-        let magnitude = _mm256_set1_pd(-0.0);
         let mut valid = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
         let mut slack = [_mm256_setzero_pd(); RAYS / 4];
         // Rays parallel to every axis so far (a zero direction is refused).
@@ -113,31 +112,14 @@ impl Lanes {
                     rays[r + 2].origin[k],
                     rays[r + 3].origin[k],
                 );
-                let parallel = _mm256_cmp_pd::<_CMP_EQ_OQ>(dir, _mm256_setzero_pd());
+                let Slabs4 {
+                    parallel,
+                    inverse,
+                    offset,
+                    offset_size,
+                    in_range,
+                } = slabs4(origin, dir);
                 all_parallel = _mm256_and_pd(all_parallel, parallel);
-                let inverse = _mm256_andnot_pd(parallel, _mm256_div_pd(_mm256_set1_pd(1.0), dir));
-                let offset = _mm256_mul_pd(origin, inverse);
-                let inverse_size = _mm256_andnot_pd(magnitude, inverse);
-                let offset_size = _mm256_andnot_pd(magnitude, offset);
-                let origin_size = _mm256_andnot_pd(magnitude, origin);
-                // 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ (or d = 0), |o/d| ≤ 2¹⁰⁰ and |o| ≤ 2¹⁰⁰ (false for NaN).
-                let inverse_in_range = _mm256_and_pd(
-                    _mm256_cmp_pd::<_CMP_GE_OQ>(
-                        inverse_size,
-                        _mm256_set1_pd(8.673_617_379_884_035e-19),
-                    ),
-                    _mm256_cmp_pd::<_CMP_LE_OQ>(
-                        inverse_size,
-                        _mm256_set1_pd(1.152_921_504_606_847e18),
-                    ),
-                );
-                let in_range = _mm256_and_pd(
-                    _mm256_or_pd(parallel, inverse_in_range),
-                    _mm256_and_pd(
-                        _mm256_cmp_pd::<_CMP_LE_OQ>(offset_size, _mm256_set1_pd(1.27e30)),
-                        _mm256_cmp_pd::<_CMP_LE_OQ>(origin_size, _mm256_set1_pd(1.27e30)),
-                    ),
-                );
                 valid = _mm256_and_pd(valid, in_range);
                 // o rounded to nearest (within 2⁻²⁴|o|), moved out by 2⁻²²|o| + 10⁻³⁷.
                 let near_origin = _mm256_cvtpd_ps(origin);
@@ -190,6 +172,54 @@ impl Lanes {
         }
         lanes.t_max = t_max.map(up);
         Some(lanes)
+    }
+}
+
+/// Four lanes' slab numbers in f64, made alike for a packet's rays ([`Lanes::new`]) and a ray's
+/// axes ([`OneRay::new`]).
+#[cfg(target_arch = "x86_64")]
+struct Slabs4 {
+    /// All ones where d = 0.
+    parallel: std::arch::x86_64::__m256d,
+    /// 1/d (0 where d = 0), o/d and |o/d|.
+    inverse: std::arch::x86_64::__m256d,
+    offset: std::arch::x86_64::__m256d,
+    offset_size: std::arch::x86_64::__m256d,
+    /// All ones where the error bound holds: 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ (or d = 0), |o/d| ≤ 2¹⁰⁰ and
+    /// |o| ≤ 2¹⁰⁰ (false for NaN).
+    in_range: std::arch::x86_64::__m256d,
+}
+
+/// The slab numbers of four lanes of origins and directions.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+#[inline]
+fn slabs4(origin: std::arch::x86_64::__m256d, dir: std::arch::x86_64::__m256d) -> Slabs4 {
+    use std::arch::x86_64::*;
+    let magnitude = _mm256_set1_pd(-0.0);
+    let parallel = _mm256_cmp_pd::<_CMP_EQ_OQ>(dir, _mm256_setzero_pd());
+    let inverse = _mm256_andnot_pd(parallel, _mm256_div_pd(_mm256_set1_pd(1.0), dir));
+    let offset = _mm256_mul_pd(origin, inverse);
+    let inverse_size = _mm256_andnot_pd(magnitude, inverse);
+    let offset_size = _mm256_andnot_pd(magnitude, offset);
+    let origin_size = _mm256_andnot_pd(magnitude, origin);
+    let inverse_in_range = _mm256_and_pd(
+        _mm256_cmp_pd::<_CMP_GE_OQ>(inverse_size, _mm256_set1_pd(8.673_617_379_884_035e-19)),
+        _mm256_cmp_pd::<_CMP_LE_OQ>(inverse_size, _mm256_set1_pd(1.152_921_504_606_847e18)),
+    );
+    let in_range = _mm256_and_pd(
+        _mm256_or_pd(parallel, inverse_in_range),
+        _mm256_and_pd(
+            _mm256_cmp_pd::<_CMP_LE_OQ>(offset_size, _mm256_set1_pd(1.27e30)),
+            _mm256_cmp_pd::<_CMP_LE_OQ>(origin_size, _mm256_set1_pd(1.27e30)),
+        ),
+    );
+    Slabs4 {
+        parallel,
+        inverse,
+        offset,
+        offset_size,
+        in_range,
     }
 }
 
@@ -493,28 +523,16 @@ impl OneRay {
     #[inline]
     unsafe fn new(ray: &Ray, t_max: f64) -> Option<OneRay> {
         use std::arch::x86_64::*;
-        let magnitude = _mm256_set1_pd(-0.0);
         // Lane k is axis k; lane 3 a stand-in (d = 1, o = 0) that passes every check.
         let dir = _mm256_setr_pd(ray.dir[0], ray.dir[1], ray.dir[2], 1.0);
         let origin = _mm256_setr_pd(ray.origin[0], ray.origin[1], ray.origin[2], 0.0);
-        let parallel = _mm256_cmp_pd::<_CMP_EQ_OQ>(dir, _mm256_setzero_pd());
-        let inverse = _mm256_andnot_pd(parallel, _mm256_div_pd(_mm256_set1_pd(1.0), dir));
-        let offset = _mm256_mul_pd(origin, inverse);
-        let inverse_size = _mm256_andnot_pd(magnitude, inverse);
-        let offset_size = _mm256_andnot_pd(magnitude, offset);
-        let origin_size = _mm256_andnot_pd(magnitude, origin);
-        // 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ (or d = 0), |o/d| ≤ 2¹⁰⁰ and |o| ≤ 2¹⁰⁰ (false for NaN).
-        let inverse_in_range = _mm256_and_pd(
-            _mm256_cmp_pd::<_CMP_GE_OQ>(inverse_size, _mm256_set1_pd(8.673_617_379_884_035e-19)),
-            _mm256_cmp_pd::<_CMP_LE_OQ>(inverse_size, _mm256_set1_pd(1.152_921_504_606_847e18)),
-        );
-        let in_range = _mm256_and_pd(
-            _mm256_or_pd(parallel, inverse_in_range),
-            _mm256_and_pd(
-                _mm256_cmp_pd::<_CMP_LE_OQ>(offset_size, _mm256_set1_pd(1.27e30)),
-                _mm256_cmp_pd::<_CMP_LE_OQ>(origin_size, _mm256_set1_pd(1.27e30)),
-            ),
-        );
+        let Slabs4 {
+            parallel,
+            inverse,
+            offset,
+            offset_size,
+            in_range,
+        } = slabs4(origin, dir);
         let parallel_axes = _mm256_movemask_pd(parallel) as u32;
         if _mm256_movemask_pd(in_range) != 0b1111 || parallel_axes == 0b0111 {
             return None;
