@@ -112,49 +112,22 @@ impl Lanes {
                     rays[r + 2].origin[k],
                     rays[r + 3].origin[k],
                 );
-                let Slabs4 {
-                    parallel,
-                    inverse,
-                    offset,
-                    offset_size,
-                    in_range,
-                } = slabs4(origin, dir);
-                all_parallel = _mm256_and_pd(all_parallel, parallel);
-                valid = _mm256_and_pd(valid, in_range);
-                // o rounded to nearest (within 2⁻²⁴|o|), moved out by 2⁻²²|o| + 10⁻³⁷.
-                let near_origin = _mm256_cvtpd_ps(origin);
-                let widen = _mm_fmadd_ps(
-                    _mm_andnot_ps(_mm_set1_ps(-0.0), near_origin),
-                    _mm_set1_ps(1.0 / 4_194_304.0),
-                    _mm_set1_ps(1e-37),
-                );
-                let parallel_lanes = _mm256_cvtpd_ps(_mm256_and_pd(parallel, _mm256_set1_pd(-1.0)));
+                let slabs = slabs4(origin, dir);
+                all_parallel = _mm256_and_pd(all_parallel, slabs.parallel);
+                valid = _mm256_and_pd(valid, slabs.in_range);
+                let parallel_lanes =
+                    _mm256_cvtpd_ps(_mm256_and_pd(slabs.parallel, _mm256_set1_pd(-1.0)));
                 // SAFETY: four f32s at lane r (a multiple of four) of 16-f32 rows.
                 unsafe {
-                    _mm_storeu_ps(lanes.parallel[k].as_mut_ptr().add(r), parallel_lanes);
-                    _mm_storeu_ps(
-                        lanes.origin_down[k].as_mut_ptr().add(r),
-                        _mm_sub_ps(near_origin, widen),
-                    );
-                    _mm_storeu_ps(
-                        lanes.origin_up[k].as_mut_ptr().add(r),
-                        _mm_add_ps(near_origin, widen),
-                    );
+                    let at = |row: &mut [f32; RAYS]| row.as_mut_ptr().add(r);
+                    _mm_storeu_ps(at(&mut lanes.parallel[k]), parallel_lanes);
+                    _mm_storeu_ps(at(&mut lanes.origin_down[k]), slabs.origin_down);
+                    _mm_storeu_ps(at(&mut lanes.origin_up[k]), slabs.origin_up);
+                    _mm_storeu_ps(at(&mut lanes.inverse[k]), slabs.inverse);
+                    _mm_storeu_ps(at(&mut lanes.offset[k]), slabs.offset);
                 }
-                lanes.any_parallel[k] |= _mm256_movemask_pd(parallel) != 0;
-                // SAFETY: four f32s at lane r (a multiple of four) of a 16-f32 row.
-                unsafe {
-                    _mm_storeu_ps(
-                        lanes.inverse[k].as_mut_ptr().add(r),
-                        _mm256_cvtpd_ps(inverse),
-                    );
-                    _mm_storeu_ps(lanes.offset[k].as_mut_ptr().add(r), _mm256_cvtpd_ps(offset));
-                }
-                let axis_slack = _mm256_add_pd(
-                    _mm256_mul_pd(offset_size, _mm256_set1_pd(1.0 / 2_097_152.0)),
-                    _mm256_set1_pd(7.6e-37),
-                );
-                *slack = _mm256_max_pd(*slack, axis_slack);
+                lanes.any_parallel[k] |= _mm256_movemask_pd(slabs.parallel) != 0;
+                *slack = _mm256_max_pd(*slack, slabs.slack);
             }
         }
         if _mm256_movemask_pd(valid) != 0b1111 || _mm256_movemask_pd(all_parallel) != 0 {
@@ -175,22 +148,26 @@ impl Lanes {
     }
 }
 
-/// Four lanes' slab numbers in f64, made alike for a packet's rays ([`Lanes::new`]) and a ray's
-/// axes ([`OneRay::new`]).
+/// Four lanes' numbers for the f32 box test, made alike for a packet's rays ([`Lanes::new`]) and
+/// a ray's axes ([`OneRay::new`]), so the module's bound holds for both.
 #[cfg(target_arch = "x86_64")]
 struct Slabs4 {
     /// All ones where d = 0.
     parallel: std::arch::x86_64::__m256d,
-    /// 1/d (0 where d = 0), o/d and |o/d|.
-    inverse: std::arch::x86_64::__m256d,
-    offset: std::arch::x86_64::__m256d,
-    offset_size: std::arch::x86_64::__m256d,
     /// All ones where the error bound holds: 2⁻⁶⁰ ≤ |1/d| ≤ 2⁶⁰ (or d = 0), |o/d| ≤ 2¹⁰⁰ and
     /// |o| ≤ 2¹⁰⁰ (false for NaN).
     in_range: std::arch::x86_64::__m256d,
+    /// 1/d (0 where d = 0) and o/d, rounded to f32.
+    inverse: std::arch::x86_64::__m128,
+    offset: std::arch::x86_64::__m128,
+    /// o rounded to nearest (within 2⁻²⁴|o|), moved down and up by 2⁻²²|o| + 10⁻³⁷.
+    origin_down: std::arch::x86_64::__m128,
+    origin_up: std::arch::x86_64::__m128,
+    /// The slack of each lane in f64: 2⁻²¹·|o/d| + 7.6·10⁻³⁷.
+    slack: std::arch::x86_64::__m256d,
 }
 
-/// The slab numbers of four lanes of origins and directions.
+/// The numbers of four lanes of origins and directions.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
@@ -214,12 +191,23 @@ fn slabs4(origin: std::arch::x86_64::__m256d, dir: std::arch::x86_64::__m256d) -
             _mm256_cmp_pd::<_CMP_LE_OQ>(origin_size, _mm256_set1_pd(1.27e30)),
         ),
     );
+    let near_origin = _mm256_cvtpd_ps(origin);
+    let widen = _mm_fmadd_ps(
+        _mm_andnot_ps(_mm_set1_ps(-0.0), near_origin),
+        _mm_set1_ps(1.0 / 4_194_304.0),
+        _mm_set1_ps(1e-37),
+    );
     Slabs4 {
         parallel,
-        inverse,
-        offset,
-        offset_size,
         in_range,
+        inverse: _mm256_cvtpd_ps(inverse),
+        offset: _mm256_cvtpd_ps(offset),
+        origin_down: _mm_sub_ps(near_origin, widen),
+        origin_up: _mm_add_ps(near_origin, widen),
+        slack: _mm256_add_pd(
+            _mm256_mul_pd(offset_size, _mm256_set1_pd(1.0 / 2_097_152.0)),
+            _mm256_set1_pd(7.6e-37),
+        ),
     }
 }
 
@@ -526,32 +514,12 @@ impl OneRay {
         // Lane k is axis k; lane 3 a stand-in (d = 1, o = 0) that passes every check.
         let dir = _mm256_setr_pd(ray.dir[0], ray.dir[1], ray.dir[2], 1.0);
         let origin = _mm256_setr_pd(ray.origin[0], ray.origin[1], ray.origin[2], 0.0);
-        let Slabs4 {
-            parallel,
-            inverse,
-            offset,
-            offset_size,
-            in_range,
-        } = slabs4(origin, dir);
-        let parallel_axes = _mm256_movemask_pd(parallel) as u32;
-        if _mm256_movemask_pd(in_range) != 0b1111 || parallel_axes == 0b0111 {
+        let slabs = slabs4(origin, dir);
+        let parallel_axes = _mm256_movemask_pd(slabs.parallel) as u32;
+        if _mm256_movemask_pd(slabs.in_range) != 0b1111 || parallel_axes == 0b0111 {
             return None;
         }
-        // o rounded to nearest (within 2⁻²⁴|o|), moved out by 2⁻²²|o| + 10⁻³⁷.
-        let near_origin = _mm256_cvtpd_ps(origin);
-        let widen = _mm_fmadd_ps(
-            _mm_andnot_ps(_mm_set1_ps(-0.0), near_origin),
-            _mm_set1_ps(1.0 / 4_194_304.0),
-            _mm_set1_ps(1e-37),
-        );
-        let (below, above) = (
-            _mm_sub_ps(near_origin, widen),
-            _mm_add_ps(near_origin, widen),
-        );
-        let axis_slack = _mm256_add_pd(
-            _mm256_mul_pd(offset_size, _mm256_set1_pd(1.0 / 2_097_152.0)),
-            _mm256_set1_pd(7.6e-37),
-        );
+        let axis_slack = slabs.slack;
         // The largest over the axes (lane 3's is the least a slack can be).
         let halves = _mm_max_pd(
             _mm256_castpd256_pd128(axis_slack),
@@ -563,20 +531,19 @@ impl OneRay {
             _mm_cvtsd_ss(_mm_setzero_ps(), slack),
             _mm_set1_ps(1.0 + 1.0 / 1_048_576.0),
         );
-        let (inverse, offset) = (_mm256_cvtpd_ps(inverse), _mm256_cvtpd_ps(offset));
-        let negative = _mm_movemask_ps(inverse) as u32;
+        let negative = _mm_movemask_ps(slabs.inverse) as u32;
         let parallel = std::array::from_fn(|k| (parallel_axes >> k) & 1 == 1);
         Some(OneRay {
-            inverse: each_axis(inverse),
-            offset: each_axis(offset),
+            inverse: each_axis(slabs.inverse),
+            offset: each_axis(slabs.offset),
             entry_row: std::array::from_fn(|k| 4 * k + 12 * ((negative >> k) & 1) as usize),
             exit_row: std::array::from_fn(|k| 4 * k + 12 * (1 - ((negative >> k) & 1)) as usize),
             slack: _mm_permute_ps::<0x00>(slack),
             t_max: _mm_set1_ps(up(t_max)),
             parallel,
             any_parallel: parallel_axes != 0,
-            origin_down: each_axis(below),
-            origin_up: each_axis(above),
+            origin_down: each_axis(slabs.origin_down),
+            origin_up: each_axis(slabs.origin_up),
         })
     }
 }
