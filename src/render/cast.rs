@@ -252,12 +252,15 @@ pub fn nearest_hits<const P: usize>(
             {
                 continue;
             }
-            Geometry::Parallelogram { corner, e1, e2, .. }
-                if four.is_some_and(|avx2| {
-                    let shape = [corner, e1, e2];
-                    parallelogram_hits(avx2, prepared, (index, shape), rays, best, stats)
-                }) =>
-            {
+            Geometry::Parallelogram {
+                corner,
+                e1,
+                e2,
+                normal_largest: Some(normal_largest),
+                ..
+            } if let Some(avx2) = four => {
+                let solver = Parallelogram4::prepared(avx2, [corner, e1, e2], *normal_largest);
+                parallelogram_hits(prepared, (index, &solver), rays, best, stats);
                 continue;
             }
             _ => {
@@ -443,20 +446,17 @@ fn lone_hits<const P: usize>(
 /// ([`super::kernels::parallelogram4`]: seed 001's solver in lanes, the same bits, so the same hits
 /// as [`hit_object`]); a ray whose t is beyond its nearest hit so far is dropped before its α and β
 /// are computed. Rays the kernel leaves to the one-ray solver go through [`test_parallelogram`].
-/// False when the parallelogram is one the kernel leaves to the one-ray solver whatever the ray
-/// (then nothing was done).
 #[inline(always)]
 fn parallelogram_hits<const P: usize>(
-    avx2: Avx2,
     prepared: &Prepared,
-    (index, [corner, e1, e2]): (usize, [&V3<f64>; 3]),
+    (index, solver): (usize, &Parallelogram4),
     rays: &[Ray; P],
     best: &mut [Option<Hit>; P],
     stats: &mut Stats,
-) -> bool {
+) {
     let object = &prepared.objects[index];
-    let Some(solver) = Parallelogram4::new(avx2, [corner, e1, e2]) else {
-        return false;
+    let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
+        return;
     };
     each_four(object, rays, best, stats, |local, best, stats| {
         let t_max = std::array::from_fn(|lane| best[lane].map_or(f64::INFINITY, |b| b.t));
@@ -479,7 +479,6 @@ fn parallelogram_hits<const P: usize>(
             }
         }
     });
-    true
 }
 
 /// Keeps `hit` in `best` if it is nearer (ties go to the earlier object and triangle).
@@ -777,10 +776,16 @@ fn objects_block(
     {
         return lone_triangles_block(triangles, (rays, taking), sheared, t_max, stats);
     }
-    if let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry
+    if let Geometry::Parallelogram {
+        corner,
+        e1,
+        e2,
+        normal_largest: Some(normal_largest),
+        ..
+    } = &object.geometry
         && let Some(avx2) = prepared.simd
-        && let Some(solver) = Parallelogram4::new(avx2, [corner, e1, e2])
     {
+        let solver = Parallelogram4::prepared(avx2, [corner, e1, e2], *normal_largest);
         let shape = [corner, e1, e2];
         return parallelogram_blocks(
             prepared,
@@ -798,15 +803,8 @@ fn objects_block(
     blocked
 }
 
-/// `lanes` with each lane not in `taking` (not empty) holding the first taking lane's value: a
-/// packet's every lane must hold a ray, and those lanes are neither tested nor reported.
-fn stand_ins<T: Copy, const N: usize>(lanes: [T; N], taking: u32) -> [T; N] {
-    let first = taking.trailing_zeros() as usize;
-    std::array::from_fn(|r| lanes[if taking & (1 << r) != 0 { r } else { first }])
-}
-
-/// The rays of `taking` in `object`'s space, each made once, and the other lanes' stand-ins
-/// ([`stand_ins`]).
+/// The rays of `taking` in `object`'s space, each made once (the other lanes keep the world's
+/// rays: a four-lane kernel neither tests nor reports them).
 fn taking_rays_in<const N: usize>(
     object: &PreparedObject,
     (rays, taking): (&[Ray; N], u32),
@@ -817,13 +815,14 @@ fn taking_rays_in<const N: usize>(
     for r in bits(taking) {
         local[r] = to_object_space(object, rays[r], bug, stats);
     }
-    stand_ins(local, taking)
+    local
 }
 
 /// Which of the rays of `taking` a parallelogram blocks within (0, t_max), four rays at a time
 /// through seed 001's solver in lanes ([`Parallelogram4`], the same bits as the one-ray solver),
 /// the rays it leaves to the one-ray solver through [`test_parallelogram`]: what
-/// [`object_blocks`] answers (a hit with 0 < t ≤ the float below t_max).
+/// [`object_blocks`] answers (a hit with 0 < t ≤ the float below t_max, that is t < t_max). An
+/// untransformed parallelogram (a floor, a wall) reads the packet's own rays, in place.
 fn parallelogram_blocks(
     prepared: &Prepared,
     (object, shape, solver): (&PreparedObject, [&V3<f64>; 3], &Parallelogram4),
@@ -831,29 +830,33 @@ fn parallelogram_blocks(
     t_max: &[f64; TOGETHER],
     stats: &mut Stats,
 ) -> u32 {
+    let (groups, _) = rays.as_chunks::<4>();
+    let (ends, _) = t_max.as_chunks::<4>();
     let mut blocked = 0;
-    for group in 0..TOGETHER / 4 {
+    for (group, (world, ends)) in groups.iter().zip(ends).enumerate() {
         let lanes = (taking >> (4 * group)) & 0b1111;
         if lanes == 0 {
             continue;
         }
-        let taken = |lane: usize| lanes & (1 << lane) != 0;
-        let four: [Ray; 4] = std::array::from_fn(|lane| rays[4 * group + lane]);
-        let local = taking_rays_in(object, (&four, lanes), prepared.bug, stats);
-        let ends: [f64; 4] = std::array::from_fn(|lane| t_max[4 * group + lane].next_down());
-        let limits = stand_ins(ends, lanes);
+        let moved: [Ray; 4];
+        let local = match object.object_from_world {
+            None => world,
+            Some(_) => {
+                moved = taking_rays_in(object, (world, lanes), prepared.bug, stats);
+                &moved
+            }
+        };
         stats.parallelogram_tests += u64::from(lanes.count_ones());
-        let found = solver.solve(&local, &limits);
-        for lane in (0..4).filter(|&lane| taken(lane)) {
-            let t = if found.rare & (1 << lane) != 0 {
-                test_parallelogram(shape, None, local[lane], (0.0, limits[lane])).map(|h| h.t)
-            } else {
-                (found.hit & (1 << lane) != 0).then_some(found.t[lane])
-            };
-            if t.is_some_and(|t| t > 0.0 && t <= limits[lane]) {
-                blocked |= 1 << (4 * group + lane);
+        let found = solver.solve_between(local, lanes, ends);
+        let mut found_blocked = found.hit;
+        for lane in bits(found.rare) {
+            let limit = ends[lane].next_down();
+            let hit = test_parallelogram(shape, None, local[lane], (0.0, limit));
+            if hit.is_some_and(|hit| hit.t > 0.0 && hit.t <= limit) {
+                found_blocked |= 1 << lane;
             }
         }
+        blocked |= found_blocked << (4 * group);
     }
     blocked
 }

@@ -740,11 +740,15 @@ mod tests {
             let mut point =
                 || -> [f64; 3] { std::array::from_fn(|_| random.random_range(-2.0..2.0)) };
             let geometry = if i % 3 == 0 {
+                let [corner, e1, e2] = [point(), point(), point()];
+                let normal_largest =
+                    super::super::kernels::parallelogram4::normal_largest([&corner, &e1, &e2]);
                 Geometry::Parallelogram {
-                    corner: point(),
-                    e1: point(),
-                    e2: point(),
+                    corner,
+                    e1,
+                    e2,
                     face_normal: [0.0, 0.0, 1.0],
+                    normal_largest,
                 }
             } else {
                 let (a, b) = (point(), point());

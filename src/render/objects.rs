@@ -62,6 +62,10 @@ pub enum Geometry {
         e2: V3<f64>,
         /// The unit normal of e1 × e2.
         face_normal: V3<f64>,
+        /// What the four-lane solver needs of e1 × e2, found once
+        /// ([`super::kernels::parallelogram4::normal_largest`]); `None` when it leaves every ray
+        /// to the one-ray solver.
+        normal_largest: Option<f64>,
     },
 }
 
@@ -230,6 +234,7 @@ pub fn prepare(
                 e1: *e1,
                 e2: *e2,
                 face_normal: unit(cross(e1, e2)),
+                normal_largest: super::kernels::parallelogram4::normal_largest([corner, e1, e2]),
             };
             (geometry, false)
         }

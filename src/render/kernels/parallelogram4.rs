@@ -53,42 +53,79 @@ impl Parallelogram4 {
     /// `None` when the parallelogram takes one of the solver's rare paths (non-finite, or edges
     /// that may be parallel): then one ray at a time.
     #[inline]
-    pub fn new(avx2: Avx2, [corner, e1, e2]: [&V3<f64>; 3]) -> Option<Parallelogram4> {
-        let normal = crate::geometry::parallelogram::lean::regular_normal([corner, e1, e2])?;
-        Some(Parallelogram4 {
+    pub fn new(avx2: Avx2, shape: [&V3<f64>; 3]) -> Option<Parallelogram4> {
+        Some(Parallelogram4::prepared(
+            avx2,
+            shape,
+            normal_largest(shape)?,
+        ))
+    }
+
+    /// The solver for a parallelogram whose [`normal_largest`] was found once, when it was
+    /// prepared: a packet's set-up need not cross its edges again.
+    #[inline]
+    pub fn prepared(
+        avx2: Avx2,
+        [corner, e1, e2]: [&V3<f64>; 3],
+        normal_largest: f64,
+    ) -> Parallelogram4 {
+        Parallelogram4 {
             avx2,
             corner: *corner,
             e1: *e1,
             e2: *e2,
-            normal_largest: largest(&normal),
-        })
+            normal_largest,
+        }
     }
 
     /// The solver's answers for four rays (in the parallelogram's space), keeping only hits with
     /// t ≤ `t_max` (per lane).
     #[inline]
     pub fn solve(&self, rays: &Rays4, t_max: &[f64; 4]) -> Found4 {
+        self.solve_lanes::<false>(rays, 0b1111, t_max)
+    }
+
+    /// An any-hit query's answers for the rays of `lanes` (a bit set; the other lanes' rays are
+    /// neither solved nor reported, and may hold anything): the hits with 0 < t < `t_end` (per
+    /// lane), the open range a shadow or occlusion ray asks about.
+    #[inline]
+    pub fn solve_between(&self, rays: &Rays4, lanes: u32, t_end: &[f64; 4]) -> Found4 {
+        self.solve_lanes::<true>(rays, lanes, t_end)
+    }
+
+    /// [`Parallelogram4::solve`] (`OPEN` false) or [`Parallelogram4::solve_between`] (true).
+    #[inline]
+    fn solve_lanes<const OPEN: bool>(&self, rays: &Rays4, lanes: u32, limit: &[f64; 4]) -> Found4 {
         let _: Avx2 = self.avx2;
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `self` holds an `Avx2`, which exists only on a processor with AVX2 and FMA.
-        return unsafe { solve4(self, rays, t_max) };
+        return unsafe { solve4::<OPEN>(self, rays, lanes, limit) };
         #[cfg(not(target_arch = "x86_64"))]
         {
             // Never built: no `Avx2` exists off x86-64.
             let _ = (
                 rays,
-                t_max,
+                limit,
                 self.corner,
                 self.e1,
                 self.e2,
                 self.normal_largest,
             );
             Found4 {
-                rare: 0b1111,
+                rare: lanes,
                 ..Found4::default()
             }
         }
     }
+}
+
+/// The largest |component| of the parallelogram's normal e1 × e2 when it passes the solver's
+/// refusals that do not depend on the ray ([`regular_normal`]): what [`Parallelogram4`] needs of
+/// it. `None` when the four-lane solver leaves every ray to the one-ray solver.
+///
+/// [`regular_normal`]: crate::geometry::parallelogram::lean::regular_normal
+pub fn normal_largest(shape: [&V3<f64>; 3]) -> Option<f64> {
+    crate::geometry::parallelogram::lean::regular_normal(shape).map(|normal| largest(&normal))
 }
 
 /// As the solver's `surely_above` takes it: the largest |component|.
@@ -235,7 +272,12 @@ fn solved_row(adjugate_row: &Lanes3, det: __m256d, y: &Lanes3) -> __m256d {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
-unsafe fn solve4(shape: &Parallelogram4, rays: &Rays4, t_max: &[f64; 4]) -> Found4 {
+unsafe fn solve4<const OPEN: bool>(
+    shape: &Parallelogram4,
+    rays: &Rays4,
+    lanes: u32,
+    limit: &[f64; 4],
+) -> Found4 {
     let (origin, dir) = (rays_lanes(rays, 0), rays_lanes(rays, 1));
     let (e1, e2) = (splat(&shape.e1), splat(&shape.e2));
     let minus_d = [negate(dir[0]), negate(dir[1]), negate(dir[2])];
@@ -279,31 +321,41 @@ unsafe fn solve4(shape: &Parallelogram4, rays: &Rays4, t_max: &[f64; 4]) -> Foun
     );
     let surely_above = _mm256_and_pd(in_range, _mm256_cmp_pd::<_CMP_GT_OQ>(abs(det), bound));
     let usual = _mm256_andnot_pd(zero_dir, all3(finite_ray, finite(det), surely_above));
-    let rare = 0b1111 & !(_mm256_movemask_pd(usual) as u32);
+    let rare = lanes & !(_mm256_movemask_pd(usual) as u32);
     let mut found = Found4 {
         rare,
         ..Found4::default()
     };
     let adj = adjugate(&m);
-    // t first: a hit needs a finite t ≥ 0, and only t ≤ t_max can be kept. (A division-free
-    // cull by N = adj · y against |M| with a margin, before this, measured no faster.)
+    // t first: a hit needs a finite t ≥ 0, and only t ≤ t_max can be kept (or, `OPEN`, only
+    // 0 < t < t_end). (A division-free cull by N = adj · y against |M| with a margin, before
+    // this, measured no faster.)
     let t = solved_row(&adj[2], det, &y);
-    let near = _mm256_and_pd(
-        _mm256_cmp_pd::<_CMP_GE_OQ>(t, zero),
-        _mm256_cmp_pd::<_CMP_LE_OQ>(t, gather(*t_max)),
-    );
+    let limit = gather(*limit);
+    let near = if OPEN {
+        _mm256_and_pd(
+            _mm256_cmp_pd::<_CMP_GT_OQ>(t, zero),
+            _mm256_cmp_pd::<_CMP_LT_OQ>(t, limit),
+        )
+    } else {
+        _mm256_and_pd(
+            _mm256_cmp_pd::<_CMP_GE_OQ>(t, zero),
+            _mm256_cmp_pd::<_CMP_LE_OQ>(t, limit),
+        )
+    };
     let mut keep = all3(usual, finite(t), near);
-    if _mm256_movemask_pd(keep) == 0 {
+    let kept = |keep: __m256d| lanes & _mm256_movemask_pd(keep) as u32;
+    if kept(keep) == 0 {
         return found;
     }
     let alpha = solved_row(&adj[0], det, &y);
     keep = _mm256_and_pd(keep, in_unit(alpha));
-    if _mm256_movemask_pd(keep) == 0 {
+    if kept(keep) == 0 {
         return found;
     }
     let beta = solved_row(&adj[1], det, &y);
     keep = _mm256_and_pd(keep, in_unit(beta));
-    found.hit = _mm256_movemask_pd(keep) as u32;
+    found.hit = kept(keep);
     found.t = store(t);
     found.alpha = store(alpha);
     found.beta = store(beta);
@@ -367,12 +419,13 @@ mod tests {
     /// Four lanes decide and compute as the one-ray solver does, to the bit: random parallelograms
     /// (scaled far from 1 on some draws), four rays aimed near their edges and corners, rays on the
     /// solver's rare paths, and t_max at, just before and just past the solver's t. A lane the kernel
-    /// leaves to the one-ray solver must be rare: only on the draws made unusual.
+    /// leaves to the one-ray solver must be rare: only on the draws made unusual. An any-hit query
+    /// ([`Parallelogram4::solve_between`]) of some of the lanes answers as one ray, 0 < t < t_max.
     #[test]
     fn four_lanes_solve_as_one_ray_at_a_time() {
         let avx2 = crate::render::kernels::avx2_or_skip!();
         let mut random = rand_pcg::Pcg64::seed_from_u64(12);
-        let (mut hits, mut culled, mut rare) = (0, 0, 0);
+        let (mut hits, mut culled, mut rare, mut between_hits) = (0, 0, 0, 0);
         for i in 0..40_000 {
             let [corner, e1, e2, origin, dir] = random_ray_near_edges(&mut random, 1e-13);
             let mut rays = [[origin, dir]; 4];
@@ -396,8 +449,25 @@ mod tests {
             let Some(solver) = Parallelogram4::new(avx2, shape) else {
                 panic!("{shape:?}: a usual parallelogram left to the one-ray solver");
             };
-            let found = solver.solve(&rays.map(|[o, d]| Ray::new(o, d)), &t_max);
+            let four = rays.map(|[o, d]| Ray::new(o, d));
+            let found = solver.solve(&four, &t_max);
             assert_eq!(found.hit & found.rare, 0);
+            // An any-hit query of some lanes: the one-ray hits with 0 < t < t_max, those lanes'.
+            let lanes = random.random_range(1..16u32);
+            let between = solver.solve_between(&four, lanes, &t_max);
+            assert_eq!(between.rare, found.rare & lanes, "{i}");
+            assert_eq!(between.hit & !(lanes & !between.rare), 0, "{i}");
+            for (lane, [origin, dir]) in rays.iter().enumerate() {
+                if (lanes & !between.rare) & (1 << lane) == 0 {
+                    continue;
+                }
+                let [t, ..] = one_at_a_time(shape, origin, dir, t_max[lane].next_down())
+                    .unwrap_or([f64::NAN; 3]);
+                let expected = t > 0.0;
+                let got = between.hit & (1 << lane) != 0;
+                assert_eq!(got, expected, "{i} {lane}: {shape:?} {origin:?} {dir:?}");
+                between_hits += usize::from(got);
+            }
             if scale == 1.0 {
                 assert_eq!(found.rare & !unusual, 0, "{i}: {rays:?} left to one ray");
             }
@@ -422,9 +492,42 @@ mod tests {
             }
         }
         assert!(
-            hits > 8_000 && culled > 4_000 && rare > 30_000,
-            "{hits} {culled} {rare}"
+            hits > 8_000 && culled > 4_000 && rare > 30_000 && between_hits > 3_000,
+            "{hits} {culled} {rare} {between_hits}"
         );
+    }
+
+    /// A ray leaving a floor from a point on it (the solver's t exactly 0, or −0) is not blocked by
+    /// it in an any-hit query, whose range is open at 0; the same ray from just above, going down,
+    /// is.
+    #[test]
+    fn a_ray_leaving_a_floor_is_not_blocked_by_it() {
+        let avx2 = crate::render::kernels::avx2_or_skip!();
+        let shape = [[-3.0, -3.0, 0.0], [6.0, 0.0, 0.0], [0.0, 6.0, 0.0]];
+        let [corner, e1, e2] = &shape;
+        let solver = Parallelogram4::new(avx2, [corner, e1, e2]).unwrap();
+        let mut random = rand_pcg::Pcg64::seed_from_u64(14);
+        for i in 0..1_000 {
+            let (x, y) = (
+                random.random_range(-2.9..2.9),
+                random.random_range(-2.9..2.9),
+            );
+            let dir = [
+                random.random_range(-1.0..1.0),
+                random.random_range(-1.0..1.0),
+                0.5,
+            ];
+            let height = [0.0, 1e-9][i % 2];
+            let rays = [
+                Ray::new([x, y, 0.0], dir),
+                Ray::new([x, y, 0.0], dir.map(|x| -x)),
+                Ray::new([x, y, height], [0.0, 0.0, -1.0]),
+                Ray::new([x, y, -height], [0.0, 0.0, 1.0]),
+            ];
+            let found = solver.solve_between(&rays, 0b1111, &[1.0; 4]);
+            let expected = if height > 0.0 { 0b1100 } else { 0 };
+            assert_eq!((found.hit, found.rare), (expected, 0), "{i}: {rays:?}");
+        }
     }
 
     /// A parallelogram that may take the solver's rare paths whatever the ray (edges parallel or
