@@ -891,6 +891,27 @@ fn object_blocks(
     }
     // The largest float below t_max: the same open interval.
     let range = (t_min, t_max.next_down());
+    if let Geometry::Parallelogram {
+        corner,
+        e1,
+        e2,
+        normal_largest: Some(normal_largest),
+        ..
+    } = &object.geometry
+        && let Some(avx2) = prepared.simd
+        && t_min == 0.0
+        && test_bug(prepared).is_none()
+    {
+        // Seed 001's solver in lanes, every lane this ray: no prefilter, no norms.
+        let shape = [corner, e1, e2];
+        let solver = Parallelogram4::prepared(avx2, shape, *normal_largest);
+        let local = to_object_space(object, ray, prepared.bug, stats);
+        stats.parallelogram_tests += 1;
+        return solver.blocks_one(&local, t_max).unwrap_or_else(|| {
+            let hit = test_parallelogram(shape, None, local, range);
+            hit.is_some_and(|hit| hit.t > t_min && hit.t <= range.1)
+        });
+    }
     object_hit_between(prepared, index, ray, range, Find::Any, stats).is_some()
 }
 

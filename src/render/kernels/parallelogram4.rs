@@ -93,13 +93,32 @@ impl Parallelogram4 {
         self.solve_lanes::<true>(rays, lanes, t_end)
     }
 
+    /// [`Parallelogram4::solve_between`] for one ray (every lane holds it): `Some(true)` when it
+    /// is hit with 0 < t < `t_end`, `None` when the one-ray solver must decide (a rare path).
+    #[inline]
+    pub fn blocks_one(&self, ray: &Ray, t_end: f64) -> Option<bool> {
+        let _: Avx2 = self.avx2;
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: `self` holds an `Avx2`, which exists only on a processor with AVX2 and FMA.
+            let found = unsafe { solve_one(self, ray, t_end) };
+            (found.rare == 0).then_some(found.hit != 0)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            // Never built: no `Avx2` exists off x86-64.
+            let _ = (ray, t_end);
+            None
+        }
+    }
+
     /// [`Parallelogram4::solve`] (`OPEN` false) or [`Parallelogram4::solve_between`] (true).
     #[inline]
     fn solve_lanes<const OPEN: bool>(&self, rays: &Rays4, lanes: u32, limit: &[f64; 4]) -> Found4 {
         let _: Avx2 = self.avx2;
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `self` holds an `Avx2`, which exists only on a processor with AVX2 and FMA.
-        return unsafe { solve4::<OPEN>(self, rays, lanes, limit) };
+        return unsafe { solve_four::<OPEN>(self, rays, lanes, limit) };
         #[cfg(not(target_arch = "x86_64"))]
         {
             // Never built: no `Avx2` exists off x86-64.
@@ -265,20 +284,45 @@ fn solved_row(adjugate_row: &Lanes3, det: __m256d, y: &Lanes3) -> __m256d {
     sum
 }
 
-/// [`Parallelogram4::solve`] with AVX2.
+/// [`solve4`] for four rays, a lane each.
 ///
 /// # Safety
 /// Only call on a processor with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
-unsafe fn solve4<const OPEN: bool>(
+unsafe fn solve_four<const OPEN: bool>(
     shape: &Parallelogram4,
     rays: &Rays4,
     lanes: u32,
     limit: &[f64; 4],
 ) -> Found4 {
     let (origin, dir) = (rays_lanes(rays, 0), rays_lanes(rays, 1));
+    solve4::<OPEN>(shape, [origin, dir], lanes, gather(*limit))
+}
+
+/// [`solve4`] for one ray in every lane, answered in lane 0, in an any-hit query's open range.
+///
+/// # Safety
+/// Only call on a processor with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+#[inline]
+unsafe fn solve_one(shape: &Parallelogram4, ray: &Ray, t_end: f64) -> Found4 {
+    let (origin, dir) = (splat(&ray.origin), splat(&ray.dir));
+    solve4::<true>(shape, [origin, dir], 0b1, _mm256_set1_pd(t_end))
+}
+
+/// [`Parallelogram4::solve`] with AVX2, the rays' origins and directions in lanes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+#[inline]
+fn solve4<const OPEN: bool>(
+    shape: &Parallelogram4,
+    [origin, dir]: [Lanes3; 2],
+    lanes: u32,
+    limit: __m256d,
+) -> Found4 {
     let (e1, e2) = (splat(&shape.e1), splat(&shape.e2));
     let minus_d = [negate(dir[0]), negate(dir[1]), negate(dir[2])];
     // M = [e1 e2 −d] by columns; y = o − c.
@@ -331,7 +375,6 @@ unsafe fn solve4<const OPEN: bool>(
     // 0 < t < t_end). (A division-free cull by N = adj · y against |M| with a margin, before
     // this, measured no faster.)
     let t = solved_row(&adj[2], det, &y);
-    let limit = gather(*limit);
     let near = if OPEN {
         _mm256_and_pd(
             _mm256_cmp_pd::<_CMP_GT_OQ>(t, zero),
@@ -420,7 +463,8 @@ mod tests {
     /// (scaled far from 1 on some draws), four rays aimed near their edges and corners, rays on the
     /// solver's rare paths, and t_max at, just before and just past the solver's t. A lane the kernel
     /// leaves to the one-ray solver must be rare: only on the draws made unusual. An any-hit query
-    /// ([`Parallelogram4::solve_between`]) of some of the lanes answers as one ray, 0 < t < t_max.
+    /// ([`Parallelogram4::solve_between`]) of some of the lanes answers as one ray, 0 < t < t_max,
+    /// and so does each ray alone ([`Parallelogram4::blocks_one`]).
     #[test]
     fn four_lanes_solve_as_one_ray_at_a_time() {
         let avx2 = crate::render::kernels::avx2_or_skip!();
@@ -457,6 +501,13 @@ mod tests {
             let between = solver.solve_between(&four, lanes, &t_max);
             assert_eq!(between.rare, found.rare & lanes, "{i}");
             assert_eq!(between.hit & !(lanes & !between.rare), 0, "{i}");
+            for lane in (0..4).filter(|lane| found.rare & (1 << lane) != 0) {
+                assert_eq!(
+                    solver.blocks_one(&four[lane], t_max[lane]),
+                    None,
+                    "{i} {lane}"
+                );
+            }
             for (lane, [origin, dir]) in rays.iter().enumerate() {
                 if (lanes & !between.rare) & (1 << lane) == 0 {
                     continue;
@@ -467,6 +518,9 @@ mod tests {
                 let got = between.hit & (1 << lane) != 0;
                 assert_eq!(got, expected, "{i} {lane}: {shape:?} {origin:?} {dir:?}");
                 between_hits += usize::from(got);
+                // The same ray alone, in every lane.
+                let alone = solver.blocks_one(&four[lane], t_max[lane]);
+                assert_eq!(alone, Some(expected), "{i} {lane}: {origin:?} {dir:?}");
             }
             if scale == 1.0 {
                 assert_eq!(found.rare & !unusual, 0, "{i}: {rays:?} left to one ray");
