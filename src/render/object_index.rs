@@ -83,6 +83,9 @@ struct Wide {
     lo: [[f64; 4]; 3],
     hi: [[f64; 4]; 3],
     child: [u32; 4],
+    /// How many lanes hold something (the first ones; the rest are `EMPTY`): the boxes one ray
+    /// tests here.
+    held: u64,
 }
 
 /// The objects' boxes in a four-wide hierarchy, built once per set of objects.
@@ -279,24 +282,80 @@ struct PacketSlabs<const P: usize> {
 
 #[cfg(target_arch = "x86_64")]
 impl<const P: usize> PacketSlabs<P> {
-    fn of(slabs: &[Slabs; P]) -> PacketSlabs<P> {
+    /// [`Slabs::of`] for the rays of `taking`, four at a time in lanes (the same division and the
+    /// same stand-in for a 1/d that is not finite, so the same bits); a four that no ray of
+    /// `taking` is in is left as it was. Made from the rays, without each ray's [`Slabs`] first: their transposing cost
+    /// a shadow ray more than its box tests at the index's root.
+    ///
+    /// # Safety
+    /// Only call on a processor with AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+    fn fill(&mut self, rays: &[Ray; P], taking: u32) {
+        use std::arch::x86_64::*;
+        let sign = _mm256_set1_pd(-0.0);
+        for group in 0..P / 4 {
+            let r = 4 * group;
+            if (taking >> r) & 0b1111 == 0 {
+                continue;
+            }
+            for k in 0..3 {
+                let lane = |i: usize| &rays[r + i];
+                let origin = _mm256_setr_pd(
+                    lane(0).origin[k],
+                    lane(1).origin[k],
+                    lane(2).origin[k],
+                    lane(3).origin[k],
+                );
+                let dir = _mm256_setr_pd(
+                    lane(0).dir[k],
+                    lane(1).dir[k],
+                    lane(2).dir[k],
+                    lane(3).dir[k],
+                );
+                let inverse = _mm256_div_pd(_mm256_set1_pd(1.0), dir);
+                // Where 1/d is not finite: 10³⁰⁰ with d's sign, as `Slabs::of` puts it.
+                let finite = _mm256_cmp_pd::<_CMP_LT_OQ>(
+                    _mm256_andnot_pd(sign, inverse),
+                    _mm256_set1_pd(f64::INFINITY),
+                );
+                let stand_in = _mm256_or_pd(_mm256_and_pd(sign, dir), _mm256_set1_pd(1e300));
+                let inverse = _mm256_blendv_pd(stand_in, inverse, finite);
+                // SAFETY: four f64s at lane r (a multiple of four, below P) of P-f64 rows.
+                unsafe {
+                    _mm256_storeu_pd(self.origin[k].as_mut_ptr().add(r), origin);
+                    _mm256_storeu_pd(self.inverse[k].as_mut_ptr().add(r), inverse);
+                }
+            }
+        }
+    }
+
+    /// Every row zero, for [`PacketSlabs::fill`] (filled in place: returned, its 768 bytes were
+    /// copied).
+    #[inline(always)]
+    fn zero() -> PacketSlabs<P> {
         PacketSlabs {
-            origin: std::array::from_fn(|k| std::array::from_fn(|r| slabs[r].origin[k])),
-            inverse: std::array::from_fn(|k| std::array::from_fn(|r| slabs[r].inverse[k])),
+            origin: [[0.0; P]; 3],
+            inverse: [[0.0; P]; 3],
         }
     }
 
     /// Per lane of `node`, the rays of `live` that meet its box within [t_min, t_max[r]]: what
     /// [`Slabs::enter`] answers for each ray, by the same operations in the same order (a ray a
-    /// lane rather than a box a lane), so the same bits.
+    /// lane rather than a box a lane), so the same bits; and how many rays `live` holds.
     ///
     /// The rays are taken four at a time: `P` must be a multiple of four (the caller checks), or
-    /// the last few would go untested.
+    /// the last few would go untested. Only the lanes that hold something are tested: the others
+    /// answer no ray (their infinite empty boxes would be met, and are never walked into).
     ///
     /// # Safety
     /// Only call on a processor with AVX2 and FMA.
     #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
-    fn enter_avx2(&self, node: &Wide, live: u32, (t_min, t_max): (f64, &[f64; P])) -> [u32; 4] {
+    fn enter_avx2(
+        &self,
+        node: &Wide,
+        live: u32,
+        (t_min, t_max): (f64, &[f64; P]),
+    ) -> ([u32; 4], u64) {
         use std::arch::x86_64::*;
         let sign = _mm256_set1_pd(-0.0);
         let slack = _mm256_set1_pd(T_SLACK);
@@ -313,7 +372,7 @@ impl<const P: usize> PacketSlabs<P> {
             let origin = [0, 1, 2].map(|k| row(&self.origin[k]));
             let inverse = [0, 1, 2].map(|k| row(&self.inverse[k]));
             let high = row(t_max);
-            for (lane, met) in met_by.iter_mut().enumerate() {
+            for (lane, met) in met_by.iter_mut().enumerate().take(node.held as usize) {
                 let mut near = low;
                 let mut far = _mm256_set1_pd(f64::INFINITY);
                 for k in 0..3 {
@@ -336,7 +395,8 @@ impl<const P: usize> PacketSlabs<P> {
                 *met |= (_mm256_movemask_pd(inside) as u32) << at;
             }
         }
-        met_by.map(|rays| rays & live)
+        // The count here, where POPCNT is enabled: the caller's took a dozen instructions.
+        (met_by.map(|rays| rays & live), u64::from(live.count_ones()))
     }
 }
 
@@ -438,7 +498,7 @@ impl ObjectIndex {
                 continue;
             }
             let node = &self.nodes[child as usize];
-            *box_tests += node.children();
+            *box_tests += node.held;
             let (near, met) = slabs.enter_on(simd, node, (t_min, t_max));
             // Farthest first, so the nearest is popped next.
             let mut lanes = [0usize; 4];
@@ -497,7 +557,18 @@ impl ObjectIndex {
         if self.nodes.is_empty() {
             return taking & !open;
         }
-        // Only the rays taking part (a slab's three divisions are most of a packet's set-up).
+        #[cfg(target_arch = "x86_64")]
+        if simd.is_some() && P.is_multiple_of(4) {
+            // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+            let mut lanes = PacketSlabs::zero();
+            // SAFETY: as above.
+            unsafe { lanes.fill(rays, taking) };
+            let boxes = |node: &Wide, live: u32| {
+                // SAFETY: as above.
+                unsafe { lanes.enter_avx2(node, live, (t_min, t_max)) }
+            };
+            return taking & !self.walk_any(open, box_tests, boxes, test);
+        }
         let unused = Slabs {
             origin: [0.0; 3],
             inverse: [0.0; 3],
@@ -506,8 +577,30 @@ impl ObjectIndex {
         for r in bits(taking) {
             slabs[r] = Slabs::of(&rays[r]);
         }
-        #[cfg(target_arch = "x86_64")]
-        let lanes = PacketSlabs::of(&slabs);
+        let boxes = |node: &Wide, live: u32| {
+            let mut met_by = [0u32; 4];
+            for r in bits(live) {
+                let (_, met) = slabs[r].enter_on(simd, node, (t_min, t_max[r]));
+                for (lane, rays) in met_by.iter_mut().enumerate() {
+                    *rays |= ((met >> lane) & 1) << r;
+                }
+            }
+            (met_by, u64::from(live.count_ones()))
+        };
+        taking & !self.walk_any(open, box_tests, boxes, test)
+    }
+
+    /// [`ObjectIndex::visit_any`]'s walk from the root, `boxes(node, live)` answering which of the
+    /// rays of `live` meet each of a node's boxes, and how many rays `live` holds: the rays of
+    /// `open` still open at its end.
+    #[inline(always)]
+    fn walk_any(
+        &self,
+        mut open: u32,
+        box_tests: &mut u64,
+        boxes: impl Fn(&Wide, u32) -> ([u32; 4], u64),
+        mut test: impl FnMut(usize, u32) -> u32,
+    ) -> u32 {
         let mut stack = [const { MaybeUninit::<(u32, u32)>::uninit() }; STACK];
         stack[0] = MaybeUninit::new((0, open));
         let mut depth = 1;
@@ -524,24 +617,8 @@ impl ObjectIndex {
                 continue;
             }
             let node = &self.nodes[child as usize];
-            *box_tests += node.children() * u64::from(live.count_ones());
-            let met_by = match simd {
-                #[cfg(target_arch = "x86_64")]
-                // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
-                Some(_) if P.is_multiple_of(4) => unsafe {
-                    lanes.enter_avx2(node, live, (t_min, t_max))
-                },
-                _ => {
-                    let mut met_by = [0u32; 4];
-                    for r in bits(live) {
-                        let (_, met) = slabs[r].enter_on(simd, node, (t_min, t_max[r]));
-                        for (lane, rays) in met_by.iter_mut().enumerate() {
-                            *rays |= ((met >> lane) & 1) << r;
-                        }
-                    }
-                    met_by
-                }
-            };
+            let (met_by, rays) = boxes(node, live);
+            *box_tests += node.held * rays;
             for (rays, child) in met_by.into_iter().zip(node.child) {
                 if rays != 0 && child != EMPTY {
                     stack[depth] = MaybeUninit::new((child, rays));
@@ -549,16 +626,11 @@ impl ObjectIndex {
                 }
             }
         }
-        taking & !open
+        open
     }
 }
 
 impl Wide {
-    /// Its lanes that hold something: the boxes one ray tests here.
-    fn children(&self) -> u64 {
-        self.child.iter().filter(|c| **c != EMPTY).count() as u64
-    }
-
     /// The wide node over binary nodes `lanes` (leaves become objects; inner nodes are filled in
     /// by the caller).
     fn of(binary: &[Binary], lanes: &[usize]) -> Wide {
@@ -566,6 +638,7 @@ impl Wide {
             lo: [[f64::INFINITY; 4]; 3],
             hi: [[f64::NEG_INFINITY; 4]; 3],
             child: [EMPTY; 4],
+            held: lanes.len() as u64,
         };
         for (lane, &at) in lanes.iter().enumerate() {
             let node = &binary[at];
@@ -1015,6 +1088,7 @@ mod tests {
             lo: [[f64::INFINITY; 4]; 3],
             hi: [[f64::NEG_INFINITY; 4]; 3],
             child: [EMPTY; 4],
+            held: (1 + i % 4) as u64,
         };
         for lane in 0..(1 + i % 4) {
             for k in 0..3 {
@@ -1067,7 +1141,8 @@ mod tests {
 
     /// The packet's box test (a ray a lane) meets, for each ray it is given, the boxes the one-ray
     /// test meets: random boxes, flat ones, empty lanes, rays from a box's corner and parallel to
-    /// an axis, each ray with its own t_max, only the rays asked for.
+    /// an axis (or nearly, a subnormal d), each ray with its own t_max, only the rays asked for.
+    /// Its numbers are each ray's, to the bit.
     #[test]
     #[cfg(target_arch = "x86_64")]
     fn the_packet_box_test_agrees_with_each_ray_alone() {
@@ -1078,7 +1153,7 @@ mod tests {
         let mut met_some = 0;
         for i in 0..4_000 {
             let node = random_node(&mut random, i);
-            let slabs: [Slabs; 16] = std::array::from_fn(|r| {
+            let rays: [Ray; 16] = std::array::from_fn(|r| {
                 let mut origin: [f64; 3] = std::array::from_fn(|_| random.random_range(-4.0..4.0));
                 if r % 5 == 0 {
                     origin = std::array::from_fn(|k| node.lo[k][0]);
@@ -1087,19 +1162,36 @@ mod tests {
                 if r % 3 == 0 {
                     dir[r % 4 % 3] = 0.0;
                 }
-                Slabs::of(&Ray::new(origin, dir))
+                if r % 7 == 0 {
+                    dir[r % 3] = [-0.0, 1e-310, -1e-320][i % 3];
+                }
+                Ray::new(origin, dir)
             });
+            let slabs = rays.map(|ray| Slabs::of(&ray));
             let t_max: [f64; 16] =
                 std::array::from_fn(|r| [f64::INFINITY, 1.0, 2.0, 0.25][(r + i) % 4]);
             let live = random.random::<u32>() & 0xffff;
-            #[cfg(target_arch = "x86_64")]
-            let lanes = PacketSlabs::of(&slabs);
             // SAFETY: the processor has AVX2 and FMA (detected above).
-            let met_by = unsafe { lanes.enter_avx2(&node, live, (0.0, &t_max)) };
+            let lanes = unsafe {
+                let mut lanes = PacketSlabs::zero();
+                lanes.fill(&rays, live);
+                lanes
+            };
+            // SAFETY: as above.
+            let (met_by, rays) = unsafe { lanes.enter_avx2(&node, live, (0.0, &t_max)) };
+            assert_eq!(rays, u64::from(live.count_ones()));
             for r in 0..16 {
+                let row = |rows: &[[f64; 16]; 3]| rows.map(|row| row[r].to_bits());
+                let alone = |v: [f64; 3]| v.map(f64::to_bits);
+                // A four no ray takes is left zero.
+                let taken = (live >> (r / 4 * 4)) & 0b1111 != 0;
+                let expected = |v: [f64; 3]| if taken { alone(v) } else { [0; 3] };
+                assert_eq!(row(&lanes.origin), expected(slabs[r].origin), "case {i}");
+                assert_eq!(row(&lanes.inverse), expected(slabs[r].inverse), "case {i}");
                 let (_, met) = slabs[r].enter(&node, (0.0, t_max[r]));
                 for (lane, rays) in met_by.iter().enumerate() {
-                    let alone = live & (1 << r) != 0 && met & (1 << lane) != 0;
+                    let held = lane < node.held as usize;
+                    let alone = held && live & (1 << r) != 0 && met & (1 << lane) != 0;
                     assert_eq!(
                         rays & (1 << r) != 0,
                         alone,
