@@ -252,15 +252,10 @@ pub fn nearest_hits<const P: usize>(
             {
                 continue;
             }
-            Geometry::Parallelogram {
-                corner,
-                e1,
-                e2,
-                normal_largest: Some(normal_largest),
-                ..
-            } if let Some(avx2) = four => {
-                let solver = Parallelogram4::prepared(avx2, [corner, e1, e2], *normal_largest);
-                parallelogram_hits(prepared, (index, &solver), rays, best, stats);
+            Geometry::Parallelogram { .. }
+                if let Some(lanes) = parallelogram_lanes(four, object) =>
+            {
+                parallelogram_hits(prepared, (index, lanes), rays, best, stats);
                 continue;
             }
             _ => {
@@ -449,15 +444,12 @@ fn lone_hits<const P: usize>(
 #[inline(always)]
 fn parallelogram_hits<const P: usize>(
     prepared: &Prepared,
-    (index, solver): (usize, &Parallelogram4),
+    (index, (solver, shape)): (usize, (Parallelogram4, [&V3<f64>; 3])),
     rays: &[Ray; P],
     best: &mut [Option<Hit>; P],
     stats: &mut Stats,
 ) {
     let object = &prepared.objects[index];
-    let Geometry::Parallelogram { corner, e1, e2, .. } = &object.geometry else {
-        return;
-    };
     each_four(object, rays, best, stats, |local, best, stats| {
         let t_max = std::array::from_fn(|lane| best[lane].map_or(f64::INFINITY, |b| b.t));
         stats.parallelogram_tests += 4;
@@ -465,7 +457,7 @@ fn parallelogram_hits<const P: usize>(
         for (lane, best) in best.iter_mut().enumerate() {
             let hit = if found.rare & (1 << lane) != 0 {
                 let range = (f64::NEG_INFINITY, t_max[lane]);
-                test_parallelogram([corner, e1, e2], None, local[lane], range)
+                test_parallelogram(shape, None, local[lane], range)
             } else {
                 let hit = found.hit & (1 << lane) != 0;
                 hit.then(|| ParallelogramHit {
@@ -776,17 +768,7 @@ fn objects_block(
     {
         return lone_triangles_block(triangles, (rays, taking), sheared, t_max, stats);
     }
-    if let Geometry::Parallelogram {
-        corner,
-        e1,
-        e2,
-        normal_largest: Some(normal_largest),
-        ..
-    } = &object.geometry
-        && let Some(avx2) = prepared.simd
-    {
-        let solver = Parallelogram4::prepared(avx2, [corner, e1, e2], *normal_largest);
-        let shape = [corner, e1, e2];
+    if let Some((solver, shape)) = parallelogram_lanes(prepared.simd, object) {
         return parallelogram_blocks(
             prepared,
             (object, shape, &solver),
@@ -861,6 +843,30 @@ fn parallelogram_blocks(
     blocked
 }
 
+/// The four-lane solver of `object` and its (c, e1, e2), where it is a parallelogram the kernel
+/// takes and `simd` proves the processor runs it.
+#[inline(always)]
+fn parallelogram_lanes(
+    simd: Option<Avx2>,
+    object: &PreparedObject,
+) -> Option<(Parallelogram4, [&V3<f64>; 3])> {
+    let Geometry::Parallelogram {
+        corner,
+        e1,
+        e2,
+        normal_largest: Some(normal_largest),
+        ..
+    } = &object.geometry
+    else {
+        return None;
+    };
+    let shape = [corner, e1, e2];
+    Some((
+        Parallelogram4::prepared(simd?, shape, *normal_largest),
+        shape,
+    ))
+}
+
 /// [`any_hit`] testing every object in turn, without the index.
 pub(super) fn any_of_each_object(
     prepared: &Prepared,
@@ -891,20 +897,11 @@ fn object_blocks(
     }
     // The largest float below t_max: the same open interval.
     let range = (t_min, t_max.next_down());
-    if let Geometry::Parallelogram {
-        corner,
-        e1,
-        e2,
-        normal_largest: Some(normal_largest),
-        ..
-    } = &object.geometry
-        && let Some(avx2) = prepared.simd
-        && t_min == 0.0
+    if t_min == 0.0
         && test_bug(prepared).is_none()
+        && let Some((solver, shape)) = parallelogram_lanes(prepared.simd, object)
     {
         // Seed 001's solver in lanes, every lane this ray: no prefilter, no norms.
-        let shape = [corner, e1, e2];
-        let solver = Parallelogram4::prepared(avx2, shape, *normal_largest);
         let local = to_object_space(object, ray, prepared.bug, stats);
         stats.parallelogram_tests += 1;
         return solver.blocks_one(&local, t_max).unwrap_or_else(|| {
