@@ -1306,4 +1306,64 @@ mod packet_tests {
             "{floor_hits} {turned_hits}"
         );
     }
+
+    /// A floor and a turned floor block a shadow ray (0 < t < t_max) as the one-ray solver's first
+    /// hit in (0, the float below t_max] says, whether the ray goes alone (every lane holding it)
+    /// or sixteen at a time: rays from random points and from points on the floor (t exactly 0),
+    /// t_max at the solver's own t, either side of it, or anywhere.
+    #[test]
+    fn shadow_rays_meet_floors_as_the_one_ray_solver_says() {
+        use rand::{Rng, SeedableRng};
+        let prepared = floors(2.0);
+        let mut random = rand_pcg::Pcg64::seed_from_u64(43);
+        let mut stats = Stats::default();
+        let mut blocked_count = 0;
+        for i in 0..2_000 {
+            let rays: [Ray; TOGETHER] = std::array::from_fn(|r| {
+                let mut origin: V3<f64> = std::array::from_fn(|_| random.random_range(-2.5..2.5));
+                if (i + r) % 3 == 0 {
+                    origin[2] = 0.0;
+                }
+                let dir = std::array::from_fn(|_| random.random_range(-1.0..1.0));
+                Ray::new(origin, dir)
+            });
+            for index in [1, 2] {
+                let first_t = |ray: Ray, stats: &mut Stats| {
+                    let range = (0.0, f64::INFINITY);
+                    object_hit_between(&prepared, index, ray, range, Find::Any, stats).map(|h| h.t)
+                };
+                let t_max: [f64; TOGETHER] = std::array::from_fn(|r| {
+                    let t = first_t(rays[r], &mut stats).unwrap_or(1.0);
+                    match random.random_range(0..5) {
+                        0 => t,
+                        1 => t.next_up(),
+                        2 => t.next_down(),
+                        3 => f64::INFINITY,
+                        _ => random.random_range(0.0..4.0),
+                    }
+                });
+                let taking = random.random::<u32>() & 0xffff;
+                let mut expected = 0;
+                for (r, ray) in rays.iter().enumerate() {
+                    let range = (0.0, t_max[r].next_down());
+                    let one_ray =
+                        object_hit_between(&prepared, index, *ray, range, Find::Any, &mut stats);
+                    let alone = object_blocks(&prepared, index, *ray, (0.0, t_max[r]), &mut stats);
+                    assert_eq!(
+                        alone,
+                        one_ray.is_some(),
+                        "{i} {index} {r}: {ray:?} {}",
+                        t_max[r]
+                    );
+                    expected |= u32::from(alone) << r;
+                }
+                let mut sheared = [None; TOGETHER];
+                let tested = ((&rays, taking), &mut sheared);
+                let together = objects_block(&prepared, index, tested, &t_max, &mut stats);
+                assert_eq!(together, expected & taking, "{i} {index}");
+                blocked_count += expected.count_ones();
+            }
+        }
+        assert!(blocked_count > 3_000, "{blocked_count}");
+    }
 }
