@@ -854,17 +854,14 @@ fn parallelogram_lanes(
         corner,
         e1,
         e2,
-        normal_largest: Some(normal_largest),
+        normal_largest,
         ..
     } = &object.geometry
     else {
         return None;
     };
     let shape = [corner, e1, e2];
-    Some((
-        Parallelogram4::prepared(simd?, shape, *normal_largest),
-        shape,
-    ))
+    Parallelogram4::prepared(simd, shape, *normal_largest).map(|solver| (solver, shape))
 }
 
 /// [`any_hit`] testing every object in turn, without the index.

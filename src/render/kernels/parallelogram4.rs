@@ -54,28 +54,25 @@ impl Parallelogram4 {
     /// that may be parallel): then one ray at a time.
     #[inline]
     pub fn new(avx2: Avx2, shape: [&V3<f64>; 3]) -> Option<Parallelogram4> {
-        Some(Parallelogram4::prepared(
-            avx2,
-            shape,
-            normal_largest(shape)?,
-        ))
+        Parallelogram4::prepared(Some(avx2), shape, normal_largest(shape))
     }
 
     /// The solver for a parallelogram whose [`normal_largest`] was found once, when it was
-    /// prepared: a packet's set-up need not cross its edges again.
+    /// prepared (a packet's set-up need not cross its edges again). `None` without `simd` (a
+    /// processor without AVX2) or without `normal_largest` (every ray goes to the one-ray solver).
     #[inline]
     pub fn prepared(
-        avx2: Avx2,
+        simd: Option<Avx2>,
         [corner, e1, e2]: [&V3<f64>; 3],
-        normal_largest: f64,
-    ) -> Parallelogram4 {
-        Parallelogram4 {
-            avx2,
+        normal_largest: Option<f64>,
+    ) -> Option<Parallelogram4> {
+        Some(Parallelogram4 {
+            avx2: simd?,
             corner: *corner,
             e1: *e1,
             e2: *e2,
-            normal_largest,
-        }
+            normal_largest: normal_largest?,
+        })
     }
 
     /// The solver's answers for four rays (in the parallelogram's space), keeping only hits with
