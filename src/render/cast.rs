@@ -832,15 +832,20 @@ fn parallelogram_blocks(
         let found = solver.solve_between(local, lanes, ends);
         let mut found_blocked = found.hit;
         for lane in bits(found.rare) {
-            let limit = ends[lane].next_down();
-            let hit = test_parallelogram(shape, None, local[lane], (0.0, limit));
-            if hit.is_some_and(|hit| hit.t > 0.0 && hit.t <= limit) {
-                found_blocked |= 1 << lane;
-            }
+            found_blocked |= u32::from(blocks_alone(shape, local[lane], ends[lane])) << lane;
         }
         blocked |= found_blocked << (4 * group);
     }
     blocked
+}
+
+/// True when the one-ray solver (through its prefilter) finds the parallelogram hit with
+/// 0 < t < t_end: what a ray the four-lane solver leaves to it is answered by.
+fn blocks_alone(shape: [&V3<f64>; 3], ray: Ray, t_end: f64) -> bool {
+    // The largest float below t_end: the same open interval.
+    let limit = t_end.next_down();
+    let hit = test_parallelogram(shape, None, ray, (0.0, limit));
+    hit.is_some_and(|hit| hit.t > 0.0 && hit.t <= limit)
 }
 
 /// The four-lane solver of `object` and its (c, e1, e2), where it is a parallelogram the kernel
@@ -901,10 +906,8 @@ fn object_blocks(
         // Seed 001's solver in lanes, every lane this ray: no prefilter, no norms.
         let local = to_object_space(object, ray, prepared.bug, stats);
         stats.parallelogram_tests += 1;
-        return solver.blocks_one(&local, t_max).unwrap_or_else(|| {
-            let hit = test_parallelogram(shape, None, local, range);
-            hit.is_some_and(|hit| hit.t > t_min && hit.t <= range.1)
-        });
+        let blocks = solver.blocks_one(&local, t_max);
+        return blocks.unwrap_or_else(|| blocks_alone(shape, local, t_max));
     }
     object_hit_between(prepared, index, ray, range, Find::Any, stats).is_some()
 }

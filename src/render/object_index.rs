@@ -284,8 +284,8 @@ struct PacketSlabs<const P: usize> {
 impl<const P: usize> PacketSlabs<P> {
     /// [`Slabs::of`] for the rays of `taking`, four at a time in lanes (the same division and the
     /// same stand-in for a 1/d that is not finite, so the same bits); a four that no ray of
-    /// `taking` is in is left as it was. Made from the rays, without each ray's [`Slabs`] first: their transposing cost
-    /// a shadow ray more than its box tests at the index's root.
+    /// `taking` is in is left as it was. Made from the rays, without each ray's [`Slabs`] first:
+    /// their transposing cost a shadow ray more than its box tests at the index's root.
     ///
     /// # Safety
     /// Only call on a processor with AVX2 and FMA.
@@ -559,9 +559,8 @@ impl ObjectIndex {
         }
         #[cfg(target_arch = "x86_64")]
         if simd.is_some() && P.is_multiple_of(4) {
-            // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
             let mut lanes = PacketSlabs::zero();
-            // SAFETY: as above.
+            // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
             unsafe { lanes.fill(rays, taking) };
             let boxes = |node: &Wide, live: u32| {
                 // SAFETY: as above.
@@ -1178,8 +1177,8 @@ mod tests {
                 lanes
             };
             // SAFETY: as above.
-            let (met_by, rays) = unsafe { lanes.enter_avx2(&node, live, (0.0, &t_max)) };
-            assert_eq!(rays, u64::from(live.count_ones()));
+            let (met_by, counted) = unsafe { lanes.enter_avx2(&node, live, (0.0, &t_max)) };
+            assert_eq!(counted, u64::from(live.count_ones()));
             for r in 0..16 {
                 let row = |rows: &[[f64; 16]; 3]| rows.map(|row| row[r].to_bits());
                 let alone = |v: [f64; 3]| v.map(f64::to_bits);

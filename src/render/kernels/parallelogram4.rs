@@ -51,8 +51,9 @@ pub struct Parallelogram4 {
 
 impl Parallelogram4 {
     /// `None` when the parallelogram takes one of the solver's rare paths (non-finite, or edges
-    /// that may be parallel): then one ray at a time.
-    #[inline]
+    /// that may be parallel): then one ray at a time. (The renderer takes the check made when the
+    /// scene was prepared, [`Parallelogram4::prepared`].)
+    #[cfg(test)]
     pub fn new(avx2: Avx2, shape: [&V3<f64>; 3]) -> Option<Parallelogram4> {
         Parallelogram4::prepared(Some(avx2), shape, normal_largest(shape))
     }
