@@ -98,6 +98,14 @@ pub struct ObjectIndex {
     triangles_all_meshes: bool,
     /// The lone triangles in one hierarchy, for packets of primary rays, when there are any.
     gathered: Option<Gathered>,
+    /// Each object's box as a node of one lane (`None` for an object without one): a packet of
+    /// nearest-hit rays tests it before walking the object's own hierarchy
+    /// ([`ObjectIndex::packet_meets`]).
+    #[cfg_attr(
+        not(target_arch = "x86_64"),
+        allow(dead_code, reason = "read by the x86-64 packets only")
+    )]
+    own_boxes: Vec<Option<Wide>>,
 }
 
 /// The triangles of every object that is [`gathers`]' kind (a triangle or a few, placed in the
@@ -411,6 +419,15 @@ impl ObjectIndex {
                 None => unbounded.push(index as u32),
             }
         }
+        let mut own_boxes = vec![None; objects.len()];
+        for &(object, bounds) in &bounded {
+            let leaf = Binary {
+                bounds,
+                object_or_right: object,
+                leaf: true,
+            };
+            own_boxes[object as usize] = Some(Wide::of(&[leaf], &[0]));
+        }
         let mut binary = Vec::with_capacity(2 * bounded.len());
         if !bounded.is_empty() {
             build(&mut binary, &mut bounded);
@@ -422,6 +439,7 @@ impl ObjectIndex {
                 object.is_mesh || matches!(object.geometry, Geometry::Parallelogram { .. })
             }),
             gathered: gather(objects),
+            own_boxes,
         };
         if let Some(root) = binary.first() {
             if root.leaf {
@@ -521,6 +539,58 @@ impl ObjectIndex {
                 depth += 1;
             }
         }
+    }
+}
+
+/// A packet's rays made ready for the test of single objects' boxes
+/// ([`ObjectIndex::packet_meets`]), once for all the objects.
+#[cfg(target_arch = "x86_64")]
+pub struct PacketBoxes<const P: usize>(PacketSlabs<P>);
+
+#[cfg(target_arch = "x86_64")]
+impl<const P: usize> PacketBoxes<P> {
+    /// Rows to fill ([`PacketBoxes::fill`]), in the caller's frame: returned filled, their 768
+    /// bytes were copied.
+    #[inline(always)]
+    pub fn zero() -> PacketBoxes<P> {
+        PacketBoxes(PacketSlabs::zero())
+    }
+
+    /// The packet's rays. `P` must be a multiple of four.
+    pub fn fill(&mut self, _: Avx2, rays: &[Ray; P]) {
+        const {
+            assert!(
+                P.is_multiple_of(4) && P <= 32,
+                "rays are taken four at a time"
+            )
+        };
+        // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+        unsafe { self.0.fill(rays, u32::MAX >> (32 - P)) };
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl ObjectIndex {
+    /// Whether any of the packet's rays meets object `object`'s box within [0, t_max[r]] (or
+    /// the object has no box): the box test the one-ray walk ([`ObjectIndex::visit`]) culls an
+    /// object by, ray by ray, so an object it culls for every ray holds no hit in that range for
+    /// any of them. The rays' numbers must be finite. Counts a box test per ray.
+    pub fn packet_meets<const P: usize>(
+        &self,
+        _: Avx2,
+        rays: &PacketBoxes<P>,
+        object: usize,
+        t_max: &[f64; P],
+        box_tests: &mut u64,
+    ) -> bool {
+        let Some(Some(own)) = self.own_boxes.get(object) else {
+            return true;
+        };
+        let every = u32::MAX >> (32 - P);
+        // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+        let (met_by, tested) = unsafe { rays.0.enter_avx2(own, every, (0.0, t_max)) };
+        *box_tests += tested;
+        met_by[0] != 0
     }
 }
 
