@@ -224,6 +224,7 @@ pub fn nearest_hits<const P: usize>(
 ) {
     *best = [None; P];
     let four = four_lanes::<P>(prepared);
+    let every = u32::MAX >> (32 - P);
     // The lone triangles gathered in one hierarchy, tested together, in place of their objects.
     // (Without a method of the scene's, lone triangles take Möller–Trumbore: the index, which
     // gathers them, is not built for nothing.)
@@ -233,10 +234,10 @@ pub fn nearest_hits<const P: usize>(
         .filter(|gathered| gathered.applies(prepared));
     if let Some(gathered) = gathered {
         let owner = |number| gathered.owner(number);
-        packet_hits(prepared, &gathered.bvh, rays, best, stats, owner);
+        packet_hits(prepared, &gathered.bvh, (rays, every), best, stats, owner);
     }
-    // Where a ray alone would walk the object index, the packet skips a mesh whose box none of its
-    // rays meets before its hit so far, without moving the rays into the mesh's space.
+    // Where a ray alone would walk the object index, a mesh is walked only by the packet's rays
+    // that meet its box before their hit so far, and only they are moved into its space.
     #[cfg(target_arch = "x86_64")]
     let mut boxes = object_index::PacketBoxes::zero();
     #[cfg(target_arch = "x86_64")]
@@ -277,36 +278,38 @@ pub fn nearest_hits<const P: usize>(
             }
         };
         #[cfg(target_arch = "x86_64")]
-        if let Some((avx2, boxes)) = culling {
+        let taking = culling.map_or(every, |(avx2, boxes)| {
             let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
             let index_boxes = prepared.object_index();
-            if !index_boxes.packet_meets(avx2, boxes, index, &t_max, &mut stats.box_tests) {
-                continue;
-            }
+            index_boxes.packet_meets(avx2, boxes, index, &t_max, &mut stats.box_tests)
+        });
+        #[cfg(not(target_arch = "x86_64"))]
+        let taking = every;
+        if taking == 0 {
+            continue;
         }
         // An untransformed mesh takes the packet's own rays, not a copy.
         let moved: [Ray; P];
         let local = match object.object_from_world {
             None => rays,
             Some(_) => {
-                moved =
-                    std::array::from_fn(|i| to_object_space(object, rays[i], prepared.bug, stats));
+                moved = taking_rays_in(object, (rays, taking), prepared.bug, stats);
                 &moved
             }
         };
-        packet_hits(prepared, bvh, local, best, stats, |primitive| {
+        packet_hits(prepared, bvh, (local, taking), best, stats, |primitive| {
             (index, primitive)
         });
     }
 }
 
-/// Walks `bvh` with the packet's rays (in its space), each up to its hit so far, keeping the
-/// nearer hits in `best`; `owner` names the object and triangle of the hierarchy's triangle.
+/// Walks `bvh` with the packet's rays of `taking` (in its space), each up to its hit so far, keeping
+/// the nearer hits in `best`; `owner` names the object and triangle of the hierarchy's triangle.
 #[inline(always)]
 fn packet_hits<const P: usize>(
     prepared: &Prepared,
     bvh: &Bvh,
-    rays: &[Ray; P],
+    (rays, taking): (&[Ray; P], u32),
     best: &mut [Option<Hit>; P],
     stats: &mut Stats,
     owner: impl Fn(usize) -> (usize, usize),
@@ -314,7 +317,8 @@ fn packet_hits<const P: usize>(
     let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
     let mut hits = [None; P];
     let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
-    bvh.nearest_crack_free_packet(prepared.simd, rays, t_max, boxes, triangles, &mut hits);
+    let packet = (rays, taking);
+    bvh.nearest_crack_free_packet_of(prepared.simd, packet, t_max, boxes, triangles, &mut hits);
     for (best, hit) in best.iter_mut().zip(&hits) {
         if let Some((number, hit)) = *hit {
             let (object, primitive) = owner(number);

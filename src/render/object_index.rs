@@ -571,10 +571,10 @@ impl<const P: usize> PacketBoxes<P> {
 
 #[cfg(target_arch = "x86_64")]
 impl ObjectIndex {
-    /// Whether any of the packet's rays meets object `object`'s box within [0, t_max[r]] (or
-    /// the object has no box): the box test the one-ray walk ([`ObjectIndex::visit`]) culls an
-    /// object by, ray by ray, so an object it culls for every ray holds no hit in that range for
-    /// any of them. The rays' numbers must be finite. Counts a box test per ray.
+    /// Which of the packet's rays meet object `object`'s box within [0, t_max[r]] (all of them
+    /// where the object has no box): the box test the one-ray walk ([`ObjectIndex::visit`]) culls
+    /// an object by, so the object holds no hit in that range for the others. The rays' numbers
+    /// must be finite. Counts a box test per ray.
     pub fn packet_meets<const P: usize>(
         &self,
         _: Avx2,
@@ -582,15 +582,15 @@ impl ObjectIndex {
         object: usize,
         t_max: &[f64; P],
         box_tests: &mut u64,
-    ) -> bool {
-        let Some(Some(own)) = self.own_boxes.get(object) else {
-            return true;
-        };
+    ) -> u32 {
         let every = u32::MAX >> (32 - P);
+        let Some(Some(own)) = self.own_boxes.get(object) else {
+            return every;
+        };
         // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
         let (met_by, tested) = unsafe { rays.0.enter_avx2(own, every, (0.0, t_max)) };
         *box_tests += tested;
-        met_by[0] != 0
+        met_by[0]
     }
 }
 

@@ -649,8 +649,30 @@ impl Bvh {
         best: &mut [Nearest; P],
     ) {
         let every = u32::MAX >> (32 - P);
+        self.nearest_crack_free_packet_of(
+            simd,
+            (rays, every),
+            t_max,
+            box_tests,
+            triangle_tests,
+            best,
+        );
+    }
+
+    /// [`Bvh::nearest_crack_free_packet`] for the rays of `taking` alone (a bit set): the others
+    /// fill the packet's lanes (each must still be a ray, finite, with a direction, or the packet
+    /// takes the one-ray box test) and are never tested; their hits are `None`.
+    pub fn nearest_crack_free_packet_of<const P: usize>(
+        &self,
+        simd: Option<Avx2>,
+        (rays, taking): (&[Ray; P], u32),
+        t_max: [f64; P],
+        box_tests: &mut u64,
+        triangle_tests: &mut u64,
+        best: &mut [Nearest; P],
+    ) {
         let counts = (box_tests, triangle_tests);
-        self.packet::<P, false>(simd, (rays, every), t_max, counts, best);
+        self.packet::<P, false>(simd, (rays, taking), t_max, counts, best);
     }
 
     /// [`Bvh::occluded`] for `P` rays at once (neighbouring pixels, or the shadow rays of their
