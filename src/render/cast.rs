@@ -1340,6 +1340,44 @@ mod packet_tests {
         );
     }
 
+    /// A flattened mesh lying just above a floor, listed after it: the floor's hit, found first,
+    /// is each packet ray's range when the mesh's box is tested, and the mesh's hits lie within a
+    /// few thousandths of it. Packets find the very hits the rays alone find (a culling range cut
+    /// short by a hundredth loses the mesh).
+    #[test]
+    fn a_mesh_just_before_a_floor_is_not_culled() {
+        let text = r#"(title: "t", note: "n", problem: Render((
+            width: 48, height: 32,
+            camera: Pinhole(position: (0.2, -4.0, 3.0), target: (0.0, 0.0, 0.0), fov_y: 40.0),
+            objects: [
+                (shape: Parallelogram(corner: (-3.0, -3.0, 0.0), e1: (6.0, 0.0, 0.0), e2: (0.0, 6.0, 0.0))),
+                (shape: Mesh(obj: "meshes/octasphere.obj"),
+                 transform: (translate: (0.0, 0.0, 0.0111), scale: (1.2, 1.0, 0.01))),
+            ],
+            effects: ["coverage"],
+        )))"#;
+        let Problem::Render(scene) = Scene::from_ron(text, "flat.ron").unwrap().problem else {
+            panic!("not a render scene");
+        };
+        let prepared = Prepared::new(&scene, &Embedded).expect("the scene prepares");
+        let mut mesh_hits = 0;
+        let mut stats = Stats::default();
+        for row in 0..prepared.height {
+            for start in (0..prepared.width).step_by(16) {
+                let rays: [Ray; 16] = std::array::from_fn(|k| prepared.ray(row, start + k));
+                let mut packet = [None; 16];
+                nearest_hits(&prepared, &rays, &mut stats, &mut packet);
+                for (k, ray) in rays.iter().enumerate() {
+                    let single = nearest_hit(&prepared, *ray, &mut stats);
+                    let key = |h: Option<Hit>| h.map(|h| (h.object, h.primitive, h.t.to_bits()));
+                    assert_eq!(key(packet[k]), key(single), "pixel ({row}, {})", start + k);
+                    mesh_hits += usize::from(single.is_some_and(|h| h.object == 1));
+                }
+            }
+        }
+        assert!(mesh_hits > 150, "{mesh_hits} hits on the mesh");
+    }
+
     /// A floor and a turned floor block a shadow ray (0 < t < t_max) as the one-ray solver's first
     /// hit in (0, the float below t_max] says, whether the ray goes alone (every lane holding it)
     /// or sixteen at a time: rays from random points and from points on the floor (t exactly 0),
