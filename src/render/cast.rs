@@ -224,7 +224,7 @@ pub fn nearest_hits<const P: usize>(
 ) {
     *best = [None; P];
     let four = four_lanes::<P>(prepared);
-    let every = u32::MAX >> (32 - P);
+    let every = super::ray::all_rays::<P>();
     // The lone triangles gathered in one hierarchy, tested together, in place of their objects.
     // (Without a method of the scene's, lone triangles take Möller–Trumbore: the index, which
     // gathers them, is not built for nothing.)

@@ -565,7 +565,7 @@ impl<const P: usize> PacketBoxes<P> {
             )
         };
         // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
-        unsafe { self.0.fill(rays, u32::MAX >> (32 - P)) };
+        unsafe { self.0.fill(rays, super::ray::all_rays::<P>()) };
     }
 }
 
@@ -583,7 +583,7 @@ impl ObjectIndex {
         t_max: &[f64; P],
         box_tests: &mut u64,
     ) -> u32 {
-        let every = u32::MAX >> (32 - P);
+        let every = super::ray::all_rays::<P>();
         let Some(Some(own)) = self.own_boxes.get(object) else {
             return every;
         };

@@ -36,6 +36,12 @@ impl Ray {
     }
 }
 
+/// The bit set of every ray of a packet of `P` (at most 32): bits 0 to P − 1.
+#[inline(always)]
+pub const fn all_rays<const P: usize>() -> u32 {
+    u32::MAX >> (32 - P)
+}
+
 /// Where a ray meets a triangle: the lecture's X = (β, γ, t), the point A + β(B − A) + γ(C − A).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TriangleHit {

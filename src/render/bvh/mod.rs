@@ -648,7 +648,7 @@ impl Bvh {
         triangle_tests: &mut u64,
         best: &mut [Nearest; P],
     ) {
-        let every = u32::MAX >> (32 - P);
+        let every = crate::render::ray::all_rays::<P>();
         self.nearest_crack_free_packet_of(
             simd,
             (rays, every),
@@ -687,7 +687,7 @@ impl Bvh {
         box_tests: &mut u64,
         triangle_tests: &mut u64,
     ) -> u32 {
-        let every = u32::MAX >> (32 - P);
+        let every = crate::render::ray::all_rays::<P>();
         self.occluded_packet_of(simd, (rays, every), t_max, box_tests, triangle_tests)
     }
 
