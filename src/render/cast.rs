@@ -711,13 +711,38 @@ pub fn any_hits(
     {
         return each_ray(stats);
     }
+    // The index walks the packet's first four or eight lanes where its rays are there (a hit's
+    // shadow rays, one per light; its occlusion rays): each node's test then skips no empty four.
+    if taking < 1 << 4 {
+        walk_index::<4>(prepared, (rays, taking), t_max, stats)
+    } else if taking < 1 << 8 {
+        walk_index::<8>(prepared, (rays, taking), t_max, stats)
+    } else {
+        walk_index::<TOGETHER>(prepared, (rays, taking), t_max, stats)
+    }
+}
+
+/// [`any_hits`] through the object index, its walk taking the packet's first `P` lanes, which
+/// hold every ray of `taking`.
+#[inline(always)]
+fn walk_index<const P: usize>(
+    prepared: &Prepared,
+    (rays, taking): (&[Ray; TOGETHER], u32),
+    t_max: &[f64; TOGETHER],
+    stats: &mut Stats,
+) -> u32 {
+    const { assert!(P <= TOGETHER && P.is_multiple_of(4)) };
+    let (Some(first), Some(first_t_max)) = (rays.first_chunk::<P>(), t_max.first_chunk::<P>())
+    else {
+        unreachable!("a packet's {TOGETHER} lanes hold its first {P}")
+    };
     let mut boxes = 0;
     // Each ray's sheared form in world space, made when an untransformed object first needs it.
     let mut sheared = [None; TOGETHER];
     let blocked = prepared.object_index().visit_any(
         prepared.simd,
-        (rays, taking),
-        (0.0, t_max),
+        (first, taking),
+        (0.0, first_t_max),
         &mut boxes,
         |object, rays_in| {
             let tested = (rays, rays_in);

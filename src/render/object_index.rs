@@ -1009,7 +1009,8 @@ mod tests {
     /// The queries of rays together against the same rays one at a time: sixteen at a time, the
     /// packet's nearest hits (the gathered lone triangles in one hierarchy) the same to the bit as
     /// [`nearest_hit`]'s, and [`any_hits`] the same answers as testing every object for each ray,
-    /// with every ray, every other one or a single one taking part, and each ray ending just
+    /// with every ray, every other one, rays of the first four or eight lanes only (which the index
+    /// walks as a packet of four or eight) or a single one taking part, and each ray ending just
     /// before, at or past its nearest hit, or at a few lengths.
     fn together(name: &str, prepared: &Prepared, rays: &[Ray]) {
         use crate::render::cast::{
@@ -1058,7 +1059,11 @@ mod tests {
                     (_, Some(hit)) => 2.0 * hit.t,
                     (_, None) => [0.5, 3.0, f64::INFINITY][(r + end) % 3],
                 });
-                for taking in [u32::MAX >> (32 - TOGETHER), 0x5555, 1 << (group % TOGETHER)] {
+                // Every lane, every other, rays in the first four lanes or the first eight only
+                // (the index walks four or eight lanes then), one ray.
+                let masks = [0xffff, 0x5555, 0b1011, 0b1101_0101, 0b1111_0000];
+                let one = 1 << (group % TOGETHER);
+                for taking in masks.into_iter().chain([one]) {
                     let blocked = any_hits(prepared, (&packet, taking), &t_max, &mut stats);
                     for (r, ray) in packet.iter().enumerate() {
                         let expected = taking & (1 << r) != 0
