@@ -329,13 +329,17 @@ fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
     }
 }
 
-/// How many times each side casts a row's rays in a round (`RAYLAB_PEER_RAY_REPEATS`, 5 by
-/// default: the Cornell box's occlusion rays alone are 3.5 million).
-fn ray_repeats() -> usize {
+/// How many times each side casts a row's `rays` rays in a round: `RAYLAB_PEER_RAY_REPEATS`, or
+/// by default enough casts for a million rays, at least 5 (the Cornell box's occlusion rays alone
+/// are 3.5 million). A row of a few thousand rays takes a millisecond a cast: over five casts the
+/// median moved by a third from round to round, the first casts after the other side's paying for
+/// cold caches and sleeping threads.
+fn ray_repeats(rays: usize) -> usize {
+    const RAYS_A_ROUND: usize = 1_000_000;
     std::env::var("RAYLAB_PEER_RAY_REPEATS")
         .ok()
         .and_then(|r| r.parse().ok())
-        .unwrap_or(5)
+        .unwrap_or_else(|| RAYS_A_ROUND.div_ceil(rays.max(1)).clamp(5, 500))
 }
 
 /// raylab's (median ms, rays that met something) for `rays`, cast again through the queries the
@@ -351,7 +355,7 @@ fn raylab_rays(pool: &rayon::ThreadPool, prepared: &Prepared, rays: &[LoggedRay]
     pool.install(|| {
         let met = count();
         let mut times = Vec::new();
-        for _ in 0..ray_repeats() {
+        for _ in 0..ray_repeats(rays.len()) {
             let start = std::time::Instant::now();
             std::hint::black_box(count());
             times.push(start.elapsed().as_secs_f64() * 1e3);
@@ -390,7 +394,7 @@ fn embree_rays(
         .arg(&path)
         .args(["--query", query])
         .args(["--threads", &THREADS.to_string()])
-        .args(["--reps", &ray_repeats().to_string()])
+        .args(["--reps", &ray_repeats(rays.len()).to_string()])
         .output();
     let _ = std::fs::remove_file(&path);
     median_and_coverage(&output.map_err(|e| format!("cannot run python3: {e}"))?)
@@ -403,8 +407,8 @@ fn ray_kinds(pool: &rayon::ThreadPool) {
     use raylab::render::ray_kinds::RayKind;
     println!(
         "\nevery kind of ray: the rays the tracer casts, cast again by both sides, {THREADS} threads \
-         each, median of {} casts, alternating rounds",
-        ray_repeats()
+         each, median of the casts in a round (5, or enough for a million rays), alternating \
+         rounds"
     );
     // Each with every effect it declares.
     for file in raylab::render::ray_kinds::EFFECT_SCENES {
