@@ -58,7 +58,7 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
             let mut packets = same;
             // One packet's lanes for them all, each packet writing its rays over the first: the
             // lanes past them hold an earlier packet's rays, which the query neither tests nor
-            // reports. (Filled afresh for each packet, the sixteen rays cost a shadow ray 4% of
+            // reports. (Filled afresh for each packet, the sixteen rays cost a shadow ray 3% of
             // its instructions.)
             let mut rays = [first.ray; cast::TOGETHER];
             let mut t_max = [0.0; cast::TOGETHER];
