@@ -279,7 +279,7 @@ pub fn nearest_hits<const P: usize>(
         };
         #[cfg(target_arch = "x86_64")]
         let taking = culling.map_or(every, |(avx2, boxes)| {
-            let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
+            let t_max = reaches(best);
             let index_boxes = prepared.object_index();
             index_boxes.packet_meets(avx2, boxes, index, &t_max, &mut stats.box_tests)
         });
@@ -303,6 +303,12 @@ pub fn nearest_hits<const P: usize>(
     }
 }
 
+/// How far each of the first `N` rays of a packet still looks: its hit so far, or +∞.
+#[inline(always)]
+fn reaches<const N: usize>(best: &[Option<Hit>]) -> [f64; N] {
+    std::array::from_fn(|lane| best[lane].map_or(f64::INFINITY, |hit| hit.t))
+}
+
 /// Walks `bvh` with the packet's rays of `taking` (in its space), each up to its hit so far, keeping
 /// the nearer hits in `best`; `owner` names the object and triangle of the hierarchy's triangle.
 #[inline(always)]
@@ -314,7 +320,7 @@ fn packet_hits<const P: usize>(
     stats: &mut Stats,
     owner: impl Fn(usize) -> (usize, usize),
 ) {
-    let t_max = std::array::from_fn(|i| best[i].map_or(f64::INFINITY, |b| b.t));
+    let t_max = reaches(best);
     let mut hits = [None; P];
     let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
     let packet = (rays, taking);
@@ -474,7 +480,7 @@ fn parallelogram_hits<const P: usize>(
 ) {
     let object = &prepared.objects[index];
     each_four(object, rays, best, stats, |local, best, stats| {
-        let t_max = std::array::from_fn(|lane| best[lane].map_or(f64::INFINITY, |b| b.t));
+        let t_max = reaches(best);
         stats.parallelogram_tests += 4;
         let found = solver.solve(local, &t_max);
         for (lane, best) in best.iter_mut().enumerate() {

@@ -1061,7 +1061,8 @@ mod tests {
                 });
                 // Every lane, every other, rays in the first four lanes or the first eight only
                 // (the index walks four or eight lanes then), one ray.
-                let masks = [0xffff, 0x5555, 0b1011, 0b1101_0101, 0b1111_0000];
+                let every = crate::render::ray::all_rays::<TOGETHER>();
+                let masks = [every, 0x5555, 0b1011, 0b1101_0101, 0b1111_0000];
                 let one = 1 << (group % TOGETHER);
                 for taking in masks.into_iter().chain([one]) {
                     let blocked = any_hits(prepared, (&packet, taking), &t_max, &mut stats);
