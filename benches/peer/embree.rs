@@ -22,7 +22,7 @@ use std::process::Command;
 use raylab::math::linalg::V3;
 use raylab::render::generate::{grid_box, irregular_sphere, mesh_scene, to_obj};
 use raylab::render::objects::Geometry;
-use raylab::render::ray_log::{LoggedRay, cast_all_again, rays_cast};
+use raylab::render::ray_log::{LoggedRay, cast_all_again, in_casting_order, rays_cast};
 use raylab::render::{Prepared, Ray, Stats, loading::assets::Embedded, render, world_triangle};
 use raylab::scene::render::{Camera, Effect};
 use raylab::scene::{Problem, Scene};
@@ -344,11 +344,15 @@ fn ray_repeats(rays: usize) -> usize {
 
 /// raylab's (median ms, rays that met something) for `rays`, cast again through the queries the
 /// tracer used (primary rays in packets of sixteen), in a pool of [`THREADS`] threads (chunks of
-/// 4096 rays in parallel).
+/// [`CHUNK`] rays in parallel, each put in the order the render casts its rays before the clock
+/// starts, as Embree's arrays are made before its clock).
 fn raylab_rays(pool: &rayon::ThreadPool, prepared: &Prepared, rays: &[LoggedRay]) -> (f64, usize) {
     use rayon::prelude::*;
+    const CHUNK: usize = 4096;
+    let mut rays = rays.to_vec();
+    rays.chunks_mut(CHUNK).for_each(in_casting_order);
     let count = || {
-        rays.par_chunks(4096)
+        rays.par_chunks(CHUNK)
             .map(|chunk| cast_all_again(prepared, chunk, &mut Stats::default()))
             .sum::<usize>()
     };

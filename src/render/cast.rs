@@ -371,21 +371,40 @@ pub fn nearest_hits_of_each(
     rays: &[Ray],
     stats: &mut Stats,
 ) -> Vec<Option<Hit>> {
-    let mut hits = vec![None; rays.len()];
+    let mut hits = Vec::with_capacity(rays.len());
+    for_each_nearest_hit(prepared, rays, |ray| *ray, stats, |hit| hits.push(hit));
+    hits
+}
+
+/// [`nearest_hits_of_each`] over `items` (each gives its ray by `ray_of`), telling `found` each
+/// item's hit in order, with no list made (the peer bench's replay counts them as it goes).
+pub fn for_each_nearest_hit<T>(
+    prepared: &Prepared,
+    items: &[T],
+    ray_of: impl Fn(&T) -> Ray,
+    stats: &mut Stats,
+    mut found: impl FnMut(Option<Hit>),
+) {
     let alone = if packets_pay(prepared) {
-        let (packets, rest) = rays.as_chunks::<TOGETHER>();
-        let (found, _) = hits.as_chunks_mut::<TOGETHER>();
-        for (packet, found) in packets.iter().zip(found) {
-            nearest_hits_between(prepared, packet, stats, found);
+        let (packets, rest) = items.as_chunks::<TOGETHER>();
+        for packet in packets {
+            let rays = packet.each_ref().map(&ray_of);
+            let mut hits = [None; TOGETHER];
+            nearest_hits_between(prepared, &rays, stats, &mut hits);
+            hits.into_iter().for_each(&mut found);
         }
-        rays.len() - rest.len()
+        items.len() - rest.len()
     } else {
         0
     };
-    for (hit, ray) in hits[alone..].iter_mut().zip(&rays[alone..]) {
-        *hit = nearest_hit_between(prepared, *ray, (0.0, f64::INFINITY), stats);
+    for item in &items[alone..] {
+        found(nearest_hit_between(
+            prepared,
+            ray_of(item),
+            (0.0, f64::INFINITY),
+            stats,
+        ));
     }
-    hits
 }
 
 /// The bug the primitive tests see: shadow acne moves secondary rays' origins, not a test.

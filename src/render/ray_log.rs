@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use super::ray_kinds::RayKind;
 use super::secondary::{self, Record, SecondaryCaster};
-use super::{Prepared, Ray, Stats, cast};
+use super::{Hit, Prepared, Ray, Stats, cast};
 
 /// One ray as the tracer cast it: its kind, and how far it looks (t in (0, t_max); +∞ for the
 /// nearest-hit kinds).
@@ -96,16 +96,37 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
                 .count();
         } else {
             // Neighbouring pixels' samples, and their mirror and glass rays a bounce at a time,
-            // together, as the render casts them.
-            let mut by_bounce: Vec<&LoggedRay> = same.iter().collect();
-            by_bounce.sort_by_key(|logged| logged.depth);
-            let rays: Vec<Ray> = by_bounce.iter().map(|logged| logged.ray).collect();
-            let hits = cast::nearest_hits_of_each(prepared, &rays, stats);
-            met += hits.iter().filter(|hit| hit.is_some()).count();
+            // together, as the render casts them (put in that order here unless
+            // [`in_casting_order`] did it before).
+            let mut count = |hit: Option<Hit>| met += usize::from(hit.is_some());
+            if same.is_sorted_by_key(|logged| logged.depth) {
+                cast::for_each_nearest_hit(prepared, same, |logged| logged.ray, stats, &mut count);
+            } else {
+                let mut by_bounce: Vec<&LoggedRay> = same.iter().collect();
+                by_bounce.sort_by_key(|logged| logged.depth);
+                cast::for_each_nearest_hit(prepared, &by_bounce, |logged| logged.ray, stats, count);
+            }
         }
         rest = after;
     }
     met
+}
+
+/// Puts `rays` (logged pixel by pixel) in the order the render casts them, which
+/// [`cast_all_again`] otherwise makes for each call: each run of mirror, glass or sample rays
+/// bounce by bounce, neighbours in row order. The peer bench orders its rays so before its clock
+/// starts, as Embree's side gets its arrays made: a render never sorts them, it casts each bounce
+/// of its band in turn.
+pub fn in_casting_order(rays: &mut [LoggedRay]) {
+    let mut rest = rays;
+    while let Some(&first) = rest.first() {
+        let run = rest.iter().take_while(|r| r.kind == first.kind).count();
+        let (same, after) = rest.split_at_mut(run);
+        if !first.any_hit() && first.kind != RayKind::Primary {
+            same.sort_by_key(|logged| logged.depth);
+        }
+        rest = after;
+    }
 }
 
 /// Writes down each ray as the caster tells of it.
@@ -232,6 +253,23 @@ mod tests {
                     .filter(|r| r.cast_again(&prepared, &mut again))
                     .count();
                 assert_eq!(met, alone, "{file}: {}", kind.name());
+                // Put in casting order first (as the peer bench does), the same.
+                let mut ordered = of_kind.clone();
+                in_casting_order(&mut ordered);
+                assert!(ordered.is_sorted_by_key(|r| r.depth), "{file}");
+                let met = cast_all_again(&prepared, &ordered, &mut again);
+                assert_eq!(met, alone, "{file}: {} in casting order", kind.name());
+            }
+            // Casting order moves rays only within a run of mirror, glass or sample rays.
+            let mut ordered = logged.clone();
+            in_casting_order(&mut ordered);
+            for (moved, was) in ordered.iter().zip(&logged) {
+                assert_eq!(moved.kind, was.kind, "{file}");
+                let may_move = matches!(
+                    was.kind,
+                    RayKind::Sample | RayKind::Reflection | RayKind::Refraction
+                );
+                assert!(may_move || moved == was, "{file}: {was:?}");
             }
         }
     }
