@@ -154,6 +154,10 @@ struct Shared<T> {
     failure: Mutex<Option<String>>,
 }
 
+/// The shortest time between two wakes of the UI for a job's progress (its end wakes it at once).
+#[cfg(not(target_arch = "wasm32"))]
+const PROGRESS_WAKE_SECONDS: f64 = 0.25;
+
 /// A running [`Sliced`] computation: on a named thread natively, in slices from [`Job::poll`] on the
 /// web. Dropping or cancelling it stops the work at the next slice.
 pub struct Job<T> {
@@ -184,6 +188,9 @@ impl<T: Send + 'static> Job<T> {
             std::thread::Builder::new()
                 .name(name.into())
                 .spawn(move || {
+                    // Progress wakes the UI at most this often: a slice takes a few ms, and a frame
+                    // drawn after each kept the UI busy on a core the work needs.
+                    let mut last_wake = Stopwatch::start();
                     while !worker.cancel.load(Ordering::Relaxed) {
                         // A bug in a slice must not leave the app "rendering…" forever: catch the
                         // panic, say what it was, and end the job.
@@ -194,6 +201,10 @@ impl<T: Send + 'static> Job<T> {
                                 if worker.record(progress) {
                                     break;
                                 }
+                                if last_wake.seconds() < PROGRESS_WAKE_SECONDS {
+                                    continue;
+                                }
+                                last_wake = Stopwatch::start();
                             }
                             Err(panic) => {
                                 if let Ok(mut failure) = worker.failure.lock() {
@@ -330,6 +341,52 @@ mod tests {
         };
         assert_eq!(result, 1000);
         assert_eq!(job.progress(), (1000, 1000));
+    }
+
+    /// Slices of a tenth of a millisecond, like a render's bands of a few rows.
+    struct Naps(usize);
+
+    impl Sliced for Naps {
+        type Output = ();
+        fn step(&mut self) -> Progress<()> {
+            std::thread::sleep(std::time::Duration::from_micros(100));
+            self.0 -= 1;
+            match self.0 {
+                0 => Progress::Finished(()),
+                left => Progress::Working {
+                    done: 1000 - left,
+                    total: 1000,
+                },
+            }
+        }
+    }
+
+    #[test]
+    fn progress_wakes_the_ui_a_few_times_a_second_not_after_every_slice() {
+        let wakes = Arc::new(AtomicUsize::new(0));
+        let counter = wakes.clone();
+        let clock = Stopwatch::start();
+        let mut job = Job::start("naps", Naps(1000), move || {
+            counter.fetch_add(1, Ordering::Relaxed);
+        })
+        .unwrap();
+        while job.poll().is_none() {
+            assert!(clock.seconds() < 60.0, "the job never finished");
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        let seconds = clock.seconds();
+        // The end wakes it once more after the result is in (the poll above may beat that wake).
+        let clock = Stopwatch::start();
+        while wakes.load(Ordering::Relaxed) == 0 {
+            assert!(clock.seconds() < 10.0, "the end never woke the UI");
+            std::thread::yield_now();
+        }
+        let most = 2 + (seconds / PROGRESS_WAKE_SECONDS) as usize;
+        let woken = wakes.load(Ordering::Relaxed);
+        assert!(
+            woken <= most,
+            "{woken} wakes in {seconds:.3} s of 1000 slices: at most {most}"
+        );
     }
 
     /// Panics in its third slice.

@@ -203,7 +203,8 @@ impl RenderView {
         } else if let Some(result) = job.poll() {
             cost.result = Some(result);
             cost.job = None;
-        } else {
+        } else if !crate::platform::THREADS {
+            // No thread wakes the UI on the web: the next frame runs the next slice.
             ctx.request_repaint();
         }
     }

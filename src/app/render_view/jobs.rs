@@ -263,7 +263,9 @@ impl RenderView {
                 self.runtime.past_budget = Some(PastBudget::Time(over));
             }
         }
-        if self.is_rendering() {
+        // On the desktop the render's thread wakes the UI as rows come in; asking for every frame
+        // here as well kept the UI drawing flat out beside the render, on a core it needs.
+        if self.is_rendering() && !crate::platform::THREADS {
             ctx.request_repaint();
         }
         // The camera stops counting as moving a moment after the last scroll: then the full
