@@ -22,6 +22,7 @@
 use super::crack_free::ShearedRay;
 use traverse::{Met, Query, children};
 
+pub(in crate::render) mod eight;
 mod split;
 pub(in crate::render) mod traverse;
 use super::kernels::{Avx2, Isa, Scalar, crack_free4::Quad, narrow};
@@ -197,6 +198,8 @@ pub struct Bvh {
     triangles: usize,
     /// True when every box is within the f32 packet test's range ([`narrow::BOX_LIMIT`]).
     pub(in crate::render) narrow: bool,
+    /// The nodes merged eight wide, for one ray's any-hit walk ([`narrow::occluded_one_ray`]).
+    pub(in crate::render) eight: eight::Eight,
 }
 
 /// Per-ray constants of the box test.
@@ -205,6 +208,28 @@ pub(in crate::render) struct BoxRay {
     pub(in crate::render) inverse_dir: V3<f64>,
     /// True where the direction component is zero (or so small its inverse overflows).
     pub(in crate::render) parallel: [bool; 3],
+}
+
+/// What a `width`-wide node for binary inner node `index` holds: its two children, the largest
+/// inner one opened in its place while there are fewer than `width` (or only leaves are left).
+fn widest_children(binary: &[BinaryNode], index: usize, width: usize) -> Vec<usize> {
+    let mut children = vec![index];
+    while children.len() < width {
+        let openable = children
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| binary[**c].count == 0)
+            .max_by(|a, b| {
+                let area = |i: usize| binary[i].bounds.half_area();
+                area(*a.1).total_cmp(&area(*b.1))
+            })
+            .map(|(slot, _)| slot);
+        let Some(slot) = openable else { break };
+        let opened = children.swap_remove(slot);
+        children.push(binary[opened].first);
+        children.push(binary[opened].right);
+    }
+    children
 }
 
 impl Bvh {
@@ -242,6 +267,7 @@ impl Bvh {
             quads: Vec::new(),
             triangles: finite.len(),
             narrow: true,
+            eight: eight::Eight::default(),
         };
         if !binary.is_empty() {
             // Node 0 holds the whole mesh's box as its one child: a ray that misses the mesh costs
@@ -252,8 +278,10 @@ impl Bvh {
                 order: &order,
                 triangles,
             };
-            bvh.place(&binary, &leaves, 0, &mut root, 0);
+            let mut slots = vec![(0, 0); binary.len()];
+            bvh.place(&binary, (&leaves, &mut slots), 0, &mut root, 0);
             bvh.nodes[0] = root;
+            bvh.eight = eight::Eight::of(&binary, &slots);
         }
         bvh.quads = bvh.build_vertices.chunks(4).map(Quad::new).collect();
         bvh.build_vertices = Vec::new();
@@ -291,10 +319,11 @@ impl Bvh {
     }
 
     /// Puts binary node `index` into lane `lane` of `node`: its box, and its slots or its wide node.
+    /// `slots` takes each binary leaf's `(first slot, count)` (the 8-wide nodes point to them).
     fn place(
         &mut self,
         binary: &[BinaryNode],
-        leaves: &Leaves,
+        (leaves, slots): (&Leaves, &mut [(u32, u32)]),
         index: usize,
         node: &mut Node,
         lane: usize,
@@ -308,10 +337,11 @@ impl Bvh {
         }
         if binary[index].count > 0 {
             let (first, held) = self.append_leaf(leaves, binary[index].first, binary[index].count);
+            slots[index] = (first, held);
             node.child[lane] = first;
             node.count[lane] = held;
         } else {
-            let inner = self.collapse(binary, leaves, index);
+            let inner = self.collapse(binary, (leaves, slots), index);
             self.nodes.push(inner);
             node.child[lane] = (self.nodes.len() - 1) as u32;
         }
@@ -327,27 +357,18 @@ impl Bvh {
     }
 
     /// The wide node for binary inner node `index`: its children, opened (largest box first) until
-    /// there are four or only leaves are left. Returns the node; its inner children are pushed.
-    fn collapse(&mut self, binary: &[BinaryNode], leaves: &Leaves, index: usize) -> Node {
-        let mut children = vec![index];
-        while children.len() < 4 {
-            let openable = children
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| binary[**c].count == 0)
-                .max_by(|a, b| {
-                    let area = |i: usize| binary[i].bounds.half_area();
-                    area(*a.1).total_cmp(&area(*b.1))
-                })
-                .map(|(slot, _)| slot);
-            let Some(slot) = openable else { break };
-            let opened = children.swap_remove(slot);
-            children.push(binary[opened].first);
-            children.push(binary[opened].right);
-        }
+    /// there are four or only leaves are left ([`widest_children`]). Returns the node; its inner
+    /// children are pushed.
+    fn collapse(
+        &mut self,
+        binary: &[BinaryNode],
+        (leaves, slots): (&Leaves, &mut [(u32, u32)]),
+        index: usize,
+    ) -> Node {
+        let children = widest_children(binary, index, 4);
         let mut node = Bvh::empty_node();
         for (lane, &c) in children.iter().enumerate() {
-            self.place(binary, leaves, c, &mut node, lane);
+            self.place(binary, (leaves, &mut *slots), c, &mut node, lane);
         }
         node
     }
@@ -362,7 +383,11 @@ impl Bvh {
         fn held<T>(v: &Vec<T>) -> u64 {
             (std::mem::size_of::<T>() * v.capacity()) as u64
         }
-        held(&self.nodes) + held(&self.order) + held(&self.build_vertices) + held(&self.quads)
+        held(&self.nodes)
+            + held(&self.order)
+            + held(&self.build_vertices)
+            + held(&self.quads)
+            + self.eight.held_bytes()
     }
 
     /// True when it holds no triangle.
