@@ -89,9 +89,10 @@ pub fn past_budget(prepared: &Prepared) -> Option<WorstCase> {
 /// many objects name it), so that a render fits a school laptop's memory beside the app.
 pub const MEMORY_BUDGET_BYTES: u64 = 2 << 30;
 
-/// Bytes a mesh's hierarchy may take per triangle, at most: its boxes, slot order, leaf-ordered
-/// vertices and four-triangle packs, with leaves padded to four slots (about 490 measured on
-/// spheres, 200–230 on a grid box and thin triangles; a test checks the bound).
+/// Bytes a mesh's hierarchy may take per triangle, at most: its 4-wide and 8-wide nodes, slot
+/// order and four-triangle packs, with leaves padded to four slots (517 measured on the
+/// 1.3-million-triangle sphere, about 250 on spheres of 512 and 20 480, 90–130 on a grid box and
+/// thin triangles; a test checks the bound).
 pub const BVH_BYTES_PER_TRIANGLE: u64 = 640;
 
 /// Bytes a mesh of `triangles` triangles holds once prepared: the triangles and their hierarchy.
