@@ -5,6 +5,12 @@
 //! (each binary node's padded box rounded outward to f32), so the walk's bound holds as it does for
 //! them, and the leaves are the 4-wide nodes' own runs of slots. Packets keep the 4-wide nodes.
 
+// Built and walked on x86-64 only: elsewhere nothing reads them.
+#![cfg_attr(
+    not(target_arch = "x86_64"),
+    allow(dead_code, reason = "walked by the x86-64 kernels only")
+)]
+
 use super::{BinaryNode, EMPTY, widest_children};
 
 /// Eight child boxes (lanes), each an inner node of [`Eight::nodes`], a leaf (a run of slots), or

@@ -281,7 +281,10 @@ impl Bvh {
             let mut slots = vec![(0, 0); binary.len()];
             bvh.place(&binary, (&leaves, &mut slots), 0, &mut root, 0);
             bvh.nodes[0] = root;
-            bvh.eight = eight::Eight::of(&binary, &slots);
+            // Only the x86-64 kernels walk them (the web page would hold them for nothing).
+            if cfg!(target_arch = "x86_64") {
+                bvh.eight = eight::Eight::of(&binary, &slots);
+            }
         }
         bvh.quads = bvh.build_vertices.chunks(4).map(Quad::new).collect();
         bvh.build_vertices = Vec::new();
