@@ -11,22 +11,10 @@
     allow(dead_code, reason = "walked by the x86-64 kernels only")
 )]
 
-use super::{BinaryNode, EMPTY, widest_children};
+use super::{BinaryNode, WideNode, widest_children};
 
-/// Eight child boxes (lanes), each an inner node of [`Eight::nodes`], a leaf (a run of slots), or
-/// empty. 256 bytes, aligned to a cache line.
-#[derive(Clone, Debug)]
-#[repr(C, align(64))]
-pub(in crate::render) struct Node8 {
-    /// Box minima per axis, one lane per child.
-    pub(in crate::render) min: [[f32; 8]; 3],
-    /// Box maxima per axis.
-    pub(in crate::render) max: [[f32; 8]; 3],
-    /// Inner: the node's index; leaf: its first slot; empty: [`EMPTY`].
-    pub(in crate::render) child: [u32; 8],
-    /// Leaf: its slot count; inner and empty: 0.
-    pub(in crate::render) count: [u32; 8],
-}
+/// Eight child boxes a node (256 bytes); an inner lane's child is a node of [`Eight::nodes`].
+pub(in crate::render) type Node8 = WideNode<8>;
 
 /// The 8-wide nodes and where a walk starts.
 #[derive(Clone, Debug, Default)]
@@ -62,12 +50,7 @@ impl Eight {
     /// Adds the 8-wide node for binary inner node `index` (and those below it); returns its index.
     fn collapse(&mut self, binary: &[BinaryNode], slots: &[(u32, u32)], index: usize) -> u32 {
         let at = self.nodes.len();
-        self.nodes.push(Node8 {
-            min: [[f32::INFINITY; 8]; 3],
-            max: [[f32::NEG_INFINITY; 8]; 3],
-            child: [EMPTY; 8],
-            count: [0; 8],
-        });
+        self.nodes.push(Node8::empty());
         for (lane, &c) in widest_children(binary, index, 8).iter().enumerate() {
             let (child, count) = match binary[c].count {
                 0 => (self.collapse(binary, slots, c), 0),
@@ -94,7 +77,7 @@ impl Eight {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::bvh::{Bvh, Node};
+    use crate::render::bvh::{Bvh, EMPTY, Node};
     use crate::render::generate::irregular_sphere;
     use crate::render::objects::PreparedTriangle;
 

@@ -158,20 +158,35 @@ struct BinaryNode {
     right: usize,
 }
 
-/// A 4-wide node: four child boxes (lanes), each an inner node, a leaf (a run of slots), or empty.
-/// 128 bytes, aligned to a cache line: a node is read in two lines, not three.
+/// A `W`-wide node: `W` child boxes (lanes), each an inner node, a leaf (a run of slots), or empty.
+/// Aligned to a cache line: a 4-wide node (128 bytes) is read in two lines, not three.
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
-pub(in crate::render) struct Node {
+pub(in crate::render) struct WideNode<const W: usize> {
     /// Box minima per axis, one lane per child.
-    pub(in crate::render) min: [[f32; 4]; 3],
+    pub(in crate::render) min: [[f32; W]; 3],
     /// Box maxima per axis.
-    pub(in crate::render) max: [[f32; 4]; 3],
+    pub(in crate::render) max: [[f32; W]; 3],
     /// Inner: the node's index; leaf: its first slot; empty: [`EMPTY`].
-    pub(in crate::render) child: [u32; 4],
+    pub(in crate::render) child: [u32; W],
     /// Leaf: its slot count; inner and empty: 0.
-    pub(in crate::render) count: [u32; 4],
+    pub(in crate::render) count: [u32; W],
 }
+
+impl<const W: usize> WideNode<W> {
+    /// A node with every lane empty.
+    pub(in crate::render) fn empty() -> WideNode<W> {
+        WideNode {
+            min: [[f32::INFINITY; W]; 3],
+            max: [[f32::NEG_INFINITY; W]; 3],
+            child: [EMPTY; W],
+            count: [0; W],
+        }
+    }
+}
+
+/// The hierarchy's nodes, four boxes each (the packets' and the portable walks').
+pub(in crate::render) type Node = WideNode<4>;
 
 /// A ray's nearest hit in a hierarchy: the triangle's index and its (β, γ, t).
 #[cfg_attr(
@@ -272,8 +287,8 @@ impl Bvh {
         if !binary.is_empty() {
             // Node 0 holds the whole mesh's box as its one child: a ray that misses the mesh costs
             // one box test.
-            bvh.nodes.push(Bvh::empty_node());
-            let mut root = Bvh::empty_node();
+            bvh.nodes.push(Node::empty());
+            let mut root = Node::empty();
             let leaves = Leaves {
                 order: &order,
                 triangles,
@@ -350,15 +365,6 @@ impl Bvh {
         }
     }
 
-    fn empty_node() -> Node {
-        Node {
-            min: [[f32::INFINITY; 4]; 3],
-            max: [[f32::NEG_INFINITY; 4]; 3],
-            child: [EMPTY; 4],
-            count: [0; 4],
-        }
-    }
-
     /// The wide node for binary inner node `index`: its children, opened (largest box first) until
     /// there are four or only leaves are left ([`widest_children`]). Returns the node; its inner
     /// children are pushed.
@@ -369,7 +375,7 @@ impl Bvh {
         index: usize,
     ) -> Node {
         let children = widest_children(binary, index, 4);
-        let mut node = Bvh::empty_node();
+        let mut node = Node::empty();
         for (lane, &c) in children.iter().enumerate() {
             self.place(binary, (leaves, &mut *slots), c, &mut node, lane);
         }
@@ -1254,7 +1260,7 @@ mod tests {
         for k in 0..3 {
             assert!((min[k] as f64) < exact.min[k] && (max[k] as f64) > exact.max[k]);
         }
-        let mut node = Bvh::empty_node();
+        let mut node = Node::empty();
         for k in 0..3 {
             node.min[k][1] = min[k];
             node.max[k][1] = max[k];
@@ -1286,7 +1292,7 @@ mod tests {
         let avx2 = crate::render::kernels::avx2_or_skip!();
         let mut random = rand_pcg::Pcg64::seed_from_u64(7);
         for i in 0..20_000 {
-            let mut node = Bvh::empty_node();
+            let mut node = Node::empty();
             for lane in 0..(1 + i % 4) {
                 let b = Bounds::EMPTY
                     .grow(&std::array::from_fn(|_| random.random_range(-2.0..2.0)))
