@@ -40,9 +40,10 @@ impl Eight {
         }
         let mut eight = Eight {
             nodes: Vec::with_capacity(binary.len() / 8 + 1),
-            start: Some((0, 0)),
+            start: None,
         };
-        eight.collapse(binary, slots, 0);
+        let root = eight.collapse(binary, slots, 0);
+        eight.start = Some((root, 0));
         eight.nodes.shrink_to_fit();
         eight
     }

@@ -32,7 +32,7 @@ use super::Avx2;
 use crate::render::Ray;
 use crate::render::bvh::eight::Node8;
 use crate::render::bvh::traverse::{Met, Query, children};
-use crate::render::bvh::{Bvh, EMPTY, Nearest, Node, close_found};
+use crate::render::bvh::{Bvh, EMPTY, Nearest, Node, WideNode, close_found};
 use crate::render::crack_free::ShearedRay;
 
 /// Rays in a packet: two groups of eight f32 lanes.
@@ -306,7 +306,7 @@ impl<const ANY: bool> Query for Narrow<'_, ANY> {
 
     #[inline(always)]
     fn will_visit(&self, child: u32, count: u32) {
-        prefetch(self.bvh, child, count);
+        prefetch(self.bvh, &self.bvh.nodes, child, count);
     }
 }
 
@@ -435,17 +435,16 @@ unsafe fn boxes_unchecked(lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
     met
 }
 
-/// Asks the processor to start loading a child the traversal will visit: an inner node's two cache
-/// lines, or a leaf's first four triangles. The children found are pushed farthest first and popped
-/// nearest first, so the loads of all but the nearest overlap the work on it.
+/// Asks the processor to start loading a child the traversal will visit: an inner node of `nodes`
+/// (its cache lines), or a leaf's first four triangles. The children found are pushed farthest
+/// first and popped nearest first, so the loads of all but the nearest overlap the work on it.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn prefetch(bvh: &Bvh, child: u32, count: u32) {
-    use crate::render::bvh::Node;
+fn prefetch<const W: usize>(bvh: &Bvh, nodes: &[WideNode<W>], child: u32, count: u32) {
     use std::mem::size_of;
-    /// The cache lines a node and a quad of triangles span (a fixed count, so the loop below
-    /// unrolls: the range's iterator cost more than the prefetches).
-    const NODE_LINES: usize = size_of::<Node>().div_ceil(64);
+    // The cache lines a node and a quad of triangles span (a fixed count, so the loop below
+    // unrolls: the range's iterator cost more than the prefetches).
+    let node_lines = const { size_of::<WideNode<W>>().div_ceil(64) };
     const QUAD_LINES: usize = size_of::<super::crack_free4::Quad>().div_ceil(64);
     #[inline(always)]
     fn lines<T>(start: *const T, n: usize) {
@@ -458,7 +457,7 @@ fn prefetch(bvh: &Bvh, child: u32, count: u32) {
         }
     }
     if count == 0 {
-        lines(bvh.nodes.as_ptr().wrapping_add(child as usize), NODE_LINES);
+        lines(nodes.as_ptr().wrapping_add(child as usize), node_lines);
     } else {
         lines(
             bvh.quads.as_ptr().wrapping_add(child as usize / 4),
@@ -567,9 +566,9 @@ fn each_axis(lanes: std::arch::x86_64::__m128) -> [std::arch::x86_64::__m256; 3]
 
 /// Whether the crack-free test finds a triangle of `bvh` that `ray` meets at 0 < t < t_max: what
 /// [`Bvh::occluded`] answers from t_min = 0, one ray through the f32 box test of an 8-wide node's
-/// eight boxes at once (fewer nodes on the way down than four wide: 6–14% less time on the Cornell
-/// box's shadow and occlusion rays); `None` when the ray's numbers do not allow the f32 test (the caller then takes
-/// the f64 walk). The first hit found ends the walk, so the children are visited in the order the
+/// eight boxes at once (fewer nodes on the way down than four wide: 6–14% less time on the
+/// Cornell box's shadow and occlusion rays); `None` when the ray's numbers do not allow the f32
+/// test (the caller then takes the f64 walk). The first hit found ends the walk, so the children are visited in the order the
 /// node holds them, not nearest first: any hit before t_max answers, and nearest first (tried)
 /// tested more triangles, the nearest box mostly holding the surface the ray leaves.
 ///
@@ -589,9 +588,10 @@ pub fn occluded_one_ray(
     /// An 8-wide node on the path pushes at most seven children besides the one visited next, and
     /// the path is no deeper than the 4-wide one.
     const STACK: usize = 7 * MAX_DEPTH + 1;
-    if !bvh.narrow || bvh.nodes.is_empty() {
+    if !bvh.narrow {
         return None;
     }
+    // No start: the hierarchy holds no triangle.
     let Some((start, start_count)) = bvh.eight.start else {
         return Some(false);
     };
@@ -627,7 +627,7 @@ pub fn occluded_one_ray(
         while met != 0 {
             let lane = met.trailing_zeros() as usize;
             met &= met - 1;
-            prefetch8(bvh, node.child[lane], node.count[lane]);
+            prefetch(bvh, &bvh.eight.nodes, node.child[lane], node.count[lane]);
             stack[len].write((node.child[lane], node.count[lane]));
             len += 1;
         }
@@ -695,37 +695,4 @@ unsafe fn one_ray_boxes8(one: &OneRay, node: &Node8) -> (u32, u32) {
     )));
     let boxes = !empty as u32 & 0xff;
     (_mm256_movemask_ps(meets) as u32 & boxes, boxes.count_ones())
-}
-
-/// [`prefetch`] for a child of an 8-wide node: an inner node's four cache lines, or a leaf's first
-/// four triangles.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-fn prefetch8(bvh: &Bvh, child: u32, count: u32) {
-    use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-    const NODE_LINES: usize = size_of::<Node8>().div_ceil(64);
-    const QUAD_LINES: usize = size_of::<super::crack_free4::Quad>().div_ceil(64);
-    let (start, n) = if count == 0 {
-        (
-            bvh.eight
-                .nodes
-                .as_ptr()
-                .wrapping_add(child as usize)
-                .cast::<i8>(),
-            NODE_LINES,
-        )
-    } else {
-        (
-            bvh.quads
-                .as_ptr()
-                .wrapping_add(child as usize / 4)
-                .cast::<i8>(),
-            QUAD_LINES,
-        )
-    };
-    for line in 0..n {
-        // SAFETY: a prefetch changes no memory and no program state, whatever the address
-        // (`wrapping_add` keeps the pointer arithmetic itself defined).
-        unsafe { _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(64 * line)) };
-    }
 }
