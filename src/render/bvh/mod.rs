@@ -545,15 +545,7 @@ impl Bvh {
         best: &mut Nearest,
     ) -> f64 {
         let mut offer = |slot: usize, hit: TriangleHit, limit: &mut f64| {
-            let index = self.order[slot] as usize;
-            let closer = match *best {
-                None => hit.t <= *limit,
-                Some((b, bh)) => hit.t < bh.t || (hit.t == bh.t && index < b),
-            };
-            if closer {
-                *best = Some((index, hit));
-                *limit = hit.t;
-            }
+            self.offer(slot, hit, (limit, &mut *best));
         };
         #[cfg(target_arch = "x86_64")]
         if let Some(avx2) = isa.avx2() {
@@ -593,6 +585,77 @@ impl Bvh {
             }
         }
         limit
+    }
+
+    /// Keeps `hit` of `slot` in `best` when it is nearer (ties to the lower triangle index), or,
+    /// with no hit yet, when its t is not past `limit`; the limit becomes the hit's t.
+    #[inline(always)]
+    fn offer(&self, slot: usize, hit: TriangleHit, (limit, best): (&mut f64, &mut Nearest)) {
+        let index = self.order[slot] as usize;
+        let closer = match *best {
+            None => hit.t <= *limit,
+            Some((b, bh)) => hit.t < bh.t || (hit.t == bh.t && index < b),
+        };
+        if closer {
+            *best = Some((index, hit));
+            *limit = hit.t;
+        }
+    }
+
+    /// [`Bvh::leaf_crack_free`] from t_min = 0 for a packet's rays of `taking` at once, each
+    /// triangle against four rays together ([`crack_free4::intersect_rays4`]): the rays' lanes in
+    /// `together`, all of whose rays share their sheared axes. Each ray's t_max is lowered to its
+    /// nearest hit, and `lowered(r, t_max)` told of it.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(in crate::render) fn leaf_rays4<const P: usize>(
+        &self,
+        avx2: Avx2,
+        slots: std::ops::Range<usize>,
+        (taking, together, sheared): (u32, &crack_free4::RaysTogether, &[Option<ShearedRay>; P]),
+        (t_max, best): (&mut [f64; P], &mut [Nearest; P]),
+        mut lowered: impl FnMut(usize, f64),
+    ) {
+        for slot in slots {
+            let quad = (&self.quads[slot / 4], slot % 4);
+            for (group, rays) in together.quads.iter().enumerate() {
+                let lanes = (taking >> (4 * group)) & 0b1111;
+                if lanes == 0 {
+                    continue;
+                }
+                let found =
+                    crack_free4::intersect_rays4(avx2, (together.axes, rays), quad, 0.0, lanes);
+                let mut hit = found.hit;
+                while hit != 0 {
+                    let lane = hit.trailing_zeros() as usize;
+                    hit &= hit - 1;
+                    let r = 4 * group + lane;
+                    let det = found.det[lane];
+                    let hit = TriangleHit {
+                        beta: found.v[lane] / det,
+                        gamma: found.w[lane] / det,
+                        t: found.t[lane],
+                    };
+                    self.offer(slot, hit, (&mut t_max[r], &mut best[r]));
+                }
+                let mut again = found.again;
+                while again != 0 {
+                    let lane = again.trailing_zeros() as usize;
+                    again &= again - 1;
+                    let r = 4 * group + lane;
+                    let Some(ray) = &sheared[r] else { continue };
+                    if let Some(hit) = ray.intersect(&self.slot_vertices(slot), 0.0) {
+                        self.offer(slot, hit, (&mut t_max[r], &mut best[r]));
+                    }
+                }
+            }
+        }
+        let mut each = taking;
+        while each != 0 {
+            let r = each.trailing_zeros() as usize;
+            each &= each - 1;
+            lowered(r, t_max[r]);
+        }
     }
 
     /// True when the crack-free test finds a hit with 0 < t < t_max among a leaf's slots: whether

@@ -1,5 +1,7 @@
-//! The crack-free test of [`crate::render::crack_free`] for one ray and four triangles at once, with AVX2 on
-//! four f64 lanes (a BVH leaf's triangles).
+//! The crack-free test of [`crate::render::crack_free`] four lanes at once, with AVX2 on four f64
+//! lanes: one ray and four triangles (a BVH leaf's, [`intersect4`]), or one triangle and four rays
+//! of a packet whose sheared axes are the same ([`intersect_rays4`]), which takes fewer tests
+//! where a packet's rays reach a leaf of one or two triangles together.
 //!
 //! Each lane does the one-triangle test's arithmetic in the same order, without fused multiply-adds,
 //! so it gets the same numbers. Where all three edge functions are clear of their rounding bounds
@@ -72,6 +74,87 @@ struct Edge {
     right: F4,
 }
 
+/// The lanes' test, whichever way they were filled: each lane's vertices (`[vertex][axis]`, on the
+/// axes that become x, y and z: `[[F4; 3]; 3]`), moved and sheared by its ray's `origin` and
+/// `shear` (`[F4; 3]` each), then decided; a `QuadHits`. A macro, not a function, so that each
+/// kernel has it inlined (as a function it was left out of line, and the any-hit walk lost 4%);
+/// expanded in a function compiled with AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+macro_rules! decide {
+    ($origin:expr, $shear:expr, $vertices:expr, $t_min:expr, $lanes:expr) => {{
+        use std::arch::x86_64::*;
+        let (origin, shear, vertices, t_min, lanes): ([F4; 3], [F4; 3], [[F4; 3]; 3], f64, u32) =
+            ($origin, $shear, $vertices, $t_min, $lanes);
+        // As `ShearedRay::shear`: x' = (x − ox) − sx·z, y' = (y − oy) − sy·z, z' = sz·z with
+        // z = z − oz.
+        let sheared = |p: &[F4; 3]| {
+            let z = _mm256_sub_pd(p[2], origin[2]);
+            [
+                _mm256_sub_pd(_mm256_sub_pd(p[0], origin[0]), _mm256_mul_pd(shear[0], z)),
+                _mm256_sub_pd(_mm256_sub_pd(p[1], origin[1]), _mm256_mul_pd(shear[1], z)),
+                _mm256_mul_pd(shear[2], z),
+            ]
+        };
+        let (a, b, c) = (
+            sheared(&vertices[0]),
+            sheared(&vertices[1]),
+            sheared(&vertices[2]),
+        );
+        let magnitude = |x: F4| _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
+        // As `edge_sign_and_value`: P × Q, and whether it is clear of its rounding bound.
+        let edge = |p: &[F4; 3], q: &[F4; 3]| {
+            let left = _mm256_mul_pd(p[0], q[1]);
+            let right = _mm256_mul_pd(p[1], q[0]);
+            let value = _mm256_sub_pd(left, right);
+            let sum = _mm256_add_pd(magnitude(left), magnitude(right));
+            let bound = _mm256_mul_pd(_mm256_set1_pd(2.0 * f64::EPSILON), sum);
+            let clear = _mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_GT_OQ>(magnitude(value), bound),
+                _mm256_cmp_pd::<_CMP_GT_OQ>(sum, _mm256_set1_pd(crate::render::crack_free::TINY)),
+            );
+            Edge {
+                value,
+                clear,
+                left,
+                right,
+            }
+        };
+        let edges = [edge(&c, &b), edge(&a, &c), edge(&b, &a)];
+        let all_clear = _mm256_and_pd(
+            _mm256_and_pd(edges[0].clear, edges[1].clear),
+            edges[2].clear,
+        );
+        if (_mm256_movemask_pd(all_clear) as u32 & lanes) != lanes {
+            // SAFETY: this function is compiled with AVX2 and FMA and runs only where they are.
+            return unsafe { settle_exactly(&[a, b, c], &edges, t_min, lanes) };
+        }
+        // Every edge function clear of its bound: its float sign is its exact sign.
+        let zero = _mm256_setzero_pd();
+        let positive = |e: &Edge| _mm256_cmp_pd::<_CMP_GT_OQ>(e.value, zero);
+        let negative = |e: &Edge| _mm256_cmp_pd::<_CMP_LT_OQ>(e.value, zero);
+        let all_pos = _mm256_and_pd(
+            _mm256_and_pd(positive(&edges[0]), positive(&edges[1])),
+            positive(&edges[2]),
+        );
+        let all_neg = _mm256_and_pd(
+            _mm256_and_pd(negative(&edges[0]), negative(&edges[1])),
+            negative(&edges[2]),
+        );
+        let inside = _mm256_or_pd(all_pos, all_neg);
+        // SAFETY: as above.
+        unsafe {
+            finish(
+                &[a, b, c],
+                &edges,
+                inside,
+                _mm256_xor_pd(inside, all_clear),
+                t_min,
+                lanes,
+            )
+        }
+    }};
+}
+
 /// Tests the lanes in `lanes` (a bit each) of `quad` against `ray`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
@@ -90,77 +173,125 @@ pub fn intersect4(_: Avx2, ray: &ShearedRay, quad: &Quad, t_min: f64, lanes: u32
 unsafe fn intersect4_unchecked(ray: &ShearedRay, quad: &Quad, t_min: f64, lanes: u32) -> QuadHits {
     use std::arch::x86_64::*;
     let (origin, [kx, ky, kz], [sx, sy, sz]) = ray.parts();
-    let (ox, oy, oz) = (
+    let origin = [
         _mm256_set1_pd(origin[kx]),
         _mm256_set1_pd(origin[ky]),
         _mm256_set1_pd(origin[kz]),
-    );
-    let (sx, sy, sz) = (_mm256_set1_pd(sx), _mm256_set1_pd(sy), _mm256_set1_pd(sz));
+    ];
+    let shear = [_mm256_set1_pd(sx), _mm256_set1_pd(sy), _mm256_set1_pd(sz)];
+    // Written out, not mapped over arrays: the closures were left uninlined.
     // SAFETY: each row is four f64s in a 32-byte aligned struct.
     let load =
         |vertex: usize, axis: usize| unsafe { _mm256_load_pd(quad.v[vertex][axis].as_ptr()) };
-    // As `ShearedRay::shear`: x' = (x − ox) − sx·z, y' = (y − oy) − sy·z, z' = sz·z with z = z − oz.
-    let shear = |vertex: usize| {
-        let z = _mm256_sub_pd(load(vertex, kz), oz);
-        [
-            _mm256_sub_pd(_mm256_sub_pd(load(vertex, kx), ox), _mm256_mul_pd(sx, z)),
-            _mm256_sub_pd(_mm256_sub_pd(load(vertex, ky), oy), _mm256_mul_pd(sy, z)),
-            _mm256_mul_pd(sz, z),
-        ]
-    };
-    let (a, b, c) = (shear(0), shear(1), shear(2));
-    let magnitude = |x: F4| _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
-    // As `edge_sign_and_value`: P × Q, and whether it is clear of its rounding bound.
-    let edge = |p: &[F4; 3], q: &[F4; 3]| {
-        let left = _mm256_mul_pd(p[0], q[1]);
-        let right = _mm256_mul_pd(p[1], q[0]);
-        let value = _mm256_sub_pd(left, right);
-        let sum = _mm256_add_pd(magnitude(left), magnitude(right));
-        let bound = _mm256_mul_pd(_mm256_set1_pd(2.0 * f64::EPSILON), sum);
-        let clear = _mm256_and_pd(
-            _mm256_cmp_pd::<_CMP_GT_OQ>(magnitude(value), bound),
-            _mm256_cmp_pd::<_CMP_GT_OQ>(sum, _mm256_set1_pd(crate::render::crack_free::TINY)),
-        );
-        Edge {
-            value,
-            clear,
-            left,
-            right,
+    let vertex = |v: usize| [load(v, kx), load(v, ky), load(v, kz)];
+    let vertices = [vertex(0), vertex(1), vertex(2)];
+    decide!(origin, shear, vertices, t_min, lanes)
+}
+
+/// Four rays' sheared forms as lanes, for one triangle tested against them together
+/// ([`intersect_rays4`]): rays whose sheared axes are the same (a packet's neighbours).
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(32))]
+pub struct RayQuad {
+    /// Per lane, the origin's coordinates on the axes that become x, y and z.
+    origin: [[f64; 4]; 3],
+    /// Per lane, the shear constants sx, sy, sz.
+    shear: [[f64; 4]; 3],
+}
+
+impl RayQuad {
+    /// Puts `ray` in `lane`.
+    #[inline(always)]
+    pub fn set(&mut self, lane: usize, ray: &ShearedRay) {
+        let (origin, [kx, ky, kz], shear) = ray.parts();
+        for (row, o) in self
+            .origin
+            .iter_mut()
+            .zip([origin[kx], origin[ky], origin[kz]])
+        {
+            row[lane] = o;
         }
-    };
-    let edges = [edge(&c, &b), edge(&a, &c), edge(&b, &a)];
-    let all_clear = _mm256_and_pd(
-        _mm256_and_pd(edges[0].clear, edges[1].clear),
-        edges[2].clear,
-    );
-    if (_mm256_movemask_pd(all_clear) as u32 & lanes) != lanes {
-        // SAFETY: this function is compiled with AVX2 and FMA and runs only where they are.
-        return unsafe { settle_exactly(&[a, b, c], &edges, t_min, lanes) };
+        for (row, s) in self.shear.iter_mut().zip(shear) {
+            row[lane] = s;
+        }
     }
-    // Every edge function clear of its bound: its float sign is its exact sign.
-    let zero = _mm256_setzero_pd();
-    let positive = |e: &Edge| _mm256_cmp_pd::<_CMP_GT_OQ>(e.value, zero);
-    let negative = |e: &Edge| _mm256_cmp_pd::<_CMP_LT_OQ>(e.value, zero);
-    let all_pos = _mm256_and_pd(
-        _mm256_and_pd(positive(&edges[0]), positive(&edges[1])),
-        positive(&edges[2]),
-    );
-    let all_neg = _mm256_and_pd(
-        _mm256_and_pd(negative(&edges[0]), negative(&edges[1])),
-        negative(&edges[2]),
-    );
-    let inside = _mm256_or_pd(all_pos, all_neg);
-    // SAFETY: as above.
-    unsafe {
-        finish(
-            &[a, b, c],
-            &edges,
-            inside,
-            _mm256_xor_pd(inside, all_clear),
-            t_min,
-            lanes,
-        )
+}
+
+/// Up to sixteen rays of a packet whose sheared axes are the same, four to a [`RayQuad`] (ray r in
+/// lane r % 4 of quad r / 4): what [`intersect_rays4`] takes for a leaf's triangles.
+#[derive(Clone, Debug, Default)]
+pub struct RaysTogether {
+    /// The axes that become x, y and z for every ray put in.
+    pub axes: [usize; 3],
+    /// The rays put in, a bit each.
+    pub rays: u32,
+    pub quads: [RayQuad; 4],
+}
+
+impl RaysTogether {
+    /// Puts ray `r` (below sixteen) in its lane when its axes are those of the first ray put in.
+    #[inline(always)]
+    pub fn offer(&mut self, r: usize, ray: &ShearedRay) {
+        let axes = ray.parts().1;
+        if self.rays == 0 {
+            self.axes = axes;
+        }
+        if axes == self.axes {
+            self.rays |= 1 << r;
+            self.quads[r / 4].set(r % 4, ray);
+        }
     }
+}
+
+/// Tests triangle `triangle` of `quad` against the rays of `rays` in `lanes` (a bit each), whose
+/// sheared axes are all `axes`: each lane decides as [`ShearedRay::intersect`] would for its ray,
+/// with the same arithmetic as [`intersect4`]'s lanes.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub fn intersect_rays4(
+    _: Avx2,
+    (axes, rays): ([usize; 3], &RayQuad),
+    (quad, triangle): (&Quad, usize),
+    t_min: f64,
+    lanes: u32,
+) -> QuadHits {
+    // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+    unsafe { intersect_rays4_unchecked(axes, rays, (quad, triangle), t_min, lanes) }
+}
+
+/// [`intersect_rays4`] without the proof.
+///
+/// # Safety
+/// Only call on a processor with AVX2 and FMA (the function is compiled for them).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+#[inline]
+unsafe fn intersect_rays4_unchecked(
+    [kx, ky, kz]: [usize; 3],
+    rays: &RayQuad,
+    (quad, triangle): (&Quad, usize),
+    t_min: f64,
+    lanes: u32,
+) -> QuadHits {
+    use std::arch::x86_64::*;
+    // Written out, not mapped over arrays: the closures were left uninlined.
+    // SAFETY: each row is four f64s in a 32-byte aligned struct.
+    let load = |row: &[f64; 4]| unsafe { _mm256_load_pd(row.as_ptr()) };
+    let origin = [
+        load(&rays.origin[0]),
+        load(&rays.origin[1]),
+        load(&rays.origin[2]),
+    ];
+    let shear = [
+        load(&rays.shear[0]),
+        load(&rays.shear[1]),
+        load(&rays.shear[2]),
+    ];
+    let lane = triangle % 4;
+    let broadcast = |vertex: usize, axis: usize| _mm256_set1_pd(quad.v[vertex][axis][lane]);
+    let vertex = |v: usize| [broadcast(v, kx), broadcast(v, ky), broadcast(v, kz)];
+    let vertices = [vertex(0), vertex(1), vertex(2)];
+    decide!(origin, shear, vertices, t_min, lanes)
 }
 
 /// The hits of the lanes found `inside`; lanes neither inside nor `missed`, and inside lanes whose
@@ -386,5 +517,58 @@ mod tests {
             }
         }
         assert!(settled > 50_000 && hits > 300, "{settled} {hits}");
+    }
+
+    /// One triangle against four rays decides every lane it settles as the one-triangle test does,
+    /// to the bit, on the same grid box and nudged rays: neighbouring camera rays, four to a
+    /// group, with their sheared axes the same.
+    #[test]
+    fn four_rays_at_a_time_decide_as_one_at_a_time() {
+        let avx2 = crate::render::kernels::avx2_or_skip!();
+        let (camera, side, triangles) = grid_box(6);
+        let quads: Vec<Quad> = triangles.chunks(4).map(Quad::new).collect();
+        let (mut settled, mut hits, mut exact) = (0, 0, 0);
+        for nudge in [0.0, 1e-3] {
+            let rays: Vec<ShearedRay> = (0..side * side)
+                .filter_map(|pixel| {
+                    let ray = camera_ray(&camera, side, side, pixel / side, pixel % side);
+                    let dir = [ray.dir[0] + nudge, ray.dir[1], ray.dir[2] - nudge];
+                    ShearedRay::new(&ray.origin, &dir)
+                })
+                .collect();
+            for group in rays.chunks(4) {
+                let axes = group[0].parts().1;
+                let mut lanes = RayQuad::default();
+                let mut taking = 0;
+                for (lane, ray) in group.iter().enumerate() {
+                    if ray.parts().1 == axes {
+                        lanes.set(lane, ray);
+                        taking |= 1 << lane;
+                    }
+                }
+                for (slot, triangle) in triangles.iter().enumerate() {
+                    let quad = (&quads[slot / 4], slot % 4);
+                    let found = intersect_rays4(avx2, (axes, &lanes), quad, 0.0, taking);
+                    for (lane, ray) in group.iter().enumerate() {
+                        if taking & (1 << lane) == 0 {
+                            continue;
+                        }
+                        if found.again & (1 << lane) != 0 {
+                            exact += 1;
+                            continue;
+                        }
+                        settled += 1;
+                        let det = found.det[lane];
+                        let got = (found.hit & (1 << lane) != 0)
+                            .then(|| [found.v[lane] / det, found.w[lane] / det, found.t[lane]]);
+                        let expected = ray.intersect(triangle, 0.0).map(|h| [h.beta, h.gamma, h.t]);
+                        let bits = |v: Option<[f64; 3]>| v.map(|v| v.map(f64::to_bits));
+                        assert_eq!(bits(got), bits(expected), "ray {lane} of a group, {slot}");
+                        hits += got.is_some() as usize;
+                    }
+                }
+            }
+        }
+        assert!(settled > 50_000 && hits > 300, "{settled} {hits} {exact}");
     }
 }
