@@ -232,9 +232,16 @@ pub fn nearest_hits<const P: usize>(
         .method
         .and_then(|_| prepared.object_index().gathered())
         .filter(|gathered| gathered.applies(prepared));
-    if let Some(gathered) = gathered {
-        let owner = |number| gathered.owner(number);
-        packet_hits(prepared, &gathered.bvh, (rays, every), best, stats, owner);
+    // Rays inside a room of gathered walls test them last, the meshes' hits culling them.
+    let walls_last = gathered.is_some_and(|gathered| gathered.surrounds(rays));
+    let walls = |best: &mut [Option<Hit>; P], stats: &mut Stats| {
+        if let Some(gathered) = gathered {
+            let owner = |number| gathered.owner(number);
+            packet_hits(prepared, &gathered.bvh, (rays, every), best, stats, owner);
+        }
+    };
+    if !walls_last {
+        walls(best, stats);
     }
     // Where a ray alone would walk the object index, a mesh is walked only by the packet's rays
     // that meet its box before their hit so far, and only they are moved into its space.
@@ -300,6 +307,9 @@ pub fn nearest_hits<const P: usize>(
         packet_hits(prepared, bvh, (local, taking), best, stats, |primitive| {
             (index, primitive)
         });
+    }
+    if walls_last {
+        walls(best, stats);
     }
 }
 

@@ -123,6 +123,8 @@ pub struct Gathered {
     pub bvh: super::bvh::Bvh,
     /// Triangle number → (object, its triangle).
     owners: Vec<(u32, u32)>,
+    /// The box holding every gathered triangle.
+    bounds: Bounds,
 }
 
 impl Gathered {
@@ -138,6 +140,17 @@ impl Gathered {
     pub fn applies(&self, prepared: &Prepared) -> bool {
         let (first, _) = self.owner(0);
         super::cast::crack_free_applies(prepared, &prepared.objects[first])
+    }
+
+    /// True when every ray starts within the gathered triangles' box: rays inside a room of them
+    /// (the Cornell box's walls), where whatever else a ray meets in the room lies before the
+    /// walls. A packet's nearest search then walks the walls after the meshes, with the hits
+    /// found so far culling their boxes. (Which comes first changes no answer: the nearest hit,
+    /// ties to the lower object and triangle, is found either way.)
+    pub fn surrounds<const P: usize>(&self, rays: &[Ray; P]) -> bool {
+        let (lo, hi) = &self.bounds;
+        rays.iter()
+            .all(|ray| (0..3).all(|k| lo[k] <= ray.origin[k] && ray.origin[k] <= hi[k]))
     }
 }
 
@@ -171,9 +184,14 @@ fn gather(objects: &[PreparedObject]) -> Option<Gathered> {
             }
         }
     }
+    let corners: Vec<Bounds> = triangles
+        .iter()
+        .flat_map(|triangle| triangle.vertices.iter().map(|v| (*v, *v)))
+        .collect();
     (triangles.len() > 1).then(|| Gathered {
         bvh: super::bvh::Bvh::build(&triangles),
         owners,
+        bounds: union(corners.iter()),
     })
 }
 
@@ -1105,6 +1123,40 @@ mod tests {
             );
         }
         assert!(met > 20_000, "{met}");
+    }
+
+    /// Packets of mirror, glass and shadow rays, which start inside the Cornell box's room of
+    /// gathered walls and so test the walls after the meshes, find the hits each ray finds alone.
+    #[test]
+    fn rays_inside_a_room_of_walls_find_what_single_rays_find() {
+        use crate::render::cast::{TOGETHER, nearest_hit, nearest_hits};
+        let (name, prepared) = shipped()
+            .into_iter()
+            .find(|(name, _)| name.contains("cornell"))
+            .expect("the Cornell box is shipped");
+        let gathered = prepared
+            .object_index()
+            .gathered()
+            .expect("its walls are gathered");
+        let inside: Vec<Ray> = rays_cast(&prepared)
+            .iter()
+            .filter(|logged| logged.kind.name() != "primary" && logged.kind.name() != "samples")
+            .map(|logged| logged.ray)
+            .collect();
+        let (mut surrounded, mut met) = (0, 0);
+        let mut stats = Stats::default();
+        for chunk in inside.chunks_exact(TOGETHER).take(400) {
+            let packet: [Ray; TOGETHER] = std::array::from_fn(|r| chunk[r]);
+            surrounded += usize::from(gathered.surrounds(&packet));
+            let mut found = [None; TOGETHER];
+            nearest_hits(&prepared, &packet, &mut stats, &mut found);
+            for (r, ray) in packet.iter().enumerate() {
+                let single = nearest_hit(&prepared, *ray, &mut stats);
+                assert_eq!(found[r], single, "{name}: ray {r} {ray:?}");
+                met += usize::from(single.is_some());
+            }
+        }
+        assert!(surrounded > 100 && met > 1000, "{surrounded} {met}");
     }
 
     /// Sample rays cast together meet what they meet alone with t in (0, ∞), also under each
