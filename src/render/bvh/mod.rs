@@ -558,13 +558,7 @@ impl Bvh {
                 while hit != 0 {
                     let lane = hit.trailing_zeros() as usize;
                     hit &= hit - 1;
-                    let det = found.det[lane];
-                    let hit = TriangleHit {
-                        beta: found.v[lane] / det,
-                        gamma: found.w[lane] / det,
-                        t: found.t[lane],
-                    };
-                    offer(first + lane, hit, &mut limit);
+                    offer(first + lane, found.hit(lane), &mut limit);
                 }
                 let mut again = found.again;
                 while again != 0 {
@@ -630,13 +624,7 @@ impl Bvh {
                     let lane = hit.trailing_zeros() as usize;
                     hit &= hit - 1;
                     let r = 4 * group + lane;
-                    let det = found.det[lane];
-                    let hit = TriangleHit {
-                        beta: found.v[lane] / det,
-                        gamma: found.w[lane] / det,
-                        t: found.t[lane],
-                    };
-                    self.offer(slot, hit, (&mut t_max[r], &mut best[r]));
+                    self.offer(slot, found.hit(lane), (&mut t_max[r], &mut best[r]));
                 }
                 let mut again = found.again;
                 while again != 0 {

@@ -21,6 +21,7 @@
 
 use super::Avx2;
 use crate::math::linalg::V3;
+use crate::render::TriangleHit;
 use crate::render::crack_free::ShearedRay;
 
 /// Four triangles' vertices as `[vertex][axis][lane]`, aligned for 32-byte loads.
@@ -57,6 +58,19 @@ pub struct QuadHits {
     pub v: [f64; 4],
     pub w: [f64; 4],
     pub det: [f64; 4],
+}
+
+impl QuadHits {
+    /// Lane `lane`'s hit as the one-triangle test gives it: β = V / det, γ = W / det, and t.
+    #[inline(always)]
+    pub fn hit(&self, lane: usize) -> TriangleHit {
+        let det = self.det[lane];
+        TriangleHit {
+            beta: self.v[lane] / det,
+            gamma: self.w[lane] / det,
+            t: self.t[lane],
+        }
+    }
 }
 
 /// Four lanes of f64 (x86-64 only).
@@ -503,9 +517,9 @@ mod tests {
                                 continue;
                             }
                             settled += 1;
-                            let det = found.det[lane];
                             let got = (found.hit & (1 << lane) != 0)
-                                .then(|| [found.v[lane] / det, found.w[lane] / det, found.t[lane]]);
+                                .then(|| found.hit(lane))
+                                .map(|h| [h.beta, h.gamma, h.t]);
                             let expected =
                                 ray.intersect(triangle, 0.0).map(|h| [h.beta, h.gamma, h.t]);
                             let bits = |v: Option<[f64; 3]>| v.map(|v| v.map(f64::to_bits));
@@ -558,9 +572,9 @@ mod tests {
                             continue;
                         }
                         settled += 1;
-                        let det = found.det[lane];
                         let got = (found.hit & (1 << lane) != 0)
-                            .then(|| [found.v[lane] / det, found.w[lane] / det, found.t[lane]]);
+                            .then(|| found.hit(lane))
+                            .map(|h| [h.beta, h.gamma, h.t]);
                         let expected = ray.intersect(triangle, 0.0).map(|h| [h.beta, h.gamma, h.t]);
                         let bits = |v: Option<[f64; 3]>| v.map(|v| v.map(f64::to_bits));
                         assert_eq!(bits(got), bits(expected), "ray {lane} of a group, {slot}");

@@ -311,15 +311,14 @@ impl<const ANY: bool> Query for Narrow<'_, ANY> {
     fn leaf(&mut self, slots: std::ops::Range<usize>, live: u32) {
         self.make_sheared(live & !self.made);
         let lanes = &mut *self.lanes;
+        let mut lowered = |r: usize, t_max: f64| lanes.t_max[r] = up(t_max);
         let together = live & self.together.rays;
         let alone = if together != 0 && together_pays(together, slots.len()) {
             *self.triangle_tests += (slots.len() * together.count_ones() as usize) as u64;
             let rays = (together, &*self.together, &self.sheared);
             let hits = (&mut self.t_max, &mut *self.best);
             self.bvh
-                .leaf_rays4(self.avx2, slots.clone(), rays, hits, |r, t_max| {
-                    lanes.t_max[r] = up(t_max);
-                });
+                .leaf_rays4(self.avx2, slots.clone(), rays, hits, &mut lowered);
             live & !together
         } else {
             live
@@ -329,9 +328,7 @@ impl<const ANY: bool> Query for Narrow<'_, ANY> {
             let rays = (&mut self.sheared, self.rays);
             let tests = &mut *self.triangle_tests;
             self.bvh
-                .packet_leaf(self.avx2, slots, alone, rays, hits, tests, |r, t_max| {
-                    lanes.t_max[r] = up(t_max);
-                });
+                .packet_leaf(self.avx2, slots, alone, rays, hits, tests, &mut lowered);
         }
         if ANY {
             close_found(live, self.best, &self.open, &mut self.t_max, |r| {
