@@ -768,3 +768,53 @@ unsafe fn one_ray_boxes8(one: &OneRay, node: &Node8) -> (u32, u32, u32) {
     let starts_in = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(near, _mm256_setzero_ps()));
     (met, boxes.count_ones(), met & starts_in as u32)
 }
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+
+    /// A node whose lanes hold `boxes` (min, max), the rest empty.
+    fn node(boxes: &[([f32; 3], [f32; 3])]) -> Node8 {
+        let mut node = Node8::empty();
+        for (lane, (min, max)) in boxes.iter().enumerate() {
+            for k in 0..3 {
+                node.min[k][lane] = min[k];
+                node.max[k][lane] = max[k];
+            }
+            node.child[lane] = lane as u32;
+        }
+        node
+    }
+
+    /// The boxes a ray starts in are told apart from those ahead of it, which the any-hit walk
+    /// visits first (a shadow ray cannot hit the surface it leaves, in the box it starts in).
+    #[test]
+    fn a_node_tells_the_boxes_a_ray_starts_in_from_those_ahead() {
+        let Some(_) = super::super::Avx2::detect() else {
+            return;
+        };
+        let boxes = node(&[
+            ([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]),
+            ([2.0, -1.0, -1.0], [3.0, 1.0, 1.0]),
+            ([-3.0, -1.0, -1.0], [-2.0, 1.0, 1.0]),
+            ([0.5, -0.5, -0.5], [4.0, 0.5, 0.5]),
+        ]);
+        let cases = [
+            // From inside the first and the last box, along +x: it starts in both, and meets the
+            // second ahead; the third is behind it.
+            ([0.6, 0.0, 0.0], [1.0, 0.01, 0.02], 0b1011, 0b1001),
+            // From outside them all: every met box is ahead.
+            ([-5.0, 0.0, 0.0], [1.0, 0.0, 0.0], 0b1111, 0b0000),
+            // Going −x from inside the first box only.
+            ([0.0, 0.9, 0.0], [-1.0, 0.0, 0.0], 0b0101, 0b0001),
+        ];
+        for (origin, dir, met, starts_in) in cases {
+            let ray = Ray { origin, dir };
+            // SAFETY: the processor has AVX2 and FMA (detected above).
+            let one = unsafe { OneRay::new(&ray, f64::INFINITY) }.expect("ordinary numbers");
+            // SAFETY: as above.
+            let (found, tested, started) = unsafe { one_ray_boxes8(&one, &boxes) };
+            assert_eq!((found, tested, started), (met, 4, starts_in), "{ray:?}");
+        }
+    }
+}
