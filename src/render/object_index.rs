@@ -57,6 +57,28 @@ fn area((lo, hi): &Bounds) -> f64 {
     x * y + y * z + z * x
 }
 
+/// The lanes of `node` in `met` that hold something, farthest entry first (equal entries in lane
+/// order), and how many.
+#[inline(always)]
+fn farthest_first(node: &Wide, near: &[f64; 4], met: u32) -> ([usize; 4], usize) {
+    let mut lanes = [0usize; 4];
+    let mut n = 0;
+    for lane in 0..4 {
+        if met & (1 << lane) != 0 && node.child[lane] != EMPTY {
+            lanes[n] = lane;
+            n += 1;
+        }
+    }
+    for i in 1..n {
+        let mut j = i;
+        while j > 0 && near[lanes[j - 1]] < near[lanes[j]] {
+            lanes.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    (lanes, n)
+}
+
 /// A node of the binary build: a box, and a leaf's object or an inner node's two children.
 #[derive(Clone, Debug)]
 struct Binary {
@@ -519,6 +541,19 @@ impl ObjectIndex {
             return;
         }
         let slabs = Slabs::of(ray);
+        if let [root] = self.nodes.as_slice() {
+            // A root that holds every object (a scene of up to four boxes): its objects in
+            // order, nearest first, without the stack.
+            *box_tests += root.held;
+            let (near, met) = slabs.enter_on(simd, root, (t_min, t_max));
+            let (lanes, n) = farthest_first(root, &near, met);
+            for &lane in lanes[..n].iter().rev() {
+                if near[lane] <= t_max {
+                    t_max = test((root.child[lane] & !OBJECT) as usize, t_max);
+                }
+            }
+            return;
+        }
         let mut stack = [const { MaybeUninit::<(u32, f64)>::uninit() }; STACK];
         stack[0] = MaybeUninit::new((0, t_min));
         let mut depth = 1;
@@ -537,21 +572,7 @@ impl ObjectIndex {
             *box_tests += node.held;
             let (near, met) = slabs.enter_on(simd, node, (t_min, t_max));
             // Farthest first, so the nearest is popped next.
-            let mut lanes = [0usize; 4];
-            let mut n = 0;
-            for lane in 0..4 {
-                if met & (1 << lane) != 0 && node.child[lane] != EMPTY {
-                    lanes[n] = lane;
-                    n += 1;
-                }
-            }
-            for i in 1..n {
-                let mut j = i;
-                while j > 0 && near[lanes[j - 1]] < near[lanes[j]] {
-                    lanes.swap(j - 1, j);
-                    j -= 1;
-                }
-            }
+            let (lanes, n) = farthest_first(node, &near, met);
             for &lane in &lanes[..n] {
                 stack[depth] = MaybeUninit::new((node.child[lane], near[lane]));
                 depth += 1;
@@ -1013,10 +1034,18 @@ mod tests {
             };
             for t_max in ends {
                 let range = (0.0, t_max);
+                let blocked = any_hit(prepared, *ray, range, &mut stats);
                 assert_eq!(
-                    any_hit(prepared, *ray, range, &mut stats),
+                    blocked,
                     any_of_each_object(prepared, *ray, range, &mut stats),
                     "{name}: ray {i} {ray:?} up to {t_max}"
+                );
+                // The any-hit query and the nearest hit take their own ways through an object
+                // (lone triangles, parallelograms, meshes), to the same decisions.
+                assert_eq!(
+                    blocked,
+                    nearest.is_some_and(|hit| hit.t < t_max),
+                    "{name}: ray {i} {ray:?} up to {t_max}, against the nearest hit"
                 );
             }
         }
