@@ -802,7 +802,7 @@ fn lone_triangles_block(
     for r in bits(taking) {
         let made = sheared[r].get_or_insert_with(|| ShearedRay::new(&rays[r].origin, &rays[r].dir));
         if let Some(ray) = made
-            && lone_triangles_stop(triangles, ray, t_max[r], stats)
+            && lone_triangle_blocks(triangles, ray, t_max[r], stats)
         {
             blocked |= 1 << r;
         }
@@ -810,10 +810,27 @@ fn lone_triangles_block(
     blocked
 }
 
+/// An object's triangles when they are lone triangles in world space taking the crack-free test
+/// (no hierarchy, no transform): the ones an any-hit query tests directly.
+fn lone_world_triangles<'a>(
+    prepared: &Prepared,
+    object: &'a PreparedObject,
+) -> Option<&'a [PreparedTriangle]> {
+    match &object.geometry {
+        Geometry::Triangles {
+            triangles,
+            bvh: None,
+        } if object.object_from_world.is_none() && crack_free_applies(prepared, object) => {
+            Some(triangles)
+        }
+        _ => None,
+    }
+}
+
 /// True when one of `triangles` (in world space, taking the crack-free test) is hit by the sheared
 /// `ray` at 0 < t < t_max; counts the triangles tested.
 #[inline(always)]
-fn lone_triangles_stop(
+fn lone_triangle_blocks(
     triangles: &[PreparedTriangle],
     ray: &ShearedRay,
     t_max: f64,
@@ -852,13 +869,7 @@ fn objects_block(
     stats: &mut Stats,
 ) -> u32 {
     let object = &prepared.objects[index];
-    if let Geometry::Triangles {
-        triangles,
-        bvh: None,
-    } = &object.geometry
-        && object.object_from_world.is_none()
-        && crack_free_applies(prepared, object)
-    {
+    if let Some(triangles) = lone_world_triangles(prepared, object) {
         return lone_triangles_block(triangles, (rays, taking), sheared, t_max, stats);
     }
     if let Some((solver, shape)) = parallelogram_lanes(prepared.simd, object) {
@@ -996,15 +1007,10 @@ fn object_blocks(
     // Lone triangles in the world's space (the Cornell box's walls, a floor's triangle): the
     // crack-free test on each, as `lone_triangles_block` tests a packet's rays.
     if t_min == 0.0
-        && let Geometry::Triangles {
-            triangles,
-            bvh: None,
-        } = &object.geometry
-        && object.object_from_world.is_none()
-        && crack_free_applies(prepared, object)
+        && let Some(triangles) = lone_world_triangles(prepared, object)
     {
         return ShearedRay::new(&ray.origin, &ray.dir)
-            .is_some_and(|sheared| lone_triangles_stop(triangles, &sheared, t_max, stats));
+            .is_some_and(|sheared| lone_triangle_blocks(triangles, &sheared, t_max, stats));
     }
     // The largest float below t_max: the same open interval.
     let range = (t_min, t_max.next_down());

@@ -19,7 +19,7 @@ use glam::DVec3;
 
 use super::cast::bits;
 use super::kernels::Avx2;
-use super::objects::{Geometry, PreparedObject};
+use super::objects::{Geometry, PreparedObject, PreparedTriangle};
 use super::{Prepared, Ray};
 
 /// Scenes with fewer objects test each one (a box per object saves nothing there).
@@ -206,14 +206,10 @@ fn gather(objects: &[PreparedObject]) -> Option<Gathered> {
             }
         }
     }
-    let corners: Vec<Bounds> = triangles
-        .iter()
-        .flat_map(|triangle| triangle.vertices.iter().map(|v| (*v, *v)))
-        .collect();
     (triangles.len() > 1).then(|| Gathered {
         bvh: super::bvh::Bvh::build(&triangles),
         owners,
-        bounds: union(corners.iter()),
+        bounds: vertex_bounds(&triangles),
     })
 }
 
@@ -547,6 +543,11 @@ impl ObjectIndex {
             *box_tests += root.held;
             let (near, met) = slabs.enter_on(simd, root, (t_min, t_max));
             let (lanes, n) = farthest_first(root, &near, met);
+            debug_assert!(
+                lanes[..n]
+                    .iter()
+                    .all(|&lane| root.child[lane] & OBJECT != 0)
+            );
             for &lane in lanes[..n].iter().rev() {
                 if near[lane] <= t_max {
                     t_max = test((root.child[lane] & !OBJECT) as usize, t_max);
@@ -840,15 +841,7 @@ pub fn for_ray<'a>(prepared: &'a Prepared, ray: &Ray) -> Option<&'a ObjectIndex>
 fn world_box(object: &PreparedObject) -> Option<Bounds> {
     let corners: Vec<DVec3> = match &object.geometry {
         Geometry::Triangles { triangles, .. } => {
-            let (lo, hi) = triangles.iter().flat_map(|t| &t.vertices).fold(
-                ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-                |(lo, hi), v| {
-                    (
-                        std::array::from_fn(|k| lo[k].min(v[k])),
-                        std::array::from_fn(|k| hi[k].max(v[k])),
-                    )
-                },
-            );
+            let (lo, hi) = vertex_bounds(triangles);
             box_corners(lo, hi)
         }
         Geometry::Parallelogram { .. } => return None,
@@ -871,6 +864,19 @@ fn world_box(object: &PreparedObject) -> Option<Bounds> {
     }
     let pad = BOX_SLACK * lo.abs().max(hi.abs()).max(hi - lo).max_element() + f64::MIN_POSITIVE;
     Some(((lo - pad).to_array(), (hi + pad).to_array()))
+}
+
+/// The smallest box holding the triangles' vertices (empty for no triangle).
+fn vertex_bounds(triangles: &[PreparedTriangle]) -> Bounds {
+    triangles
+        .iter()
+        .flat_map(|t| &t.vertices)
+        .fold(empty(), |(lo, hi), v| {
+            (
+                std::array::from_fn(|k| lo[k].min(v[k])),
+                std::array::from_fn(|k| hi[k].max(v[k])),
+            )
+        })
 }
 
 /// The eight corners of the box [lo, hi] (none for an empty one).
