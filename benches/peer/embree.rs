@@ -16,6 +16,10 @@
 //! (`benches/peer/embree_build.py`). Then the scaling: irregular spheres from 1 280 to 1 310 720 triangles. Set `RAYLAB_PEER_REPEATS`
 //! to change the 21 renders, `RAYLAB_PEER_MAX_LEVEL` (3 to 8) to cut the scaling series short, and
 //! `RAYLAB_PEER_ONLY` (comma-separated parts of row names, e.g. `level 8,box`) to run only those rows.
+//!
+//! In the shadow rows and the rows per kind of ray, both sides' scripts are ours, and on Linux each
+//! side's two worker threads run one on each CPU (`--pin` to the scripts, [`query_pool`] here); set
+//! `RAYLAB_PEER_UNPINNED` to leave both to the scheduler.
 
 use std::process::Command;
 
@@ -88,16 +92,24 @@ fn embree(
     prepared: &Prepared,
     name: &str,
 ) -> Result<(f64, usize), String> {
-    run_script(script, triangles, prepared, &format!("render-{name}"))
+    run_script(
+        script,
+        triangles,
+        prepared,
+        &format!("render-{name}"),
+        false,
+    )
 }
 
 /// Runs an Embree `script` on `triangles` (written to a temporary OBJ named after `tag`) with the
-/// scene's pinhole camera, image size, [`THREADS`] and [`repeats`]: its median ms and its count.
+/// scene's pinhole camera, image size, [`THREADS`] and [`repeats`], and `--pin` when `pin`: its
+/// median ms and its count.
 fn run_script(
     script: &str,
     triangles: &[[V3<f64>; 3]],
     prepared: &Prepared,
     tag: &str,
+    pin: bool,
 ) -> Result<(f64, usize), String> {
     let Camera::Pinhole {
         position,
@@ -119,6 +131,7 @@ fn run_script(
         .args(["--size", &format!("{}x{}", prepared.width, prepared.height)])
         .args(["--threads", &THREADS.to_string()])
         .args(["--reps", &repeats().to_string()])
+        .args(pin.then_some("--pin"))
         .output();
     let _ = std::fs::remove_file(&path);
     let output = output.map_err(|e| format!("cannot run python3: {e}"))?;
@@ -289,7 +302,13 @@ fn embree_occluded(
         env!("CARGO_MANIFEST_DIR"),
         "/benches/peer/embree_occluded.py"
     );
-    run_script(script, triangles, prepared, &format!("shadow-{name}"))
+    run_script(
+        script,
+        triangles,
+        prepared,
+        &format!("shadow-{name}"),
+        pinned(),
+    )
 }
 
 /// Shadow rays: both sides' any-hit queries on the generated meshes.
@@ -399,6 +418,7 @@ fn embree_rays(
         .args(["--query", query])
         .args(["--threads", &THREADS.to_string()])
         .args(["--reps", &ray_repeats(rays.len()).to_string()])
+        .args(pinned().then_some("--pin"))
         .output();
     let _ = std::fs::remove_file(&path);
     median_and_coverage(&output.map_err(|e| format!("cannot run python3: {e}"))?)
@@ -566,6 +586,68 @@ fn sphere(level: u32) -> (Prepared, Vec<[V3<f64>; 3]>) {
     (mesh_scene(&triangles, camera, 400, 400), triangles)
 }
 
+/// True when the query rows pin each side's workers, one to a CPU: on Linux, unless
+/// `RAYLAB_PEER_UNPINNED` is set.
+fn pinned() -> bool {
+    cfg!(target_os = "linux") && std::env::var_os("RAYLAB_PEER_UNPINNED").is_none()
+}
+
+/// The pool for the rows whose both sides are ours (shadow rays, each kind of ray): [`THREADS`]
+/// workers, each on its own CPU when [`pinned`]. Left to the scheduler, rayon's second worker, woken
+/// by the first, was at times queued behind it on the first's CPU for whole rounds (its chunks ran
+/// on CPU 0 beside the first's, or the first ran them all), and a millisecond's cast took its
+/// one-thread time. The scripts' workers are pinned alike (`--pin`).
+fn query_pool() -> rayon::ThreadPool {
+    let cpus = if pinned() { allowed_cpus() } else { Vec::new() };
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(THREADS)
+        .start_handler(move |worker| {
+            if let Some(&cpu) = cpus.get(worker % cpus.len().max(1)) {
+                pin_this_thread(cpu);
+            }
+        })
+        .build()
+        .expect("a pool of 2 threads")
+}
+
+/// The CPUs this process may run on, in order (none where that cannot be read).
+#[cfg(target_os = "linux")]
+#[allow(unsafe_code)]
+fn allowed_cpus() -> Vec<usize> {
+    // SAFETY: an all-zero cpu_set_t is the empty set, and sched_getaffinity writes at most the
+    // size it is given into it.
+    unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        if libc::sched_getaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &mut set) != 0 {
+            return Vec::new();
+        }
+        (0..libc::CPU_SETSIZE as usize)
+            .filter(|&cpu| libc::CPU_ISSET(cpu, &set))
+            .collect()
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn allowed_cpus() -> Vec<usize> {
+    Vec::new()
+}
+
+/// Lets the calling thread run on `cpu` only (a failure leaves it as it was).
+#[cfg(target_os = "linux")]
+#[allow(unsafe_code)]
+fn pin_this_thread(cpu: usize) {
+    // SAFETY: CPU_SET writes one bit of a set it is given whole (it checks `cpu` against the set's
+    // size), and sched_setaffinity reads the set's size from the set it is given.
+    unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        libc::CPU_SET(cpu, &mut set);
+        libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set);
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn pin_this_thread(_: usize) {}
+
 /// Runs the comparison, or says why it skipped.
 pub fn compare() {
     let Some(script) = script() else {
@@ -603,8 +685,9 @@ pub fn compare() {
             return;
         }
     }
-    shadow_rays(&pool, &scenes);
-    ray_kinds(&pool);
+    let queries = query_pool();
+    shadow_rays(&queries, &scenes);
+    ray_kinds(&queries);
     build_row(&pool);
     let max_level = std::env::var("RAYLAB_PEER_MAX_LEVEL")
         .ok()

@@ -3,11 +3,17 @@ queries for a mesh on the pinhole camera rays of ../shared/peers/embree_render.p
 with no distance limit. Prints the median time and the occluded rays:
 
     python3 embree_occluded.py --obj mesh.obj --eye 0,-4,0 --target 0,0,0 --fov 35 --size 400x400 \
-        --threads 2 --reps 21
+        --threads 2 --reps 21 [--pin]
+
+With `--pin` each worker thread runs on its own CPU (as the peer bench pins raylab's), so that the
+scheduler cannot queue both on one.
 """
 import argparse
+import itertools
 import math
+import os
 import statistics
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
@@ -36,6 +42,25 @@ def load_obj(path):
     return np.array(vs, float)[np.array(fs, np.int64)]
 
 
+def thread_pool(threads, pin):
+    """A pool of `threads` workers, started before any clock; with `pin`, worker k runs only on
+    the k-th CPU this process may use."""
+    cpus = sorted(os.sched_getaffinity(0))
+    taken = itertools.count()
+
+    def pin_this_thread():
+        # sched_setaffinity(0, ...) sets the calling thread's CPUs on Linux.
+        os.sched_setaffinity(0, {cpus[next(taken) % len(cpus)]})
+
+    pool = ThreadPoolExecutor(threads, initializer=pin_this_thread if pin else None)
+    # A pool starts a thread for each task that finds no idle one: tasks that wait for each other
+    # start all `threads` of them here.
+    barrier = threading.Barrier(threads)
+    for f in [pool.submit(barrier.wait) for _ in range(threads)]:
+        f.result()
+    return pool
+
+
 def pinhole(eye, target, fov, w, h):
     unit = lambda a: a / np.linalg.norm(a)
     fwd = unit(target - eye)
@@ -60,6 +85,7 @@ def main():
     ap.add_argument('--size', required=True)
     ap.add_argument('--threads', type=int, default=2)
     ap.add_argument('--reps', type=int, default=21)
+    ap.add_argument('--pin', action='store_true', help='each worker thread on its own CPU')
     a = ap.parse_args()
     w, h = (int(x) for x in a.size.lower().split('x'))
     tris = np.ascontiguousarray(load_obj(a.obj), np.float32)
@@ -71,7 +97,7 @@ def main():
     rows = np.arange(w * h) // w
     parts = [(np.ascontiguousarray(o[rows % a.threads == k]), np.ascontiguousarray(d[rows % a.threads == k]))
              for k in range(a.threads)]
-    pool = ThreadPoolExecutor(a.threads)
+    pool = thread_pool(a.threads, a.pin)
     # embreex answers 0 for an occluded ray, -1 for a free one; this call also commits the scene.
     occluded = int((scene.run(o, d, query='OCCLUDED') == 0).sum())
     times = []

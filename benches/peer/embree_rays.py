@@ -3,21 +3,21 @@ answering the same rays, written out by the peer bench, with the query the trace
 (the nearest hit: primary, sample, reflection and refraction rays) or `occluded` (any hit before
 t_max: shadow and occlusion rays). Prints the median time and the rays that met something:
 
-    python3 embree_rays.py --obj scene.obj --rays rays.f32 --query occluded --threads 2 --reps 5
+    python3 embree_rays.py --obj scene.obj --rays rays.f32 --query occluded --threads 2 --reps 5 [--pin]
 
 The rays file holds, per ray, seven little-endian f32s: origin x y z, direction x y z, t_max (+inf
-for the nearest-hit kinds). The rays are split between the threads before the clock starts.
+for the nearest-hit kinds). The rays are split between the threads before the clock starts. With
+`--pin` each worker thread runs on its own CPU, as in `embree_occluded.py`.
 """
 import argparse
 import statistics
 import time
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 from embreex import rtcore_scene as rtcs
 from embreex.mesh_construction import TriangleMesh
 
-from embree_occluded import load_obj
+from embree_occluded import load_obj, thread_pool
 
 
 def main():
@@ -27,6 +27,7 @@ def main():
     ap.add_argument('--query', choices=['intersect', 'occluded'], required=True)
     ap.add_argument('--threads', type=int, default=2)
     ap.add_argument('--reps', type=int, default=5)
+    ap.add_argument('--pin', action='store_true', help='each worker thread on its own CPU')
     a = ap.parse_args()
     tris = np.ascontiguousarray(load_obj(a.obj), np.float32)
     scene = rtcs.EmbreeScene(robust=True)
@@ -46,7 +47,7 @@ def main():
         answer = scene.run(o, d, t, query)
         return int((answer == 0).sum()) if query == 'OCCLUDED' else int((answer >= 0).sum())
 
-    pool = ThreadPoolExecutor(a.threads)
+    pool = thread_pool(a.threads, a.pin)
     # The first call also commits the scene.
     hits = sum(met(*p) for p in parts)
     times = []
