@@ -38,6 +38,21 @@ pub fn to_object_space(
     Ray::new(origin, dir)
 }
 
+/// [`to_object_space`] where the object has a transform; else the ray itself, read where it lies
+/// (a copy's stores stalled the loads that read it back).
+#[inline(always)]
+fn in_object_space<'a>(
+    object: &PreparedObject,
+    ray: &'a Ray,
+    bug: Option<Bug>,
+    stats: &mut Stats,
+) -> std::borrow::Cow<'a, Ray> {
+    match object.object_from_world {
+        None => std::borrow::Cow::Borrowed(ray),
+        Some(_) => std::borrow::Cow::Owned(to_object_space(object, *ray, bug, stats)),
+    }
+}
+
 /// Tests one triangle: the method's decision (`watertight`: the crack-free test), or a bug's.
 /// Inlined: its ray, passed through memory, stalled the loads that read it back.
 #[inline(always)]
@@ -661,7 +676,7 @@ pub fn nearest_hit_between(
     };
     let mut best: Option<Hit> = None;
     let mut boxes = 0;
-    index.visit(
+    index.visit::<false>(
         prepared.simd,
         &ray,
         (t_min, t_max),
@@ -703,14 +718,17 @@ fn nearer(
 
 /// True when anything is hit with `t_min < t < t_max`: an any-hit query that stops at the first hit
 /// (shadow and occlusion rays; a surface exactly at the light does not hide it).
-pub fn any_hit(prepared: &Prepared, ray: Ray, range: (f64, f64), stats: &mut Stats) -> bool {
-    let Some(index) = object_index::for_ray(prepared, &ray) else {
+///
+/// The ray is read where it lies, not copied: a copy's stores stalled the loads that read it back
+/// (store forwarding), a sixth of a lone shadow ray's time.
+pub fn any_hit(prepared: &Prepared, ray: &Ray, range: (f64, f64), stats: &mut Stats) -> bool {
+    let Some(index) = object_index::for_ray(prepared, ray) else {
         return any_of_each_object(prepared, ray, range, stats);
     };
     let mut blocked = false;
     let mut boxes = 0;
     // The first object in the way ends the walk (t_max −∞ is below every box).
-    index.visit(prepared.simd, &ray, range, &mut boxes, |object, t_max| {
+    index.visit::<true>(prepared.simd, ray, range, &mut boxes, |object, t_max| {
         blocked = object_blocks(prepared, object, ray, range, stats);
         if blocked { f64::NEG_INFINITY } else { t_max }
     });
@@ -735,7 +753,7 @@ pub fn any_hits(
     let each_ray = |stats: &mut Stats| {
         let mut blocked = 0;
         for r in bits(taking) {
-            blocked |= u32::from(any_hit(prepared, rays[r], (0.0, t_max[r]), stats)) << r;
+            blocked |= u32::from(any_hit(prepared, &rays[r], (0.0, t_max[r]), stats)) << r;
         }
         blocked
     };
@@ -884,7 +902,7 @@ fn objects_block(
     let mut blocked = 0;
     for r in bits(taking) {
         let range = (0.0, t_max[r]);
-        blocked |= u32::from(object_blocks(prepared, index, rays[r], range, stats)) << r;
+        blocked |= u32::from(object_blocks(prepared, index, &rays[r], range, stats)) << r;
     }
     blocked
 }
@@ -976,7 +994,7 @@ fn parallelogram_lanes(
 /// [`any_hit`] testing every object in turn, without the index.
 pub(super) fn any_of_each_object(
     prepared: &Prepared,
-    ray: Ray,
+    ray: &Ray,
     range: (f64, f64),
     stats: &mut Stats,
 ) -> bool {
@@ -992,7 +1010,7 @@ pub(super) fn any_of_each_object(
 fn object_blocks(
     prepared: &Prepared,
     index: usize,
-    ray: Ray,
+    ray: &Ray,
     (t_min, t_max): (f64, f64),
     stats: &mut Stats,
 ) -> bool {
@@ -1000,7 +1018,7 @@ fn object_blocks(
     if let Geometry::Triangles { bvh: Some(bvh), .. } = &object.geometry
         && crack_free_applies(prepared, object)
     {
-        let local = to_object_space(object, ray, prepared.bug, stats);
+        let local = in_object_space(object, ray, prepared.bug, stats);
         let (boxes, triangles) = (&mut stats.box_tests, &mut stats.triangle_tests);
         return bvh.occluded(prepared.simd, &local, (t_min, t_max), boxes, triangles);
     }
@@ -1019,12 +1037,12 @@ fn object_blocks(
         && let Some((solver, shape)) = parallelogram_lanes(prepared.simd, object)
     {
         // Seed 001's solver in lanes, every lane this ray: no prefilter, no norms.
-        let local = to_object_space(object, ray, prepared.bug, stats);
+        let local = in_object_space(object, ray, prepared.bug, stats);
         stats.parallelogram_tests += 1;
         let blocks = solver.blocks_one(&local, t_max);
-        return blocks.unwrap_or_else(|| blocks_alone(shape, local, t_max));
+        return blocks.unwrap_or_else(|| blocks_alone(shape, *local, t_max));
     }
-    object_hit_between(prepared, index, ray, range, Find::Any, stats).is_some()
+    object_hit_between(prepared, index, *ray, range, Find::Any, stats).is_some()
 }
 
 /// Object `index`'s nearest hit in (t_min, t_max], or with [`Find::Any`] the first one found.
@@ -1508,7 +1526,7 @@ mod packet_tests {
                     let range = (0.0, t_max[r].next_down());
                     let one_ray =
                         object_hit_between(&prepared, index, *ray, range, Find::Any, &mut stats);
-                    let alone = object_blocks(&prepared, index, *ray, (0.0, t_max[r]), &mut stats);
+                    let alone = object_blocks(&prepared, index, ray, (0.0, t_max[r]), &mut stats);
                     assert_eq!(
                         alone,
                         one_ray.is_some(),

@@ -514,12 +514,14 @@ impl ObjectIndex {
         here as u32
     }
 
-    /// Calls `test(object, t_max)` for every object whose box the ray meets within
-    /// [t_min, t_max], nearest box first, then for the objects without a box. `test` answers the
-    /// t_max from then on: the nearest hit so far, or −∞ to stop (an any-hit query's hit). Counts
-    /// the box tests.
+    /// Calls `test(object, t_max)` for the objects without a box, then for every object whose box
+    /// the ray meets within [t_min, t_max], nearest box first. `test` answers the t_max from then
+    /// on: the nearest hit so far, or −∞ to stop (an any-hit query's hit). Counts the box tests.
+    /// With `ANY` (an any-hit query, which any hit ends), an index of one node visits last the
+    /// boxes the ray starts in (entered at t_min): they hold the surface a shadow ray leaves, which
+    /// it cannot hit.
     #[inline(always)]
-    pub fn visit(
+    pub fn visit<const ANY: bool>(
         &self,
         simd: Option<Avx2>,
         ray: &Ray,
@@ -548,8 +550,17 @@ impl ObjectIndex {
                     .iter()
                     .all(|&lane| root.child[lane] & OBJECT != 0)
             );
+            // Nearest first the boxes ahead, then (with `ANY`) those the ray starts in.
+            let mut deferred = 0u32;
             for &lane in lanes[..n].iter().rev() {
-                if near[lane] <= t_max {
+                if ANY && near[lane] <= t_min {
+                    deferred |= 1 << lane;
+                } else if near[lane] <= t_max {
+                    t_max = test((root.child[lane] & !OBJECT) as usize, t_max);
+                }
+            }
+            for &lane in lanes[..n].iter().rev() {
+                if deferred & (1 << lane) != 0 && near[lane] <= t_max {
                     t_max = test((root.child[lane] & !OBJECT) as usize, t_max);
                 }
             }
@@ -1040,10 +1051,10 @@ mod tests {
             };
             for t_max in ends {
                 let range = (0.0, t_max);
-                let blocked = any_hit(prepared, *ray, range, &mut stats);
+                let blocked = any_hit(prepared, ray, range, &mut stats);
                 assert_eq!(
                     blocked,
-                    any_of_each_object(prepared, *ray, range, &mut stats),
+                    any_of_each_object(prepared, ray, range, &mut stats),
                     "{name}: ray {i} {ray:?} up to {t_max}"
                 );
                 // The any-hit query and the nearest hit take their own ways through an object
@@ -1121,7 +1132,7 @@ mod tests {
                     let blocked = any_hits(prepared, (&packet, taking), &t_max, &mut stats);
                     for (r, ray) in packet.iter().enumerate() {
                         let expected = taking & (1 << r) != 0
-                            && any_of_each_object(prepared, *ray, (0.0, t_max[r]), &mut stats);
+                            && any_of_each_object(prepared, ray, (0.0, t_max[r]), &mut stats);
                         assert_eq!(
                             blocked & (1 << r) != 0,
                             expected,

@@ -43,7 +43,7 @@ impl LoggedRay {
     /// Casts the ray again through the query the tracer used: true when it meets something.
     pub fn cast_again(&self, prepared: &Prepared, stats: &mut Stats) -> bool {
         if self.any_hit() {
-            cast::any_hit(prepared, self.ray, (0.0, self.t_max), stats)
+            cast::any_hit(prepared, &self.ray, (0.0, self.t_max), stats)
         } else {
             cast::nearest_hit_between(prepared, self.ray, (0.0, self.t_max), stats).is_some()
         }
