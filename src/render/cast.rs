@@ -1036,7 +1036,7 @@ fn object_blocks(
         && test_bug(prepared).is_none()
         && let Some((solver, shape)) = parallelogram_lanes(prepared.simd, object)
     {
-        // Seed 001's solver in lanes, every lane this ray: no prefilter, no norms.
+        // Seed 001's solver, one lane of its kernel in scalar f64: no prefilter, no norms.
         let local = in_object_space(object, ray, prepared.bug, stats);
         stats.parallelogram_tests += 1;
         let blocks = solver.blocks_one(&local, t_max);
@@ -1486,7 +1486,7 @@ mod packet_tests {
     }
 
     /// A floor and a turned floor block a shadow ray (0 < t < t_max) as the one-ray solver's first
-    /// hit in (0, the float below t_max] says, whether the ray goes alone (every lane holding it)
+    /// hit in (0, the float below t_max] says, whether the ray goes alone (one scalar lane)
     /// or sixteen at a time: rays from random points and from points on the floor (t exactly 0),
     /// t_max at the solver's own t, either side of it, or anywhere.
     #[test]

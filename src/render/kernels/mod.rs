@@ -6,7 +6,7 @@
 //! | kernel | lanes | the scalar path it stands for |
 //! |---|---|---|
 //! | [`moller_trumbore4`] | four rays, one lone triangle | [`crate::intersect::moller_trumbore::hit`] |
-//! | [`parallelogram4`] | four rays, one parallelogram (or one ray in every lane) | seed 001's lean solver |
+//! | [`parallelogram4`] | four rays, one parallelogram (or one ray in one scalar lane) | seed 001's lean solver |
 //! | [`crack_free4`] | one ray, four triangles of a BVH leaf | [`super::crack_free::ShearedRay::intersect`] |
 //! | [`boxes4`] | one ray, a BVH node's four boxes | the node's portable box test |
 //! | [`narrow`] | sixteen rays, f32 box tests eight at a time; or one ray, a node's four boxes in f32 | the one-ray box test (it only culls) |
