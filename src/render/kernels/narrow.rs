@@ -790,9 +790,7 @@ mod tests {
     /// visits first (a shadow ray cannot hit the surface it leaves, in the box it starts in).
     #[test]
     fn a_node_tells_the_boxes_a_ray_starts_in_from_those_ahead() {
-        let Some(_) = super::super::Avx2::detect() else {
-            return;
-        };
+        let _ = crate::render::kernels::avx2_or_skip!();
         let boxes = node(&[
             ([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]),
             ([2.0, -1.0, -1.0], [3.0, 1.0, 1.0]),
