@@ -204,7 +204,8 @@ pub struct Bvh {
     /// Slot → the triangle's vertices while the build places the leaves, in leaf order so a leaf's
     /// triangles are contiguous; empty once [`Bvh::quads`] holds them (a second copy cost 72
     /// bytes a slot). Each leaf starts at a multiple of four; the slots between leaves repeat a
-    /// triangle and belong to no leaf.
+    /// triangle and belong to no leaf. After the 4-wide leaves come the 8-wide walk's packed
+    /// leaves ([`eight`]).
     build_vertices: Vec<[V3<f64>; 3]>,
     /// The slots' vertices four at a time (slot / 4), for the four-triangle test; one slot's are
     /// read back by [`Bvh::slot_vertices`].
@@ -298,7 +299,8 @@ impl Bvh {
             bvh.nodes[0] = root;
             // Only the x86-64 kernels walk them (the web page would hold them for nothing).
             if cfg!(target_arch = "x86_64") {
-                bvh.eight = eight::Eight::of(&binary, &slots);
+                let packs = (&mut bvh.order, &mut bvh.build_vertices);
+                bvh.eight = eight::Eight::of(&binary, (&leaves, &slots), packs);
             }
         }
         bvh.quads = bvh.build_vertices.chunks(4).map(Quad::new).collect();
