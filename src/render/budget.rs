@@ -90,9 +90,9 @@ pub fn past_budget(prepared: &Prepared) -> Option<WorstCase> {
 pub const MEMORY_BUDGET_BYTES: u64 = 2 << 30;
 
 /// Bytes a mesh's hierarchy may take per triangle, at most: its 4-wide and 8-wide nodes, slot
-/// order and four-triangle packs, with leaves padded to four slots (517 measured on the
-/// 1.3-million-triangle sphere, about 250 on spheres of 512 and 20 480, 90–130 on a grid box and
-/// thin triangles; a test checks the bound).
+/// order and four-triangle packs, with leaves padded to four slots and the 8-wide walk's packed
+/// leaves after them (550 measured on the 1.3-million-triangle sphere, 280–320 on spheres of 512
+/// and 20 480, 90–120 on a grid box and thin triangles; a test checks the bound).
 pub const BVH_BYTES_PER_TRIANGLE: u64 = 640;
 
 /// Bytes a mesh of `triangles` triangles holds once prepared: the triangles and their hierarchy.
