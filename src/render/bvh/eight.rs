@@ -26,8 +26,7 @@
     allow(dead_code, reason = "walked by the x86-64 kernels only")
 )]
 
-use super::{BinaryNode, Leaves, WideNode};
-use crate::math::linalg::V3;
+use super::{BinaryNode, Leaves, Slots, WideNode};
 
 /// Eight child boxes a node (256 bytes); an inner lane's child is a node of [`Eight::nodes`].
 pub(in crate::render) type Node8 = WideNode<8>;
@@ -45,10 +44,6 @@ pub(in crate::render) struct Eight {
     pub(in crate::render) start: Option<(u32, u32)>,
 }
 
-/// Where the 8-wide leaves' triangles go: the hierarchy's slot order and the slots' vertices,
-/// which a packed leaf is appended to.
-type Packs<'a> = (&'a mut Vec<u32>, &'a mut Vec<[V3<f64>; 3]>);
-
 impl Eight {
     /// The 8-wide nodes over the binary build `binary` (its root first), whose references are
     /// `leaves`, `slots` holding each binary leaf's run of slots. A binary leaf keeps its run; a
@@ -56,7 +51,7 @@ impl Eight {
     pub(super) fn of(
         binary: &[BinaryNode],
         (leaves, slots): (&Leaves, &[(u32, u32)]),
-        packs: Packs,
+        packs: Slots,
     ) -> Eight {
         if binary.is_empty() {
             return Eight::default();
@@ -66,7 +61,7 @@ impl Eight {
         let (order, vertices) = packs;
         // A binary leaf's slots, or the part's triangles packed at the end.
         let mut leaf = |c: usize| match binary[c].count {
-            0 => pack(leaves, runs[c].clone(), (&mut *order, &mut *vertices)),
+            0 => leaves.append(runs[c].clone(), (&mut *order, &mut *vertices)),
             _ => slots[c],
         };
         let plan = Plan::of(binary, &whole);
@@ -211,30 +206,12 @@ impl Plan {
     }
 }
 
-/// Appends the triangles of references `run` to the slots (each once: a triangle split in pieces
-/// may have several), from a multiple of four, then pads to the next; returns the leaf's (first
-/// slot, triangles).
-fn pack(leaves: &Leaves, run: std::ops::Range<usize>, (order, vertices): Packs) -> (u32, u32) {
-    let start = order.len();
-    for &triangle in &leaves.order[run] {
-        if !order[start..].contains(&triangle) {
-            order.push(triangle);
-            vertices.push(leaves.triangles[triangle as usize].vertices);
-        }
-    }
-    let held = (order.len() - start) as u32;
-    while !order.len().is_multiple_of(4) {
-        order.push(order[start]);
-        vertices.push(vertices[start]);
-    }
-    (start as u32, held)
-}
-
 #[cfg(test)]
 mod tests {
     use std::collections::{HashMap, HashSet};
 
     use super::*;
+    use crate::math::linalg::V3;
     use crate::render::bvh::{Bvh, EMPTY};
     use crate::render::generate::irregular_sphere;
     use crate::render::objects::PreparedTriangle;
@@ -336,10 +313,17 @@ mod tests {
             assert_eq!(in_four.len(), held_by.len(), "level {level}");
             assert!(eight.len() <= four.len(), "level {level}");
             // A leaf of more than four triangles is a 4-wide leaf as it was.
+            let sorted = |leaf: &Vec<Bits>| {
+                let mut leaf = leaf.clone();
+                leaf.sort_unstable();
+                leaf
+            };
+            let four_leaves: HashSet<Vec<Bits>> = four.iter().map(sorted).collect();
             for held in eight.iter().filter(|held| held.len() > PACKED) {
                 assert!(
-                    four.iter().any(|leaf| leaf.len() == held.len()),
-                    "level {level}"
+                    four_leaves.contains(&sorted(held)),
+                    "level {level}: a leaf of {} triangles that no 4-wide leaf holds",
+                    held.len()
                 );
             }
             let lanes: usize = bvh

@@ -148,6 +148,31 @@ struct Leaves<'a> {
     triangles: &'a [PreparedTriangle],
 }
 
+/// Where a leaf's triangles go: the slot order and the slots' vertices.
+type Slots<'a> = (&'a mut Vec<u32>, &'a mut Vec<[V3<f64>; 3]>);
+
+impl Leaves<'_> {
+    /// Appends the triangles of references `run` to `slots` at the next multiple of four, each
+    /// once (two pieces of one triangle in one leaf: test it once), then pads to the next multiple
+    /// of four; returns the leaf's (first slot, triangles held). The 4-wide leaves and the 8-wide
+    /// walk's packed leaves are made by it.
+    fn append(&self, run: std::ops::Range<usize>, (order, vertices): Slots) -> (u32, u32) {
+        let start = order.len();
+        for &triangle in &self.order[run] {
+            if !order[start..].contains(&triangle) {
+                order.push(triangle);
+                vertices.push(self.triangles[triangle as usize].vertices);
+            }
+        }
+        let held = (order.len() - start) as u32;
+        while !order.len().is_multiple_of(4) {
+            order.push(order[start]);
+            vertices.push(vertices[start]);
+        }
+        (start as u32, held)
+    }
+}
+
 /// A node of the binary build: a box and either two children or a run of slots.
 struct BinaryNode {
     bounds: Bounds,
@@ -318,26 +343,6 @@ impl Bvh {
         std::array::from_fn(|vertex| std::array::from_fn(|axis| quad.v[vertex][axis][lane]))
     }
 
-    /// Appends a leaf's triangles (binary slots `first..first + count`) at the next multiple of four
-    /// and returns its first slot.
-    fn append_leaf(&mut self, leaves: &Leaves, first: usize, count: usize) -> (u32, u32) {
-        let start = self.order.len();
-        for &i in &leaves.order[first..first + count] {
-            // Two pieces of one triangle in one leaf: test it once.
-            if !self.order[start..].contains(&i) {
-                self.order.push(i);
-                self.build_vertices
-                    .push(leaves.triangles[i as usize].vertices);
-            }
-        }
-        let held = (self.order.len() - start) as u32;
-        while !self.order.len().is_multiple_of(4) {
-            self.order.push(self.order[start]);
-            self.build_vertices.push(self.build_vertices[start]);
-        }
-        (start as u32, held)
-    }
-
     /// Puts binary node `index` into lane `lane` of `node`: its box, and its slots or its wide node.
     /// `slots` takes each binary leaf's `(first slot, count)` (the 8-wide nodes point to them).
     fn place(
@@ -356,7 +361,8 @@ impl Bvh {
             node.max[k][lane] = max[k];
         }
         if binary[index].count > 0 {
-            let (first, held) = self.append_leaf(leaves, binary[index].first, binary[index].count);
+            let run = binary[index].first..binary[index].first + binary[index].count;
+            let (first, held) = leaves.append(run, (&mut self.order, &mut self.build_vertices));
             slots[index] = (first, held);
             node.child[lane] = first;
             node.count[lane] = held;
