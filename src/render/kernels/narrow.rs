@@ -594,24 +594,45 @@ impl OneRay {
             _mm_cvtsd_ss(_mm_setzero_ps(), slack),
             _mm_set1_ps(1.0 + 1.0 / 1_048_576.0),
         );
-        let negative = _mm_movemask_ps(slabs.inverse) as u32;
+        let negative = _mm_movemask_ps(slabs.inverse) as usize & 0b111;
         let parallel = std::array::from_fn(|k| (parallel_axes >> k) & 1 == 1);
-        // Rows of eight f32s: the minima at 8k, the maxima at 24 + 8k.
-        let row = |k: usize, high: u32| 8 * k + 24 * high as usize;
+        let any_parallel = parallel_axes != 0;
+        // Only the parallel axes' test reads these.
+        let (origin_down, origin_up) = match any_parallel {
+            true => (each_axis(slabs.origin_down), each_axis(slabs.origin_up)),
+            false => ([_mm256_setzero_ps(); 3], [_mm256_setzero_ps(); 3]),
+        };
         Some(OneRay {
             inverse: each_axis(slabs.inverse),
             offset: each_axis(slabs.offset),
-            entry_row: std::array::from_fn(|k| row(k, (negative >> k) & 1)),
-            exit_row: std::array::from_fn(|k| row(k, 1 - ((negative >> k) & 1))),
+            entry_row: ENTRY_ROWS[negative],
+            exit_row: ENTRY_ROWS[negative ^ 0b111],
             slack: _mm256_broadcastss_ps(slack),
             t_max: _mm256_set1_ps(up(t_max)),
             parallel,
-            any_parallel: parallel_axes != 0,
-            origin_down: each_axis(slabs.origin_down),
-            origin_up: each_axis(slabs.origin_up),
+            any_parallel,
+            origin_down,
+            origin_up,
         })
     }
 }
+
+/// Per axis, where a node's entry faces are (in f32s from the node's start: the minima's rows at
+/// 8k, the maxima's at 24 + 8k), for each set of axes whose 1/d is negative (bit k for axis k):
+/// there the maximum is the entry. Its exit faces are the other set's.
+const ENTRY_ROWS: [[usize; 3]; 8] = {
+    let mut rows = [[0; 3]; 8];
+    let mut negative = 0;
+    while negative < 8 {
+        let mut k = 0;
+        while k < 3 {
+            rows[negative][k] = 8 * k + 24 * ((negative >> k) & 1);
+            k += 1;
+        }
+        negative += 1;
+    }
+    rows
+};
 
 /// Lanes 0, 1 and 2 of `lanes` (x, y, z), each broadcast to eight lanes.
 #[cfg(target_arch = "x86_64")]
@@ -674,35 +695,42 @@ pub fn occluded_one_ray(
     // (a skipped box test only culls less, never answers).
     stack[0].write((start, start_count));
     let mut len = 1;
-    while len > 0 {
-        len -= 1;
-        // SAFETY: the entries below `len` were written.
-        let (child, count) = unsafe { stack[len].assume_init() };
-        if count > 0 {
-            *triangle_tests += u64::from(count);
-            let ray = sheared.get_or_insert_with(|| ShearedRay::new(&ray.origin, &ray.dir));
-            let Some(ray) = ray else { return Some(false) };
-            let slots = child as usize..(child + count) as usize;
-            if bvh.leaf_blocks(avx2, ray, slots, t_max) {
-                return Some(true);
+    // Counted here and added once: a store through the references at each node cost more.
+    let (mut boxes, mut triangles) = (0u64, 0u64);
+    let found = 'walk: {
+        while len > 0 {
+            len -= 1;
+            // SAFETY: the entries below `len` were written.
+            let (child, count) = unsafe { stack[len].assume_init() };
+            if count > 0 {
+                triangles += u64::from(count);
+                let ray = sheared.get_or_insert_with(|| ShearedRay::new(&ray.origin, &ray.dir));
+                let Some(ray) = ray else { break 'walk false };
+                let slots = child as usize..(child + count) as usize;
+                if bvh.leaf_blocks(avx2, ray, slots, t_max) {
+                    break 'walk true;
+                }
+                continue;
             }
-            continue;
+            let node = &bvh.eight.nodes[child as usize];
+            // SAFETY: compiled with AVX2 and FMA, which `avx2` proves the processor has.
+            let (met, tested, starts_in) = unsafe { one_ray_boxes8(&one, node) };
+            boxes += u64::from(tested);
+            // The boxes the ray starts in (the low byte) are pushed first, so visited last.
+            let mut order = starts_in | (met & !starts_in) << 8;
+            while order != 0 {
+                let lane = order.trailing_zeros() as usize & 7;
+                order &= order - 1;
+                prefetch(bvh, &bvh.eight.nodes, node.child[lane], node.count[lane]);
+                stack[len].write((node.child[lane], node.count[lane]));
+                len += 1;
+            }
         }
-        let node = &bvh.eight.nodes[child as usize];
-        // SAFETY: compiled with AVX2 and FMA, which `avx2` proves the processor has.
-        let (met, tested, starts_in) = unsafe { one_ray_boxes8(&one, node) };
-        *box_tests += u64::from(tested);
-        // The boxes the ray starts in (the low byte) are pushed first, so visited last.
-        let mut order = starts_in | (met & !starts_in) << 8;
-        while order != 0 {
-            let lane = order.trailing_zeros() as usize & 7;
-            order &= order - 1;
-            prefetch(bvh, &bvh.eight.nodes, node.child[lane], node.count[lane]);
-            stack[len].write((node.child[lane], node.count[lane]));
-            len += 1;
-        }
-    }
-    Some(false)
+        false
+    };
+    *box_tests += boxes;
+    *triangle_tests += triangles;
+    Some(found)
 }
 
 /// Which of an 8-wide node's boxes `one` meets (a bit per lane), how many boxes it has, and which
