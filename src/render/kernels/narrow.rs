@@ -695,7 +695,8 @@ pub fn occluded_one_ray(
     // (a skipped box test only culls less, never answers).
     stack[0].write((start, start_count));
     let mut len = 1;
-    // Counted here and added once: a store through the references at each node cost more.
+    // Counted here and added once (a store through the references at each node took more
+    // instructions).
     let (mut boxes, mut triangles) = (0u64, 0u64);
     let found = 'walk: {
         while len > 0 {
