@@ -513,6 +513,15 @@ unsafe fn settle_by_expansion(
     unsafe { finish(vertices, edges, inside, missed, t_min, lanes) }
 }
 
+/// The least nonzero size of a sheared coordinate whose products [`settle_float_exact`] takes as
+/// exact: 2⁻⁴⁶⁰ (a power of two 2ᵉ is its biased exponent, 1023 + e, shifted into place).
+const SMALLEST: f64 = f64::from_bits((1023 - 460) << 52);
+/// The greatest: 2⁵⁰⁰.
+const LARGEST: f64 = f64::from_bits((1023 + 500) << 52);
+// A product of two coordinates in the range is above `TINY`, and finite.
+const _: () = assert!(SMALLEST * SMALLEST > crate::render::crack_free::TINY);
+const _: () = assert!(LARGEST * LARGEST < f64::MAX);
+
 /// [`settle_exactly`] where every edge function of every lane has its exact sign in its float
 /// value: each is clear of its rounding bound, or its two products are exact as `left + le` and
 /// `right + re` with `le = re` (so the exact value is `left − right`, whose rounded difference has
@@ -539,13 +548,13 @@ unsafe fn settle_float_exact(
         |x: F4, y: F4| _mm256_and_pd(x, y),
         |x: F4, y: F4| _mm256_or_pd(x, y),
     );
-    // Zero, or 2⁻⁴⁶⁰ ≤ |x| ≤ 2⁵⁰⁰ (false for NaN).
+    // Zero, or SMALLEST ≤ |x| ≤ LARGEST (false for NaN).
     let in_range = |x: F4| {
         let size = _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
         or(
             and(
-                _mm256_cmp_pd::<_CMP_GE_OQ>(size, _mm256_set1_pd(f64::from_bits(0x233 << 52))),
-                _mm256_cmp_pd::<_CMP_LE_OQ>(size, _mm256_set1_pd(f64::from_bits(0x5f3 << 52))),
+                _mm256_cmp_pd::<_CMP_GE_OQ>(size, _mm256_set1_pd(SMALLEST)),
+                _mm256_cmp_pd::<_CMP_LE_OQ>(size, _mm256_set1_pd(LARGEST)),
             ),
             _mm256_cmp_pd::<_CMP_EQ_OQ>(x, zero),
         )
@@ -596,6 +605,12 @@ mod tests {
     use super::*;
     use crate::render::camera_ray;
     use crate::render::generate::grid_box;
+
+    #[test]
+    fn the_short_paths_range_is_two_to_the_minus_460_and_500() {
+        assert_eq!(SMALLEST, 2f64.powi(-460));
+        assert_eq!(LARGEST, 2f64.powi(500));
+    }
 
     thread_local! {
         /// How many quads this thread's tests sent to [`settle_by_expansion`].
