@@ -16,6 +16,8 @@ use raylab::platform::Stopwatch;
 use raylab::render::{Prepared, loading::assets::Embedded, render};
 use raylab::scene::{Problem, Scene};
 
+#[path = "peer/any_hit.rs"]
+mod any_hit;
 #[path = "peer/embree.rs"]
 mod embree;
 

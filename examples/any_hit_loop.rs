@@ -15,28 +15,17 @@
 
 use std::time::Instant;
 
-use raylab::render::generate::{grid_box, irregular_sphere, mesh_scene, to_obj};
+use raylab::render::generate::to_obj;
 use raylab::render::objects::Geometry;
 use raylab::render::{Prepared, Ray, bvh::Bvh};
-use raylab::scene::render::Camera;
 
-/// The scene the peer bench casts for `mesh`, and its triangles.
-fn scene(mesh: &str) -> (Prepared, Vec<[[f64; 3]; 3]>) {
-    if mesh == "box" {
-        let (camera, side, triangles) = grid_box(100);
-        (mesh_scene(&triangles, camera, side, side), triangles)
-    } else {
-        let triangles = irregular_sphere(6, 12);
-        let camera = Camera::Pinhole {
-            position: [0.3, -3.6, 0.5],
-            target: [0.0, 0.0, 0.0],
-            fov_y: 40.0,
-        };
-        (mesh_scene(&triangles, camera, 400, 400), triangles)
-    }
-}
+/// The bench's meshes and its casting, shared with it.
+#[path = "../benches/peer/any_hit.rs"]
+mod any_hit;
+use any_hit::{TILE, inside_box, occluded_band, sphere};
 
-/// Casts every ray (rows of `rays`), in 4x4 tiles with `packets`; returns the occluded rays.
+/// Casts every ray (rows of `rays`) in bands of [`TILE`] rows, as the bench does; returns the
+/// occluded rays.
 fn cast(
     bvh: &Bvh,
     prepared: &Prepared,
@@ -44,28 +33,9 @@ fn cast(
     packets: bool,
     (boxes, triangles): (&mut u64, &mut u64),
 ) -> usize {
-    let one = |ray: &Ray, boxes: &mut u64, triangles: &mut u64| {
-        usize::from(bvh.occluded(prepared.simd, ray, (0.0, f64::INFINITY), boxes, triangles))
-    };
-    let mut occluded = 0;
-    for band in rays.chunks(4) {
-        let tiles = match packets && band.len() == 4 {
-            true => band[0].len() / 4,
-            false => 0,
-        };
-        for tile in 0..tiles {
-            let packet: [Ray; 16] = std::array::from_fn(|k| band[k / 4][tile * 4 + k % 4]);
-            let limits = [f64::INFINITY; 16];
-            let found = bvh.occluded_packet(prepared.simd, &packet, limits, boxes, triangles);
-            occluded += found.count_ones() as usize;
-        }
-        for row in band {
-            for ray in &row[tiles * 4..] {
-                occluded += one(ray, boxes, triangles);
-            }
-        }
-    }
-    occluded
+    rays.chunks(TILE)
+        .map(|band| occluded_band(bvh, prepared, band, packets, (&mut *boxes, &mut *triangles)))
+        .sum()
 }
 
 /// (minimum, median) of `times`.
@@ -79,7 +49,10 @@ fn main() {
     let mesh = var("MESH", "box");
     let packets = var("TEST", "one") == "packets";
     let repeats: usize = var("REPS", "20").parse().unwrap_or(20).max(1);
-    let (prepared, triangles) = scene(&mesh);
+    let (prepared, triangles) = match mesh.as_str() {
+        "box" => inside_box(),
+        _ => sphere(6),
+    };
     if let Ok(path) = std::env::var("OBJ")
         && let Err(why) = std::fs::write(&path, to_obj(&triangles))
     {
@@ -130,8 +103,8 @@ fn two_threads(bvh: &Bvh, prepared: &Prepared, rays: &[Vec<Ray>], repeats: usize
         eprintln!("no pool of two threads");
         return;
     };
-    let bands: Vec<&[Vec<Ray>]> = rays.chunks(4).collect();
-    let band = |band: &&[Vec<Ray>]| cast(bvh, prepared, band, false, (&mut 0, &mut 0));
+    let bands: Vec<&[Vec<Ray>]> = rays.chunks(TILE).collect();
+    let band = |band: &&[Vec<Ray>]| occluded_band(bvh, prepared, band, false, (&mut 0, &mut 0));
     let times = pool.install(|| {
         (0..repeats)
             .map(|_| {

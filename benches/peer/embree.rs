@@ -23,8 +23,9 @@
 
 use std::process::Command;
 
+use super::any_hit::{TILE, inside_box, occluded_band, sphere};
 use raylab::math::linalg::V3;
-use raylab::render::generate::{grid_box, irregular_sphere, mesh_scene, to_obj};
+use raylab::render::generate::{irregular_sphere, to_obj};
 use raylab::render::objects::Geometry;
 use raylab::render::ray_log::{LoggedRay, cast_all_again, in_casting_order, rays_cast};
 use raylab::render::{Prepared, Ray, Stats, loading::assets::Embedded, render, world_triangle};
@@ -231,9 +232,6 @@ enum Casting {
     Packets,
 }
 
-/// Rows of rays in a packet tile.
-const TILE: usize = 4;
-
 /// raylab's any-hit queries on every camera ray of a one-mesh scene, in a pool of [`THREADS`]
 /// threads (bands of [`TILE`] rows in parallel): (median ms, occluded rays). The rays are made
 /// before the clock starts, as the script's are.
@@ -258,30 +256,9 @@ fn raylab_occluded(
                 .collect()
         })
         .collect();
-    let one = |ray: &Ray| bvh.occluded(prepared.simd, ray, (0.0, f64::INFINITY), &mut 0, &mut 0);
-    let band_count = |band: &Vec<Vec<Ray>>| -> usize {
-        let tiles = match casting {
-            Casting::Packets if band.len() == TILE => prepared.width / TILE,
-            _ => 0,
-        };
-        let mut occluded = 0;
-        for tile in 0..tiles {
-            let rays: [Ray; TILE * TILE] =
-                std::array::from_fn(|k| band[k / TILE][tile * TILE + k % TILE]);
-            let found = bvh.occluded_packet(
-                prepared.simd,
-                &rays,
-                [f64::INFINITY; TILE * TILE],
-                &mut 0,
-                &mut 0,
-            );
-            occluded += found.count_ones() as usize;
-        }
-        for row in band {
-            occluded += row[tiles * TILE..].iter().filter(|ray| one(ray)).count();
-        }
-        occluded
-    };
+    let packets = matches!(casting, Casting::Packets);
+    let band_count =
+        |band: &Vec<Vec<Ray>>| occluded_band(bvh, prepared, band, packets, (&mut 0, &mut 0));
     let count = || bands.par_iter().map(band_count).sum::<usize>();
     Some(pool.install(|| {
         let occluded = count();
@@ -582,17 +559,6 @@ fn shipped(file: &str) -> Prepared {
     prepared
 }
 
-/// The irregular sphere of `level` seen from outside on a 400x400 image.
-fn sphere(level: u32) -> (Prepared, Vec<[V3<f64>; 3]>) {
-    let triangles = irregular_sphere(level, 12);
-    let camera = Camera::Pinhole {
-        position: [0.3, -3.6, 0.5],
-        target: [0.0, 0.0, 0.0],
-        fov_y: 40.0,
-    };
-    (mesh_scene(&triangles, camera, 400, 400), triangles)
-}
-
 /// True when the query rows pin each side's workers, one to a CPU: on Linux, unless
 /// `RAYLAB_PEER_UNPINNED` is set.
 fn pinned() -> bool {
@@ -683,8 +649,7 @@ pub fn compare() {
     }
     let (prepared, triangles) = sphere(6);
     scenes.push(("irregular sphere".into(), prepared, triangles));
-    let (camera, side, triangles) = grid_box(100);
-    let prepared = mesh_scene(&triangles, camera, side, side);
+    let (prepared, triangles) = inside_box();
     scenes.push(("box from inside".into(), prepared, triangles));
     for (name, prepared, triangles) in scenes.iter().filter(|(name, ..)| wanted(name)) {
         if let Err(why) = row(&pool, script, name, prepared, triangles) {
