@@ -94,8 +94,14 @@ impl Eight {
         plan.children(binary, index, &mut children);
         // The walk visits the last lane first (after the boxes the ray starts in): the smallest
         // box, which a ray that meets it is likeliest to find a triangle in.
-        let area = |c: &usize| binary[*c].bounds.half_area();
-        children.sort_by(|a, b| area(b).total_cmp(&area(a)));
+        // Areas equal to 2⁻²⁰ (the top 20 bits of the mantissa) count as equal, and of those the
+        // box reaching farthest to +x, +y and +z comes last, so first: a ray through a vertex or
+        // along an edge of a regular grid (whose cells' areas differ only by rounding) is the tie
+        // rule's on that side (see `crack_free`). Told apart by their rounding, the box from
+        // inside tested 6.09 triangles a ray, and now 4.79; the sphere's order is unchanged.
+        let area = |c: &usize| binary[*c].bounds.half_area().to_bits() >> 32;
+        let reach = |c: &usize| binary[*c].bounds.max.iter().sum::<f64>();
+        children.sort_by(|a, b| area(b).cmp(&area(a)).then(reach(a).total_cmp(&reach(b))));
         for (lane, &c) in children.iter().enumerate() {
             let (child, count) = match whole(c) {
                 true => leaf(c),
@@ -262,6 +268,47 @@ mod tests {
             nodes += leaves8(bvh, (node.child[lane], node.count[lane]), found);
         }
         nodes
+    }
+
+    /// The box seen from inside, every camera ray along an edge or through a vertex of its
+    /// regular grid, whose cells' boxes have equal areas but for rounding. The tie rule gives each
+    /// ray to the triangle on its +x, +y side in the ray's sheared plane; among boxes of equal
+    /// area the walk visits first the one reaching farthest to +x, +y and +z, so it finds the
+    /// winner in the first leaf it tests more often.
+    #[test]
+    fn on_a_regular_grid_the_walk_meets_the_tie_winner_first() {
+        use crate::render::generate::{grid_box, mesh_scene};
+        use crate::render::objects::Geometry;
+        let avx2 = crate::render::kernels::avx2_or_skip!();
+        for cells in [8, 24, 48] {
+            let (camera, side, triangles) = grid_box(cells);
+            let prepared = mesh_scene(&triangles, camera, side, side);
+            let Some(Geometry::Triangles { bvh: Some(bvh), .. }) =
+                prepared.objects.first().map(|o| &o.geometry)
+            else {
+                panic!("the grid box has a hierarchy");
+            };
+            let (mut boxes, mut tested, mut occluded) = (0, 0, 0);
+            for row in 0..side {
+                for column in 0..side {
+                    let ray = prepared.ray(row, column);
+                    let range = (0.0, f64::INFINITY);
+                    occluded +=
+                        usize::from(bvh.occluded(Some(avx2), &ray, range, &mut boxes, &mut tested));
+                }
+            }
+            assert_eq!(
+                occluded,
+                side * side,
+                "{cells} cells: every ray meets the box"
+            );
+            // Areas told apart by their rounding: 5.41, 5.53 and 5.93 tests a ray.
+            let per_ray = tested as f64 / (side * side) as f64;
+            assert!(
+                per_ray < 5.0,
+                "{cells} cells: {per_ray} triangle tests a ray"
+            );
+        }
     }
 
     #[test]
