@@ -10,7 +10,7 @@
 //! MESH=box|sphere TEST=one|packets REPS=20 cargo run --release --example any_hit_loop
 //! ```
 //!
-//! `THREADS=2` also times the one-ray casts in a pool of two threads, in bands of four rows as the
+//! `THREADS=2` also times the same casts in a pool of two threads, in bands of four rows as the
 //! peer bench casts them; `OBJ=path` writes the mesh there (for the peer scripts).
 
 use std::time::Instant;
@@ -92,19 +92,20 @@ fn main() {
     let (least, median) = spread(times);
     println!("one thread: ms min {least:.3} median {median:.3}");
     if std::env::var("THREADS").is_ok() {
-        two_threads(bvh, &prepared, &rays, repeats);
+        two_threads(bvh, &prepared, &rays, repeats, packets);
     }
 }
 
-/// The one-ray casts in a pool of two threads, bands of four rows in parallel.
-fn two_threads(bvh: &Bvh, prepared: &Prepared, rays: &[Vec<Ray>], repeats: usize) {
+/// The casts (one ray at a time, or 4x4 packets) in a pool of two threads, bands of four rows in
+/// parallel.
+fn two_threads(bvh: &Bvh, prepared: &Prepared, rays: &[Vec<Ray>], repeats: usize, packets: bool) {
     use rayon::prelude::*;
     let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(2).build() else {
         eprintln!("no pool of two threads");
         return;
     };
     let bands: Vec<&[Vec<Ray>]> = rays.chunks(TILE).collect();
-    let band = |band: &&[Vec<Ray>]| occluded_band(bvh, prepared, band, false, (&mut 0, &mut 0));
+    let band = |band: &&[Vec<Ray>]| occluded_band(bvh, prepared, band, packets, (&mut 0, &mut 0));
     let times = pool.install(|| {
         (0..repeats)
             .map(|_| {
@@ -115,5 +116,10 @@ fn two_threads(bvh: &Bvh, prepared: &Prepared, rays: &[Vec<Ray>], repeats: usize
             .collect()
     });
     let (least, median) = spread(times);
-    println!("two threads, one ray at a time: ms min {least:.3} median {median:.3}");
+    let how = if packets {
+        "4x4 packets"
+    } else {
+        "one ray at a time"
+    };
+    println!("two threads, {how}: ms min {least:.3} median {median:.3}");
 }

@@ -288,11 +288,12 @@ fn embree_occluded(
     )
 }
 
-/// Shadow rays: both sides' any-hit queries on the generated meshes.
+/// Shadow rays: both sides' any-hit queries on the generated meshes, in alternating rounds (Embree,
+/// then raylab each way): each side's median round and the median of the rounds' ratios.
 fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
     println!(
         "\nshadow rays: any-hit (occlusion) queries on the camera rays, no distance limit, \
-         {THREADS} threads each"
+         {THREADS} threads each, alternating rounds"
     );
     for (name, prepared, triangles) in scenes.iter().skip(3) {
         // Rows named e.g. "shadow box from inside: 4x4 packets".
@@ -306,20 +307,38 @@ fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
         if ways.is_empty() {
             continue;
         }
-        let Ok((peer_ms, peer)) = embree_occluded(triangles, prepared, name)
-            .inspect_err(|why| println!("Embree shadow peer skipped: {why}"))
-        else {
-            continue;
-        };
-        for (casting, how) in ways {
-            let Some((ours_ms, ours)) = raylab_occluded(pool, prepared, casting) else {
-                continue;
+        // Per round, Embree's (ms, occluded), then raylab's for each way.
+        let mut measured = Vec::new();
+        for _ in 0..rounds(triangles.len()) {
+            let Ok(peer) = embree_occluded(triangles, prepared, name)
+                .inspect_err(|why| println!("Embree shadow peer skipped: {why}"))
+            else {
+                break;
             };
+            let ours: Option<Vec<(f64, usize)>> = ways
+                .iter()
+                .map(|(casting, _)| raylab_occluded(pool, prepared, *casting))
+                .collect();
+            let Some(ours) = ours else { break };
+            measured.push((peer, ours));
+        }
+        if measured.is_empty() {
+            continue;
+        }
+        for (way, (_, how)) in ways.iter().enumerate() {
+            let peer_ms: Vec<f64> = measured.iter().map(|(peer, _)| peer.0).collect();
+            let ours_ms: Vec<f64> = measured.iter().map(|(_, ours)| ours[way].0).collect();
+            let ratios: Vec<f64> = peer_ms.iter().zip(&ours_ms).map(|(p, o)| p / o).collect();
+            let each_round: Vec<String> = ratios.iter().map(|r| format!("{r:.2}")).collect();
+            let (peer, ours) = (measured[0].0.1, measured[0].1[way].1);
             println!(
-                "{name:>24} {:>9}   Embree {peer_ms:8.3} ms   raylab {ours_ms:8.3} ms   \
-                 raylab/Embree speed {:5.2}x   occluded: Embree {peer}, raylab {ours}   ({how})",
+                "{name:>24} {:>9}   Embree {:8.3} ms   raylab {:8.3} ms   raylab/Embree speed \
+                 {:5.2}x (rounds {})   occluded: Embree {peer}, raylab {ours}   ({how})",
                 triangles.len(),
-                peer_ms / ours_ms,
+                super::median(peer_ms),
+                super::median(ours_ms),
+                super::median(ratios),
+                each_round.join(" "),
             );
         }
     }
