@@ -1,13 +1,14 @@
 //! A profiling loop for the any-hit walk (issue 25): the peer bench's camera rays over its two
 //! meshes (the 41 200-triangle box seen from inside, every ray along an edge or through a vertex,
 //! and the 81 920-triangle irregular sphere), cast through `Bvh::occluded` one ray at a time or
-//! `Bvh::occluded_packet` in 4x4 tiles, on one thread. It prints the box and triangle tests a ray
+//! `Bvh::occluded_packet` in 4x4 tiles, on one thread (`TEST=alone`: one ray at a time, each
+//! walk from the top, the last blocker forgotten before each ray). It prints the box and triangle tests a ray
 //! and the minimum and median time of the repeats. It compares raylab with itself only (two
 //! builds alternating, or under `perf record` or `valgrind --tool=callgrind`); the ratios against
 //! Embree come from the peer bench.
 //!
 //! ```text
-//! MESH=box|sphere TEST=one|packets REPS=20 cargo run --release --example any_hit_loop
+//! MESH=box|sphere TEST=one|alone|packets REPS=20 cargo run --release --example any_hit_loop
 //! ```
 //!
 //! `THREADS=2` also times the same casts in a pool of two threads, in bands of four rows as the
@@ -22,7 +23,7 @@ use raylab::render::{Prepared, Ray, bvh::Bvh};
 /// The bench's meshes and its casting, shared with it.
 #[path = "../benches/peer/any_hit.rs"]
 mod any_hit;
-use any_hit::{TILE, inside_box, occluded_band, sphere};
+use any_hit::{Casting, TILE, inside_box, occluded_band, sphere};
 
 /// Casts every ray (rows of `rays`) in bands of [`TILE`] rows, as the bench does; returns the
 /// occluded rays.
@@ -30,11 +31,11 @@ fn cast(
     bvh: &Bvh,
     prepared: &Prepared,
     rays: &[Vec<Ray>],
-    packets: bool,
+    casting: Casting,
     (boxes, triangles): (&mut u64, &mut u64),
 ) -> usize {
     rays.chunks(TILE)
-        .map(|band| occluded_band(bvh, prepared, band, packets, (&mut *boxes, &mut *triangles)))
+        .map(|band| occluded_band(bvh, prepared, band, casting, (&mut *boxes, &mut *triangles)))
         .sum()
 }
 
@@ -47,7 +48,11 @@ fn spread(mut times: Vec<f64>) -> (f64, f64) {
 fn main() {
     let var = |name: &str, default: &str| std::env::var(name).unwrap_or(default.into());
     let mesh = var("MESH", "box");
-    let packets = var("TEST", "one") == "packets";
+    let (casting, how) = match var("TEST", "one").as_str() {
+        "packets" => (Casting::Packets, "4x4 packets"),
+        "alone" => (Casting::OneRayAlone, "one ray at a time, no last blocker"),
+        _ => (Casting::OneRay, "one ray at a time"),
+    };
     let repeats: usize = var("REPS", "20").parse().unwrap_or(20).max(1);
     let (prepared, triangles) = match mesh.as_str() {
         "box" => inside_box(),
@@ -69,15 +74,10 @@ fn main() {
         .map(|row| (0..width).map(|c| prepared.ray(row, c)).collect())
         .collect();
     let (mut boxes, mut tested) = (0u64, 0u64);
-    let occluded = cast(bvh, &prepared, &rays, packets, (&mut boxes, &mut tested));
+    let occluded = cast(bvh, &prepared, &rays, casting, (&mut boxes, &mut tested));
     let count = (width * height) as f64;
     println!(
-        "{mesh}, {}: {} rays, {occluded} occluded, {:.2} box tests and {:.3} triangle tests a ray",
-        if packets {
-            "4x4 packets"
-        } else {
-            "one ray at a time"
-        },
+        "{mesh}, {how}: {} rays, {occluded} occluded, {:.2} box tests and {:.3} triangle tests a ray",
         width * height,
         boxes as f64 / count,
         tested as f64 / count
@@ -85,27 +85,32 @@ fn main() {
     let times = (0..repeats)
         .map(|_| {
             let clock = Instant::now();
-            std::hint::black_box(cast(bvh, &prepared, &rays, packets, (&mut 0, &mut 0)));
+            std::hint::black_box(cast(bvh, &prepared, &rays, casting, (&mut 0, &mut 0)));
             clock.elapsed().as_secs_f64() * 1e3
         })
         .collect();
     let (least, median) = spread(times);
     println!("one thread: ms min {least:.3} median {median:.3}");
     if std::env::var("THREADS").is_ok() {
-        two_threads(bvh, &prepared, &rays, repeats, packets);
+        two_threads(bvh, &prepared, &rays, repeats, (casting, how));
     }
 }
 
-/// The casts (one ray at a time, or 4x4 packets) in a pool of two threads, bands of four rows in
-/// parallel.
-fn two_threads(bvh: &Bvh, prepared: &Prepared, rays: &[Vec<Ray>], repeats: usize, packets: bool) {
+/// The casts in a pool of two threads, bands of four rows in parallel.
+fn two_threads(
+    bvh: &Bvh,
+    prepared: &Prepared,
+    rays: &[Vec<Ray>],
+    repeats: usize,
+    (casting, how): (Casting, &str),
+) {
     use rayon::prelude::*;
     let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(2).build() else {
         eprintln!("no pool of two threads");
         return;
     };
     let bands: Vec<&[Vec<Ray>]> = rays.chunks(TILE).collect();
-    let band = |band: &&[Vec<Ray>]| occluded_band(bvh, prepared, band, packets, (&mut 0, &mut 0));
+    let band = |band: &&[Vec<Ray>]| occluded_band(bvh, prepared, band, casting, (&mut 0, &mut 0));
     let times = pool.install(|| {
         (0..repeats)
             .map(|_| {
@@ -116,10 +121,5 @@ fn two_threads(bvh: &Bvh, prepared: &Prepared, rays: &[Vec<Ray>], repeats: usize
             .collect()
     });
     let (least, median) = spread(times);
-    let how = if packets {
-        "4x4 packets"
-    } else {
-        "one ray at a time"
-    };
     println!("two threads, {how}: ms min {least:.3} median {median:.3}");
 }

@@ -28,18 +28,30 @@ pub fn inside_box() -> (Prepared, Vec<[V3<f64>; 3]>) {
     (mesh_scene(&triangles, camera, side, side), triangles)
 }
 
-/// Casts a band of up to [`TILE`] rows of rays through `bvh`'s any-hit queries: with `packets`
-/// and a full band, `Bvh::occluded_packet` on each 4x4 tile and `Bvh::occluded` on the columns
-/// left over, else `Bvh::occluded` one ray at a time. Returns the occluded rays, and adds the box
-/// and triangle tests to `counts`.
+/// How raylab casts a band's rays.
+#[derive(Clone, Copy, PartialEq)]
+pub enum Casting {
+    /// `Bvh::occluded`, one ray at a time.
+    OneRay,
+    /// `Bvh::occluded`, one ray at a time, each walk from the top: this thread's last blocker
+    /// forgotten before each ray (`Bvh::forget_last_blocker`).
+    OneRayAlone,
+    /// `Bvh::occluded_packet`, tiles of 4x4 neighbouring rays (the rest one at a time).
+    Packets,
+}
+
+/// Casts a band of up to [`TILE`] rows of rays through `bvh`'s any-hit queries: in packets with
+/// a full band, `Bvh::occluded_packet` on each 4x4 tile and `Bvh::occluded` on the columns left
+/// over, else `Bvh::occluded` one ray at a time. Returns the occluded rays, and adds the box and
+/// triangle tests to `counts`.
 pub fn occluded_band(
     bvh: &Bvh,
     prepared: &Prepared,
     band: &[Vec<Ray>],
-    packets: bool,
+    casting: Casting,
     (boxes, triangles): (&mut u64, &mut u64),
 ) -> usize {
-    let tiles = match packets && band.len() == TILE {
+    let tiles = match casting == Casting::Packets && band.len() == TILE {
         true => prepared.width / TILE,
         false => 0,
     };
@@ -53,6 +65,9 @@ pub fn occluded_band(
     }
     for row in band {
         for ray in &row[tiles * TILE..] {
+            if casting == Casting::OneRayAlone {
+                Bvh::forget_last_blocker();
+            }
             let limits = (0.0, f64::INFINITY);
             occluded += usize::from(bvh.occluded(prepared.simd, ray, limits, boxes, triangles));
         }

@@ -23,7 +23,7 @@
 
 use std::process::Command;
 
-use super::any_hit::{TILE, inside_box, occluded_band, sphere};
+use super::any_hit::{Casting, TILE, inside_box, occluded_band, sphere};
 use raylab::math::linalg::V3;
 use raylab::render::generate::{irregular_sphere, to_obj};
 use raylab::render::objects::Geometry;
@@ -223,15 +223,6 @@ fn row(
     Ok(())
 }
 
-/// How raylab casts the shadow rows' rays.
-#[derive(Clone, Copy)]
-enum Casting {
-    /// `Bvh::occluded`, one ray at a time.
-    OneRay,
-    /// `Bvh::occluded_packet`, tiles of 4x4 neighbouring rays (the rest one at a time).
-    Packets,
-}
-
 /// raylab's any-hit queries on every camera ray of a one-mesh scene, in a pool of [`THREADS`]
 /// threads (bands of [`TILE`] rows in parallel): (median ms, occluded rays). The rays are made
 /// before the clock starts, as the script's are.
@@ -256,9 +247,8 @@ fn raylab_occluded(
                 .collect()
         })
         .collect();
-    let packets = matches!(casting, Casting::Packets);
     let band_count =
-        |band: &Vec<Vec<Ray>>| occluded_band(bvh, prepared, band, packets, (&mut 0, &mut 0));
+        |band: &Vec<Vec<Ray>>| occluded_band(bvh, prepared, band, casting, (&mut 0, &mut 0));
     let count = || bands.par_iter().map(band_count).sum::<usize>();
     Some(pool.install(|| {
         let occluded = count();
@@ -299,6 +289,7 @@ fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
         // Rows named e.g. "shadow box from inside: 4x4 packets".
         let ways: Vec<_> = [
             (Casting::OneRay, "one ray at a time"),
+            (Casting::OneRayAlone, "one ray at a time, no last blocker"),
             (Casting::Packets, "4x4 packets"),
         ]
         .into_iter()

@@ -291,6 +291,8 @@ mod tests {
             let (mut boxes, mut tested, mut occluded) = (0, 0, 0);
             for row in 0..side {
                 for column in 0..side {
+                    // The walk alone, not the quad that blocked the last ray.
+                    Bvh::forget_last_blocker();
                     let ray = prepared.ray(row, column);
                     let range = (0.0, f64::INFINITY);
                     occluded +=

@@ -455,7 +455,8 @@ impl Bvh {
     /// True when the crack-free test hits some triangle with `t_min < t < t_max` (an any-hit, or
     /// shadow, query: the traversal stops at the first such hit, nearest boxes first). Counts box
     /// and triangle tests. True exactly when [`Bvh::nearest_crack_free`] finds its nearest hit
-    /// before `t_max`.
+    /// before `t_max`. Where the processor has AVX2, the quad that blocked this thread's last
+    /// blocked ray on this hierarchy is tested first ([`Bvh::forget_last_blocker`]).
     pub fn occluded(
         &self,
         simd: Option<Avx2>,
@@ -477,6 +478,14 @@ impl Bvh {
         let counts = (box_tests, triangle_tests);
         let found = self.one_ray::<true>(simd, ray, (t_min, t_max), counts);
         found.is_some_and(|(_, hit)| hit.t < t_max)
+    }
+
+    /// Forgets the quad that blocked this thread's last blocked any-hit ray, which
+    /// [`Bvh::occluded`] tests first on the same hierarchy: the next query walks from the top. No
+    /// answer changes; only the tests counted and the time do (for measuring the walk alone).
+    pub fn forget_last_blocker() {
+        #[cfg(target_arch = "x86_64")]
+        narrow::forget_last_blocker();
     }
 
     /// One ray's crack-free query: the nearest hit, or with `ANY` a hit before t_max as soon as
@@ -654,18 +663,18 @@ impl Bvh {
         }
     }
 
-    /// True when the crack-free test finds a hit with 0 < t < t_max among a leaf's slots: whether
-    /// [`Bvh::leaf_crack_free`] from t_min = 0 would keep a hit before t_max, decided without
-    /// working out β and γ.
+    /// The quad (slot / 4) of a leaf's slots in which the crack-free test finds a hit with
+    /// 0 < t < t_max, if any: whether [`Bvh::leaf_crack_free`] from t_min = 0 would keep a hit
+    /// before t_max, decided without working out β and γ.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    pub(in crate::render) fn leaf_blocks(
+    pub(in crate::render) fn blocking_quad(
         &self,
         avx2: Avx2,
         ray: &ShearedRay,
         slots: std::ops::Range<usize>,
         t_max: f64,
-    ) -> bool {
+    ) -> Option<usize> {
         // Leaves start at multiples of four (see `append_leaf`).
         for first in slots.clone().step_by(4) {
             let lanes = (1u32 << (slots.end - first).min(4)) - 1;
@@ -675,7 +684,7 @@ impl Bvh {
                 let lane = hit.trailing_zeros() as usize;
                 hit &= hit - 1;
                 if found.t[lane] < t_max {
-                    return true;
+                    return Some(first / 4);
                 }
             }
             let mut again = found.again;
@@ -687,11 +696,11 @@ impl Bvh {
                     .intersect(&vertices, 0.0)
                     .is_some_and(|hit| hit.t < t_max)
                 {
-                    return true;
+                    return Some(first / 4);
                 }
             }
         }
-        false
+        None
     }
 
     /// Tests a leaf's slots for each of a packet's `live` rays, lowering its t_max to its nearest

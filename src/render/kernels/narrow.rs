@@ -660,7 +660,8 @@ fn each_axis(lanes: std::arch::x86_64::__m128) -> [std::arch::x86_64::__m256; 3]
 /// the back of the 81 920-triangle sphere and took 35% more time there. The boxes started in
 /// last test nearly as few triangles as farthest first on the Cornell box (2.02 M against 1.99 M
 /// for its 1.53 M shadow rays, 2.61 M in the node's order), and the sphere's camera rays, which
-/// start in no box, test the same boxes as before.
+/// start in no box, test the same boxes as before. Before the walk, the quad that blocked this
+/// thread's last blocked ray on this hierarchy is tested (`LAST_BLOCKER`).
 ///
 /// # Safety
 /// Compiled with AVX2 and FMA: safe to call from code compiled with them; `avx2` proves the
@@ -688,6 +689,21 @@ pub fn occluded_one_ray(
     // SAFETY: compiled with AVX2 and FMA, which `avx2` proves the processor has.
     let one = unsafe { OneRay::new(ray, t_max) }?;
     let mut sheared: Option<Option<ShearedRay>> = None;
+    // This thread's last blocker first (see `LAST_BLOCKER`).
+    let quads = bvh.quads.as_ptr() as usize;
+    let mut last_blocker_tests = 0;
+    let (whose, quad) = LAST_BLOCKER.get();
+    if whose == quads && quad < bvh.quads.len() {
+        last_blocker_tests = 4;
+        if let Some(first) = sheared.insert(ShearedRay::new(&ray.origin, &ray.dir))
+            && bvh
+                .blocking_quad(avx2, first, 4 * quad..4 * quad + 4, t_max)
+                .is_some()
+        {
+            *triangle_tests += last_blocker_tests;
+            return Some(true);
+        }
+    }
     // (child, count) of the children still to visit; the build bounds the depth, so `STACK`
     // entries suffice (the index is checked: more would be a bug, and panics).
     let mut stack = [const { MaybeUninit::<(u32, u32)>::uninit() }; STACK];
@@ -708,7 +724,8 @@ pub fn occluded_one_ray(
                 let ray = sheared.get_or_insert_with(|| ShearedRay::new(&ray.origin, &ray.dir));
                 let Some(ray) = ray else { break 'walk false };
                 let slots = child as usize..(child + count) as usize;
-                if bvh.leaf_blocks(avx2, ray, slots, t_max) {
+                if let Some(quad) = bvh.blocking_quad(avx2, ray, slots, t_max) {
+                    LAST_BLOCKER.set((quads, quad));
                     break 'walk true;
                 }
                 continue;
@@ -730,8 +747,28 @@ pub fn occluded_one_ray(
         false
     };
     *box_tests += boxes;
-    *triangle_tests += triangles;
+    *triangle_tests += triangles + last_blocker_tests;
     Some(found)
+}
+
+thread_local! {
+    /// This thread's last blocker: the quad (slot / 4) in which its last any-hit walk that found a
+    /// hit found it, and whose it is (the address of its hierarchy's quads). The next walk on the
+    /// same hierarchy tests that quad first: rays cast one after another beside each other (a
+    /// row's camera rays, neighbouring pixels' shadow rays to one light) are most often blocked by
+    /// the same few triangles. It only chooses what is tested first, so no answer depends on it:
+    /// a quad of another hierarchy is never tested (a hierarchy built where a dropped one was
+    /// may share its address, but then a quad past its end is not tested either, and any quad of
+    /// its own holds its own triangles). On the camera rays of the peer bench, a walk 24–27% less
+    /// time on the sphere and 16–18% on the box seen from inside.
+    static LAST_BLOCKER: std::cell::Cell<(usize, usize)> =
+        const { std::cell::Cell::new((0, usize::MAX)) };
+}
+
+/// Forgets this thread's last blocker (see `LAST_BLOCKER`): the next any-hit walk starts from the
+/// top, as every walk did before there was one (for measuring the walk alone).
+pub fn forget_last_blocker() {
+    LAST_BLOCKER.set((0, usize::MAX));
 }
 
 /// Which of an 8-wide node's boxes `one` meets (a bit per lane), how many boxes it has, and which
@@ -802,6 +839,89 @@ unsafe fn one_ray_boxes8(one: &OneRay, node: &Node8) -> (u32, u32, u32) {
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
+
+    /// The last blocker changes no answer, and spares the walk: the camera rays of the grid box and
+    /// of a sphere, cast one after another through both hierarchies in turn (each query follows one
+    /// on the other hierarchy every other ray, and a hierarchy dropped after blocking the last
+    /// ray), each answered as the f64 walk answers it, to its nearest hit and to the float below
+    /// it; and on the box, cast in order alone, at most 60% of the box tests of walks from the top.
+    #[test]
+    fn the_last_blocker_changes_no_answer_and_spares_the_walk() {
+        use crate::render::generate::{grid_box, irregular_sphere, mesh_scene};
+        use crate::render::objects::Geometry;
+        use crate::scene::render::Camera;
+        let avx2 = crate::render::kernels::avx2_or_skip!();
+        let hierarchy = |prepared: &crate::render::Prepared| match prepared.objects.first() {
+            Some(object) => match &object.geometry {
+                Geometry::Triangles { bvh: Some(bvh), .. } => bvh.clone(),
+                _ => panic!("a mesh scene has a hierarchy"),
+            },
+            None => panic!("a mesh scene has an object"),
+        };
+        let (camera, side, triangles) = grid_box(12);
+        let grid = mesh_scene(&triangles, camera, side, side);
+        let camera = Camera::Pinhole {
+            position: [0.3, -3.6, 0.5],
+            target: [0.0, 0.0, 0.0],
+            fov_y: 40.0,
+        };
+        let sphere = mesh_scene(&irregular_sphere(3, 12), camera.clone(), side, side);
+        let (grid_bvh, sphere_bvh) = (hierarchy(&grid), hierarchy(&sphere));
+        let (mut blocked, mut open) = (0, 0);
+        for row in 0..side {
+            for column in 0..side {
+                for (prepared, bvh) in [(&grid, &grid_bvh), (&sphere, &sphere_bvh)] {
+                    let ray = prepared.ray(row, column);
+                    let nearest =
+                        bvh.nearest_crack_free(None, &ray, (0.0, f64::INFINITY), &mut 0, &mut 0);
+                    let limits = match nearest {
+                        Some((_, hit)) => vec![hit.t, hit.t.next_up(), f64::INFINITY],
+                        None => vec![f64::INFINITY],
+                    };
+                    for t_max in limits {
+                        let f64_walk = bvh.occluded(None, &ray, (0.0, t_max), &mut 0, &mut 0);
+                        let with_memory =
+                            bvh.occluded(Some(avx2), &ray, (0.0, t_max), &mut 0, &mut 0);
+                        assert_eq!(with_memory, f64_walk, "{ray:?} to {t_max}");
+                        blocked += usize::from(f64_walk);
+                        open += usize::from(!f64_walk);
+                    }
+                }
+            }
+        }
+        assert!(blocked > 500 && open > 500, "{blocked} {open}");
+        // The last blocker is one of the larger hierarchy's last quads; a smaller one built after
+        // it is dropped answers as before.
+        let big = hierarchy(&mesh_scene(&irregular_sphere(5, 3), camera, 8, 8));
+        let ray = sphere.ray(side / 2, side / 2);
+        assert!(big.occluded(Some(avx2), &ray, (0.0, f64::INFINITY), &mut 0, &mut 0));
+        drop(big);
+        let small = hierarchy(&sphere);
+        for column in 0..side {
+            let ray = sphere.ray(side / 2, column);
+            let f64_walk = small.occluded(None, &ray, (0.0, f64::INFINITY), &mut 0, &mut 0);
+            let with_memory =
+                small.occluded(Some(avx2), &ray, (0.0, f64::INFINITY), &mut 0, &mut 0);
+            assert_eq!(with_memory, f64_walk, "{ray:?}");
+        }
+        // The box's rays in order: with the last blocker, and each walk from the top.
+        let mut boxes = [0u64; 2];
+        for (forget, boxes) in [false, true].into_iter().zip(&mut boxes) {
+            Bvh::forget_last_blocker();
+            for row in 0..side {
+                for column in 0..side {
+                    if forget {
+                        Bvh::forget_last_blocker();
+                    }
+                    let ray = grid.ray(row, column);
+                    let range = (0.0, f64::INFINITY);
+                    assert!(grid_bvh.occluded(Some(avx2), &ray, range, boxes, &mut 0));
+                }
+            }
+        }
+        // 8 102 against 15 734.
+        assert!(5 * boxes[0] <= 3 * boxes[1], "box tests: {boxes:?}");
+    }
 
     /// A node whose lanes hold `boxes` (min, max), the rest empty.
     fn node(boxes: &[([f32; 3], [f32; 3])]) -> Node8 {
