@@ -2,8 +2,8 @@
 //! meshes (the 41 200-triangle box seen from inside, every ray along an edge or through a vertex,
 //! and the 81 920-triangle irregular sphere), cast through `Bvh::occluded` one ray at a time or
 //! `Bvh::occluded_packet` in 4x4 tiles, on one thread (`TEST=alone`: one ray at a time, each
-//! walk from the top, the last blocker forgotten before each ray). It prints the box and triangle tests a ray
-//! and the minimum and median time of the repeats. It compares raylab with itself only (two
+//! walk from the top, the last blocker forgotten before each ray). It prints the box and
+//! triangle tests a ray and the minimum and median time of the repeats. It compares raylab with itself only (two
 //! builds alternating, or under `perf record` or `valgrind --tool=callgrind`); the ratios against
 //! Embree come from the peer bench.
 //!
