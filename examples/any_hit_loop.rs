@@ -3,9 +3,9 @@
 //! and the 81 920-triangle irregular sphere), cast through `Bvh::occluded` one ray at a time or
 //! `Bvh::occluded_packet` in 4x4 tiles, on one thread (`TEST=alone`: one ray at a time, each
 //! walk from the top, the last blocker forgotten before each ray). It prints the box and
-//! triangle tests a ray and the minimum and median time of the repeats. It compares raylab with itself only (two
-//! builds alternating, or under `perf record` or `valgrind --tool=callgrind`); the ratios against
-//! Embree come from the peer bench.
+//! triangle tests a ray and the minimum and median time of the repeats. It compares raylab with
+//! itself only (two builds alternating, or under `perf record` or `valgrind --tool=callgrind`);
+//! the ratios against Embree come from the peer bench.
 //!
 //! ```text
 //! MESH=box|sphere TEST=one|alone|packets REPS=20 cargo run --release --example any_hit_loop
