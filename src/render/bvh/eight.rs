@@ -313,6 +313,45 @@ mod tests {
         }
     }
 
+    /// The same for 4x4 packets through the 4-wide nodes: the grid's cells are entered at the
+    /// same distance, and of boxes entered together the walk takes first the one reaching
+    /// farthest to +x, +y and +z.
+    #[test]
+    fn on_a_regular_grid_packets_meet_the_tie_winner_first() {
+        use crate::render::Ray;
+        use crate::render::generate::{grid_box, mesh_scene};
+        use crate::render::objects::Geometry;
+        let avx2 = crate::render::kernels::avx2_or_skip!();
+        for cells in [8, 24, 48] {
+            let (camera, side, triangles) = grid_box(cells);
+            let prepared = mesh_scene(&triangles, camera, side, side);
+            let Some(Geometry::Triangles { bvh: Some(bvh), .. }) =
+                prepared.objects.first().map(|o| &o.geometry)
+            else {
+                panic!("the grid box has a hierarchy");
+            };
+            let (mut boxes, mut tested, mut occluded, mut rays) = (0, 0, 0, 0);
+            for top in (0..side - 3).step_by(4) {
+                for left in (0..side - 3).step_by(4) {
+                    let tile: [Ray; 16] =
+                        std::array::from_fn(|k| prepared.ray(top + k / 4, left + k % 4));
+                    let limits = [f64::INFINITY; 16];
+                    let found =
+                        bvh.occluded_packet(Some(avx2), &tile, limits, &mut boxes, &mut tested);
+                    occluded += found.count_ones() as usize;
+                    rays += 16;
+                }
+            }
+            assert_eq!(occluded, rays, "{cells} cells: every ray meets the box");
+            // Entered together in the build's lane order: 6.92, 6.59 and 6.29 tests a ray.
+            let per_ray = tested as f64 / rays as f64;
+            assert!(
+                per_ray < 5.0,
+                "{cells} cells: {per_ray} triangle tests a ray"
+            );
+        }
+    }
+
     #[test]
     fn the_eight_wide_leaves_hold_the_four_wide_leaves_whole_through_fewer_nodes() {
         for level in [0, 3, 5] {

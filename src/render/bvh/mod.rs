@@ -382,7 +382,12 @@ impl Bvh {
         (leaves, slots): (&Leaves, &mut [(u32, u32)]),
         index: usize,
     ) -> Node {
-        let children = widest_children(binary, index, 4);
+        let mut children = widest_children(binary, index, 4);
+        // The walks take the nearer box first, and of boxes entered at the same distance the
+        // last lane first: the one reaching farthest to +x, +y and +z, as the 8-wide nodes order
+        // boxes of equal area (see `eight`).
+        let reach = |c: &usize| binary[*c].bounds.max.iter().sum::<f64>();
+        children.sort_by(|a, b| reach(a).total_cmp(&reach(b)));
         let mut node = Node::empty();
         for (lane, &c) in children.iter().enumerate() {
             self.place(binary, (leaves, &mut *slots), c, &mut node, lane);
