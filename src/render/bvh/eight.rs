@@ -270,6 +270,23 @@ mod tests {
         nodes
     }
 
+    /// The grid box of `cells` cells a side seen from inside (its camera's image is `side` pixels
+    /// square).
+    fn grid_box_seen_from_inside(cells: usize) -> (crate::render::Prepared, usize) {
+        use crate::render::generate::{grid_box, mesh_scene};
+        let (camera, side, triangles) = grid_box(cells);
+        (mesh_scene(&triangles, camera, side, side), side)
+    }
+
+    /// The hierarchy of a one-mesh scene.
+    fn mesh_hierarchy(prepared: &crate::render::Prepared) -> &Bvh {
+        use crate::render::objects::Geometry;
+        match prepared.objects.first().map(|o| &o.geometry) {
+            Some(Geometry::Triangles { bvh: Some(bvh), .. }) => bvh,
+            _ => panic!("a mesh scene has a hierarchy"),
+        }
+    }
+
     /// The box seen from inside, every camera ray along an edge or through a vertex of its
     /// regular grid, whose cells' boxes have equal areas but for rounding. The tie rule gives each
     /// ray to the triangle on its +x, +y side in the ray's sheared plane; among boxes of equal
@@ -277,17 +294,10 @@ mod tests {
     /// winner in the first leaf it tests more often.
     #[test]
     fn on_a_regular_grid_the_walk_meets_the_tie_winner_first() {
-        use crate::render::generate::{grid_box, mesh_scene};
-        use crate::render::objects::Geometry;
         let avx2 = crate::render::kernels::avx2_or_skip!();
         for cells in [8, 24, 48] {
-            let (camera, side, triangles) = grid_box(cells);
-            let prepared = mesh_scene(&triangles, camera, side, side);
-            let Some(Geometry::Triangles { bvh: Some(bvh), .. }) =
-                prepared.objects.first().map(|o| &o.geometry)
-            else {
-                panic!("the grid box has a hierarchy");
-            };
+            let (prepared, side) = grid_box_seen_from_inside(cells);
+            let bvh = mesh_hierarchy(&prepared);
             let (mut boxes, mut tested, mut occluded) = (0, 0, 0);
             for row in 0..side {
                 for column in 0..side {
@@ -319,17 +329,10 @@ mod tests {
     #[test]
     fn on_a_regular_grid_packets_meet_the_tie_winner_first() {
         use crate::render::Ray;
-        use crate::render::generate::{grid_box, mesh_scene};
-        use crate::render::objects::Geometry;
         let avx2 = crate::render::kernels::avx2_or_skip!();
         for cells in [8, 24, 48] {
-            let (camera, side, triangles) = grid_box(cells);
-            let prepared = mesh_scene(&triangles, camera, side, side);
-            let Some(Geometry::Triangles { bvh: Some(bvh), .. }) =
-                prepared.objects.first().map(|o| &o.geometry)
-            else {
-                panic!("the grid box has a hierarchy");
-            };
+            let (prepared, side) = grid_box_seen_from_inside(cells);
+            let bvh = mesh_hierarchy(&prepared);
             let (mut boxes, mut tested, mut occluded, mut rays) = (0, 0, 0, 0);
             for top in (0..side - 3).step_by(4) {
                 for left in (0..side - 3).step_by(4) {
