@@ -16,8 +16,7 @@
 
 use std::time::Instant;
 
-use raylab::render::generate::to_obj;
-use raylab::render::objects::Geometry;
+use raylab::render::generate::{mesh_hierarchy, to_obj};
 use raylab::render::{Prepared, Ray, bvh::Bvh};
 
 /// The bench's meshes and its casting, shared with it.
@@ -63,9 +62,7 @@ fn main() {
     {
         eprintln!("cannot write {path}: {why}");
     }
-    let Some(Geometry::Triangles { bvh: Some(bvh), .. }) =
-        prepared.objects.first().map(|o| &o.geometry)
-    else {
+    let Some(bvh) = mesh_hierarchy(&prepared) else {
         eprintln!("the scene has no mesh hierarchy");
         return;
     };

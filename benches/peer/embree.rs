@@ -25,7 +25,7 @@ use std::process::Command;
 
 use super::any_hit::{Casting, TILE, inside_box, occluded_band, sphere};
 use raylab::math::linalg::V3;
-use raylab::render::generate::{irregular_sphere, to_obj};
+use raylab::render::generate::{irregular_sphere, mesh_hierarchy, to_obj};
 use raylab::render::objects::Geometry;
 use raylab::render::ray_log::{LoggedRay, cast_all_again, in_casting_order, rays_cast};
 use raylab::render::{Prepared, Ray, Stats, loading::assets::Embedded, render, world_triangle};
@@ -232,9 +232,7 @@ fn raylab_occluded(
     casting: Casting,
 ) -> Option<(f64, usize)> {
     use rayon::prelude::*;
-    let Geometry::Triangles { bvh: Some(bvh), .. } = &prepared.objects.first()?.geometry else {
-        return None;
-    };
+    let bvh = mesh_hierarchy(prepared)?;
     let bands: Vec<Vec<Vec<Ray>>> = (0..prepared.height)
         .step_by(TILE)
         .map(|top| {

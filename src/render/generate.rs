@@ -226,6 +226,14 @@ pub fn mesh_scene(
     }
 }
 
+/// The hierarchy of the first object of `prepared` (a [`mesh_scene`]'s mesh), if it has one.
+pub fn mesh_hierarchy(prepared: &Prepared) -> Option<&Bvh> {
+    match &prepared.objects.first()?.geometry {
+        Geometry::Triangles { bvh: Some(bvh), .. } => Some(bvh),
+        _ => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -280,11 +280,7 @@ mod tests {
 
     /// The hierarchy of a one-mesh scene.
     fn mesh_hierarchy(prepared: &crate::render::Prepared) -> &Bvh {
-        use crate::render::objects::Geometry;
-        match prepared.objects.first().map(|o| &o.geometry) {
-            Some(Geometry::Triangles { bvh: Some(bvh), .. }) => bvh,
-            _ => panic!("a mesh scene has a hierarchy"),
-        }
+        crate::render::generate::mesh_hierarchy(prepared).expect("a mesh scene has a hierarchy")
     }
 
     /// The box seen from inside, every camera ray along an edge or through a vertex of its

@@ -847,17 +847,12 @@ mod tests {
     /// it; and on the box, cast in order alone, at most 60% of the box tests of walks from the top.
     #[test]
     fn the_last_blocker_changes_no_answer_and_spares_the_walk() {
-        use crate::render::generate::{grid_box, irregular_sphere, mesh_scene};
-        use crate::render::objects::Geometry;
+        use crate::render::generate::{grid_box, irregular_sphere, mesh_hierarchy, mesh_scene};
         use crate::scene::render::Camera;
         let avx2 = crate::render::kernels::avx2_or_skip!();
-        let hierarchy = |prepared: &crate::render::Prepared| match prepared.objects.first() {
-            Some(object) => match &object.geometry {
-                Geometry::Triangles { bvh: Some(bvh), .. } => bvh.clone(),
-                _ => panic!("a mesh scene has a hierarchy"),
-            },
-            None => panic!("a mesh scene has an object"),
-        };
+        fn hierarchy(prepared: &crate::render::Prepared) -> &Bvh {
+            mesh_hierarchy(prepared).expect("a mesh scene has a hierarchy")
+        }
         let (camera, side, triangles) = grid_box(12);
         let grid = mesh_scene(&triangles, camera, side, side);
         let camera = Camera::Pinhole {
@@ -890,13 +885,14 @@ mod tests {
             }
         }
         assert!(blocked > 500 && open > 500, "{blocked} {open}");
-        // The last blocker is one of the larger hierarchy's last quads; a smaller one built after
-        // it is dropped answers as before.
-        let big = hierarchy(&mesh_scene(&irregular_sphere(5, 3), camera, 8, 8));
+        // The last blocker is a quad of a larger hierarchy; a smaller one built after it is
+        // dropped answers as before.
+        let big = mesh_scene(&irregular_sphere(5, 3), camera.clone(), 8, 8);
         let ray = sphere.ray(side / 2, side / 2);
-        assert!(big.occluded(Some(avx2), &ray, (0.0, f64::INFINITY), &mut 0, &mut 0));
+        assert!(hierarchy(&big).occluded(Some(avx2), &ray, (0.0, f64::INFINITY), &mut 0, &mut 0));
         drop(big);
-        let small = hierarchy(&sphere);
+        let again = mesh_scene(&irregular_sphere(3, 12), camera, side, side);
+        let small = hierarchy(&again);
         for column in 0..side {
             let ray = sphere.ray(side / 2, column);
             let f64_walk = small.occluded(None, &ray, (0.0, f64::INFINITY), &mut 0, &mut 0);
