@@ -24,7 +24,17 @@ pub fn sphere(level: u32) -> (Prepared, Vec<[V3<f64>; 3]>) {
 
 /// The 41 200-triangle box seen from inside, every camera ray along an edge or through a vertex.
 pub fn inside_box() -> (Prepared, Vec<[V3<f64>; 3]>) {
-    let (camera, side, triangles) = grid_box(100);
+    inside_grid_box(100)
+}
+
+/// The 363 600-triangle box seen from inside (300 cells a side, a 601x601 image), every camera ray
+/// along an edge or through a vertex: the box's rays at a finer tessellation.
+pub fn fine_inside_box() -> (Prepared, Vec<[V3<f64>; 3]>) {
+    inside_grid_box(300)
+}
+
+fn inside_grid_box(cells: usize) -> (Prepared, Vec<[V3<f64>; 3]>) {
+    let (camera, side, triangles) = grid_box(cells);
     (mesh_scene(&triangles, camera, side, side), triangles)
 }
 

@@ -6,10 +6,11 @@
 //!
 //! Scenes: each shipped scene with a mesh (its objects written to a temporary OBJ in world space, with
 //! their transforms applied; a parallelogram as its two triangles), an 81 920-triangle irregular sphere,
-//! and a 40 000-triangle box seen from inside whose every ray runs along an edge or through a vertex.
-//! Then shadow rays: `Bvh::occluded` (any hit, one ray at a time) and `Bvh::occluded_packet` (4x4
-//! tiles of neighbouring rays) against Embree's occlusion queries (`benches/peer/embree_occluded.py`)
-//! on the same camera rays, for the sphere and the box. Then a row per kind of ray: the rays the tracer
+//! and a box seen from inside whose every ray runs along an edge or through a vertex, at 41 200
+//! triangles (201x201) and finer at 363 600 (601x601). Then shadow rays: `Bvh::occluded` (any hit,
+//! one ray at a time) and `Bvh::occluded_packet` (4x4 tiles of neighbouring rays) against Embree's
+//! occlusion queries (`benches/peer/embree_occluded.py`) on the same camera rays, for the sphere and
+//! both boxes. Then a row per kind of ray: the rays the tracer
 //! casts in the Cornell box and each effect scene (`render::ray_log`), cast again by Embree
 //! (`benches/peer/embree_rays.py`: intersect, or occluded up to t_max) and by raylab's own queries.
 //! Then the hierarchy's build time and memory over the 1.3-million-triangle sphere
@@ -23,7 +24,7 @@
 
 use std::process::Command;
 
-use super::any_hit::{Casting, TILE, inside_box, occluded_band, sphere};
+use super::any_hit::{Casting, TILE, fine_inside_box, inside_box, occluded_band, sphere};
 use raylab::math::linalg::V3;
 use raylab::render::generate::{irregular_sphere, mesh_hierarchy, to_obj};
 use raylab::render::objects::Geometry;
@@ -659,6 +660,8 @@ pub fn compare() {
     scenes.push(("irregular sphere".into(), prepared, triangles));
     let (prepared, triangles) = inside_box();
     scenes.push(("box from inside".into(), prepared, triangles));
+    let (prepared, triangles) = fine_inside_box();
+    scenes.push(("fine box from inside".into(), prepared, triangles));
     for (name, prepared, triangles) in scenes.iter().filter(|(name, ..)| wanted(name)) {
         if let Err(why) = row(&pool, script, name, prepared, triangles) {
             println!("Embree peer skipped: {why} (it needs python3 with embreex and numpy)");

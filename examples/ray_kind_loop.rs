@@ -1,0 +1,110 @@
+//! A profiling loop for the peer bench's ray-kind rows (issue 25): the rays raylab's tracer casts
+//! in a shipped scene with every effect it declares, one kind of them cast again as the bench
+//! casts them (`ray_log::cast_all_again`, in the render's order), on one thread. It prints the box
+//! and primitive (triangle and parallelogram) tests a ray and the minimum and median time of the repeats. It compares raylab
+//! with itself only (two builds alternating, or under `perf record`); the ratios against Embree
+//! come from the peer bench.
+//!
+//! ```text
+//! SCENE=render-cornell-box KIND=reflection REPS=20 cargo run --release --example ray_kind_loop
+//! ```
+//!
+//! `KIND` is one of primary, samples, shadow, reflection, refraction, occlusion; `THREADS=2` also
+//! times the casts in a pool of two threads, in chunks as the bench casts them.
+
+use std::time::Instant;
+
+use raylab::render::loading::assets::Embedded;
+use raylab::render::ray_kinds::RayKind;
+use raylab::render::ray_log::{LoggedRay, cast_all_again, in_casting_order, rays_cast};
+use raylab::render::{Prepared, Stats};
+use raylab::scene::{Problem, Scene};
+
+fn main() {
+    let var = |name: &str, default: &str| std::env::var(name).unwrap_or(default.into());
+    let scene = var("SCENE", "render-cornell-box");
+    let kind_name = var("KIND", "reflection");
+    let repeats: usize = var("REPS", "20").parse().unwrap_or(20).max(1);
+    let path = format!("{}/assets/scenes/{scene}.ron", env!("CARGO_MANIFEST_DIR"));
+    let problem = match Scene::load(std::path::Path::new(&path)) {
+        Ok(scene) => scene.problem,
+        Err(why) => return eprintln!("cannot load {path}: {why}"),
+    };
+    let Problem::Render(render_scene) = problem else {
+        return eprintln!("{path} is not a render scene");
+    };
+    let prepared = match Prepared::new(&render_scene, &Embedded) {
+        Ok(prepared) => prepared,
+        Err(why) => return eprintln!("cannot prepare {path}: {why}"),
+    };
+    let Some(kind) = RayKind::ALL.into_iter().find(|k| k.name() == kind_name) else {
+        let names: Vec<&str> = RayKind::ALL.iter().map(|k| k.name()).collect();
+        return eprintln!("KIND is one of {}", names.join(", "));
+    };
+    let mut rays: Vec<LoggedRay> = rays_cast(&prepared)
+        .into_iter()
+        .filter(|r| r.kind == kind)
+        .collect();
+    // Each chunk in the render's order, as the bench orders them.
+    let chunk = chunk_size(rays.len());
+    rays.chunks_mut(chunk).for_each(in_casting_order);
+    let mut stats = Stats::default();
+    let met = cast_all_again(&prepared, &rays, &mut stats);
+    let count = rays.len().max(1) as f64;
+    println!(
+        "{scene}, {kind_name}: {} rays, {met} met something, {:.2} box tests and {:.3} primitive tests a ray",
+        rays.len(),
+        (stats.box_tests + stats.secondary.box_tests) as f64 / count,
+        (stats.triangle_tests + stats.parallelogram_tests + stats.secondary.tests) as f64 / count,
+    );
+    let times: Vec<f64> = (0..repeats)
+        .map(|_| {
+            let clock = Instant::now();
+            std::hint::black_box(cast_all_again(&prepared, &rays, &mut Stats::default()));
+            clock.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    let (least, median) = spread(times);
+    println!("one thread: ms min {least:.3} median {median:.3}");
+    if std::env::var("THREADS").is_ok() {
+        two_threads(&prepared, &rays, repeats);
+    }
+}
+
+/// (minimum, median) of `times`.
+fn spread(mut times: Vec<f64>) -> (f64, f64) {
+    times.sort_by(f64::total_cmp);
+    (times[0], times[times.len() / 2])
+}
+
+/// Rays a chunk, as the peer bench's `chunk_size`: 4096, or fewer so that each of two threads has
+/// eight chunks or more (512 at least).
+fn chunk_size(rays: usize) -> usize {
+    (rays / 16).clamp(512, 4096)
+}
+
+/// The casts in a pool of two threads (unpinned), in chunks as the peer bench casts them.
+fn two_threads(prepared: &Prepared, rays: &[LoggedRay], repeats: usize) {
+    use rayon::prelude::*;
+    let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(2).build() else {
+        return eprintln!("no pool of two threads");
+    };
+    let chunk = chunk_size(rays.len());
+    let count = || {
+        rays.par_chunks(chunk)
+            .map(|chunk| cast_all_again(prepared, chunk, &mut Stats::default()))
+            .sum::<usize>()
+    };
+    let times = pool.install(|| {
+        count();
+        (0..repeats)
+            .map(|_| {
+                let clock = Instant::now();
+                std::hint::black_box(count());
+                clock.elapsed().as_secs_f64() * 1e3
+            })
+            .collect()
+    });
+    let (least, median) = spread(times);
+    println!("two threads: ms min {least:.3} median {median:.3}");
+}
