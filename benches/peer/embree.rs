@@ -39,6 +39,25 @@ type Named = (String, Prepared, Vec<[V3<f64>; 3]>);
 /// Threads for both sides.
 const THREADS: usize = 2;
 
+/// Milliseconds of casts on both threads before a query row's clock starts, on each side (the
+/// scripts' `--warm-ms`, [`warm_up`] here). After the other side's turn, this process's workers
+/// had sat idle for a second or more, and one warm-up cast was not enough: the Cornell box's
+/// primary rays, 2.6–2.7 ms a cast in a busy loop, read 2.7–5.5 ms for the casts after a second's
+/// sleep (a cast on one thread alone), and the bench's raylab side read 4.4 ms against the loop's
+/// 2.7 ms in the same hour. After 200 ms of casts they read 2.6–3.0 ms again.
+const WARM_MS: f64 = 250.0;
+
+/// Calls `cast` until [`WARM_MS`] have passed, at least once (see there).
+fn warm_up(mut cast: impl FnMut()) {
+    let clock = std::time::Instant::now();
+    loop {
+        cast();
+        if clock.elapsed().as_secs_f64() * 1e3 >= WARM_MS {
+            return;
+        }
+    }
+}
+
 fn repeats() -> usize {
     std::env::var("RAYLAB_PEER_REPEATS")
         .ok()
@@ -104,14 +123,15 @@ fn embree(
 }
 
 /// Runs an Embree `script` on `triangles` (written to a temporary OBJ named after `tag`) with the
-/// scene's pinhole camera, image size, [`THREADS`] and [`repeats`], and `--pin` when `pin`: its
-/// median ms and its count.
+/// scene's pinhole camera, image size, [`THREADS`] and [`repeats`]; for one of our query scripts
+/// (`query`), also `--warm-ms` [`WARM_MS`] and `--pin` where [`pinned`]: its median ms and its
+/// count.
 fn run_script(
     script: &str,
     triangles: &[[V3<f64>; 3]],
     prepared: &Prepared,
     tag: &str,
-    pin: bool,
+    query: bool,
 ) -> Result<(f64, usize), String> {
     let Camera::Pinhole {
         position,
@@ -133,7 +153,13 @@ fn run_script(
         .args(["--size", &format!("{}x{}", prepared.width, prepared.height)])
         .args(["--threads", &THREADS.to_string()])
         .args(["--reps", &repeats().to_string()])
-        .args(pin.then_some("--pin"))
+        .args(
+            query
+                .then(|| ["--warm-ms".to_string(), WARM_MS.to_string()])
+                .into_iter()
+                .flatten(),
+        )
+        .args((query && pinned()).then_some("--pin"))
         .output();
     let _ = std::fs::remove_file(&path);
     let output = output.map_err(|e| format!("cannot run python3: {e}"))?;
@@ -251,6 +277,9 @@ fn raylab_occluded(
     let count = || bands.par_iter().map(band_count).sum::<usize>();
     Some(pool.install(|| {
         let occluded = count();
+        warm_up(|| {
+            std::hint::black_box(count());
+        });
         let ms = super::median_ms(repeats(), || {
             std::hint::black_box(count());
         });
@@ -268,13 +297,7 @@ fn embree_occluded(
         env!("CARGO_MANIFEST_DIR"),
         "/benches/peer/embree_occluded.py"
     );
-    run_script(
-        script,
-        triangles,
-        prepared,
-        &format!("shadow-{name}"),
-        pinned(),
-    )
+    run_script(script, triangles, prepared, &format!("shadow-{name}"), true)
 }
 
 /// Shadow rays: both sides' any-hit queries on the generated meshes, in alternating rounds (Embree,
@@ -370,6 +393,9 @@ fn raylab_rays(pool: &rayon::ThreadPool, prepared: &Prepared, rays: &[LoggedRay]
     };
     pool.install(|| {
         let met = count();
+        warm_up(|| {
+            std::hint::black_box(count());
+        });
         let mut times = Vec::new();
         for _ in 0..ray_repeats(rays.len()) {
             let start = std::time::Instant::now();
@@ -411,6 +437,7 @@ fn embree_rays(
         .args(["--query", query])
         .args(["--threads", &THREADS.to_string()])
         .args(["--reps", &ray_repeats(rays.len()).to_string()])
+        .args(["--warm-ms", &WARM_MS.to_string()])
         .args(pinned().then_some("--pin"))
         .output();
     let _ = std::fs::remove_file(&path);

@@ -3,11 +3,13 @@ answering the same rays, written out by the peer bench, with the query the trace
 (the nearest hit: primary, sample, reflection and refraction rays) or `occluded` (any hit before
 t_max: shadow and occlusion rays). Prints the median time and the rays that met something:
 
-    python3 embree_rays.py --obj scene.obj --rays rays.f32 --query occluded --threads 2 --reps 5 [--pin]
+    python3 embree_rays.py --obj scene.obj --rays rays.f32 --query occluded --threads 2 --reps 5 [--pin] \
+        [--warm-ms 250]
 
 The rays file holds, per ray, seven little-endian f32s: origin x y z, direction x y z, t_max (+inf
 for the nearest-hit kinds). The rays are split between the threads before the clock starts. With
-`--pin` each worker thread runs on its own CPU, as in `embree_occluded.py`.
+`--pin` each worker thread runs on its own CPU, and for `--warm-ms` milliseconds before the clock
+starts the workers cast the rays again and again, as in `embree_occluded.py`.
 """
 import argparse
 import statistics
@@ -17,7 +19,7 @@ import numpy as np
 from embreex import rtcore_scene as rtcs
 from embreex.mesh_construction import TriangleMesh
 
-from embree_occluded import load_obj, thread_pool
+from embree_occluded import load_obj, thread_pool, warm_up
 
 
 def main():
@@ -28,6 +30,8 @@ def main():
     ap.add_argument('--threads', type=int, default=2)
     ap.add_argument('--reps', type=int, default=5)
     ap.add_argument('--pin', action='store_true', help='each worker thread on its own CPU')
+    ap.add_argument('--warm-ms', type=float, default=250.0,
+                    help='milliseconds of casts on the workers before the clock starts')
     a = ap.parse_args()
     tris = np.ascontiguousarray(load_obj(a.obj), np.float32)
     scene = rtcs.EmbreeScene(robust=True)
@@ -50,11 +54,16 @@ def main():
     pool = thread_pool(a.threads, a.pin)
     # The first call also commits the scene.
     hits = sum(met(*p) for p in parts)
+
+    def cast():
+        for f in [pool.submit(met, *p) for p in parts]:
+            f.result()
+
+    warm_up(cast, a.warm_ms)
     times = []
     for _ in range(a.reps):
         t0 = time.perf_counter()
-        for f in [pool.submit(met, *p) for p in parts]:
-            f.result()
+        cast()
         times.append(time.perf_counter() - t0)
     ms = statistics.median(times) * 1e3
     print(f'median {ms:.3f} ms over {a.reps} queries of {len(rays)} rays ({a.threads} threads), '
