@@ -1,8 +1,9 @@
 //! **Meshes** against Intel Embree 4 (robust mode) through `../shared/peers/embree_render.py` (needs
 //! python3 with `embreex` and `numpy`): coverage only, the same pinhole rays, 2 threads each (raylab in
 //! a rayon pool of 2, the script with `--threads 2`), the median of 21 renders each, in one run. Each
-//! side is measured in three alternating rounds (one for the 1.3-million-triangle sphere); the row
-//! shows each side's median round, the median of the rounds' ratios, and every round's ratio.
+//! side is measured in three alternating rounds (one for the 1.3-million-triangle sphere; five in the
+//! query rows below, each after 250 ms of warm-up casts on both sides); the row shows each side's
+//! median round, the median of the rounds' ratios, and every round's ratio.
 //!
 //! Scenes: each shipped scene with a mesh (its objects written to a temporary OBJ in world space, with
 //! their transforms applied; a parallelogram as its two triangles), an 81 920-triangle irregular sphere,
@@ -209,6 +210,11 @@ fn rounds(triangles: usize) -> usize {
     if triangles > 1_000_000 { 1 } else { 3 }
 }
 
+/// Rounds of the query rows (shadow rays and each kind of ray), alternating: five. In this shared
+/// machine's noisy spells a row's rounds read as far apart as 0.90x and 1.46x (the sphere's any-hit
+/// rays in packets), and in three rounds two slow ones set the median; in five it takes three.
+const QUERY_ROUNDS: usize = 5;
+
 /// One row of the table: both sides on one scene, in alternating rounds: each side's median round,
 /// the median of the rounds' ratios, and each round's ratio.
 fn row(
@@ -322,7 +328,7 @@ fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
         }
         // Per round, Embree's (ms, occluded), then raylab's for each way.
         let mut measured = Vec::new();
-        for _ in 0..rounds(triangles.len()) {
+        for _ in 0..QUERY_ROUNDS {
             let Ok(peer) = embree_occluded(triangles, prepared, name)
                 .inspect_err(|why| println!("Embree shadow peer skipped: {why}"))
             else {
@@ -481,7 +487,7 @@ fn ray_kinds(pool: &rayon::ThreadPool) {
             }
             let (mut peer, mut ours) = (Vec::new(), Vec::new());
             let (mut peer_met, mut our_met) = (0, 0);
-            for _ in 0..3 {
+            for _ in 0..QUERY_ROUNDS {
                 match embree_rays(&obj, &rays, name) {
                     Ok((ms, met)) => (peer_met, _) = (met, peer.push(ms)),
                     Err(why) => {
