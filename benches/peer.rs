@@ -20,6 +20,8 @@ use raylab::scene::{Problem, Scene};
 mod any_hit;
 #[path = "peer/embree.rs"]
 mod embree;
+#[path = "peer/replay.rs"]
+mod replay;
 
 /// One peer run: (median ms, covered pixels).
 fn peer(script: &str, variant: &str, repeats: u32) -> Result<(f64, usize), String> {

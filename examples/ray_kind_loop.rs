@@ -16,9 +16,13 @@ use std::time::Instant;
 
 use raylab::render::loading::assets::Embedded;
 use raylab::render::ray_kinds::RayKind;
-use raylab::render::ray_log::{LoggedRay, cast_all_again, in_casting_order, rays_cast};
+use raylab::render::ray_log::{LoggedRay, cast_all_again, rays_cast};
 use raylab::render::{Prepared, Stats};
 use raylab::scene::{Problem, Scene};
+
+/// The bench's ray-kind casting, shared with it.
+#[path = "../benches/peer/replay.rs"]
+mod replay;
 
 fn main() {
     let var = |name: &str, default: &str| std::env::var(name).unwrap_or(default.into());
@@ -41,13 +45,12 @@ fn main() {
         let names: Vec<&str> = RayKind::ALL.iter().map(|k| k.name()).collect();
         return eprintln!("KIND is one of {}", names.join(", "));
     };
-    let mut rays: Vec<LoggedRay> = rays_cast(&prepared)
+    let logged: Vec<LoggedRay> = rays_cast(&prepared)
         .into_iter()
         .filter(|r| r.kind == kind)
         .collect();
-    // Each chunk in the render's order, as the bench orders them.
-    let chunk = chunk_size(rays.len());
-    rays.chunks_mut(chunk).for_each(in_casting_order);
+    // Each chunk in the render's order, as the bench orders them (for two threads).
+    let (rays, chunk) = replay::in_chunks(&logged, 2);
     let mut stats = Stats::default();
     let met = cast_all_again(&prepared, &rays, &mut stats);
     let count = rays.len().max(1) as f64;
@@ -67,7 +70,7 @@ fn main() {
     let (least, median) = spread(times);
     println!("one thread: ms min {least:.3} median {median:.3}");
     if std::env::var("THREADS").is_ok() {
-        two_threads(&prepared, &rays, repeats);
+        two_threads(&prepared, (&rays, chunk), repeats);
     }
 }
 
@@ -77,24 +80,12 @@ fn spread(mut times: Vec<f64>) -> (f64, f64) {
     (times[0], times[times.len() / 2])
 }
 
-/// Rays a chunk, as the peer bench's `chunk_size`: 4096, or fewer so that each of two threads has
-/// eight chunks or more (512 at least).
-fn chunk_size(rays: usize) -> usize {
-    (rays / 16).clamp(512, 4096)
-}
-
 /// The casts in a pool of two threads (unpinned), in chunks as the peer bench casts them.
-fn two_threads(prepared: &Prepared, rays: &[LoggedRay], repeats: usize) {
-    use rayon::prelude::*;
+fn two_threads(prepared: &Prepared, (rays, chunk): (&[LoggedRay], usize), repeats: usize) {
     let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(2).build() else {
         return eprintln!("no pool of two threads");
     };
-    let chunk = chunk_size(rays.len());
-    let count = || {
-        rays.par_chunks(chunk)
-            .map(|chunk| cast_all_again(prepared, chunk, &mut Stats::default()))
-            .sum::<usize>()
-    };
+    let count = || replay::cast_chunks(prepared, rays, chunk);
     let times = pool.install(|| {
         count();
         (0..repeats)

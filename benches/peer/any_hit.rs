@@ -1,5 +1,5 @@
 //! The peer bench's camera any-hit rows, kept in one place for the bench (`embree.rs`) and the
-//! profiling loop (`examples/any_hit_loop.rs`): their two meshes, seen as the bench sees them, and
+//! profiling loop (`examples/any_hit_loop.rs`): their meshes, seen as the bench sees them, and
 //! how raylab casts a band of their rays.
 
 use raylab::math::linalg::V3;

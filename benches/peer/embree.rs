@@ -29,8 +29,8 @@ use super::any_hit::{Casting, TILE, fine_inside_box, inside_box, occluded_band, 
 use raylab::math::linalg::V3;
 use raylab::render::generate::{irregular_sphere, mesh_hierarchy, to_obj};
 use raylab::render::objects::Geometry;
-use raylab::render::ray_log::{LoggedRay, cast_all_again, in_casting_order, rays_cast};
-use raylab::render::{Prepared, Ray, Stats, loading::assets::Embedded, render, world_triangle};
+use raylab::render::ray_log::{LoggedRay, rays_cast};
+use raylab::render::{Prepared, Ray, loading::assets::Embedded, render, world_triangle};
 use raylab::scene::render::{Camera, Effect};
 use raylab::scene::{Problem, Scene};
 
@@ -376,27 +376,13 @@ fn ray_repeats(rays: usize) -> usize {
         .unwrap_or_else(|| RAYS_A_ROUND.div_ceil(rays.max(1)).clamp(5, 500))
 }
 
-/// Rays a chunk of [`raylab_rays`]: 4096, or fewer so that each thread has eight chunks or more
-/// (512 at least). Embree's script gives each thread every other ray; in six chunks of 4096, the
-/// one-light scene's 22 922 shadow rays split 0.60 ms to 0.44 ms of one thread's work.
-fn chunk_size(rays: usize) -> usize {
-    (rays / (8 * THREADS)).clamp(512, 4096)
-}
-
 /// raylab's (median ms, rays that met something) for `rays`, cast again through the queries the
-/// tracer used (primary rays in packets of sixteen), in a pool of [`THREADS`] threads (chunks of
-/// [`chunk_size`] rays in parallel, each put in the order the render casts its rays before the
-/// clock starts, as Embree's arrays are made before its clock).
+/// tracer used (primary rays in packets of sixteen), in a pool of [`THREADS`] threads (chunks in
+/// parallel, each put in the order the render casts its rays before the clock starts, as Embree's
+/// arrays are made before its clock: [`super::replay`]).
 fn raylab_rays(pool: &rayon::ThreadPool, prepared: &Prepared, rays: &[LoggedRay]) -> (f64, usize) {
-    use rayon::prelude::*;
-    let chunk = chunk_size(rays.len());
-    let mut rays = rays.to_vec();
-    rays.chunks_mut(chunk).for_each(in_casting_order);
-    let count = || {
-        rays.par_chunks(chunk)
-            .map(|chunk| cast_all_again(prepared, chunk, &mut Stats::default()))
-            .sum::<usize>()
-    };
+    let (rays, chunk) = super::replay::in_chunks(rays, THREADS);
+    let count = || super::replay::cast_chunks(prepared, &rays, chunk);
     pool.install(|| {
         let met = count();
         warm_up(|| {
