@@ -146,6 +146,8 @@ struct Log {
     rays: Vec<LoggedRay>,
     /// The next any-hit query starts a packet.
     packet_starts: bool,
+    /// The last packet told of was cast ahead (rays cast ahead next may go on it).
+    in_ahead: bool,
 }
 
 impl Log {
@@ -167,6 +169,21 @@ impl Record for Log {
 
     fn any_hits_together(&mut self) {
         self.packet_starts = true;
+        self.in_ahead = false;
+    }
+
+    fn any_hits_ahead(&mut self, starts: bool) {
+        // Rays cast ahead go on a packet only right after its own rays: after a packet cast when
+        // asked (a mirror's hit's), they start a run of their own (the replay casts the runs from
+        // one start to the next), so the log never joins rays cast apart.
+        if starts || !self.in_ahead {
+            self.packet_starts = true;
+        }
+        self.in_ahead = true;
+    }
+
+    fn pixel(&mut self, centre: Ray) {
+        self.push((RayKind::Primary, centre, f64::INFINITY), false, 0);
     }
 
     fn any_hit_query(&mut self, kind: RayKind, ray: Ray, t_max: f64) {
@@ -185,14 +202,16 @@ pub fn rays_cast(prepared: &Prepared) -> Vec<LoggedRay> {
         .map(|row| {
             let mut log = Log::default();
             let mut stats = Stats::default();
-            for column in 0..prepared.width {
-                let ray = prepared.ray(row, column);
-                log.push((RayKind::Primary, ray, f64::INFINITY), false, 0);
-                if let Some(caster) = &caster {
-                    let hit = cast::nearest_hit(prepared, ray, &mut stats);
-                    caster.pixel_told((row, column), (ray, hit), &mut log, &mut stats);
-                }
-            }
+            let centres = (0..prepared.width).map(|column| prepared.ray(row, column));
+            let Some(caster) = &caster else {
+                centres.for_each(|ray| log.pixel(ray));
+                return log.rays;
+            };
+            // A row shaded as a render shades a band of rows (whose packets stay in a row).
+            let met: Vec<(Ray, Option<Hit>)> = centres
+                .map(|ray| (ray, cast::nearest_hit(prepared, ray, &mut stats)))
+                .collect();
+            caster.shade_band(row, &met, (&mut log, &mut stats), |_, _| {});
             log.rays
         })
         .collect();
@@ -205,6 +224,51 @@ mod tests {
     use crate::render::loading::assets::Embedded;
     use crate::render::render;
     use crate::scene::{Problem, Scene};
+
+    /// A band's first hits' shadow rays are cast ahead, neighbours' together, and the log keeps
+    /// those packets: the one-light scene's come sixteen to a packet, or nearly (shaded one hit
+    /// at a time, each was a packet of one). Rays cast ahead never join a packet cast apart: when
+    /// a mirror's hit's shadow ray, cast when asked, comes between two hits' cast ahead together,
+    /// the second's starts a run of its own.
+    #[test]
+    fn shadow_rays_cast_ahead_stay_in_their_packets() {
+        let path = format!(
+            "{}/assets/scenes/effect-shadows.ron",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let Ok(Problem::Render(scene)) =
+            Scene::load(std::path::Path::new(&path)).map(|s| s.problem)
+        else {
+            panic!("the one-light scene is a render scene");
+        };
+        let prepared = Prepared::new(&scene, &Embedded).unwrap();
+        let shadows: Vec<LoggedRay> = rays_cast(&prepared)
+            .into_iter()
+            .filter(|r| r.kind == RayKind::Shadow)
+            .collect();
+        let packets = shadows.iter().filter(|r| r.starts_packet).count();
+        let per_packet = shadows.len() as f64 / packets as f64;
+        assert!(per_packet > 12.0, "{per_packet:.2} shadow rays a packet");
+
+        // Hit a's ray cast ahead, first of its packet; a's mirror's hit's, cast when asked; then
+        // hits b's and c's, cast ahead in a's packet.
+        let mut log = Log::default();
+        for (x, told) in [
+            (0.0, Some(true)),
+            (1.0, None),
+            (2.0, Some(false)),
+            (3.0, Some(false)),
+        ] {
+            match told {
+                Some(starts) => log.any_hits_ahead(starts),
+                None => log.any_hits_together(),
+            }
+            let ray = Ray::new([x, 0.0, 0.0], [0.0, 0.0, 1.0]);
+            log.any_hit_query(RayKind::Shadow, ray, 1.0);
+        }
+        let starts: Vec<bool> = log.rays.iter().map(|r| r.starts_packet).collect();
+        assert_eq!(starts, [true, true, true, false]);
+    }
 
     /// The log holds exactly the rays the render counts, kind by kind, and cast again they are
     /// blocked as often as in the render (the Cornell box and each effect scene, made small).
