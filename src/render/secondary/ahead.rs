@@ -3,9 +3,8 @@
 //! ray, which a packet walk cannot share. Neighbouring hits' shadow rays leave nearby points for
 //! the same lights, so sixteen lanes of them walk the index together (the one-light scene's 22 922
 //! shadow rays, one thread: 1.5–1.6 ms a cast alone, 0.4–0.6 ms so, in the ray-kind loop). Each
-//! ray's answer is the same as alone ([`cast::any_hits`]),
-//! and each pixel is shaded as [`SecondaryCaster::pixel_told`] shades it, so the image is the same
-//! to the bit.
+//! ray's answer is the same as alone ([`cast::any_hits`]), and each pixel is shaded as
+//! [`SecondaryCaster::pixel_told`] shades it, so the image is the same to the bit.
 
 use std::ops::Range;
 
