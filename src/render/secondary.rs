@@ -534,13 +534,12 @@ impl<'a> SecondaryCaster<'a> {
             let ratio = surface.facing.map_or(1.0, |f| f.max(0.0));
             return surface.base.map(|c| c * ratio * open);
         }
-        let mut light = [lighting.settings.ambient * open; 3];
         let point = &spot.point;
-        match &all_lights {
+        self.lit(surface, open, |light| match &all_lights {
             // Every light's shadow ray was cast with the occlusion rays.
             Some(shadows) => {
                 let found = (shadows.view(), shadows_blocked);
-                self.add_light(&mut light, (0, &lighting.lights), point, found, rec);
+                self.add_light(light, (0, &lighting.lights), point, found, rec);
             }
             // Sixteen lights at a time: their shadow rays are cast together (they share their
             // origin, or nearly, and go to lights near one another, so they meet the same boxes).
@@ -552,10 +551,18 @@ impl<'a> SecondaryCaster<'a> {
                     let blocked = self.blocked_together(tested, &shadows.t_max, kind, rec, stats);
                     let first = chunk * cast::TOGETHER;
                     let found = (shadows.view(), blocked);
-                    self.add_light(&mut light, (first, sources), point, found, rec);
+                    self.add_light(light, (first, sources), point, found, rec);
                 }
             }
-        }
+        })
+    }
+
+    /// A lit surface's own colour: its colour times the light, which is the ambient term (times
+    /// `open`, the share of occlusion rays that escaped) plus what `add_lights` adds.
+    #[inline(always)]
+    fn lit(&self, surface: &Surface, open: f64, add_lights: impl FnOnce(&mut V3<f64>)) -> V3<f64> {
+        let mut light = [self.prepared.lighting.settings.ambient * open; 3];
+        add_lights(&mut light);
         std::array::from_fn(|k| surface.base[k] * light[k])
     }
 

@@ -205,10 +205,6 @@ impl SecondaryCaster<'_> {
             );
             stats.secondary.blocked += u64::from(own.count_ones());
         }
-        // `local`'s light without ambient occlusion: the ambient term, open everywhere, and
-        // each light's.
-        let open = 1.0;
-        let mut light = [lighting.settings.ambient * open; 3];
         let shadows = ShadowRays {
             cosines: &ready.cosines[..lights],
             rays: &group.rays[lanes.clone()],
@@ -216,14 +212,10 @@ impl SecondaryCaster<'_> {
             tested: ready.tested,
         };
         let point = &ready.spot.point;
-        self.add_light(
-            &mut light,
-            (0, &lighting.lights),
-            point,
-            (shadows, own),
-            rec,
-        );
-        let local = std::array::from_fn(|k| ready.surface.base[k] * light[k]);
+        // As `local` lights it without ambient occlusion: open everywhere.
+        let local = self.lit(&ready.surface, 1.0, |light| {
+            self.add_light(light, (0, &lighting.lights), point, (shadows, own), rec);
+        });
         let lit = (&ready.surface, &ready.spot, local);
         self.with_onward((ready.hit, ray), 0, lit, (rng, rec), stats)
     }
