@@ -987,8 +987,10 @@ mod tests {
     #[test]
     fn a_band_renders_each_pixel_as_alone() {
         let (mut mirrors_and_glass, mut shadows_ahead) = (0, 0);
-        // Antialiasing, ambient occlusion, the bug: without the two, a band's first hits' shadow
-        // rays are cast ahead, several hits' together (the one-light scene, the Cornell box).
+        // Antialiasing, ambient occlusion, the bug: without the two (and with shadows), a band's
+        // first hits' shadow rays are cast ahead, several hits' together where a scene has one
+        // light or two (the one-light scene; the reflections scene, its mirror's hits casting
+        // theirs when asked).
         let variants = [
             (true, true, None),
             (false, true, None),
@@ -1005,6 +1007,9 @@ mod tests {
                 }
                 if !occlusion {
                     prepared.effects.retain(|e| *e != Effect::AmbientOcclusion);
+                    if !prepared.effects.contains(&Effect::Shadows) {
+                        prepared.effects.push(Effect::Shadows);
+                    }
                 }
                 if !applies(&prepared) {
                     continue;
