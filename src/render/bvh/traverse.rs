@@ -62,13 +62,45 @@ impl Bvh {
     /// Walks the hierarchy for `query`'s rays `rays`, from distance `start`.
     #[inline(always)]
     pub(in crate::render) fn visit<Q: Query>(&self, query: &mut Q, rays: u32, start: Q::Near) {
+        self.visit_from(query, (0, 0), rays, start);
+    }
+
+    /// [`Bvh::visit`] from below node 0, whose one box (the whole mesh's) is not tested: for
+    /// queries whose rays were tested against that box already, or that all start inside it.
+    /// (A skipped box test only culls less; it never changes what is found.)
+    #[inline(always)]
+    pub(in crate::render) fn visit_below_root<Q: Query>(
+        &self,
+        query: &mut Q,
+        rays: u32,
+        start: Q::Near,
+    ) {
+        let Some(root) = self.nodes.first() else {
+            return;
+        };
+        let from = match root.child.map(|c| c != super::EMPTY) {
+            [true, false, false, false] => (root.child[0], root.count[0]),
+            _ => (0, 0),
+        };
+        self.visit_from(query, from, rays, start);
+    }
+
+    /// Walks from `(child, count)`: an inner node, or a leaf's slots.
+    #[inline(always)]
+    fn visit_from<Q: Query>(
+        &self,
+        query: &mut Q,
+        (child, count): (u32, u32),
+        rays: u32,
+        start: Q::Near,
+    ) {
         if self.nodes.is_empty() || rays == 0 {
             return;
         }
         let mut stack = Stack::new();
         stack.push(Visit {
-            child: 0,
-            count: 0,
+            child,
+            count,
             rays,
             near: start,
         });

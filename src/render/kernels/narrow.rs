@@ -261,7 +261,7 @@ pub fn traverse<const ANY: bool>(
         triangle_tests,
         best,
     };
-    bvh.visit(&mut query, taking & ((1 << RAYS) - 1), 0.0);
+    bvh.visit_below_root(&mut query, taking & ((1 << RAYS) - 1), 0.0);
     true
 }
 
