@@ -660,8 +660,9 @@ fn each_axis(lanes: std::arch::x86_64::__m128) -> [std::arch::x86_64::__m256; 3]
 /// the back of the 81 920-triangle sphere and took 35% more time there. The boxes started in
 /// last test nearly as few triangles as farthest first on the Cornell box (2.02 M against 1.99 M
 /// for its 1.53 M shadow rays, 2.61 M in the node's order), and the sphere's camera rays, which
-/// start in no box, test the same boxes as before. Before the walk, the quad that blocked this
-/// thread's last blocked ray on this hierarchy is tested (`LAST_BLOCKER`).
+/// start in no box, test the same boxes as before. Before the walk, the quad that blocked the
+/// last blocked ray on this hierarchy in this thread's lane ([`blocker_lane`]) may be tested
+/// (`BLOCKERS`).
 ///
 /// # Safety
 /// Compiled with AVX2 and FMA: safe to call from code compiled with them; `avx2` proves the
@@ -689,12 +690,16 @@ pub fn occluded_one_ray(
     // SAFETY: compiled with AVX2 and FMA, which `avx2` proves the processor has.
     let one = unsafe { OneRay::new(ray, t_max) }?;
     let mut sheared: Option<Option<ShearedRay>> = None;
-    // This thread's last blocker first (see `LAST_BLOCKER`).
+    // This thread's last blocker first (see `BLOCKERS`).
     let quads = bvh.quads.as_ptr() as usize;
     let mut last_blocker_tests = 0;
-    let (whose, quad) = LAST_BLOCKER.get();
-    if whose == quads && quad < bvh.quads.len() {
+    let (lane, last) = BLOCKERS.with(|blockers| {
+        let lane = blockers.lane.get();
+        (lane, blockers.last[lane].get())
+    });
+    if last.whose == quads && last.quad < bvh.quads.len() && (lane == 0 || last.worth_testing) {
         last_blocker_tests = 4;
+        let quad = last.quad;
         if let Some(first) = sheared.insert(ShearedRay::new(&ray.origin, &ray.dir))
             && bvh
                 .blocking_quad(avx2, first, 4 * quad..4 * quad + 4, t_max)
@@ -702,6 +707,13 @@ pub fn occluded_one_ray(
         {
             *triangle_tests += last_blocker_tests;
             return Some(true);
+        }
+        if lane > 0 {
+            let failed = LastBlocker {
+                worth_testing: false,
+                ..last
+            };
+            BLOCKERS.with(|blockers| blockers.last[lane].set(failed));
         }
     }
     // (child, count) of the children still to visit; the build bounds the depth, so `STACK`
@@ -725,7 +737,16 @@ pub fn occluded_one_ray(
                 let Some(ray) = ray else { break 'walk false };
                 let slots = child as usize..(child + count) as usize;
                 if let Some(quad) = bvh.blocking_quad(avx2, ray, slots, t_max) {
-                    LAST_BLOCKER.set((quads, quad));
+                    BLOCKERS.with(|blockers| {
+                        let last = blockers.last[lane].get();
+                        blockers.last[lane].set(LastBlocker {
+                            whose: quads,
+                            quad,
+                            // The same quad blocked the lane's last blocked ray on this
+                            // hierarchy too.
+                            worth_testing: last.whose == quads && last.quad == quad,
+                        });
+                    });
                     break 'walk true;
                 }
                 continue;
@@ -751,24 +772,70 @@ pub fn occluded_one_ray(
     Some(found)
 }
 
-thread_local! {
-    /// This thread's last blocker: the quad (slot / 4) in which its last any-hit walk that found a
-    /// hit found it, and whose it is (the address of its hierarchy's quads). The next walk on the
-    /// same hierarchy tests that quad first: rays cast one after another beside each other (a
-    /// row's camera rays, neighbouring pixels' shadow rays to one light) are most often blocked by
-    /// the same few triangles. It only chooses what is tested first, so no answer depends on it:
-    /// a quad of another hierarchy is never tested (a hierarchy built where a dropped one was
-    /// may share its address, but then a quad past its end is not tested either, and any quad of
-    /// its own holds its own triangles). On the camera rays of the peer bench, a walk 24–27% less
-    /// time on the sphere and 16–18% on the box seen from inside.
-    static LAST_BLOCKER: std::cell::Cell<(usize, usize)> =
-        const { std::cell::Cell::new((0, usize::MAX)) };
+/// A thread's last blocker (see `BLOCKERS`).
+#[derive(Clone, Copy)]
+struct LastBlocker {
+    /// The address of the hierarchy's quads.
+    whose: usize,
+    /// The quad (slot / 4) that blocked the thread's last blocked ray on that hierarchy.
+    quad: usize,
+    /// Whether a packet's lane tests it first: the same quad blocked the lane's last two blocked
+    /// rays, or the last test of it blocked its ray. (Lane 0 tests it whatever this says.)
+    worth_testing: bool,
 }
 
-/// Forgets this thread's last blocker (see `LAST_BLOCKER`): the next any-hit walk starts from the
-/// top, as every walk did before there was one (for measuring the walk alone).
+impl LastBlocker {
+    const NONE: LastBlocker = LastBlocker {
+        whose: 0,
+        quad: usize::MAX,
+        worth_testing: false,
+    };
+}
+
+thread_local! {
+    /// This thread's last blockers: for each lane, the quad in which the lane's last any-hit walk
+    /// that found a hit found it, and whose it is. Lane 0 holds rays cast one after another
+    /// beside each other (a row's camera rays); lane r + 1 a packet's ray r, which in a render's
+    /// packets is the same light's shadow ray, or the same occlusion ray, hit after hit
+    /// ([`blocker_lane`]). The next walk on the same hierarchy in the same lane tests that quad
+    /// first: neighbouring rays are most often blocked by the same few triangles. A packet's lane
+    /// stops testing it once a test fails, until two of its blocked rays in a row are blocked by
+    /// the same quad: the Cornell box's occlusion rays, each hit's eight going every way, were
+    /// blocked by it too seldom for its four tests a ray (`ray_kind_loop`). It only chooses what
+    /// is tested first, so no answer depends on it: a quad of another hierarchy is never tested (a
+    /// hierarchy built where a dropped one was may share its address, but then a quad past its end
+    /// is not tested either, and any quad of its own holds its own triangles). On the camera rays
+    /// of the peer bench, a walk 24–27% less time on the sphere and 16–18% on the box seen from
+    /// inside.
+    static BLOCKERS: Blockers = const {
+        Blockers {
+            lane: std::cell::Cell::new(0),
+            last: [const { std::cell::Cell::new(LastBlocker::NONE) }; RAYS + 1],
+        }
+    };
+}
+
+/// A thread's last blockers, one a lane (see `BLOCKERS`), and the lane its walks use now.
+struct Blockers {
+    lane: std::cell::Cell<usize>,
+    last: [std::cell::Cell<LastBlocker>; RAYS + 1],
+}
+
+/// Sets which last blocker this thread's next any-hit walks test first and keep: `Some(r)` for a
+/// packet's ray r (below [`RAYS`]), `None` for rays cast one after another beside each other.
+pub fn blocker_lane(lane: Option<usize>) {
+    BLOCKERS.with(|blockers| blockers.lane.set(lane.map_or(0, |r| (r + 1).min(RAYS))));
+}
+
+/// Forgets this thread's last blockers (see `BLOCKERS`): the next any-hit walk starts from
+/// the top, as every walk did before there was one (for measuring the walk alone).
 pub fn forget_last_blocker() {
-    LAST_BLOCKER.set((0, usize::MAX));
+    BLOCKERS.with(|blockers| {
+        blockers
+            .last
+            .iter()
+            .for_each(|one| one.set(LastBlocker::NONE))
+    });
 }
 
 /// Which of an 8-wide node's boxes `one` meets (a bit per lane), how many boxes it has, and which
@@ -917,6 +984,61 @@ mod tests {
         }
         // 8 102 against 15 734.
         assert!(5 * boxes[0] <= 3 * boxes[1], "box tests: {boxes:?}");
+    }
+
+    /// A packet's lanes each keep their own last blocker, tested first while it blocks: on the
+    /// grid box, a ray blocked twice in lane 0 is then answered by its quad alone (no box tested),
+    /// though lane 1 was blocked elsewhere between; once a lane's blocker fails a ray, the lane
+    /// walks from the top until the same quad blocks two rays in a row. Every answer is the f64
+    /// walk's.
+    #[test]
+    fn each_packet_lane_keeps_its_own_last_blocker() {
+        use crate::render::generate::{grid_box, mesh_hierarchy, mesh_scene};
+        let avx2 = crate::render::kernels::avx2_or_skip!();
+        let (camera, side, triangles) = grid_box(12);
+        let grid = mesh_scene(&triangles, camera, side, side);
+        let bvh = mesh_hierarchy(&grid).expect("a mesh scene has a hierarchy");
+        let (a, b) = (
+            grid.ray(side / 3, side / 3),
+            grid.ray(2 * side / 3, 2 * side / 3),
+        );
+        // (box tests, triangle tests) of one query of `ray` in `lane`, checked against the f64 walk.
+        let cast = |lane: Option<usize>, ray: &Ray| {
+            Bvh::blocker_lane(lane);
+            let (mut boxes, mut triangles) = (0, 0);
+            let range = (0.0, f64::INFINITY);
+            let found = bvh.occluded(Some(avx2), ray, range, &mut boxes, &mut triangles);
+            assert_eq!(found, bvh.occluded(None, ray, range, &mut 0, &mut 0));
+            assert!(found, "{ray:?}");
+            (boxes, triangles)
+        };
+        Bvh::forget_last_blocker();
+        cast(Some(0), &a);
+        cast(Some(0), &a);
+        cast(Some(1), &b);
+        cast(Some(1), &b);
+        assert_eq!(
+            cast(Some(0), &a),
+            (0, 4),
+            "lane 0 tests its own blocker first"
+        );
+        assert_eq!(
+            cast(Some(1), &b),
+            (0, 4),
+            "lane 1 tests its own blocker first"
+        );
+        // Lane 0's blocker fails ray b, which walks from the top. The next ray in lane 0, b again,
+        // walks too, though b's quad is the lane's blocker now: one blocked ray is not enough.
+        // After two in a row, the lane tests it first again.
+        assert!(cast(Some(0), &b).0 > 0);
+        assert!(cast(Some(0), &b).0 > 0);
+        assert_eq!(cast(Some(0), &b), (0, 4));
+        // Rays cast one after another (no lane) test their last blocker whatever happened
+        // before: one blocked ray is enough.
+        cast(None, &b);
+        assert!(cast(None, &a).0 > 0);
+        assert_eq!(cast(None, &a), (0, 4));
+        Bvh::blocker_lane(None);
     }
 
     /// A node whose lanes hold `boxes` (min, max), the rest empty.
