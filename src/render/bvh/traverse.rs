@@ -69,6 +69,10 @@ impl Bvh {
     /// queries whose rays were tested against that box already, or that all start inside it.
     /// (A skipped box test only culls less; it never changes what is found.)
     #[inline(always)]
+    #[cfg_attr(
+        not(target_arch = "x86_64"),
+        allow(dead_code, reason = "used by the x86-64 packet walk only")
+    )]
     pub(in crate::render) fn visit_below_root<Q: Query>(
         &self,
         query: &mut Q,
