@@ -986,10 +986,10 @@ fn objects_block(
         let range = (0.0, t_max[r]);
         // Each lane keeps its own last blocker: a hit's shadow rays to its lights and its
         // occlusion rays go every way, and lane r is the same light's ray hit after hit.
-        Bvh::blocker_lane(Some(r));
-        blocked |= u32::from(object_blocks(prepared, index, &rays[r], range, stats)) << r;
+        let ray_blocked =
+            Bvh::in_blocker_lane(r, || object_blocks(prepared, index, &rays[r], range, stats));
+        blocked |= u32::from(ray_blocked) << r;
     }
-    Bvh::blocker_lane(None);
     blocked
 }
 

@@ -493,15 +493,18 @@ impl Bvh {
         narrow::forget_last_blocker();
     }
 
-    /// Which last blocker this thread's next [`Bvh::occluded`] queries test first and keep:
-    /// `Some(r)` for ray r of a packet whose rays are walked one at a time (in a render, the same
-    /// light's shadow ray or the same occlusion ray hit after hit), `None` for rays cast one after
-    /// another beside each other. No answer changes.
-    pub fn blocker_lane(lane: Option<usize>) {
+    /// Runs `queries` with this thread's [`Bvh::occluded`] queries testing first and keeping the
+    /// last blocker of ray `r` of a packet whose rays are walked one at a time (in a render, the
+    /// same light's shadow ray or the same occlusion ray hit after hit), not the one of rays cast
+    /// one after another beside each other. No answer changes.
+    pub fn in_blocker_lane<T>(r: usize, queries: impl FnOnce() -> T) -> T {
         #[cfg(target_arch = "x86_64")]
-        narrow::blocker_lane(lane);
+        return narrow::in_blocker_lane(r, queries);
         #[cfg(not(target_arch = "x86_64"))]
-        let _ = lane;
+        {
+            let _ = r;
+            queries()
+        }
     }
 
     /// One ray's crack-free query: the nearest hit, or with `ANY` a hit before t_max as soon as

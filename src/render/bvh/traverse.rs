@@ -65,9 +65,11 @@ impl Bvh {
         self.visit_from(query, (0, 0), rays, start);
     }
 
-    /// [`Bvh::visit`] from below node 0, whose one box (the whole mesh's) is not tested: for
-    /// queries whose rays were tested against that box already, or that all start inside it.
-    /// (A skipped box test only culls less; it never changes what is found.)
+    /// [`Bvh::visit`] from below node 0, whose one box (the whole mesh's) is not tested. A
+    /// skipped box test only culls less; it never changes what is found. It pays where that box
+    /// culls nothing: a packet that reaches a mesh through the object index, which tested the
+    /// mesh's box, or a room's rays, which start inside its walls' box. Rays that miss the whole
+    /// mesh test the boxes below it instead (the sphere's 4x4 packet rows read the same).
     #[inline(always)]
     #[cfg_attr(
         not(target_arch = "x86_64"),

@@ -661,7 +661,7 @@ fn each_axis(lanes: std::arch::x86_64::__m128) -> [std::arch::x86_64::__m256; 3]
 /// last test nearly as few triangles as farthest first on the Cornell box (2.02 M against 1.99 M
 /// for its 1.53 M shadow rays, 2.61 M in the node's order), and the sphere's camera rays, which
 /// start in no box, test the same boxes as before. Before the walk, the quad that blocked the
-/// last blocked ray on this hierarchy in this thread's lane ([`blocker_lane`]) may be tested
+/// last blocked ray on this hierarchy in this thread's lane ([`in_blocker_lane`]) may be tested
 /// (`BLOCKERS`).
 ///
 /// # Safety
@@ -797,7 +797,7 @@ thread_local! {
     /// that found a hit found it, and whose it is. Lane 0 holds rays cast one after another
     /// beside each other (a row's camera rays); lane r + 1 a packet's ray r, which in a render's
     /// packets is the same light's shadow ray, or the same occlusion ray, hit after hit
-    /// ([`blocker_lane`]). The next walk on the same hierarchy in the same lane tests that quad
+    /// ([`in_blocker_lane`]). The next walk on the same hierarchy in the same lane tests that quad
     /// first: neighbouring rays are most often blocked by the same few triangles. A packet's lane
     /// stops testing it once a test fails, until two of its blocked rays in a row are blocked by
     /// the same quad: the Cornell box's occlusion rays, each hit's eight going every way, were
@@ -821,10 +821,14 @@ struct Blockers {
     last: [std::cell::Cell<LastBlocker>; RAYS + 1],
 }
 
-/// Sets which last blocker this thread's next any-hit walks test first and keep: `Some(r)` for a
-/// packet's ray r (below [`RAYS`]), `None` for rays cast one after another beside each other.
-pub fn blocker_lane(lane: Option<usize>) {
-    BLOCKERS.with(|blockers| blockers.lane.set(lane.map_or(0, |r| (r + 1).min(RAYS))));
+/// Runs `walks` with this thread's any-hit walks testing first and keeping the last blocker of a
+/// packet's ray `r` (below [`RAYS`]), then gives the walks that follow the lane they had.
+pub fn in_blocker_lane<T>(r: usize, walks: impl FnOnce() -> T) -> T {
+    let lane = (r + 1).min(RAYS);
+    let before = BLOCKERS.with(|blockers| blockers.lane.replace(lane));
+    let answer = walks();
+    BLOCKERS.with(|blockers| blockers.lane.set(before));
+    answer
 }
 
 /// Forgets this thread's last blockers (see `BLOCKERS`): the next any-hit walk starts from
@@ -1004,10 +1008,13 @@ mod tests {
         );
         // (box tests, triangle tests) of one query of `ray` in `lane`, checked against the f64 walk.
         let cast = |lane: Option<usize>, ray: &Ray| {
-            Bvh::blocker_lane(lane);
             let (mut boxes, mut triangles) = (0, 0);
             let range = (0.0, f64::INFINITY);
-            let found = bvh.occluded(Some(avx2), ray, range, &mut boxes, &mut triangles);
+            let mut query = || bvh.occluded(Some(avx2), ray, range, &mut boxes, &mut triangles);
+            let found = match lane {
+                Some(r) => Bvh::in_blocker_lane(r, query),
+                None => query(),
+            };
             assert_eq!(found, bvh.occluded(None, ray, range, &mut 0, &mut 0));
             assert!(found, "{ray:?}");
             (boxes, triangles)
@@ -1038,7 +1045,6 @@ mod tests {
         cast(None, &b);
         assert!(cast(None, &a).0 > 0);
         assert_eq!(cast(None, &a), (0, 4));
-        Bvh::blocker_lane(None);
     }
 
     /// A node whose lanes hold `boxes` (min, max), the rest empty.
