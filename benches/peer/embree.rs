@@ -2,8 +2,9 @@
 //! python3 with `embreex` and `numpy`): coverage only, the same pinhole rays, 2 threads each (raylab in
 //! a rayon pool of 2, the script with `--threads 2`), the median of 21 renders each, in one run. Each
 //! side is measured in three alternating rounds (one for the 1.3-million-triangle sphere; five in the
-//! query rows below, each after 250 ms of warm-up casts on both sides); the row shows each side's
-//! median round, the median of the rounds' ratios, and every round's ratio.
+//! shadow rows below, each after 250 ms of warm-up casts on both sides; eleven short ones side by
+//! side in the rows per kind of ray, each after 200 ms); the row shows each side's median round,
+//! the median of the rounds' ratios, and every round's ratio.
 //!
 //! Scenes: each shipped scene with a mesh (its objects written to a temporary OBJ in world space, with
 //! their transforms applied; a parallelogram as its two triangles), an 81 920-triangle irregular sphere,
@@ -49,11 +50,16 @@ const THREADS: usize = 2;
 const WARM_MS: f64 = 250.0;
 
 /// Calls `cast` until [`WARM_MS`] have passed, at least once (see there).
-fn warm_up(mut cast: impl FnMut()) {
+fn warm_up(cast: impl FnMut()) {
+    warm_up_for(WARM_MS, cast);
+}
+
+/// Calls `cast` until `ms` milliseconds have passed, at least once.
+fn warm_up_for(ms: f64, mut cast: impl FnMut()) {
     let clock = std::time::Instant::now();
     loop {
         cast();
-        if clock.elapsed().as_secs_f64() * 1e3 >= WARM_MS {
+        if clock.elapsed().as_secs_f64() * 1e3 >= ms {
             return;
         }
     }
@@ -178,15 +184,10 @@ pub fn median_and_coverage(output: &std::process::Output) -> Result<(f64, usize)
         ));
     }
     // "median 6.412 ms over 21 renders (2 threads), covered pixels 53449, 16.07 Mrays/s"
-    let number_after = |key: &str| -> Option<f64> {
-        let rest = &text[text.find(key)? + key.len()..];
-        rest.split_whitespace()
-            .next()?
-            .trim_end_matches(',')
-            .parse()
-            .ok()
-    };
-    match (number_after("median"), number_after("covered pixels")) {
+    match (
+        number_after(&text, "median"),
+        number_after(&text, "covered pixels"),
+    ) {
         (Some(ms), Some(pixels)) => Ok((ms, pixels as usize)),
         _ => Err(format!("unexpected output: {text}")),
     }
@@ -210,7 +211,7 @@ fn rounds(triangles: usize) -> usize {
     if triangles > 1_000_000 { 1 } else { 3 }
 }
 
-/// Rounds of the query rows (shadow rays and each kind of ray), alternating: five. In this shared
+/// Rounds of the shadow rows, alternating: five. In this shared
 /// machine's noisy spells a row's rounds read as far apart as 0.90x and 1.46x (the sphere's any-hit
 /// rays in packets), and in three rounds two slow ones set the median; in five it takes three.
 const QUERY_ROUNDS: usize = 5;
@@ -363,88 +364,204 @@ fn shadow_rays(pool: &rayon::ThreadPool, scenes: &[Named]) {
     }
 }
 
+/// Rounds of each kind-of-ray row: eleven, each side's a moment after the other's (Embree first
+/// in even rounds, raylab first in odd ones), against one Embree process that loads the scene and
+/// the rays once ([`ServedRays`]). With a process a round (the rows' first way), five rounds took
+/// as long, and a slow spell of the machine fell on whole rounds of one side: the Cornell box's
+/// refraction rays read 0.67x to 1.06x in one row. Side by side, both sides of a round see the
+/// same moment of the machine (its slow spells slow raylab's walks more than Embree's: see
+/// benches/README), and of eleven rounds it takes six to move the median.
+const KIND_ROUNDS: usize = 11;
+
+/// Milliseconds of warm-up casts before each round of a kind-of-ray row, on each side. The other
+/// side's round before it left this side's workers asleep for up to a second (see [`WARM_MS`]);
+/// 200 ms of casts brought the Cornell box's primary rays back to their busy-loop time.
+const KIND_WARM_MS: f64 = 200.0;
+
 /// How many times each side casts a row's `rays` rays in a round: `RAYLAB_PEER_RAY_REPEATS`, or
-/// by default enough casts for a million rays, at least 5 (the Cornell box's occlusion rays alone
+/// by default enough casts for 300 000 rays, at least 3 (the Cornell box's occlusion rays alone
 /// are 3.5 million). A row of a few thousand rays takes a millisecond a cast: over five casts the
-/// median moved by a third from round to round, the first casts after the other side's paying for
-/// cold caches and sleeping threads.
+/// median moved by a third from round to round.
 fn ray_repeats(rays: usize) -> usize {
-    const RAYS_A_ROUND: usize = 1_000_000;
+    const RAYS_A_ROUND: usize = 300_000;
     std::env::var("RAYLAB_PEER_RAY_REPEATS")
         .ok()
         .and_then(|r| r.parse().ok())
-        .unwrap_or_else(|| RAYS_A_ROUND.div_ceil(rays.max(1)).clamp(5, 500))
+        .unwrap_or_else(|| RAYS_A_ROUND.div_ceil(rays.max(1)).clamp(3, 500))
 }
 
-/// raylab's (median ms, rays that met something) for `rays`, cast again through the queries the
-/// tracer used (primary rays in packets of sixteen), in a pool of [`THREADS`] threads (chunks in
-/// parallel, each put in the order the render casts its rays before the clock starts, as Embree's
-/// arrays are made before its clock: [`super::replay`]).
-fn raylab_rays(pool: &rayon::ThreadPool, prepared: &Prepared, rays: &[LoggedRay]) -> (f64, usize) {
-    let (rays, chunk) = super::replay::in_chunks(rays, THREADS);
-    let count = || super::replay::cast_chunks(prepared, &rays, chunk);
-    pool.install(|| {
-        let met = count();
-        warm_up(|| {
-            std::hint::black_box(count());
-        });
-        let mut times = Vec::new();
-        for _ in 0..ray_repeats(rays.len()) {
-            let start = std::time::Instant::now();
-            std::hint::black_box(count());
-            times.push(start.elapsed().as_secs_f64() * 1e3);
-        }
-        (super::median(times), met)
-    })
+/// raylab's side of a kind-of-ray row: the rays in chunks, each put in the order the render casts
+/// its rays before any clock starts (as Embree's arrays are made before its clock:
+/// [`super::replay`]), cast through the queries the tracer used (primary rays in packets of
+/// sixteen) in a pool of [`THREADS`] threads.
+struct OurRays<'a> {
+    pool: &'a rayon::ThreadPool,
+    prepared: &'a Prepared,
+    rays: Vec<LoggedRay>,
+    chunk: usize,
 }
 
-/// Embree's (median ms, rays that met something) for `rays` through `benches/peer/embree_rays.py`,
-/// the scene's world-space triangles in `obj`.
-fn embree_rays(
-    obj: &std::path::Path,
-    rays: &[LoggedRay],
-    tag: &str,
-) -> Result<(f64, usize), String> {
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peer/embree_rays.py");
-    let path = std::env::temp_dir().join(format!("raylab-peer-{tag}-{}.f32", std::process::id()));
-    let mut bytes = Vec::with_capacity(rays.len() * 28);
-    for logged in rays {
-        let Ray { origin, dir } = logged.ray;
-        for value in origin.iter().chain(&dir).chain([&logged.t_max]) {
-            bytes.extend((*value as f32).to_le_bytes());
+impl<'a> OurRays<'a> {
+    fn new(pool: &'a rayon::ThreadPool, prepared: &'a Prepared, rays: &[LoggedRay]) -> Self {
+        let (rays, chunk) = super::replay::in_chunks(rays, THREADS);
+        OurRays {
+            pool,
+            prepared,
+            rays,
+            chunk,
         }
     }
-    std::fs::write(&path, bytes).map_err(|e| format!("cannot write the rays: {e}"))?;
-    let query = if rays[0].any_hit() {
-        "occluded"
-    } else {
-        "intersect"
-    };
-    let output = Command::new("python3")
-        .arg(script)
-        .arg("--obj")
-        .arg(obj)
-        .arg("--rays")
-        .arg(&path)
-        .args(["--query", query])
-        .args(["--threads", &THREADS.to_string()])
-        .args(["--reps", &ray_repeats(rays.len()).to_string()])
-        .args(["--warm-ms", &WARM_MS.to_string()])
-        .args(pinned().then_some("--pin"))
-        .output();
-    let _ = std::fs::remove_file(&path);
-    median_and_coverage(&output.map_err(|e| format!("cannot run python3: {e}"))?)
+
+    /// The rays that met something.
+    fn met(&self) -> usize {
+        let count = || super::replay::cast_chunks(self.prepared, &self.rays, self.chunk);
+        self.pool.install(count)
+    }
+
+    /// One round: [`KIND_WARM_MS`] of warm-up casts, then the median ms of `reps` casts.
+    fn round(&self, reps: usize) -> f64 {
+        let count = || super::replay::cast_chunks(self.prepared, &self.rays, self.chunk);
+        self.pool.install(|| {
+            warm_up_for(KIND_WARM_MS, || {
+                std::hint::black_box(count());
+            });
+            let mut times = Vec::new();
+            for _ in 0..reps {
+                let start = std::time::Instant::now();
+                std::hint::black_box(count());
+                times.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+            super::median(times)
+        })
+    }
+}
+
+/// Embree's side of a kind-of-ray row: `benches/peer/embree_rays.py --serve`, which loads the
+/// scene's world-space triangles and the rays once and then casts a round whenever asked.
+struct ServedRays {
+    child: std::process::Child,
+    asks: Option<std::process::ChildStdin>,
+    answers: std::io::BufReader<std::process::ChildStdout>,
+    rays_file: std::path::PathBuf,
+    /// The rays that met something.
+    met: usize,
+}
+
+impl ServedRays {
+    /// Starts the script on `rays` against the triangles in `obj`, and waits until it is ready.
+    fn start(obj: &std::path::Path, rays: &[LoggedRay], tag: &str) -> Result<Self, String> {
+        use std::process::Stdio;
+        let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peer/embree_rays.py");
+        let rays_file =
+            std::env::temp_dir().join(format!("raylab-peer-{tag}-{}.f32", std::process::id()));
+        let mut bytes = Vec::with_capacity(rays.len() * 28);
+        for logged in rays {
+            let Ray { origin, dir } = logged.ray;
+            for value in origin.iter().chain(&dir).chain([&logged.t_max]) {
+                bytes.extend((*value as f32).to_le_bytes());
+            }
+        }
+        std::fs::write(&rays_file, bytes).map_err(|e| format!("cannot write the rays: {e}"))?;
+        let query = if rays[0].any_hit() {
+            "occluded"
+        } else {
+            "intersect"
+        };
+        let spawned = Command::new("python3")
+            .arg(script)
+            .arg("--obj")
+            .arg(obj)
+            .arg("--rays")
+            .arg(&rays_file)
+            .args(["--query", query])
+            .args(["--threads", &THREADS.to_string()])
+            .args(pinned().then_some("--pin"))
+            .arg("--serve")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn();
+        let mut child = match spawned {
+            Ok(child) => child,
+            Err(why) => {
+                let _ = std::fs::remove_file(&rays_file);
+                return Err(format!("cannot run python3: {why}"));
+            }
+        };
+        let (Some(asks), Some(answers)) = (child.stdin.take(), child.stdout.take()) else {
+            unreachable!("both were asked for as pipes");
+        };
+        let mut served = ServedRays {
+            child,
+            asks: Some(asks),
+            answers: std::io::BufReader::new(answers),
+            rays_file,
+            met: 0,
+        };
+        let ready = served.answer()?;
+        served.met = number_after(&ready, "covered pixels")
+            .ok_or_else(|| format!("unexpected output: {ready}"))? as usize;
+        Ok(served)
+    }
+
+    /// One round: `warm_ms` of warm-up casts, then the median ms of `reps` casts.
+    fn round(&mut self, warm_ms: f64, reps: usize) -> Result<f64, String> {
+        use std::io::Write;
+        let asks = self.asks.as_mut().expect("open until dropped");
+        writeln!(asks, "{warm_ms} {reps}")
+            .and_then(|()| asks.flush())
+            .map_err(|e| format!("the script stopped: {e}"))?;
+        let answer = self.answer()?;
+        number_after(&answer, "median").ok_or_else(|| format!("unexpected output: {answer}"))
+    }
+
+    /// The script's next line, or why there is none (with what it wrote to stderr).
+    fn answer(&mut self) -> Result<String, String> {
+        use std::io::{BufRead, Read};
+        let mut line = String::new();
+        match self.answers.read_line(&mut line) {
+            Ok(n) if n > 0 => Ok(line),
+            _ => {
+                let _ = self.child.kill();
+                let mut why = String::new();
+                if let Some(mut stderr) = self.child.stderr.take() {
+                    let _ = stderr.read_to_string(&mut why);
+                }
+                Err(format!("the script failed: {}", why.trim()))
+            }
+        }
+    }
+}
+
+impl Drop for ServedRays {
+    /// Ends the script's input, so that it exits, and waits for it.
+    fn drop(&mut self) {
+        drop(self.asks.take());
+        let _ = self.child.wait();
+        let _ = std::fs::remove_file(&self.rays_file);
+    }
+}
+
+/// The number after `key` in a script's line ("median 6.412 ms …", "covered pixels 53449, …").
+fn number_after(text: &str, key: &str) -> Option<f64> {
+    let rest = &text[text.find(key)? + key.len()..];
+    rest.split_whitespace()
+        .next()?
+        .trim_end_matches(',')
+        .parse()
+        .ok()
 }
 
 /// A row per kind of ray: the rays the tracer casts in the Cornell box and in each effect scene,
-/// written out and cast again by both sides in alternating rounds (Embree's `intersect` or
-/// `occluded`, raylab's nearest-hit or any-hit query), [`THREADS`] threads each.
+/// written out and cast again by both sides in [`KIND_ROUNDS`] alternating rounds (Embree's
+/// `intersect` or `occluded`, raylab's nearest-hit or any-hit query), [`THREADS`] threads each:
+/// each side's median round, the median of the rounds' ratios, and each round's ratio.
 fn ray_kinds(pool: &rayon::ThreadPool) {
     use raylab::render::ray_kinds::RayKind;
     println!(
         "\nevery kind of ray: the rays the tracer casts, cast again by both sides, {THREADS} threads \
-         each, median of the casts in a round (5, or enough for a million rays), alternating \
-         rounds"
+         each, median of the casts in a round (3, or enough for 300 000 rays, after {KIND_WARM_MS} \
+         ms of warm-up casts), {KIND_ROUNDS} rounds side by side, alternating which goes first"
     );
     // Each with every effect it declares.
     for file in raylab::render::ray_kinds::EFFECT_SCENES {
@@ -471,21 +588,35 @@ fn ray_kinds(pool: &rayon::ThreadPool) {
             if rays.is_empty() {
                 continue;
             }
+            let mut embree = match ServedRays::start(&obj, &rays, name) {
+                Ok(embree) => embree,
+                Err(why) => {
+                    println!("Embree ray-kind peer skipped: {why}");
+                    let _ = std::fs::remove_file(&obj);
+                    return;
+                }
+            };
+            let ours_side = OurRays::new(pool, &prepared, &rays);
+            let (peer_met, our_met) = (embree.met, ours_side.met());
+            let reps = ray_repeats(rays.len());
             let (mut peer, mut ours) = (Vec::new(), Vec::new());
-            let (mut peer_met, mut our_met) = (0, 0);
-            for _ in 0..QUERY_ROUNDS {
-                match embree_rays(&obj, &rays, name) {
-                    Ok((ms, met)) => (peer_met, _) = (met, peer.push(ms)),
+            for round in 0..KIND_ROUNDS {
+                if round % 2 == 1 {
+                    ours.push(ours_side.round(reps));
+                }
+                match embree.round(KIND_WARM_MS, reps) {
+                    Ok(ms) => peer.push(ms),
                     Err(why) => {
                         println!("Embree ray-kind peer skipped: {why}");
                         let _ = std::fs::remove_file(&obj);
                         return;
                     }
                 }
-                let (ms, met) = raylab_rays(pool, &prepared, &rays);
-                ours.push(ms);
-                our_met = met;
+                if round % 2 == 0 {
+                    ours.push(ours_side.round(reps));
+                }
             }
+            drop(embree);
             let ratios: Vec<f64> = peer.iter().zip(&ours).map(|(p, o)| p / o).collect();
             let each_round: Vec<String> = ratios.iter().map(|r| format!("{r:.2}")).collect();
             let query = if rays[0].any_hit() {

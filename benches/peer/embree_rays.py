@@ -10,9 +10,16 @@ The rays file holds, per ray, seven little-endian f32s: origin x y z, direction 
 for the nearest-hit kinds). The rays are split between the threads before the clock starts. With
 `--pin` each worker thread runs on its own CPU, and for `--warm-ms` milliseconds before the clock
 starts the workers cast the rays again and again, as in `embree_occluded.py`.
+
+With `--serve` it loads the scene and the rays once, prints `ready, covered pixels N`, then answers
+each line `WARM_MS REPS` on its standard input with a round: warm-up casts for WARM_MS
+milliseconds, then the median of REPS timed casts (`median X ms`), until its input ends. The peer
+bench alternates such rounds with raylab's, a moment apart, so that a slow spell of the machine
+falls on both sides of a round.
 """
 import argparse
 import statistics
+import sys
 import time
 
 import numpy as np
@@ -32,6 +39,8 @@ def main():
     ap.add_argument('--pin', action='store_true', help='each worker thread on its own CPU')
     ap.add_argument('--warm-ms', type=float, default=250.0,
                     help='milliseconds of casts on the workers before the clock starts')
+    ap.add_argument('--serve', action='store_true',
+                    help='answer rounds asked for on standard input ("WARM_MS REPS" a line)')
     a = ap.parse_args()
     tris = np.ascontiguousarray(load_obj(a.obj), np.float32)
     scene = rtcs.EmbreeScene(robust=True)
@@ -59,13 +68,22 @@ def main():
         for f in [pool.submit(met, *p) for p in parts]:
             f.result()
 
-    warm_up(cast, a.warm_ms)
-    times = []
-    for _ in range(a.reps):
-        t0 = time.perf_counter()
-        cast()
-        times.append(time.perf_counter() - t0)
-    ms = statistics.median(times) * 1e3
+    def round_ms(warm_ms, reps):
+        warm_up(cast, warm_ms)
+        times = []
+        for _ in range(reps):
+            t0 = time.perf_counter()
+            cast()
+            times.append(time.perf_counter() - t0)
+        return statistics.median(times) * 1e3
+
+    if a.serve:
+        print(f'ready, covered pixels {hits}', flush=True)
+        for line in sys.stdin:
+            warm_ms, reps = line.split()
+            print(f'median {round_ms(float(warm_ms), max(1, int(reps))):.3f} ms', flush=True)
+        return
+    ms = round_ms(a.warm_ms, a.reps)
     print(f'median {ms:.3f} ms over {a.reps} queries of {len(rays)} rays ({a.threads} threads), '
           f'covered pixels {hits} (rays that met something)')
 
