@@ -10,14 +10,18 @@
 //! ```
 //!
 //! `KIND` is one of primary, samples, shadow, reflection, refraction, occlusion; `THREADS=2` also
-//! times the casts in a pool of two threads, in chunks as the bench casts them.
+//! times the casts in a pool of two threads, in chunks as the bench casts them. `DUMP=DIR` also
+//! writes the scene's world-space triangles to `DIR/scene.obj` and the kind's rays to
+//! `DIR/KIND.f32`, as the bench hands them to Embree (`benches/peer/instructions.sh` counts both
+//! sides' instructions on them).
 
 use std::time::Instant;
 
+use raylab::render::generate::to_obj;
 use raylab::render::loading::assets::Embedded;
 use raylab::render::ray_kinds::RayKind;
-use raylab::render::ray_log::{LoggedRay, cast_all_again, rays_cast};
-use raylab::render::{Prepared, Stats};
+use raylab::render::ray_log::{LoggedRay, as_f32s, cast_all_again, rays_cast};
+use raylab::render::{Prepared, Stats, world_triangles};
 use raylab::scene::{Problem, Scene};
 
 /// The bench's ray-kind casting, shared with it.
@@ -58,6 +62,15 @@ fn main() {
             .map(|chunk| cast_all_again(&prepared, chunk, stats))
             .sum()
     };
+    if let Ok(dir) = std::env::var("DUMP") {
+        let dir = std::path::Path::new(&dir);
+        let obj = to_obj(&world_triangles(&prepared));
+        let written = std::fs::write(dir.join("scene.obj"), obj)
+            .and_then(|()| std::fs::write(dir.join(format!("{kind_name}.f32")), as_f32s(&logged)));
+        if let Err(why) = written {
+            return eprintln!("cannot write to {}: {why}", dir.display());
+        }
+    }
     let mut stats = Stats::default();
     let met = one_thread(&mut stats);
     let count = rays.len().max(1) as f64;

@@ -29,9 +29,8 @@ use std::process::Command;
 use super::any_hit::{Casting, TILE, fine_inside_box, inside_box, occluded_band, sphere};
 use raylab::math::linalg::V3;
 use raylab::render::generate::{irregular_sphere, mesh_hierarchy, to_obj};
-use raylab::render::objects::Geometry;
 use raylab::render::ray_log::{LoggedRay, rays_cast};
-use raylab::render::{Prepared, Ray, loading::assets::Embedded, render, world_triangle};
+use raylab::render::{Prepared, Ray, loading::assets::Embedded, render, world_triangles};
 use raylab::scene::render::{Camera, Effect};
 use raylab::scene::{Problem, Scene};
 
@@ -87,30 +86,6 @@ fn script() -> Option<&'static str> {
         "/../shared/peers/embree_render.py"
     );
     std::path::Path::new(script).exists().then_some(script)
-}
-
-/// Every object's triangles in world space (a parallelogram as two).
-fn world_triangles(prepared: &Prepared) -> Vec<[V3<f64>; 3]> {
-    let mut out = Vec::new();
-    for object in prepared.objects.iter() {
-        match &object.geometry {
-            Geometry::Triangles { triangles, .. } => {
-                out.extend((0..triangles.len()).filter_map(|i| world_triangle(object, i)));
-            }
-            Geometry::Parallelogram { corner, e1, e2, .. } => {
-                let at = |a: f64, b: f64| -> V3<f64> {
-                    let local: V3<f64> = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k]);
-                    object
-                        .world_from_object
-                        .transform_point3(local.into())
-                        .to_array()
-                };
-                let (p, q, r, s) = (at(0.0, 0.0), at(1.0, 0.0), at(1.0, 1.0), at(0.0, 1.0));
-                out.extend([[p, q, r], [p, r, s]]);
-            }
-        }
-    }
-    out
 }
 
 /// Embree's (median ms, covered pixels) for `triangles` seen by the scene's pinhole camera.
@@ -454,14 +429,8 @@ impl ServedRays {
         let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peer/embree_rays.py");
         let rays_file =
             std::env::temp_dir().join(format!("raylab-peer-{tag}-{}.f32", std::process::id()));
-        let mut bytes = Vec::with_capacity(rays.len() * 28);
-        for logged in rays {
-            let Ray { origin, dir } = logged.ray;
-            for value in origin.iter().chain(&dir).chain([&logged.t_max]) {
-                bytes.extend((*value as f32).to_le_bytes());
-            }
-        }
-        std::fs::write(&rays_file, bytes).map_err(|e| format!("cannot write the rays: {e}"))?;
+        std::fs::write(&rays_file, raylab::render::ray_log::as_f32s(rays))
+            .map_err(|e| format!("cannot write the rays: {e}"))?;
         let query = if rays[0].any_hit() {
             "occluded"
         } else {

@@ -718,6 +718,31 @@ pub fn world_triangle(object: &PreparedObject, primitive: usize) -> Option<[V3<f
     }
 }
 
+/// Every object's triangles in world space, a parallelogram as two: the scene as the peers (Embree)
+/// take it.
+pub fn world_triangles(prepared: &Prepared) -> Vec<[V3<f64>; 3]> {
+    let mut out = Vec::new();
+    for object in prepared.objects.iter() {
+        match &object.geometry {
+            Geometry::Triangles { triangles, .. } => {
+                out.extend((0..triangles.len()).filter_map(|i| world_triangle(object, i)));
+            }
+            Geometry::Parallelogram { corner, e1, e2, .. } => {
+                let at = |a: f64, b: f64| -> V3<f64> {
+                    let local: V3<f64> = std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k]);
+                    object
+                        .world_from_object
+                        .transform_point3(local.into())
+                        .to_array()
+                };
+                let (p, q, r, s) = (at(0.0, 0.0), at(1.0, 0.0), at(1.0, 1.0), at(0.0, 1.0));
+                out.extend([[p, q, r], [p, r, s]]);
+            }
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -778,6 +803,64 @@ mod tests {
             settings: Default::default(),
         };
         Prepared::new(&scene, &loading::assets::Embedded).unwrap()
+    }
+
+    /// The peers' triangle soup: a triangle as it is, a moved parallelogram as its two halves,
+    /// corner to corner, in world space.
+    #[test]
+    fn world_triangles_give_a_parallelogram_as_two_halves() {
+        let object = |shape, translate| Object {
+            shape,
+            color: [1.0; 3],
+            texture: None,
+            transform: Transform {
+                translate,
+                ..Transform::default()
+            },
+        };
+        let triangle = Shape::Triangle {
+            vertices: [[0.0, 1.25, 3.0], [2.0, -1.25, 3.0], [-2.0, -1.25, 3.0]],
+            colors: None,
+            normals: None,
+            uvs: None,
+        };
+        let parallelogram = Shape::Parallelogram {
+            corner: [0.0, 0.0, 5.0],
+            e1: [1.0, 0.0, 0.0],
+            e2: [0.0, 2.0, 0.0],
+        };
+        let scene = RenderScene {
+            width: 4,
+            height: 4,
+            camera: Camera::ImagePlane {
+                x: (1.0, -1.0),
+                y: (0.5, -0.5),
+                z: 1.0,
+            },
+            method: Some(SceneMethod(Method::Watertight)),
+            objects: vec![
+                object(triangle, [0.0; 3]),
+                object(parallelogram, [10.0, 0.0, 0.0]),
+            ],
+            effects: vec![Effect::Coverage],
+            lights: vec![],
+            materials: vec![],
+            settings: Default::default(),
+        };
+        let prepared = Prepared::new(&scene, &loading::assets::Embedded).unwrap();
+        let triangles = world_triangles(&prepared);
+        assert_eq!(triangles.len(), 3);
+        assert_eq!(
+            triangles[0],
+            [[0.0, 1.25, 3.0], [2.0, -1.25, 3.0], [-2.0, -1.25, 3.0]]
+        );
+        let (p, q, r, s) = (
+            [10.0, 0.0, 5.0],
+            [11.0, 0.0, 5.0],
+            [11.0, 2.0, 5.0],
+            [10.0, 2.0, 5.0],
+        );
+        assert_eq!(triangles[1..], [[p, q, r], [p, r, s]]);
     }
 
     #[test]

@@ -25,6 +25,19 @@ pub struct LoggedRay {
     pub depth: u32,
 }
 
+/// `rays` as the peers read them: per ray, seven little-endian f32s (origin x y z, direction
+/// x y z, t_max; +∞ for the nearest-hit kinds).
+pub fn as_f32s(rays: &[LoggedRay]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(rays.len() * 7 * 4);
+    for logged in rays {
+        let Ray { origin, dir } = logged.ray;
+        for value in origin.iter().chain(&dir).chain([&logged.t_max]) {
+            bytes.extend((*value as f32).to_le_bytes());
+        }
+    }
+    bytes
+}
+
 impl LoggedRay {
     /// True for the kinds that ask only whether anything is in the way (shadow, occlusion).
     pub fn any_hit(&self) -> bool {
@@ -224,6 +237,52 @@ mod tests {
     use crate::render::loading::assets::Embedded;
     use crate::render::render;
     use crate::scene::{Problem, Scene};
+
+    /// The peers read seven little-endian f32s a ray, in the order the script's docs give, with
+    /// +∞ kept for a nearest-hit ray's t_max.
+    #[test]
+    fn the_peers_read_seven_f32s_a_ray() {
+        let logged = |origin, dir, t_max, kind| LoggedRay {
+            kind,
+            ray: Ray { origin, dir },
+            t_max,
+            starts_packet: false,
+            depth: 0,
+        };
+        let rays = [
+            logged(
+                [1.0, -2.0, 0.5],
+                [0.0, 1.0, 0.25],
+                f64::INFINITY,
+                RayKind::Primary,
+            ),
+            logged([0.1, 0.2, 0.3], [-1.0, 0.0, 0.0], 2.5, RayKind::Shadow),
+        ];
+        let bytes = as_f32s(&rays);
+        let numbers: Vec<f32> = bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        assert_eq!(
+            numbers,
+            [
+                1.0,
+                -2.0,
+                0.5,
+                0.0,
+                1.0,
+                0.25,
+                f32::INFINITY,
+                0.1,
+                0.2,
+                0.3,
+                -1.0,
+                0.0,
+                0.0,
+                2.5
+            ]
+        );
+    }
 
     /// A band's first hits' shadow rays are cast ahead, neighbours' together, and the log keeps
     /// those packets: the one-light scene's come sixteen to a packet, or nearly (shaded one hit
