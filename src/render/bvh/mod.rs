@@ -1604,9 +1604,10 @@ mod tests {
     /// Packets of sixteen rays (across whose rays the f32 box test runs where their numbers allow
     /// it) find exactly what each ray finds alone: rows of neighbouring rays, scattered rays, rays
     /// through the mesh's vertices and edge midpoints (on its boxes' faces and corners), with and
-    /// without a t_max (one at the ray's nearest hit), and packets with a zero direction component
-    /// (the one-ray box test). The any-hit packet answers as each ray's any-hit query does, on
-    /// the f32 path and the scalar one.
+    /// without a t_max (one at the ray's nearest hit), packets with a zero direction component in
+    /// every ray, and packets with one in some groups of four rays only (whose other groups keep
+    /// no parallel rows). The any-hit packet answers as each ray's any-hit query does, on the f32
+    /// path and the scalar one.
     #[test]
     fn packets_find_what_single_rays_find() {
         use rand::{Rng, SeedableRng};
@@ -1614,7 +1615,7 @@ mod tests {
         let bvh = Bvh::build(&mesh);
         let mut random = rand_pcg::Pcg64::seed_from_u64(11);
         let (mut hits, mut blocked) = (0, 0);
-        for p in 0..600 {
+        for p in 0..750 {
             let origin: V3<f64> = [
                 random.random_range(-0.5..0.5),
                 -3.0,
@@ -1625,7 +1626,7 @@ mod tests {
                 random.random_range(-0.4..0.4),
             ];
             let rays: [Ray; 16] = std::array::from_fn(|r| {
-                let target: V3<f64> = match p % 4 {
+                let target: V3<f64> = match p % 5 {
                     0 => [base[0] + r as f64 / 64.0, 0.0, base[1]],
                     1 => std::array::from_fn(|_| random.random_range(-1.2..1.2)),
                     2 => {
@@ -1638,9 +1639,15 @@ mod tests {
                         }
                     }
                     // Through x = 0 exactly: a zero direction component.
-                    _ => [0.0, 0.0, base[1] + r as f64 / 32.0],
+                    3 => [0.0, 0.0, base[1] + r as f64 / 32.0],
+                    // The same in the first and third four rays, not in the others.
+                    _ => [
+                        if (r / 4) % 2 == 0 { 0.0 } else { 0.125 },
+                        0.0,
+                        base[1] + r as f64 / 32.0,
+                    ],
                 };
-                let origin = if p % 4 == 3 {
+                let origin = if p % 5 >= 3 {
                     [0.0, -3.0, origin[2]]
                 } else {
                     origin
