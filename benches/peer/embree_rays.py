@@ -14,8 +14,8 @@ starts the workers cast the rays again and again, as in `embree_occluded.py`.
 With `--serve` it loads the scene and the rays once, prints `ready, covered pixels N`, then answers
 each line `WARM_MS REPS` on its standard input with a round: warm-up casts for WARM_MS
 milliseconds, then the median of REPS timed casts (`median X ms`), until its input ends. The peer
-bench alternates such rounds with raylab's, a moment apart, so that a slow spell of the machine
-falls on both sides of a round.
+bench alternates such rounds with raylab's, a moment apart, so that both sides of a round meet the
+same moment of the machine (its busy spells slow the two sides unequally: see benches/README).
 """
 import argparse
 import statistics

@@ -777,7 +777,27 @@ mod tests {
     }
 
     fn one_triangle(effects: Vec<Effect>) -> Prepared {
-        let scene = RenderScene {
+        let triangle = Object {
+            shape: Shape::Triangle {
+                vertices: [[0.0, 1.25, 3.0], [2.0, -1.25, 3.0], [-2.0, -1.25, 3.0]],
+                colors: Some([[1.0, 0.0, 0.4], [0.4, 1.0, 0.0], [0.0, 0.4, 1.0]]),
+                normals: Some([[0.0, 0.0, -1.0], [0.2, 0.0, -1.0], [-0.2, 0.0, -1.0]]),
+                uvs: None,
+            },
+            color: [0.15, 0.35, 0.9],
+            texture: Some("textures/checker.png".into()),
+            transform: Transform::default(),
+        };
+        Prepared::new(
+            &scene_of(vec![triangle], effects),
+            &loading::assets::Embedded,
+        )
+        .unwrap()
+    }
+
+    /// A 32x16 watertight scene of `objects` seen through seed 003's image plane.
+    fn scene_of(objects: Vec<Object>, effects: Vec<Effect>) -> RenderScene {
+        RenderScene {
             width: 32,
             height: 16,
             camera: Camera::ImagePlane {
@@ -786,81 +806,12 @@ mod tests {
                 z: 1.0,
             },
             method: Some(SceneMethod(Method::Watertight)),
-            objects: vec![Object {
-                shape: Shape::Triangle {
-                    vertices: [[0.0, 1.25, 3.0], [2.0, -1.25, 3.0], [-2.0, -1.25, 3.0]],
-                    colors: Some([[1.0, 0.0, 0.4], [0.4, 1.0, 0.0], [0.0, 0.4, 1.0]]),
-                    normals: Some([[0.0, 0.0, -1.0], [0.2, 0.0, -1.0], [-0.2, 0.0, -1.0]]),
-                    uvs: None,
-                },
-                color: [0.15, 0.35, 0.9],
-                texture: Some("textures/checker.png".into()),
-                transform: Transform::default(),
-            }],
+            objects,
             effects,
             lights: vec![],
             materials: vec![],
             settings: Default::default(),
-        };
-        Prepared::new(&scene, &loading::assets::Embedded).unwrap()
-    }
-
-    /// The peers' triangle soup: a triangle as it is, a moved parallelogram as its two halves,
-    /// corner to corner, in world space.
-    #[test]
-    fn world_triangles_give_a_parallelogram_as_two_halves() {
-        let object = |shape, translate| Object {
-            shape,
-            color: [1.0; 3],
-            texture: None,
-            transform: Transform {
-                translate,
-                ..Transform::default()
-            },
-        };
-        let triangle = Shape::Triangle {
-            vertices: [[0.0, 1.25, 3.0], [2.0, -1.25, 3.0], [-2.0, -1.25, 3.0]],
-            colors: None,
-            normals: None,
-            uvs: None,
-        };
-        let parallelogram = Shape::Parallelogram {
-            corner: [0.0, 0.0, 5.0],
-            e1: [1.0, 0.0, 0.0],
-            e2: [0.0, 2.0, 0.0],
-        };
-        let scene = RenderScene {
-            width: 4,
-            height: 4,
-            camera: Camera::ImagePlane {
-                x: (1.0, -1.0),
-                y: (0.5, -0.5),
-                z: 1.0,
-            },
-            method: Some(SceneMethod(Method::Watertight)),
-            objects: vec![
-                object(triangle, [0.0; 3]),
-                object(parallelogram, [10.0, 0.0, 0.0]),
-            ],
-            effects: vec![Effect::Coverage],
-            lights: vec![],
-            materials: vec![],
-            settings: Default::default(),
-        };
-        let prepared = Prepared::new(&scene, &loading::assets::Embedded).unwrap();
-        let triangles = world_triangles(&prepared);
-        assert_eq!(triangles.len(), 3);
-        assert_eq!(
-            triangles[0],
-            [[0.0, 1.25, 3.0], [2.0, -1.25, 3.0], [-2.0, -1.25, 3.0]]
-        );
-        let (p, q, r, s) = (
-            [10.0, 0.0, 5.0],
-            [11.0, 0.0, 5.0],
-            [11.0, 2.0, 5.0],
-            [10.0, 2.0, 5.0],
-        );
-        assert_eq!(triangles[1..], [[p, q, r], [p, r, s]]);
+        }
     }
 
     #[test]
