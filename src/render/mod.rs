@@ -814,6 +814,51 @@ mod tests {
         }
     }
 
+    /// The peers' triangle soup: a triangle as it is, a moved parallelogram as its two halves,
+    /// corner to corner, in world space.
+    #[test]
+    fn world_triangles_give_a_parallelogram_as_two_halves() {
+        let object = |shape, translate| Object {
+            shape,
+            color: [1.0; 3],
+            texture: None,
+            transform: Transform {
+                translate,
+                ..Transform::default()
+            },
+        };
+        let triangle = Shape::Triangle {
+            vertices: [[0.0, 1.25, 3.0], [2.0, -1.25, 3.0], [-2.0, -1.25, 3.0]],
+            colors: None,
+            normals: None,
+            uvs: None,
+        };
+        let parallelogram = Shape::Parallelogram {
+            corner: [0.0, 0.0, 5.0],
+            e1: [1.0, 0.0, 0.0],
+            e2: [0.0, 2.0, 0.0],
+        };
+        let objects = vec![
+            object(triangle, [0.0; 3]),
+            object(parallelogram, [10.0, 0.0, 0.0]),
+        ];
+        let scene = scene_of(objects, vec![Effect::Coverage]);
+        let prepared = Prepared::new(&scene, &loading::assets::Embedded).unwrap();
+        let triangles = world_triangles(&prepared);
+        assert_eq!(triangles.len(), 3);
+        assert_eq!(
+            triangles[0],
+            [[0.0, 1.25, 3.0], [2.0, -1.25, 3.0], [-2.0, -1.25, 3.0]]
+        );
+        let (p, q, r, s) = (
+            [10.0, 0.0, 5.0],
+            [11.0, 0.0, 5.0],
+            [11.0, 2.0, 5.0],
+            [10.0, 2.0, 5.0],
+        );
+        assert_eq!(triangles[1..], [[p, q, r], [p, r, s]]);
+    }
+
     #[test]
     fn effects_not_called_for_cost_nothing() {
         let (image, coverage) = render(&one_triangle(vec![Effect::Coverage]));
