@@ -405,7 +405,8 @@ pub fn nearest_hits_between<const P: usize>(
 }
 
 /// The nearest hit with t in (0, ∞) of each ray (the hits of [`nearest_hit_between`]):
-/// [`TOGETHER`] at a time through [`nearest_hits_between`] where [`packets_pay`], the rest alone.
+/// [`TOGETHER`] at a time through [`nearest_hits_between`] where [`packets_pay`] (the last few in
+/// a padded packet, from [`PADDED_FROM`]), the rest alone.
 pub fn nearest_hits_of_each(
     prepared: &Prepared,
     rays: &[Ray],
@@ -415,6 +416,11 @@ pub fn nearest_hits_of_each(
     for_each_nearest_hit(prepared, rays, |ray| *ray, stats, |hit| hits.push(hit));
     hits
 }
+
+/// The fewest rays left over after the whole packets that are cast as one more packet, padded with
+/// copies of the last: fewer are cast alone. (Each run of a bounce's glass rays ends in such a
+/// tail: cast as a packet, the effect-refraction scene's glass rays take 2.1% fewer instructions.)
+const PADDED_FROM: usize = 4;
 
 /// [`nearest_hits_of_each`] over `items` (each gives its ray by `ray_of`), telling `found` each
 /// item's hit in order, with no list made (the peer bench's replay counts them as it goes).
@@ -433,7 +439,17 @@ pub fn for_each_nearest_hit<T>(
             nearest_hits_between(prepared, &rays, stats, &mut hits);
             hits.into_iter().for_each(&mut found);
         }
-        items.len() - rest.len()
+        if rest.len() >= PADDED_FROM {
+            // The last ray's copies fill the packet; their hits are dropped.
+            let last = ray_of(&rest[rest.len() - 1]);
+            let rays = std::array::from_fn(|r| rest.get(r).map_or(last, &ray_of));
+            let mut hits = [None; TOGETHER];
+            nearest_hits_between(prepared, &rays, stats, &mut hits);
+            hits[..rest.len()].iter().copied().for_each(&mut found);
+            items.len()
+        } else {
+            items.len() - rest.len()
+        }
     } else {
         0
     };
@@ -1543,6 +1559,29 @@ mod packet_tests {
             floor_hits > 600 && turned_hits > 50,
             "{floor_hits} {turned_hits}"
         );
+    }
+
+    /// Runs of every length from 0 to 40 (whole packets, and tails cast alone or padded with the
+    /// last ray's copies): each ray's hit is the one it finds alone, bits included.
+    #[test]
+    fn runs_of_every_length_find_what_each_ray_finds_alone() {
+        let prepared = floors(2.0);
+        let bits = |h: Option<Hit>| h.map(|h| (h.object, h.primitive, h.t.to_bits()));
+        let row = prepared.height / 2;
+        let rays: Vec<Ray> = (0..40).map(|k| prepared.ray(row, 12 + k)).collect();
+        let alone: Vec<_> = rays
+            .iter()
+            .map(|ray| {
+                nearest_hit_between(&prepared, *ray, (0.0, f64::INFINITY), &mut Stats::default())
+            })
+            .collect();
+        assert!(alone.iter().filter(|hit| hit.is_some()).count() > 30);
+        for n in 0..=rays.len() {
+            let together = nearest_hits_of_each(&prepared, &rays[..n], &mut Stats::default());
+            let expected: Vec<_> = alone[..n].iter().copied().map(bits).collect();
+            let found: Vec<_> = together.into_iter().map(bits).collect();
+            assert_eq!(found, expected, "a run of {n}");
+        }
     }
 
     /// A flattened mesh lying just above a floor, listed after it: the floor's hit, found first,
