@@ -30,7 +30,7 @@
 
 use std::mem::MaybeUninit;
 
-use super::Avx2;
+use super::{Avx2, Avx512};
 use crate::render::Ray;
 use crate::render::bvh::eight::Node8;
 use crate::render::bvh::traverse::{Met, Query, children};
@@ -46,7 +46,7 @@ pub const BOX_LIMIT: f64 = 4.611_686_018_427_388e18;
 const RELATIVE: f32 = 1.0 / 524_288.0;
 
 /// The packet's rays as f32 lanes (lane r is ray r).
-#[repr(C, align(32))]
+#[repr(C, align(64))]
 struct Lanes {
     /// 1/d per axis (its sign bit also picks each slab's entry face).
     inverse: [[f32; RAYS]; 3],
@@ -240,6 +240,7 @@ fn slabs4(origin: std::arch::x86_64::__m256d, dir: std::arch::x86_64::__m256d) -
 /// The nearest crack-free hits of sixteen rays (those of `taking`, a bit set) in `bvh`, written into
 /// `best`, or with `ANY` a hit before each ray's t_max (a ray leaves the walk at its first); false
 /// when their numbers do not allow the f32 box test (the caller then takes the one-ray box test).
+/// Each node's boxes are tested against eight rays at a time.
 ///
 /// # Safety
 /// Compiled with AVX2 and FMA: safe to call from code compiled with them (the packet traversal);
@@ -249,19 +250,66 @@ fn slabs4(origin: std::arch::x86_64::__m256d, dir: std::arch::x86_64::__m256d) -
 pub fn traverse<const ANY: bool>(
     avx2: Avx2,
     bvh: &Bvh,
+    rays: (&[Ray; RAYS], u32),
+    t_max: [f64; RAYS],
+    tests: (&mut u64, &mut u64),
+    best: &mut [Nearest; RAYS],
+) -> bool {
+    traverse_with::<ANY, Avx2>(avx2, bvh, rays, t_max, tests, best)
+}
+
+/// [`traverse`], each node's boxes tested against all sixteen rays at once with AVX-512: the same
+/// numbers and decisions to the bit (the same operations on each lane), in about half the
+/// instructions. The whole walk is compiled with AVX-512VL too, which gives the AVX2 code the
+/// sixteen more registers. (The Cornell box's glass rays take 6–7% less time on one thread, its
+/// mirror rays 9–10%, timed alternating with the AVX2 walk.)
+#[cfg(target_arch = "x86_64")]
+pub fn traverse_avx512<const ANY: bool>(
+    avx512: Avx512,
+    bvh: &Bvh,
+    rays: (&[Ray; RAYS], u32),
+    t_max: [f64; RAYS],
+    tests: (&mut u64, &mut u64),
+    best: &mut [Nearest; RAYS],
+) -> bool {
+    /// # Safety
+    /// Only call on a processor with AVX-512F and VL, AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma,popcnt,bmi1,avx512f,avx512vl")]
+    unsafe fn compiled<const ANY: bool>(
+        avx512: Avx512,
+        bvh: &Bvh,
+        rays: (&[Ray; RAYS], u32),
+        t_max: [f64; RAYS],
+        tests: (&mut u64, &mut u64),
+        best: &mut [Nearest; RAYS],
+    ) -> bool {
+        traverse_with::<ANY, Avx512>(avx512, bvh, rays, t_max, tests, best)
+    }
+    // SAFETY: an `Avx512` exists only on a processor with AVX-512F and VL, AVX2 and FMA.
+    unsafe { compiled::<ANY>(avx512, bvh, rays, t_max, tests, best) }
+}
+
+/// The walk itself, inlined into each of the two entries above, with `B`'s box test.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn traverse_with<const ANY: bool, B: LaneBoxes>(
+    boxes: B,
+    bvh: &Bvh,
     (rays, taking): (&[Ray; RAYS], u32),
     t_max: [f64; RAYS],
     (box_tests, triangle_tests): (&mut u64, &mut u64),
     best: &mut [Nearest; RAYS],
 ) -> bool {
+    let avx2 = boxes.avx2();
     let mut lanes = Lanes::ZERO;
     // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
     if !(unsafe { Lanes::fill(&mut lanes, (rays, taking), &t_max) }) {
         return false;
     }
     let mut together = RaysTogether::default();
-    let mut query = Narrow::<ANY> {
+    let mut query = Narrow::<ANY, B> {
         avx2,
+        boxes,
         bvh,
         rays,
         lanes: &mut lanes,
@@ -278,9 +326,49 @@ pub fn traverse<const ANY: bool>(
     true
 }
 
+/// A packet's box test of a node's four boxes against its sixteen rays' [`Lanes`]: eight rays at
+/// a time ([`Avx2`]) or sixteen ([`Avx512`]); the same answer either way.
+#[cfg(target_arch = "x86_64")]
+trait LaneBoxes: Copy {
+    /// The AVX2 proof (the rest of the walk takes AVX2).
+    fn avx2(self) -> Avx2;
+    /// Which of `node`'s boxes each `live` ray meets, and the nearest (lowered) entry among them.
+    fn boxes(self, lanes: &Lanes, node: &Node, live: u32) -> Met<f32>;
+}
+
+#[cfg(target_arch = "x86_64")]
+impl LaneBoxes for Avx2 {
+    #[inline(always)]
+    fn avx2(self) -> Avx2 {
+        self
+    }
+
+    #[inline(always)]
+    fn boxes(self, lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
+        // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
+        unsafe { boxes_unchecked(lanes, node, live) }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl LaneBoxes for Avx512 {
+    #[inline(always)]
+    fn avx2(self) -> Avx2 {
+        Avx512::avx2(self)
+    }
+
+    #[inline(always)]
+    fn boxes(self, lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
+        // SAFETY: an `Avx512` exists only on a processor with AVX-512F, AVX2 and FMA.
+        unsafe { boxes_avx512(lanes, node, live) }
+    }
+}
+
 /// The query of sixteen rays with the f32 box test.
-struct Narrow<'a, const ANY: bool> {
+struct Narrow<'a, const ANY: bool, B> {
     avx2: Avx2,
+    /// The box test, eight or sixteen rays at a time.
+    boxes: B,
     bvh: &'a Bvh,
     rays: &'a [Ray; RAYS],
     /// Borrowed from the caller's frame, not moved into the query: moving its kilobyte cost the
@@ -303,7 +391,7 @@ struct Narrow<'a, const ANY: bool> {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<const ANY: bool> Query for Narrow<'_, ANY> {
+impl<const ANY: bool, B: LaneBoxes> Query for Narrow<'_, ANY, B> {
     type Near = f32;
 
     #[inline(always)]
@@ -317,7 +405,7 @@ impl<const ANY: bool> Query for Narrow<'_, ANY> {
     fn boxes(&mut self, node: &Node, live: u32) -> Met<f32> {
         *self.box_tests += children(node) * u64::from(live.count_ones());
         // SAFETY: as in `live`.
-        unsafe { boxes_unchecked(self.lanes, node, live) }
+        self.boxes.boxes(self.lanes, node, live)
     }
 
     #[inline(always)]
@@ -356,7 +444,7 @@ impl<const ANY: bool> Query for Narrow<'_, ANY> {
     }
 }
 
-impl<const ANY: bool> Narrow<'_, ANY> {
+impl<const ANY: bool, B> Narrow<'_, ANY, B> {
     /// Makes the sheared forms of the rays of `fresh` (reaching their first leaf), putting those
     /// that share the packet's axes in [`Narrow::together`].
     #[inline(always)]
@@ -385,13 +473,13 @@ fn together_pays(together: u32, triangles: usize) -> bool {
     triangles * groups < together.count_ones() as usize * triangles.div_ceil(4)
 }
 
-/// Reads eight f32s at lane 0 or 8 of a 16-f32 row of the 32-byte aligned [`Lanes`].
+/// Reads eight f32s at lane 0 or 8 of a 16-f32 row of the 64-byte aligned [`Lanes`].
 /// A macro, not a closure, so that it is always inlined.
 #[cfg(target_arch = "x86_64")]
 macro_rules! load {
     ($row:expr, $group:expr) => {
-        // SAFETY: eight f32s at lane 0 or 8 of a 16-f32 row of the 32-byte aligned `Lanes`, so
-        // in bounds and 32-byte aligned.
+        // SAFETY: eight f32s at lane 0 or 8 of a 16-f32 row of the 64-byte aligned `Lanes`
+        // (each row starts 64 bytes after the last), so in bounds and 32-byte aligned.
         unsafe { std::arch::x86_64::_mm256_load_ps($row.as_ptr().add(8 * $group)) }
     };
 }
@@ -505,6 +593,74 @@ unsafe fn boxes_unchecked(lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
         if hit != 0 {
             met.rays[lane] = hit;
             met.near[lane] = horizontal_min(nearest);
+        }
+    }
+    met
+}
+
+/// [`boxes_unchecked`] with all sixteen rays in one AVX-512 register: per lane the same operations
+/// (a sign-bit blend, fused multiply-subtracts, max and min, the same widening), so the same rays
+/// meet each box with the same nearest entry, to the bit.
+///
+/// # Safety
+/// Only call on a processor with AVX-512F, AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1,avx512f")]
+#[inline]
+unsafe fn boxes_avx512(lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
+    use std::arch::x86_64::*;
+    let shrink = _mm512_set1_ps(1.0 - RELATIVE);
+    let relative = _mm512_set1_ps(RELATIVE);
+    let zero = _mm512_setzero_ps();
+    let infinity = _mm512_set1_ps(f32::INFINITY);
+    // A 16-ray packet: the low sixteen bits.
+    let live = live as __mmask16;
+    // SAFETY: a 16-f32 row of the 64-byte aligned `Lanes` (each row starts 64 bytes after the
+    // last), so in bounds and aligned.
+    let row = |row: &[f32; RAYS]| unsafe { _mm512_load_ps(row.as_ptr()) };
+    let mut met = Met {
+        rays: [0u32; 4],
+        near: [0.0f32; 4],
+    };
+    for lane in 0..4 {
+        if node.child[lane] == EMPTY {
+            continue;
+        }
+        let mut near = zero;
+        let mut far = row(&lanes.t_max);
+        let mut outside: __mmask16 = 0;
+        for k in 0..3 {
+            let lo = _mm512_set1_ps(node.min[k][lane]);
+            let hi = _mm512_set1_ps(node.max[k][lane]);
+            let inverse = row(&lanes.inverse[k]);
+            let offset = row(&lanes.offset[k]);
+            // The entry face is the low one where 1/d ≥ 0: the sign bit picks, as blendv's does.
+            let negative =
+                _mm512_cmplt_epi32_mask(_mm512_castps_si512(inverse), _mm512_setzero_si512());
+            let entry_face = _mm512_mask_blend_ps(negative, lo, hi);
+            let exit_face = _mm512_mask_blend_ps(negative, hi, lo);
+            let mut t0 = _mm512_fmsub_ps(entry_face, inverse, offset);
+            let mut t1 = _mm512_fmsub_ps(exit_face, inverse, offset);
+            if lanes.any_parallel[k] {
+                // Parallel lanes: the whole line, or nothing when o is outside.
+                let parallel = _mm512_cmp_ps_mask::<_CMP_LT_OQ>(row(&lanes.parallel[k]), zero);
+                t0 = _mm512_mask_blend_ps(parallel, t0, _mm512_set1_ps(f32::NEG_INFINITY));
+                t1 = _mm512_mask_blend_ps(parallel, t1, infinity);
+                let beyond = _mm512_cmp_ps_mask::<_CMP_LT_OQ>(row(&lanes.origin_up[k]), lo)
+                    | _mm512_cmp_ps_mask::<_CMP_GT_OQ>(row(&lanes.origin_down[k]), hi);
+                outside |= parallel & beyond;
+            }
+            near = _mm512_max_ps(near, t0);
+            far = _mm512_min_ps(far, t1);
+        }
+        // near ≥ 0: lowered as near·(1 − 2⁻¹⁹) − slack; far raised by as much.
+        let slack = row(&lanes.slack);
+        let near = _mm512_fmsub_ps(near, shrink, slack);
+        let far = _mm512_fmadd_ps(relative, _mm512_abs_ps(far), _mm512_add_ps(far, slack));
+        let meets = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(live & !outside, near, far);
+        if meets != 0 {
+            met.rays[lane] = u32::from(meets);
+            met.near[lane] = _mm512_mask_reduce_min_ps(meets, near);
         }
     }
     met
@@ -923,6 +1079,88 @@ unsafe fn one_ray_boxes8(one: &OneRay, node: &Node8) -> (u32, u32, u32) {
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
+
+    /// The AVX-512 box test of sixteen rays gives the AVX2 one's answers to the bit: which rays
+    /// meet each box and the nearest entry, over random packets (some rays parallel to an axis,
+    /// some fours taken by no ray, limits from a quarter to +∞), random boxes (some flat, some
+    /// lanes empty) and random live rays.
+    #[test]
+    fn the_avx512_box_test_agrees_with_the_avx2_one() {
+        use rand::{Rng, SeedableRng};
+        let avx2 = crate::render::kernels::avx2_or_skip!();
+        if avx2.avx512().is_none() {
+            eprintln!("skipped: this processor has no AVX-512F and VL");
+            return;
+        }
+        let mut random = rand_pcg::Pcg64::seed_from_u64(512);
+        let coordinate = |random: &mut rand_pcg::Pcg64| random.random_range(-3.0..3.0f64);
+        let (mut met_some, mut parallel_met) = (0, 0);
+        for i in 0..10_000 {
+            let rays: [Ray; RAYS] = std::array::from_fn(|r| {
+                let origin = std::array::from_fn(|_| coordinate(&mut random));
+                let mut dir: [f64; 3] = std::array::from_fn(|_| coordinate(&mut random));
+                if (r + i) % 5 == 0 {
+                    dir[(r + i) % 3] = 0.0;
+                }
+                Ray::new(origin, dir)
+            });
+            let t_max: [f64; RAYS] =
+                std::array::from_fn(|r| [f64::INFINITY, 1.0, 2.0, 0.25][(r + i) % 4]);
+            let taking = if i % 3 == 0 {
+                0xffff
+            } else {
+                random.random::<u32>() & 0xffff
+            };
+            let mut lanes = Lanes::ZERO;
+            // SAFETY: the processor has AVX2 and FMA (detected above).
+            assert!(unsafe { Lanes::fill(&mut lanes, (&rays, taking), &t_max) });
+            let node = Node {
+                min: std::array::from_fn(|_| {
+                    std::array::from_fn(|_| coordinate(&mut random) as f32)
+                }),
+                max: [[0.0; 4]; 3],
+                child: std::array::from_fn(|lane| if (lane + i) % 6 == 5 { EMPTY } else { 1 }),
+                count: [0; 4],
+            };
+            let node = Node {
+                max: std::array::from_fn(|k| {
+                    std::array::from_fn(|lane| {
+                        let low = node.min[k][lane];
+                        if i % 7 == 0 {
+                            low
+                        } else {
+                            low + random.random_range(0.0..6.0f32)
+                        }
+                    })
+                }),
+                ..node
+            };
+            let live = taking & random.random::<u32>();
+            // SAFETY: the processor has AVX2, FMA and AVX-512F (detected above).
+            let (eight, sixteen) = unsafe {
+                (
+                    boxes_unchecked(&lanes, &node, live),
+                    boxes_avx512(&lanes, &node, live),
+                )
+            };
+            assert_eq!(eight.rays, sixteen.rays, "case {i}");
+            for lane in 0..4 {
+                if eight.rays[lane] != 0 {
+                    assert_eq!(
+                        eight.near[lane].to_bits(),
+                        sixteen.near[lane].to_bits(),
+                        "case {i}"
+                    );
+                    met_some += eight.rays[lane].count_ones();
+                    parallel_met += u32::from(lanes.any_parallel.iter().any(|&p| p));
+                }
+            }
+        }
+        assert!(
+            met_some > 8_000 && parallel_met > 2_000,
+            "{met_some} {parallel_met}"
+        );
+    }
 
     /// The last blocker changes no answer, and spares the walk: the camera rays of the grid box and
     /// of a sphere, cast one after another through both hierarchies in turn (each query follows one
