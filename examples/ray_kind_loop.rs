@@ -13,7 +13,8 @@
 //! times the casts in a pool of two threads, in chunks as the bench casts them. `DUMP=DIR` also
 //! writes the scene's world-space triangles to `DIR/scene.obj` and the kind's rays to
 //! `DIR/KIND.f32`, as the bench hands them to Embree (`benches/peer/instructions.sh` counts both
-//! sides' instructions on them).
+//! sides' instructions on them). `AVX512=0` takes the packets' AVX2 box test on a processor with
+//! AVX-512, to time the two in one build.
 
 use std::time::Instant;
 
@@ -41,10 +42,18 @@ fn main() {
     let Problem::Render(render_scene) = problem else {
         return eprintln!("{path} is not a render scene");
     };
-    let prepared = match Prepared::new(&render_scene, &Embedded) {
+    let mut prepared = match Prepared::new(&render_scene, &Embedded) {
         Ok(prepared) => prepared,
         Err(why) => return eprintln!("cannot prepare {path}: {why}"),
     };
+    if var("AVX512", "1") == "0" {
+        prepared.simd = prepared.simd.map(|avx2| avx2.without_avx512());
+    }
+    let avx512 = prepared.simd.and_then(|avx2| avx2.avx512()).is_some();
+    eprintln!(
+        "packet box test: {}",
+        if avx512 { "AVX-512" } else { "AVX2" }
+    );
     let Some(kind) = RayKind::ALL.into_iter().find(|k| k.name() == kind_name) else {
         let names: Vec<&str> = RayKind::ALL.iter().map(|k| k.name()).collect();
         return eprintln!("KIND is one of {}", names.join(", "));

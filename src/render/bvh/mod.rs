@@ -883,13 +883,7 @@ impl Bvh {
             ) {
                 (Ok(packet), Ok(limits), Ok(out)) => {
                     let tests = (&mut *box_tests, &mut *triangle_tests);
-                    let packet = (packet, taking);
-                    match avx2.avx512() {
-                        Some(avx512) => {
-                            narrow::traverse_avx512::<ANY>(avx512, self, packet, limits, tests, out)
-                        }
-                        None => narrow::traverse::<ANY>(avx2, self, packet, limits, tests, out),
-                    }
+                    narrow::traverse::<ANY>(avx2, self, (packet, taking), limits, tests, out)
                 }
                 _ => false,
             };

@@ -240,7 +240,8 @@ fn slabs4(origin: std::arch::x86_64::__m256d, dir: std::arch::x86_64::__m256d) -
 /// The nearest crack-free hits of sixteen rays (those of `taking`, a bit set) in `bvh`, written into
 /// `best`, or with `ANY` a hit before each ray's t_max (a ray leaves the walk at its first); false
 /// when their numbers do not allow the f32 box test (the caller then takes the one-ray box test).
-/// Each node's boxes are tested against eight rays at a time.
+/// Each node's boxes are tested against eight rays at a time, or all sixteen at once where `avx2`
+/// says the processor has AVX-512 ([`boxes_avx512`]).
 ///
 /// # Safety
 /// Compiled with AVX2 and FMA: safe to call from code compiled with them (the packet traversal);
@@ -250,66 +251,20 @@ fn slabs4(origin: std::arch::x86_64::__m256d, dir: std::arch::x86_64::__m256d) -
 pub fn traverse<const ANY: bool>(
     avx2: Avx2,
     bvh: &Bvh,
-    rays: (&[Ray; RAYS], u32),
-    t_max: [f64; RAYS],
-    tests: (&mut u64, &mut u64),
-    best: &mut [Nearest; RAYS],
-) -> bool {
-    traverse_with::<ANY, Avx2>(avx2, bvh, rays, t_max, tests, best)
-}
-
-/// [`traverse`], each node's boxes tested against all sixteen rays at once with AVX-512: the same
-/// numbers and decisions to the bit (the same operations on each lane), in about half the
-/// instructions. The whole walk is compiled with AVX-512VL too, which gives the AVX2 code the
-/// sixteen more registers. (The Cornell box's glass rays take 6–7% less time on one thread, its
-/// mirror rays 9–10%, timed alternating with the AVX2 walk.)
-#[cfg(target_arch = "x86_64")]
-pub fn traverse_avx512<const ANY: bool>(
-    avx512: Avx512,
-    bvh: &Bvh,
-    rays: (&[Ray; RAYS], u32),
-    t_max: [f64; RAYS],
-    tests: (&mut u64, &mut u64),
-    best: &mut [Nearest; RAYS],
-) -> bool {
-    /// # Safety
-    /// Only call on a processor with AVX-512F and VL, AVX2 and FMA.
-    #[target_feature(enable = "avx2,fma,popcnt,bmi1,avx512f,avx512vl")]
-    unsafe fn compiled<const ANY: bool>(
-        avx512: Avx512,
-        bvh: &Bvh,
-        rays: (&[Ray; RAYS], u32),
-        t_max: [f64; RAYS],
-        tests: (&mut u64, &mut u64),
-        best: &mut [Nearest; RAYS],
-    ) -> bool {
-        traverse_with::<ANY, Avx512>(avx512, bvh, rays, t_max, tests, best)
-    }
-    // SAFETY: an `Avx512` exists only on a processor with AVX-512F and VL, AVX2 and FMA.
-    unsafe { compiled::<ANY>(avx512, bvh, rays, t_max, tests, best) }
-}
-
-/// The walk itself, inlined into each of the two entries above, with `B`'s box test.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-fn traverse_with<const ANY: bool, B: LaneBoxes>(
-    boxes: B,
-    bvh: &Bvh,
     (rays, taking): (&[Ray; RAYS], u32),
     t_max: [f64; RAYS],
     (box_tests, triangle_tests): (&mut u64, &mut u64),
     best: &mut [Nearest; RAYS],
 ) -> bool {
-    let avx2 = boxes.avx2();
     let mut lanes = Lanes::ZERO;
     // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
     if !(unsafe { Lanes::fill(&mut lanes, (rays, taking), &t_max) }) {
         return false;
     }
     let mut together = RaysTogether::default();
-    let mut query = Narrow::<ANY, B> {
+    let mut query = Narrow::<ANY> {
         avx2,
-        boxes,
+        avx512: avx2.avx512(),
         bvh,
         rays,
         lanes: &mut lanes,
@@ -326,49 +281,11 @@ fn traverse_with<const ANY: bool, B: LaneBoxes>(
     true
 }
 
-/// A packet's box test of a node's four boxes against its sixteen rays' [`Lanes`]: eight rays at
-/// a time ([`Avx2`]) or sixteen ([`Avx512`]); the same answer either way.
-#[cfg(target_arch = "x86_64")]
-trait LaneBoxes: Copy {
-    /// The AVX2 proof (the rest of the walk takes AVX2).
-    fn avx2(self) -> Avx2;
-    /// Which of `node`'s boxes each `live` ray meets, and the nearest (lowered) entry among them.
-    fn boxes(self, lanes: &Lanes, node: &Node, live: u32) -> Met<f32>;
-}
-
-#[cfg(target_arch = "x86_64")]
-impl LaneBoxes for Avx2 {
-    #[inline(always)]
-    fn avx2(self) -> Avx2 {
-        self
-    }
-
-    #[inline(always)]
-    fn boxes(self, lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
-        // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA.
-        unsafe { boxes_unchecked(lanes, node, live) }
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-impl LaneBoxes for Avx512 {
-    #[inline(always)]
-    fn avx2(self) -> Avx2 {
-        Avx512::avx2(self)
-    }
-
-    #[inline(always)]
-    fn boxes(self, lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
-        // SAFETY: an `Avx512` exists only on a processor with AVX-512F, AVX2 and FMA.
-        unsafe { boxes_avx512(lanes, node, live) }
-    }
-}
-
 /// The query of sixteen rays with the f32 box test.
-struct Narrow<'a, const ANY: bool, B> {
+struct Narrow<'a, const ANY: bool> {
     avx2: Avx2,
-    /// The box test, eight or sixteen rays at a time.
-    boxes: B,
+    /// Where the processor has AVX-512: each node's boxes tested against sixteen rays at once.
+    avx512: Option<Avx512>,
     bvh: &'a Bvh,
     rays: &'a [Ray; RAYS],
     /// Borrowed from the caller's frame, not moved into the query: moving its kilobyte cost the
@@ -391,7 +308,7 @@ struct Narrow<'a, const ANY: bool, B> {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<const ANY: bool, B: LaneBoxes> Query for Narrow<'_, ANY, B> {
+impl<const ANY: bool> Query for Narrow<'_, ANY> {
     type Near = f32;
 
     #[inline(always)]
@@ -404,8 +321,15 @@ impl<const ANY: bool, B: LaneBoxes> Query for Narrow<'_, ANY, B> {
     #[inline(always)]
     fn boxes(&mut self, node: &Node, live: u32) -> Met<f32> {
         *self.box_tests += children(node) * u64::from(live.count_ones());
-        // SAFETY: as in `live`.
-        self.boxes.boxes(self.lanes, node, live)
+        match self.avx512 {
+            // SAFETY: an `Avx512` exists only on a processor with AVX-512F, AVX2 and FMA.
+            // (A call: the walk is compiled once, for AVX2. Compiled a second time with AVX-512,
+            // its leaf kernels were no longer inlined into either copy, and the AVX2 walk took 5%
+            // more instructions; with the call, 1.9% more, for the branch here.)
+            Some(_) => unsafe { boxes_avx512(self.lanes, node, live) },
+            // SAFETY: as in `live`.
+            None => unsafe { boxes_unchecked(self.lanes, node, live) },
+        }
     }
 
     #[inline(always)]
@@ -444,7 +368,7 @@ impl<const ANY: bool, B: LaneBoxes> Query for Narrow<'_, ANY, B> {
     }
 }
 
-impl<const ANY: bool, B> Narrow<'_, ANY, B> {
+impl<const ANY: bool> Narrow<'_, ANY> {
     /// Makes the sheared forms of the rays of `fresh` (reaching their first leaf), putting those
     /// that share the packet's axes in [`Narrow::together`].
     #[inline(always)]
@@ -600,7 +524,9 @@ unsafe fn boxes_unchecked(lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
 
 /// [`boxes_unchecked`] with all sixteen rays in one AVX-512 register: per lane the same operations
 /// (a sign-bit blend, fused multiply-subtracts, max and min, the same widening), so the same rays
-/// meet each box with the same nearest entry, to the bit.
+/// meet each box with the same nearest entry, to the bit. (The Cornell box's glass rays take 8%
+/// less time on one thread than with the AVX2 test, its mirror rays 9%; `AVX512=0` in
+/// `examples/ray_kind_loop.rs` times the two in one build.)
 ///
 /// # Safety
 /// Only call on a processor with AVX-512F, AVX2 and FMA.
