@@ -10,7 +10,8 @@
 # triangles (`DUMP`), one thread, counted inside Embree's own queries (rtcIntersect1 or
 # rtcOccluded1, called once a ray) over three casts (the count of rays that met something, one
 # warm-up cast, one timed): not Python's loop around them, nor Embree's idle threads. Under
-# valgrind Embree takes its AVX2 code (valgrind has no AVX-512), as raylab does.
+# valgrind both sides take their AVX2 code (valgrind has no AVX-512): raylab's packets test their
+# boxes eight rays at a time there, not sixteen as on a processor with AVX-512.
 set -euo pipefail
 scene=${1:-render-cornell-box}
 kind=${2:-refraction}
