@@ -524,9 +524,9 @@ unsafe fn boxes_unchecked(lanes: &Lanes, node: &Node, live: u32) -> Met<f32> {
 
 /// [`boxes_unchecked`] with all sixteen rays in one AVX-512 register: per lane the same operations
 /// (a sign-bit blend, fused multiply-subtracts, max and min, the same widening), so the same rays
-/// meet each box with the same nearest entry, to the bit. (The Cornell box's glass rays take 8%
-/// less time on one thread than with the AVX2 test, its mirror rays 9%; `AVX512=0` in
-/// `examples/ray_kind_loop.rs` times the two in one build.)
+/// meet each box with the same nearest entry, to the bit. (The Cornell box's glass rays take 10%
+/// less time on one thread than with the AVX2 test, its mirror rays 11%, its primary rays 8%:
+/// `AVX512=0` in `examples/ray_kind_loop.rs` times the two in one build.)
 ///
 /// # Safety
 /// Only call on a processor with AVX-512F, AVX2 and FMA.
