@@ -439,9 +439,9 @@ pub fn for_each_nearest_hit<T>(
             nearest_hits_between(prepared, &rays, stats, &mut hits);
             hits.into_iter().for_each(&mut found);
         }
-        if rest.len() >= PADDED_FROM {
+        if let Some(last) = rest.last().filter(|_| rest.len() >= PADDED_FROM) {
             // The last ray's copies fill the packet; their hits are dropped.
-            let last = ray_of(&rest[rest.len() - 1]);
+            let last = ray_of(last);
             let rays = std::array::from_fn(|r| rest.get(r).map_or(last, &ray_of));
             let mut hits = [None; TOGETHER];
             nearest_hits_between(prepared, &rays, stats, &mut hits);
