@@ -31,9 +31,12 @@ use super::kernels::{boxes4, crack_free4};
 use super::objects::PreparedTriangle;
 use crate::math::linalg::V3;
 use crate::render::{Ray, TriangleHit};
+use rayon::prelude::*;
 
 /// Triangles per leaf, at most.
 const MAX_LEAF: usize = 8;
+/// Triangles a task when the build makes its references on every thread.
+const REFERENCES_A_TASK: usize = 4096;
 /// SAH bins per axis.
 const BINS: usize = 16;
 /// Below this depth of the binary build, SAH chooses splits; deeper, the median does, which bounds
@@ -282,18 +285,28 @@ impl Bvh {
                 v.iter().flatten().all(|c| c.is_finite())
             })
             .collect();
-        // The builder's references: each a triangle, or a piece of a long thin one.
-        let mut references = Vec::with_capacity(finite.len());
-        let mut boxes = Vec::new();
-        for &triangle in &finite {
-            boxes.clear();
-            split::pieces(&triangles[triangle as usize].vertices, &mut boxes);
-            references.extend(boxes.iter().map(|&bounds| Reference {
-                bounds,
-                centroid: std::array::from_fn(|k| bounds.min[k] * 0.5 + bounds.max[k] * 0.5),
-                triangle,
-            }));
-        }
+        // The builder's references: each a triangle, or a piece of a long thin one (made on
+        // every thread, in the triangles' order).
+        let references: Vec<Reference> = finite
+            .par_chunks(REFERENCES_A_TASK)
+            .flat_map_iter(|chunk| {
+                let mut references = Vec::with_capacity(chunk.len());
+                let mut boxes = Vec::new();
+                for &triangle in chunk {
+                    boxes.clear();
+                    split::pieces(&triangles[triangle as usize].vertices, &mut boxes);
+                    references.extend(boxes.iter().map(|&bounds| Reference {
+                        bounds,
+                        centroid: std::array::from_fn(|k| {
+                            bounds.min[k] * 0.5 + bounds.max[k] * 0.5
+                        }),
+                        triangle,
+                    }));
+                }
+                references
+            })
+            .collect();
+        let mut references = references;
         let mut binary = Vec::with_capacity(2 * references.len());
         if !references.is_empty() {
             let mut builder = Builder { nodes: &mut binary };
@@ -328,7 +341,7 @@ impl Bvh {
                 bvh.eight = eight::Eight::of(&binary, (&leaves, &slots), packs);
             }
         }
-        bvh.quads = bvh.build_vertices.chunks(4).map(Quad::new).collect();
+        bvh.quads = bvh.build_vertices.par_chunks(4).map(Quad::new).collect();
         bvh.build_vertices = Vec::new();
         // The vectors grew while the size was unknown: hold no more than they use.
         bvh.nodes.shrink_to_fit();
@@ -1175,7 +1188,12 @@ impl Builder<'_> {
     /// Adds the node for `order[start..end]` and, below it, its children; returns its index.
     fn split(&mut self, run: &mut [Reference], start: usize, depth: usize) -> usize {
         let end = start + run.len();
-        let bounds = run.iter().fold(Bounds::EMPTY, |b, r| b.union(r.bounds));
+        // The run's box and its centroids' box, in one pass.
+        let (bounds, spread) = run
+            .iter()
+            .fold((Bounds::EMPTY, Bounds::EMPTY), |(b, s), r| {
+                (b.union(r.bounds), s.grow(&r.centroid))
+            });
         let index = self.nodes.len();
         self.nodes.push(BinaryNode {
             bounds,
@@ -1186,7 +1204,7 @@ impl Builder<'_> {
         if end - start == 1 {
             return index;
         }
-        let middle = match self.choose_split(run, &bounds, depth) {
+        let middle = match self.choose_split(run, (&bounds, &spread), depth) {
             Some(middle) => middle,
             None => return index,
         };
@@ -1231,9 +1249,14 @@ impl Builder<'_> {
     }
 
     /// Partitions `run` and returns where its right part starts, or `None` to make it a leaf.
-    fn choose_split(&self, run: &mut [Reference], bounds: &Bounds, depth: usize) -> Option<usize> {
+    /// `spread` is the box of the run's centroids.
+    fn choose_split(
+        &self,
+        run: &mut [Reference],
+        (bounds, spread): (&Bounds, &Bounds),
+        depth: usize,
+    ) -> Option<usize> {
         let n = run.len();
-        let spread = run.iter().fold(Bounds::EMPTY, |b, r| b.grow(&r.centroid));
         let axis = (0..3)
             .max_by(|&a, &b| {
                 let extent = |k: usize| spread.max[k] - spread.min[k];
@@ -1254,7 +1277,7 @@ impl Builder<'_> {
             }
             return Some(middle);
         }
-        let (axis, bin, cost) = self.best_bins(run, &spread, bounds.half_area());
+        let (axis, bin, cost) = self.best_bins(run, spread, bounds.half_area());
         // Cost of a leaf: testing every triangle; of a split: the box tests and the children's.
         let leaf_cost = n as f64;
         if n <= MAX_LEAF && cost >= leaf_cost {
@@ -1276,24 +1299,32 @@ impl Builder<'_> {
         Some(middle)
     }
 
-    /// The best SAH split over every axis's bins: (axis, last bin of the left part, cost).
+    /// The best SAH split over every axis's bins: (axis, last bin of the left part, cost). The
+    /// three axes are binned in one pass over the run.
     fn best_bins(&self, run: &[Reference], spread: &Bounds, parent: f64) -> (usize, usize, f64) {
         let parent = parent.max(f64::MIN_POSITIVE);
+        let low = spread.min;
+        let extent: V3<f64> = std::array::from_fn(|k| spread.max[k] - low[k]);
+        // A flat axis's bins are filled (all in bin 0) and then skipped.
+        let scale: V3<f64> = std::array::from_fn(|k| match extent[k] > 0.0 {
+            true => BINS as f64 / extent[k],
+            false => 0.0,
+        });
+        let mut boxes = [[Bounds::EMPTY; BINS]; 3];
+        let mut counts = [[0usize; BINS]; 3];
+        for r in run {
+            for axis in 0..3 {
+                let bin = (((r.centroid[axis] - low[axis]) * scale[axis]) as usize).min(BINS - 1);
+                boxes[axis][bin] = boxes[axis][bin].union(r.bounds);
+                counts[axis][bin] += 1;
+            }
+        }
         let mut best = (0, 0, f64::INFINITY);
         for axis in 0..3 {
-            let low = spread.min[axis];
-            let extent = spread.max[axis] - low;
-            if extent <= 0.0 {
+            if extent[axis] <= 0.0 {
                 continue;
             }
-            let scale = BINS as f64 / extent;
-            let mut boxes = [Bounds::EMPTY; BINS];
-            let mut counts = [0usize; BINS];
-            for r in run {
-                let bin = (((r.centroid[axis] - low) * scale) as usize).min(BINS - 1);
-                boxes[bin] = boxes[bin].union(r.bounds);
-                counts[bin] += 1;
-            }
+            let (boxes, counts) = (&boxes[axis], &counts[axis]);
             // Areas and counts of every prefix and suffix of bins.
             let mut right_area = [0.0; BINS];
             let mut right_count = [0usize; BINS];
@@ -1517,6 +1548,28 @@ mod tests {
         assert!(seen.iter().all(|s| (1..=4).contains(s)));
         assert!(seen.iter().filter(|s| **s == 1).count() > 2500);
         assert_eq!(bvh.len(), triangles.len());
+    }
+
+    /// The build makes its references and its two halves of large runs on several threads: the
+    /// hierarchy is the same, to the bit, on one thread and on three (a mesh large enough that the
+    /// references come in several tasks and the top splits run on two threads).
+    #[test]
+    fn the_build_is_the_same_on_any_number_of_threads() {
+        use crate::render::generate::irregular_sphere;
+        let mesh: Vec<PreparedTriangle> = irregular_sphere(5, 3)
+            .into_iter()
+            .map(PreparedTriangle::new)
+            .collect();
+        assert!(mesh.len() > 4 * REFERENCES_A_TASK && run_len_is_large(mesh.len()));
+        let built_on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("a pool");
+            format!("{:?}", pool.install(|| Bvh::build(&mesh)))
+        };
+        let one = built_on(1);
+        assert!(one == built_on(3), "the hierarchy depends on the threads");
     }
 
     /// A closed hedgehog: a sphere whose vertices are pushed out to radii between 1 and 12 (each
