@@ -4,8 +4,11 @@
 //! takes one of the solver's rare paths (a non-finite input, a zero direction, a direction nearly
 //! in the plane, whose check needs the norms) is marked for the one-ray solver. A lane whose t is
 //! negative, not finite or beyond the ray's nearest hit so far is dropped before its α and β are
-//! divided out: the solver's t is computed first, to the bit, so this cull needs no margin. A lone
-//! any-hit ray ([`Parallelogram4::blocks_one`]) takes one lane of the same arithmetic in scalar f64.
+//! divided out: the solver's t is computed first, to the bit, so this cull needs no margin. An
+//! any-hit query first drops the rays whose plane test, with a bound on its rounding and the
+//! solver's, shows the solver's t to be negative or past the ray's end (`out_of_reach`): the
+//! floor an occlusion ray leaves, a wall behind it. A lone any-hit ray
+//! ([`Parallelogram4::blocks_one`]) takes one lane of the same arithmetic in scalar f64.
 
 // The AVX2 kernel: each unsafe block says in a SAFETY comment why it is sound.
 #![allow(unsafe_code)]
@@ -47,6 +50,10 @@ pub struct Parallelogram4 {
     e2: V3<f64>,
     /// The largest |component| of e1 × e2 (for the solver's near-parallel check).
     normal_largest: f64,
+    /// n = e1 × e2 rounded, and per component the sum of its two products' magnitudes (what
+    /// bounds n's rounding and the solver's): for [`Parallelogram4::out_of_reach`].
+    normal: V3<f64>,
+    normal_sizes: V3<f64>,
 }
 
 impl Parallelogram4 {
@@ -67,12 +74,19 @@ impl Parallelogram4 {
         [corner, e1, e2]: [&V3<f64>; 3],
         normal_largest: Option<f64>,
     ) -> Option<Parallelogram4> {
+        // n_k = e1_a·e2_b − e1_b·e2_a, (a, b) following k around the axes: n = e1 × e2.
+        let product = |k: usize| {
+            let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+            (e1[a] * e2[b], e1[b] * e2[a])
+        };
         Some(Parallelogram4 {
             avx2: simd?,
             corner: *corner,
             e1: *e1,
             e2: *e2,
             normal_largest: normal_largest?,
+            normal: std::array::from_fn(|k| product(k).0 - product(k).1),
+            normal_sizes: std::array::from_fn(|k| product(k).0.abs() + product(k).1.abs()),
         })
     }
 
@@ -165,6 +179,8 @@ impl Parallelogram4 {
                 self.e1,
                 self.e2,
                 self.normal_largest,
+                self.normal,
+                self.normal_sizes,
             );
             Found4 {
                 rare: lanes,
@@ -334,7 +350,70 @@ unsafe fn solve_four<const OPEN: bool>(
     limit: &[f64; 4],
 ) -> Found4 {
     let (origin, dir) = (rays_lanes(rays, 0), rays_lanes(rays, 1));
-    solve4::<OPEN>(shape, [origin, dir], lanes, gather(*limit))
+    let limit = gather(*limit);
+    // An any-hit query first drops the rays the plane keeps from a hit (the floor under an
+    // occlusion ray's origin, a wall behind it or out of its reach), and is done if none is left.
+    let lanes = match OPEN {
+        true => lanes & !out_of_reach(shape, &[origin, dir], limit),
+        false => lanes,
+    };
+    if lanes == 0 {
+        return Found4::default();
+    }
+    solve4::<OPEN>(shape, [origin, dir], lanes, limit)
+}
+
+/// The lanes whose rays the solver surely finds no hit for with 0 < t < `t_end` because of where
+/// the parallelogram's plane is: the ray leaves the plane (an occlusion ray from a floor, or away
+/// from a wall it stands in front of), or meets it only at |t| ≥ `t_end`. The plane's
+/// t = −((o − c)·n) / (d·n) is known here to within a bound on the rounding of both this sum and
+/// the solver's (16 ε times the sums of the products' magnitudes), so a lane is dropped only where
+/// the solver's own t, to the bit, is < 0 or beyond `t_end`, and only where d·n is far enough from
+/// zero that the solver takes its usual path. Lanes near the plane's line, parallel to it, with a
+/// number not finite (the bounds are then ∞ or NaN, and every comparison false), or with t near 0
+/// or near `t_end` are solved. No answer changes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+#[inline]
+fn out_of_reach(shape: &Parallelogram4, [origin, dir]: &[Lanes3; 2], t_end: __m256d) -> u32 {
+    let corner = splat(&shape.corner);
+    let (normal, sizes) = (splat(&shape.normal), splat(&shape.normal_sizes));
+    // y = o − c as the solver rounds it.
+    let y = [0, 1, 2].map(|k| _mm256_sub_pd(origin[k], corner[k]));
+    let dot = |v: &Lanes3| {
+        let term = |k: usize| _mm256_mul_pd(v[k], normal[k]);
+        _mm256_add_pd(_mm256_add_pd(term(0), term(1)), term(2))
+    };
+    // 16 ε · Σ |v_k| · (|a_k| + |b_k|): more than this sum's rounding and n's, and the solver's
+    // rounding of its t's numerator (v = y) or of its determinant (v = d), together.
+    let error = |v: &Lanes3| {
+        let term = |k: usize| _mm256_mul_pd(abs(v[k]), sizes[k]);
+        let sum = _mm256_add_pd(_mm256_add_pd(term(0), term(1)), term(2));
+        _mm256_mul_pd(_mm256_set1_pd(16.0 * f64::EPSILON), sum)
+    };
+    let (towards, across) = (dot(&y), dot(dir));
+    let (towards_error, across_error) = (error(&y), error(dir));
+    let (towards_size, across_size) = (abs(towards), abs(across));
+    // The solver's usual path, surely: |det| = |d·n| (within its rounding) above the solver's
+    // near-parallel bound, in the range that bound is taken in.
+    let dir_largest = _mm256_max_pd(_mm256_max_pd(abs(dir[0]), abs(dir[1])), abs(dir[2]));
+    let product = _mm256_mul_pd(_mm256_set1_pd(shape.normal_largest), dir_largest);
+    let factor = <f64 as crate::math::real::Real>::TOLERANCE * 6.0;
+    let bound = _mm256_mul_pd(_mm256_set1_pd(factor), product);
+    let usual = all3(
+        finite(_mm256_mul_pd(product, _mm256_set1_pd(4.0))),
+        _mm256_cmp_pd::<_CMP_GT_OQ>(bound, _mm256_set1_pd(1e-280)),
+        _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(across_size, across_error), bound),
+    );
+    // (o − c)·n and d·n of one sign, the first clear of its rounding: t < 0.
+    let leaves = _mm256_and_pd(
+        _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_mul_pd(towards, across), _mm256_setzero_pd()),
+        _mm256_cmp_pd::<_CMP_GT_OQ>(towards_size, towards_error),
+    );
+    // |t| > t_end: the bounds (each at least 16 ε of its sum) also cover the division's rounding.
+    let reach = _mm256_mul_pd(t_end, _mm256_add_pd(across_size, across_error));
+    let beyond = _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(towards_size, towards_error), reach);
+    _mm256_movemask_pd(_mm256_and_pd(usual, _mm256_or_pd(leaves, beyond))) as u32
 }
 
 /// [`Parallelogram4::solve`] with AVX2, the rays' origins and directions in lanes.
@@ -572,6 +651,84 @@ mod tests {
         assert!(
             hits > 8_000 && culled > 4_000 && rare > 30_000 && between_hits > 3_000,
             "{hits} {culled} {rare} {between_hits}"
+        );
+    }
+
+    /// The plane's cull ([`out_of_reach`]) drops only rays the solver finds no hit for with
+    /// 0 < t < t_end: random parallelograms turned every way, rays from just off their planes
+    /// (10⁻¹⁴ to 1 along the normal, either side, over the parallelogram or beside it) going every
+    /// way, some nearly along the plane, and t_end at, just before and just past the plane's t, or
+    /// unlimited. Each lane of an any-hit query answers as the one-ray solver, and the cull must
+    /// have dropped many lanes, on both of its grounds.
+    #[test]
+    fn the_plane_cull_drops_only_rays_the_solver_finds_no_hit_for() {
+        let avx2 = crate::render::kernels::avx2_or_skip!();
+        let mut random = rand_pcg::Pcg64::seed_from_u64(15);
+        let mut unit = || random.random_range(-1.0..1.0);
+        let (mut behind, mut beyond, mut hits) = (0, 0, 0);
+        for i in 0..40_000 {
+            let corner: V3<f64> = std::array::from_fn(|_| 3.0 * unit());
+            let e1: V3<f64> = std::array::from_fn(|_| 2.0 * unit());
+            let e2: V3<f64> = std::array::from_fn(|_| 2.0 * unit());
+            let shape = [&corner, &e1, &e2];
+            let Some(solver) = Parallelogram4::new(avx2, shape) else {
+                continue;
+            };
+            let n = cross(&e1, &e2);
+            let size = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let mut rays = [Ray::new([0.0; 3], [1.0, 0.0, 0.0]); 4];
+            let mut t_end = [f64::INFINITY; 4];
+            for lane in 0..4 {
+                let (a, b) = (1.4 * unit() - 0.2, 1.4 * unit() - 0.2);
+                let off = [1e-14, 1e-9, 1e-6, 1e-3, 1.0][(4 * i + lane) % 5] * unit();
+                let origin: V3<f64> =
+                    std::array::from_fn(|k| corner[k] + a * e1[k] + b * e2[k] + off * n[k] / size);
+                let mut dir: V3<f64> = std::array::from_fn(|_| unit());
+                if lane == 3 {
+                    // Nearly along the plane.
+                    let along: V3<f64> = std::array::from_fn(|k| e1[k] + 1e-12 * unit() * n[k]);
+                    dir = along;
+                }
+                rays[lane] = Ray::new(origin, dir);
+                // The plane's t, as the solver may find it (or not).
+                let t = solve_inside(shape, &origin, &dir).map(|x| x.alpha_beta_t[2]);
+                t_end[lane] = match (i + lane) % 4 {
+                    0 => f64::INFINITY,
+                    _ => t.map_or(1.0, |t| {
+                        t.abs() * (1.0 + [0.0, 1e-15, -1e-15][(i + lane) % 3])
+                    }),
+                };
+            }
+            let lanes = 0b1111;
+            // SAFETY: `avx2` proves the processor runs AVX2 and FMA.
+            let dropped = unsafe {
+                let (origin, dir) = (rays_lanes(&rays, 0), rays_lanes(&rays, 1));
+                out_of_reach(&solver, &[origin, dir], gather(t_end))
+            };
+            let found = solver.solve_between(&rays, lanes, &t_end);
+            for lane in 0..4 {
+                let Ray { origin, dir, .. } = rays[lane];
+                let expected = one_at_a_time(shape, &origin, &dir, t_end[lane].next_down())
+                    .is_some_and(|[t, ..]| t > 0.0);
+                if found.rare & (1 << lane) == 0 {
+                    let got = found.hit & (1 << lane) != 0;
+                    assert_eq!(got, expected, "{i} {lane}: {shape:?} {origin:?} {dir:?}");
+                    hits += usize::from(got);
+                }
+                if dropped & (1 << lane) != 0 {
+                    assert!(!expected && found.rare & (1 << lane) == 0, "{i} {lane}");
+                    let towards: f64 = (0..3).map(|k| (origin[k] - corner[k]) * n[k]).sum();
+                    let across: f64 = (0..3).map(|k| dir[k] * n[k]).sum();
+                    match towards * across > 0.0 {
+                        true => behind += 1,
+                        false => beyond += 1,
+                    }
+                }
+            }
+        }
+        assert!(
+            behind > 50_000 && beyond > 10_000 && hits > 3_000,
+            "{behind} {beyond} {hits}"
         );
     }
 
