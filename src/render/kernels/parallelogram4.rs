@@ -363,6 +363,24 @@ unsafe fn solve_four<const OPEN: bool>(
     solve4::<OPEN>(shape, [origin, dir], lanes, limit)
 }
 
+/// The solver's near-parallel bound on |det| for each lane's direction (6 × tolerance × the
+/// largest |component| of the normal and of d), and the lanes where that bound is taken: the
+/// product finite with room to spare, the bound not negligible.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1")]
+#[inline]
+fn near_parallel_bound(shape: &Parallelogram4, dir: &Lanes3) -> (__m256d, __m256d) {
+    let dir_largest = _mm256_max_pd(_mm256_max_pd(abs(dir[0]), abs(dir[1])), abs(dir[2]));
+    let product = _mm256_mul_pd(_mm256_set1_pd(shape.normal_largest), dir_largest);
+    let factor = <f64 as crate::math::real::Real>::TOLERANCE * 6.0;
+    let bound = _mm256_mul_pd(_mm256_set1_pd(factor), product);
+    let in_range = _mm256_and_pd(
+        finite(_mm256_mul_pd(product, _mm256_set1_pd(4.0))),
+        _mm256_cmp_pd::<_CMP_GT_OQ>(bound, _mm256_set1_pd(1e-280)),
+    );
+    (bound, in_range)
+}
+
 /// The lanes whose rays the solver surely finds no hit for with 0 < t < `t_end` because of where
 /// the parallelogram's plane is: the ray leaves the plane (an occlusion ray from a floor, or away
 /// from a wall it stands in front of), or meets it only at |t| ≥ `t_end`. The plane's
@@ -396,13 +414,9 @@ fn out_of_reach(shape: &Parallelogram4, [origin, dir]: &[Lanes3; 2], t_end: __m2
     let (towards_size, across_size) = (abs(towards), abs(across));
     // The solver's usual path, surely: |det| = |d·n| (within its rounding) above the solver's
     // near-parallel bound, in the range that bound is taken in.
-    let dir_largest = _mm256_max_pd(_mm256_max_pd(abs(dir[0]), abs(dir[1])), abs(dir[2]));
-    let product = _mm256_mul_pd(_mm256_set1_pd(shape.normal_largest), dir_largest);
-    let factor = <f64 as crate::math::real::Real>::TOLERANCE * 6.0;
-    let bound = _mm256_mul_pd(_mm256_set1_pd(factor), product);
-    let usual = all3(
-        finite(_mm256_mul_pd(product, _mm256_set1_pd(4.0))),
-        _mm256_cmp_pd::<_CMP_GT_OQ>(bound, _mm256_set1_pd(1e-280)),
+    let (bound, in_range) = near_parallel_bound(shape, dir);
+    let usual = _mm256_and_pd(
+        in_range,
         _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(across_size, across_error), bound),
     );
     // (o − c)·n and d·n of one sign, the first clear of its rounding: t < 0.
@@ -458,14 +472,7 @@ fn solve4<const OPEN: bool>(
         all3(finite(dir[0]), finite(dir[1]), finite(dir[2])),
     );
     let zero_dir = all3(is_zero(dir[0]), is_zero(dir[1]), is_zero(dir[2]));
-    let dir_largest = _mm256_max_pd(_mm256_max_pd(abs(dir[0]), abs(dir[1])), abs(dir[2]));
-    let product = _mm256_mul_pd(_mm256_set1_pd(shape.normal_largest), dir_largest);
-    let factor = <f64 as crate::math::real::Real>::TOLERANCE * 6.0;
-    let bound = _mm256_mul_pd(_mm256_set1_pd(factor), product);
-    let in_range = _mm256_and_pd(
-        finite(_mm256_mul_pd(product, _mm256_set1_pd(4.0))),
-        _mm256_cmp_pd::<_CMP_GT_OQ>(bound, _mm256_set1_pd(1e-280)),
-    );
+    let (bound, in_range) = near_parallel_bound(shape, &dir);
     let surely_above = _mm256_and_pd(in_range, _mm256_cmp_pd::<_CMP_GT_OQ>(abs(det), bound));
     let usual = _mm256_andnot_pd(zero_dir, all3(finite_ray, finite(det), surely_above));
     let rare = lanes & !(_mm256_movemask_pd(usual) as u32);
