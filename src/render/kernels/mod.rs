@@ -91,6 +91,27 @@ impl Avx2 {
     }
 }
 
+/// Asks the processor to start loading the `lines` cache lines from `start` (a hint: nothing
+/// happens off x86-64, and a prefetch changes no memory and no program state, whatever the
+/// address).
+#[inline(always)]
+pub fn prefetch_lines<T>(start: *const T, lines: usize) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        let start = start.cast::<i8>();
+        for line in 0..lines {
+            // SAFETY: as above (`wrapping_add` keeps the pointer arithmetic itself defined).
+            #[allow(unsafe_code)]
+            unsafe {
+                _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(64 * line))
+            };
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (start, lines);
+}
+
 /// Proof that the processor runs AVX-512F as well as AVX2 and FMA: made only by
 /// [`Avx2::avx512`] (the field is private). The packet walk's box test then takes its sixteen rays
 /// in one register ([`narrow`]), not in two of eight.

@@ -601,16 +601,7 @@ fn prefetch<const W: usize>(bvh: &Bvh, nodes: &[WideNode<W>], child: u32, count:
     // unrolls: the range's iterator cost more than the prefetches).
     let node_lines = const { size_of::<WideNode<W>>().div_ceil(64) };
     const QUAD_LINES: usize = size_of::<super::crack_free4::Quad>().div_ceil(64);
-    #[inline(always)]
-    fn lines<T>(start: *const T, n: usize) {
-        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        let start = start.cast::<i8>();
-        for line in 0..n {
-            // SAFETY: a prefetch changes no memory and no program state, whatever the address
-            // (`wrapping_add` keeps the pointer arithmetic itself defined).
-            unsafe { _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(64 * line)) };
-        }
-    }
+    use super::prefetch_lines as lines;
     if count == 0 {
         lines(nodes.as_ptr().wrapping_add(child as usize), node_lines);
     } else {
