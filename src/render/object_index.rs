@@ -404,7 +404,11 @@ impl<const P: usize> PacketSlabs<P> {
         let sign = _mm256_set1_pd(-0.0);
         let slack = _mm256_set1_pd(T_SLACK);
         let low = _mm256_set1_pd(t_min);
-        let mut met_by = [0u32; 4];
+        // The four boxes' rays, sixteen bits each, in one register. (Or-ed into a [u32; 4] on the
+        // stack a lane at a time and read back as one wide load, which waited for the four
+        // stores: 4% of a Cornell box shadow ray's time.)
+        const { assert!(P <= 16, "a box's rays are sixteen bits of one u64") };
+        let mut met_by = 0u64;
         for group in 0..P / 4 {
             if (live >> (4 * group)) & 0b1111 == 0 {
                 continue;
@@ -416,7 +420,7 @@ impl<const P: usize> PacketSlabs<P> {
             let origin = [0, 1, 2].map(|k| row(&self.origin[k]));
             let inverse = [0, 1, 2].map(|k| row(&self.inverse[k]));
             let high = row(t_max);
-            for (lane, met) in met_by.iter_mut().enumerate().take(node.held as usize) {
+            for lane in 0..(node.held as usize).min(4) {
                 let mut near = low;
                 let mut far = _mm256_set1_pd(f64::INFINITY);
                 for k in 0..3 {
@@ -436,11 +440,15 @@ impl<const P: usize> PacketSlabs<P> {
                         _mm256_cmp_pd::<_CMP_LE_OQ>(near, high),
                     ),
                 );
-                *met |= (_mm256_movemask_pd(inside) as u32) << at;
+                met_by |= (_mm256_movemask_pd(inside) as u64) << (at + 16 * lane);
             }
         }
+        let rays = |lane: usize| (met_by >> (16 * lane)) as u32 & 0xffff & live;
         // The count here, where POPCNT is enabled: the caller's took a dozen instructions.
-        (met_by.map(|rays| rays & live), u64::from(live.count_ones()))
+        (
+            [rays(0), rays(1), rays(2), rays(3)],
+            u64::from(live.count_ones()),
+        )
     }
 }
 
