@@ -72,8 +72,8 @@ impl ShearedRay {
         not(target_arch = "x86_64"),
         allow(dead_code, reason = "used by the x86-64 kernels only")
     )]
-    pub(super) fn parts(&self) -> (&V3<f64>, [usize; 3], [f64; 3]) {
-        (&self.origin, self.axes, self.shear)
+    pub(super) fn parts(&self) -> (&V3<f64>, [usize; 3], &[f64; 3]) {
+        (&self.origin, self.axes, &self.shear)
     }
 
     /// A vertex in the sheared space: (x, y) in the plane across the ray, z along it (scaled by 1/d_z).
