@@ -1,6 +1,6 @@
 //! A profiling loop for the peer bench's ray-kind rows (issue 25): the rays raylab's tracer casts
 //! in a shipped scene with every effect it declares, one kind of them cast again as the bench
-//! casts them (`ray_log::cast_all_again`, in the render's order), on one thread. It prints the box
+//! casts them (`ray_log::cast_run_again`, in the render's order), on one thread. It prints the box
 //! and primitive (triangle and parallelogram) tests a ray and the minimum and median time of the repeats. It compares raylab
 //! with itself only (two builds alternating, or under `perf record`); the ratios against Embree
 //! come from the peer bench.
@@ -21,7 +21,7 @@ use std::time::Instant;
 use raylab::render::generate::to_obj;
 use raylab::render::loading::assets::Embedded;
 use raylab::render::ray_kinds::RayKind;
-use raylab::render::ray_log::{LoggedRay, as_f32s, cast_all_again, rays_cast};
+use raylab::render::ray_log::{LoggedRay, as_f32s, cast_run_again, rays_cast};
 use raylab::render::{Prepared, Stats, world_triangles};
 use raylab::scene::{Problem, Scene};
 
@@ -68,7 +68,7 @@ fn main() {
     // sorted by bounce again on every cast: chunks in casting order are not sorted as a whole.)
     let one_thread = |stats: &mut Stats| -> usize {
         rays.chunks(chunk)
-            .map(|chunk| cast_all_again(&prepared, chunk, stats))
+            .map(|chunk| cast_run_again(&prepared, chunk, stats))
             .sum()
     };
     if let Ok(dir) = std::env::var("DUMP") {

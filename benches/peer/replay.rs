@@ -2,7 +2,7 @@
 //! (`embree.rs`) and the profiling loop (`examples/ray_kind_loop.rs`): a kind's logged rays in
 //! chunks, each in the order the render casts them, cast again in the current rayon pool.
 
-use raylab::render::ray_log::{LoggedRay, cast_all_again, in_casting_order};
+use raylab::render::ray_log::{LoggedRay, cast_run_again, in_casting_order};
 use raylab::render::{Prepared, Stats};
 use rayon::prelude::*;
 
@@ -13,19 +13,25 @@ pub fn chunk_size(rays: usize, threads: usize) -> usize {
     (rays / (8 * threads)).clamp(512, 4096)
 }
 
-/// `rays` split into chunks of [`chunk_size`] for `threads`, each put in the order the render
-/// casts its rays (before any clock starts): the rays and the chunk size.
+/// `rays`, all of one kind, split into chunks of [`chunk_size`] for `threads`, each put in the
+/// order the render casts its rays (before any clock starts): the rays and the chunk size.
 pub fn in_chunks(rays: &[LoggedRay], threads: usize) -> (Vec<LoggedRay>, usize) {
+    // Checked here, before any clock: each chunk is then cast as one run, unscanned.
+    assert!(
+        rays.windows(2).all(|pair| pair[0].kind == pair[1].kind),
+        "a row's rays are of one kind"
+    );
     let chunk = chunk_size(rays.len(), threads);
     let mut rays = rays.to_vec();
     rays.chunks_mut(chunk).for_each(in_casting_order);
     (rays, chunk)
 }
 
-/// Casts `rays` again in chunks of `chunk`, in parallel in the current rayon pool: the rays that
-/// met something.
+/// Casts `rays` (from [`in_chunks`]) again in chunks of `chunk`, each a run of one kind in
+/// casting order ([`cast_run_again`]), in parallel in the current rayon pool: the rays that met
+/// something.
 pub fn cast_chunks(prepared: &Prepared, rays: &[LoggedRay], chunk: usize) -> usize {
     rays.par_chunks(chunk)
-        .map(|chunk| cast_all_again(prepared, chunk, &mut Stats::default()))
+        .map(|chunk| cast_run_again(prepared, chunk, &mut Stats::default()))
         .sum()
 }

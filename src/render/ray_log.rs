@@ -63,80 +63,97 @@ impl LoggedRay {
     }
 }
 
-/// Casts `rays` again as the tracer casts them: primary rays sixteen at a time in packets
-/// ([`cast::nearest_hits`]; the log's are sixteen neighbours along a row, a render's a 4x4 tile),
-/// antialiasing samples, and mirror and glass rays bounce by bounce, sixteen at a time in the
-/// order logged (a render's are neighbouring pixels' in row order too, cast ahead of their
-/// shading, [`cast::nearest_hits_of_each`]), shadow and occlusion rays in the packets the tracer
-/// cast them in ([`cast::any_hits`]). How many met something.
+/// Casts `rays` again as the tracer casts them, run of one kind by run ([`cast_run_again`],
+/// each run of mirror, glass or sample rays put in casting order first unless it is). How many
+/// met something.
 pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats) -> usize {
-    const PACKET: usize = 16;
-    let mut met = 0;
-    let mut rest = rays;
-    while let Some(first) = rest.first() {
-        if first.any_hit() {
-            // One packet's lanes for them all, each packet writing its rays over the first: the
-            // lanes past them hold an earlier packet's rays, which the query neither tests nor
-            // reports. (Filled afresh for each packet, the sixteen rays cost a shadow ray 3% of
-            // its instructions.)
-            let mut rays = [first.ray; cast::TOGETHER];
-            let mut t_max = [0.0; cast::TOGETHER];
-            // A packet runs from a ray that starts one to the next (sixteen at most), and the run
-            // of this kind to the next kind, found packet by packet. (Split by `chunk_by` first,
-            // the rays were read twice: the ambient-occlusion scene's 790 816 occlusion rays, 50 MB
-            // logged, took 7% of their time in that scan, waiting for memory.)
-            while rest.first().is_some_and(|r| same_kind(r, first)) {
-                prefetch_ahead(rest);
-                let n = 1 + rest[1..]
-                    .iter()
-                    .take(cast::TOGETHER - 1)
-                    .take_while(|r| !r.starts_packet && same_kind(r, first))
-                    .count();
-                let (packet, left) = rest.split_at(n);
-                rest = left;
-                if let [alone] = packet {
-                    // As `cast::any_hits` casts a packet of one, without filling sixteen lanes.
-                    met += usize::from(alone.cast_again(prepared, stats));
-                    continue;
-                }
-                for (lane, logged) in packet.iter().enumerate() {
-                    rays[lane] = logged.ray;
-                    t_max[lane] = logged.t_max;
-                }
-                let blocked = cast::any_hits(prepared, (&rays, (1 << n) - 1), &t_max, stats);
-                met += blocked.count_ones() as usize;
+    rays.chunk_by(same_kind)
+        .map(|run| {
+            if run[0].by_bounce() && !run.is_sorted_by_key(|logged| logged.depth) {
+                let mut by_bounce = run.to_vec();
+                in_casting_order(&mut by_bounce);
+                cast_run_again(prepared, &by_bounce, stats)
+            } else {
+                cast_run_again(prepared, run, stats)
             }
+        })
+        .sum()
+}
+
+/// Casts `run`, rays of one kind, again as the tracer casts them: primary rays sixteen at a time
+/// in packets ([`cast::nearest_hits`]; the log's are sixteen neighbours along a row, a render's a
+/// 4x4 tile), antialiasing samples, and mirror and glass rays sixteen at a time in the order
+/// given (a render's are neighbouring pixels' in row order, a bounce at a time, cast ahead of
+/// their shading, [`cast::nearest_hits_of_each`]: [`in_casting_order`] puts a log so), shadow
+/// and occlusion rays in the packets the tracer cast them in ([`cast::any_hits`]). How many met
+/// something. The peer bench's rows are a kind's rays, put in casting order before the clock
+/// starts: a scan for the kind's runs and their order read every ray once more, 5% of the
+/// Cornell box's primary rays' time.
+pub fn cast_run_again(prepared: &Prepared, run: &[LoggedRay], stats: &mut Stats) -> usize {
+    const PACKET: usize = 16;
+    let Some(first) = run.first() else {
+        return 0;
+    };
+    debug_assert!(run.iter().all(|r| same_kind(r, first)), "a run of one kind");
+    if first.any_hit() {
+        return any_hits_again(prepared, run, stats);
+    }
+    let mut met = 0;
+    if first.by_bounce() {
+        // Neighbouring pixels' samples, and their mirror and glass rays a bounce at a time,
+        // together, as the render casts them.
+        let count = |hit: Option<Hit>| met += usize::from(hit.is_some());
+        cast::for_each_nearest_hit(prepared, run, |logged| logged.ray, stats, count);
+        return met;
+    }
+    // Primary rays, sixteen neighbours at a time.
+    let (packets, left) = run.as_chunks::<PACKET>();
+    for packet in packets {
+        let packet = packet.map(|logged| logged.ray);
+        let mut hits = [None; PACKET];
+        cast::nearest_hits(prepared, &packet, stats, &mut hits);
+        met += hits.iter().filter(|hit| hit.is_some()).count();
+    }
+    met + left
+        .iter()
+        .filter(|ray| ray.cast_again(prepared, stats))
+        .count()
+}
+
+/// [`cast_run_again`] for shadow or occlusion rays: in the packets the tracer cast them in, a
+/// packet running from a ray that starts one to the next (sixteen at most).
+fn any_hits_again(prepared: &Prepared, run: &[LoggedRay], stats: &mut Stats) -> usize {
+    let Some(first) = run.first() else {
+        return 0;
+    };
+    // One packet's lanes for them all, each packet writing its rays over the first: the lanes
+    // past them hold an earlier packet's rays, which the query neither tests nor reports.
+    // (Filled afresh for each packet, the sixteen rays cost a shadow ray 3% of its
+    // instructions.)
+    let mut rays = [first.ray; cast::TOGETHER];
+    let mut t_max = [0.0; cast::TOGETHER];
+    let mut met = 0;
+    let mut rest = run;
+    while !rest.is_empty() {
+        prefetch_ahead(rest);
+        let n = 1 + rest[1..]
+            .iter()
+            .take(cast::TOGETHER - 1)
+            .take_while(|r| !r.starts_packet)
+            .count();
+        let (packet, left) = rest.split_at(n);
+        rest = left;
+        if let [alone] = packet {
+            // As `cast::any_hits` casts a packet of one, without filling sixteen lanes.
+            met += usize::from(alone.cast_again(prepared, stats));
             continue;
         }
-        let run = rest.iter().take_while(|r| same_kind(r, first)).count();
-        let (same, left) = rest.split_at(run);
-        rest = left;
-        if first.by_bounce() {
-            // Neighbouring pixels' samples, and their mirror and glass rays a bounce at a time,
-            // together, as the render casts them (put in that order here unless
-            // [`in_casting_order`] did it before).
-            let mut count = |hit: Option<Hit>| met += usize::from(hit.is_some());
-            if same.is_sorted_by_key(|logged| logged.depth) {
-                cast::for_each_nearest_hit(prepared, same, |logged| logged.ray, stats, &mut count);
-            } else {
-                let mut by_bounce: Vec<&LoggedRay> = same.iter().collect();
-                by_bounce.sort_by_key(|logged| logged.depth);
-                cast::for_each_nearest_hit(prepared, &by_bounce, |logged| logged.ray, stats, count);
-            }
-        } else {
-            // Primary rays, sixteen neighbours at a time.
-            let (packets, left) = same.as_chunks::<PACKET>();
-            for packet in packets {
-                let packet = packet.map(|logged| logged.ray);
-                let mut hits = [None; PACKET];
-                cast::nearest_hits(prepared, &packet, stats, &mut hits);
-                met += hits.iter().filter(|hit| hit.is_some()).count();
-            }
-            met += left
-                .iter()
-                .filter(|ray| ray.cast_again(prepared, stats))
-                .count();
+        for (lane, logged) in packet.iter().enumerate() {
+            rays[lane] = logged.ray;
+            t_max[lane] = logged.t_max;
         }
+        let blocked = cast::any_hits(prepared, (&rays, (1 << n) - 1), &t_max, stats);
+        met += blocked.count_ones() as usize;
     }
     met
 }
@@ -411,11 +428,12 @@ mod tests {
                     .filter(|r| r.cast_again(&prepared, &mut again))
                     .count();
                 assert_eq!(met, alone, "{file}: {}", kind.name());
-                // Put in casting order first (as the peer bench does), the same.
+                // Put in casting order first and cast as one run (as the peer bench does), the
+                // same.
                 let mut ordered = of_kind.clone();
                 in_casting_order(&mut ordered);
                 assert!(ordered.is_sorted_by_key(|r| r.depth), "{file}");
-                let met = cast_all_again(&prepared, &ordered, &mut again);
+                let met = cast_run_again(&prepared, &ordered, &mut again);
                 assert_eq!(met, alone, "{file}: {} in casting order", kind.name());
             }
             // Casting order moves rays only within a run of mirror, glass or sample rays.
