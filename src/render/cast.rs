@@ -1078,19 +1078,19 @@ fn blocks_alone(shape: [&V3<f64>; 3], ray: Ray, t_end: f64) -> bool {
 fn parallelogram_lanes(
     simd: Option<Avx2>,
     object: &PreparedObject,
-) -> Option<(Parallelogram4, [&V3<f64>; 3])> {
+) -> Option<(Parallelogram4<'_>, [&V3<f64>; 3])> {
     let Geometry::Parallelogram {
         corner,
         e1,
         e2,
-        normal_largest,
+        lanes,
         ..
     } = &object.geometry
     else {
         return None;
     };
     let shape = [corner, e1, e2];
-    Parallelogram4::prepared(simd, shape, *normal_largest).map(|solver| (solver, shape))
+    Parallelogram4::new(simd, lanes.as_deref()?).map(|solver| (solver, shape))
 }
 
 /// [`any_hit`] testing every object in turn, without the index.

@@ -927,6 +927,7 @@ mod tests {
     use crate::render::cast::{
         any_hit, any_of_each_object, nearest_hit_between, nearest_of_each_object,
     };
+    use crate::render::kernels::parallelogram4::Parallelogram4Parts;
     use crate::render::objects::{Geometry, PreparedObject, PreparedTriangle};
     use crate::render::ray_log::rays_cast;
     use crate::render::{Prepared, Ray, Stats};
@@ -947,14 +948,13 @@ mod tests {
                 || -> [f64; 3] { std::array::from_fn(|_| random.random_range(-2.0..2.0)) };
             let geometry = if i % 3 == 0 {
                 let [corner, e1, e2] = [point(), point(), point()];
-                let normal_largest =
-                    super::super::kernels::parallelogram4::normal_largest([&corner, &e1, &e2]);
+                let lanes = Parallelogram4Parts::of([&corner, &e1, &e2]).map(Box::new);
                 Geometry::Parallelogram {
                     corner,
                     e1,
                     e2,
                     face_normal: [0.0, 0.0, 1.0],
-                    normal_largest,
+                    lanes,
                 }
             } else {
                 let (a, b) = (point(), point());

@@ -9,6 +9,7 @@ use glam::{DAffine3, DMat3};
 
 use super::budget::{MemoryTally, OverMemory, mesh_bytes, texture_bytes};
 use super::bvh::Bvh;
+use super::kernels::parallelogram4::Parallelogram4Parts;
 use super::loading::assets::{AssetError, AssetSource, Texture, load_mesh};
 use crate::math::linalg::{V3, cross, sub};
 use crate::scene::render::{Object, Shape};
@@ -62,10 +63,10 @@ pub enum Geometry {
         e2: V3<f64>,
         /// The unit normal of e1 × e2.
         face_normal: V3<f64>,
-        /// What the four-lane solver needs of e1 × e2, found once
-        /// ([`super::kernels::parallelogram4::normal_largest`]); `None` when it leaves every ray
-        /// to the one-ray solver.
-        normal_largest: Option<f64>,
+        /// What the four-lane solver needs of the parallelogram, made once
+        /// ([`Parallelogram4Parts::of`]); `None` when it leaves every ray to the one-ray solver.
+        /// (Boxed: the other shapes are smaller.)
+        lanes: Option<Box<Parallelogram4Parts>>,
     },
 }
 
@@ -234,7 +235,7 @@ pub fn prepare(
                 e1: *e1,
                 e2: *e2,
                 face_normal: unit(cross(e1, e2)),
-                normal_largest: super::kernels::parallelogram4::normal_largest([corner, e1, e2]),
+                lanes: Parallelogram4Parts::of([corner, e1, e2]).map(Box::new),
             };
             (geometry, false)
         }

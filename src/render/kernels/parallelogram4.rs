@@ -41,53 +41,65 @@ pub struct Found4 {
     pub beta: [f64; 4],
 }
 
-/// The solver for one parallelogram, four rays at a time.
-pub struct Parallelogram4 {
-    /// The proof that the processor runs the kernel.
-    avx2: Avx2,
+/// What the four-lane solver needs of one parallelogram, made once, when the scene is prepared.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Parallelogram4Parts {
     corner: V3<f64>,
     e1: V3<f64>,
     e2: V3<f64>,
     /// The largest |component| of e1 × e2 (for the solver's near-parallel check).
     normal_largest: f64,
     /// n = e1 × e2 rounded, and per component the sum of its two products' magnitudes (what
-    /// bounds n's rounding and the solver's): for [`Parallelogram4::out_of_reach`].
+    /// bounds n's rounding and the solver's): for [`out_of_reach`].
     normal: V3<f64>,
     normal_sizes: V3<f64>,
 }
 
-impl Parallelogram4 {
-    /// `None` when the parallelogram takes one of the solver's rare paths (non-finite, or edges
-    /// that may be parallel): then one ray at a time. (The renderer takes the check made when the
-    /// scene was prepared, [`Parallelogram4::prepared`].)
-    #[cfg(test)]
-    pub fn new(avx2: Avx2, shape: [&V3<f64>; 3]) -> Option<Parallelogram4> {
-        Parallelogram4::prepared(Some(avx2), shape, normal_largest(shape))
-    }
-
-    /// The solver for a parallelogram whose [`normal_largest`] was found once, when it was
-    /// prepared (a packet's set-up need not cross its edges again). `None` without `simd` (a
-    /// processor without AVX2) or without `normal_largest` (every ray goes to the one-ray solver).
-    #[inline]
-    pub fn prepared(
-        simd: Option<Avx2>,
-        [corner, e1, e2]: [&V3<f64>; 3],
-        normal_largest: Option<f64>,
-    ) -> Option<Parallelogram4> {
+impl Parallelogram4Parts {
+    /// `None` when the parallelogram takes one of the solver's rare paths whatever the ray
+    /// (non-finite, or edges that may be parallel): then every ray goes to the one-ray solver.
+    pub fn of(shape @ [corner, e1, e2]: [&V3<f64>; 3]) -> Option<Parallelogram4Parts> {
         // n_k = e1_a·e2_b − e1_b·e2_a, (a, b) following k around the axes: n = e1 × e2.
         let product = |k: usize| {
             let (a, b) = ((k + 1) % 3, (k + 2) % 3);
             (e1[a] * e2[b], e1[b] * e2[a])
         };
-        Some(Parallelogram4 {
-            avx2: simd?,
+        Some(Parallelogram4Parts {
             corner: *corner,
             e1: *e1,
             e2: *e2,
-            normal_largest: normal_largest?,
+            normal_largest: normal_largest(shape)?,
             normal: std::array::from_fn(|k| product(k).0 - product(k).1),
             normal_sizes: std::array::from_fn(|k| product(k).0.abs() + product(k).1.abs()),
         })
+    }
+}
+
+/// The solver for one parallelogram, four rays at a time: its parts, borrowed from the prepared
+/// scene. (Made afresh for each packet, by value, its copies' stores were read back as wider
+/// loads the processor could not forward them to: 5% of the ambient-occlusion scene's occlusion
+/// rays' time.)
+#[derive(Clone, Copy)]
+pub struct Parallelogram4<'a> {
+    /// The proof that the processor runs the kernel.
+    avx2: Avx2,
+    parts: &'a Parallelogram4Parts,
+}
+
+impl std::ops::Deref for Parallelogram4<'_> {
+    type Target = Parallelogram4Parts;
+
+    fn deref(&self) -> &Parallelogram4Parts {
+        self.parts
+    }
+}
+
+impl<'a> Parallelogram4<'a> {
+    /// The solver for a parallelogram whose parts were made once, when it was prepared. `None`
+    /// without `simd` (a processor without AVX2).
+    #[inline]
+    pub fn new(simd: Option<Avx2>, parts: &'a Parallelogram4Parts) -> Option<Parallelogram4<'a>> {
+        Some(Parallelogram4 { avx2: simd?, parts })
     }
 
     /// The solver's answers for four rays (in the parallelogram's space), keeping only hits with
@@ -344,7 +356,7 @@ fn solved_row(adjugate_row: &Lanes3, det: __m256d, y: &Lanes3) -> __m256d {
 #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 unsafe fn solve_four<const OPEN: bool>(
-    shape: &Parallelogram4,
+    shape: &Parallelogram4<'_>,
     rays: &Rays4,
     lanes: u32,
     limit: &[f64; 4],
@@ -369,7 +381,7 @@ unsafe fn solve_four<const OPEN: bool>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
-fn near_parallel_bound(shape: &Parallelogram4, dir: &Lanes3) -> (__m256d, __m256d) {
+fn near_parallel_bound(shape: &Parallelogram4<'_>, dir: &Lanes3) -> (__m256d, __m256d) {
     let dir_largest = _mm256_max_pd(_mm256_max_pd(abs(dir[0]), abs(dir[1])), abs(dir[2]));
     let product = _mm256_mul_pd(_mm256_set1_pd(shape.normal_largest), dir_largest);
     let factor = <f64 as crate::math::real::Real>::TOLERANCE * 6.0;
@@ -393,7 +405,7 @@ fn near_parallel_bound(shape: &Parallelogram4, dir: &Lanes3) -> (__m256d, __m256
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
-fn out_of_reach(shape: &Parallelogram4, [origin, dir]: &[Lanes3; 2], t_end: __m256d) -> u32 {
+fn out_of_reach(shape: &Parallelogram4<'_>, [origin, dir]: &[Lanes3; 2], t_end: __m256d) -> u32 {
     let corner = splat(&shape.corner);
     let (normal, sizes) = (splat(&shape.normal), splat(&shape.normal_sizes));
     // y = o − c as the solver rounds it.
@@ -435,7 +447,7 @@ fn out_of_reach(shape: &Parallelogram4, [origin, dir]: &[Lanes3; 2], t_end: __m2
 #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn solve4<const OPEN: bool>(
-    shape: &Parallelogram4,
+    shape: &Parallelogram4<'_>,
     [origin, dir]: [Lanes3; 2],
     lanes: u32,
     limit: __m256d,
@@ -600,8 +612,12 @@ mod tests {
                 let t = solve_inside(shape, &rays[lane][0], &rays[lane][1]);
                 t_max_for(&mut random, t.map(|x| x.alpha_beta_t[2]))
             });
-            let Some(solver) = Parallelogram4::new(avx2, shape) else {
+            let Some(parts) = Parallelogram4Parts::of(shape) else {
                 panic!("{shape:?}: a usual parallelogram left to the one-ray solver");
+            };
+            let solver = Parallelogram4 {
+                avx2,
+                parts: &parts,
             };
             let four = rays.map(|[o, d]| Ray::new(o, d));
             let found = solver.solve(&four, &t_max);
@@ -678,8 +694,12 @@ mod tests {
             let e1: V3<f64> = std::array::from_fn(|_| 2.0 * unit());
             let e2: V3<f64> = std::array::from_fn(|_| 2.0 * unit());
             let shape = [&corner, &e1, &e2];
-            let Some(solver) = Parallelogram4::new(avx2, shape) else {
+            let Some(parts) = Parallelogram4Parts::of(shape) else {
                 continue;
+            };
+            let solver = Parallelogram4 {
+                avx2,
+                parts: &parts,
             };
             let n = cross(&e1, &e2);
             let size = n.iter().map(|x| x * x).sum::<f64>().sqrt();
@@ -747,7 +767,11 @@ mod tests {
         let avx2 = crate::render::kernels::avx2_or_skip!();
         let shape = [[-3.0, -3.0, 0.0], [6.0, 0.0, 0.0], [0.0, 6.0, 0.0]];
         let [corner, e1, e2] = &shape;
-        let solver = Parallelogram4::new(avx2, [corner, e1, e2]).unwrap();
+        let parts = Parallelogram4Parts::of([corner, e1, e2]).unwrap();
+        let solver = Parallelogram4 {
+            avx2,
+            parts: &parts,
+        };
         let mut random = rand_pcg::Pcg64::seed_from_u64(14);
         for i in 0..1_000 {
             let (x, y) = (
@@ -777,11 +801,10 @@ mod tests {
     /// solver; a usual one is not.
     #[test]
     fn unusual_parallelograms_are_left_to_one_ray() {
-        let avx2 = crate::render::kernels::avx2_or_skip!();
         let mut random = rand_pcg::Pcg64::seed_from_u64(13);
         for i in 0..1_000 {
             let [corner, e1, e2, ..] = random_ray_near_edges(&mut random, 1e-13);
-            assert!(Parallelogram4::new(avx2, [&corner, &e1, &e2]).is_some());
+            assert!(Parallelogram4Parts::of([&corner, &e1, &e2]).is_some());
             let unusual: [[V3<f64>; 3]; 5] = [
                 [corner, e2.map(|x| x * 3.0), e2],
                 [
@@ -795,7 +818,7 @@ mod tests {
             ];
             for [c, a, b] in unusual {
                 assert!(
-                    Parallelogram4::new(avx2, [&c, &a, &b]).is_none(),
+                    Parallelogram4Parts::of([&c, &a, &b]).is_none(),
                     "{i}: {c:?} {a:?} {b:?}"
                 );
             }
