@@ -5,7 +5,7 @@
 #     benches/peer/instructions.sh [SCENE] [KIND]      (default: render-cornell-box refraction)
 #
 # Needs valgrind (apt-get install valgrind) and python3 with embreex and numpy. raylab's side is
-# examples/ray_kind_loop (the bench's casts, one thread), counted inside `cast_all_again` over two
+# examples/ray_kind_loop (the bench's casts, one thread), counted inside `cast_run_again` over two
 # casts. Embree's is benches/peer/embree_rays.py on the same rays and the same world-space
 # triangles (`DUMP`), one thread, counted inside Embree's own queries (rtcIntersect1 or
 # rtcOccluded1, called once a ray) over three casts (the count of rays that met something, one
@@ -29,7 +29,7 @@ count() { # the program's instructions, from callgrind's summary
     valgrind --tool=callgrind --callgrind-out-file=/dev/null "$@" 2>&1 \
         | sed -n 's/.*Collected : \([0-9]*\).*/\1/p'
 }
-ours=$(SCENE="$scene" KIND="$kind" REPS=1 count --toggle-collect='raylab::render::ray_log::cast_all_again*' "$loop")
+ours=$(SCENE="$scene" KIND="$kind" REPS=1 count --toggle-collect='raylab::render::ray_log::cast_run_again*' "$loop")
 query=$(case $kind in shadow | occlusion) echo occluded ;; *) echo intersect ;; esac)
 theirs=$(count --toggle-collect=rtcIntersect1 --toggle-collect=rtcOccluded1 \
     "$python" benches/peer/embree_rays.py --obj "$work/scene.obj" --rays "$work/$kind.f32" \
