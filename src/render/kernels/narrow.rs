@@ -658,16 +658,9 @@ impl OneRay {
     #[inline]
     unsafe fn new(ray: &Ray, t_max: f64) -> Option<OneRay> {
         use std::arch::x86_64::*;
-        // Each number read alone: merged, the compiler read the ray's last four as one 32-byte
-        // load, which waited on the narrower stores of a ray just moved into an object's space
-        // (1.2% of the Cornell box's occlusion rays' samples). A volatile read is not merged.
-        // SAFETY: a read of an f64 through a reference.
-        let read = |x: &f64| unsafe { std::ptr::read_volatile(x) };
         // Lane k is axis k; lane 3 a stand-in (d = 1, o = 0) that passes every check.
-        let [dx, dy, dz] = ray.dir.each_ref().map(read);
-        let [ox, oy, oz] = ray.origin.each_ref().map(read);
-        let dir = _mm256_setr_pd(dx, dy, dz, 1.0);
-        let origin = _mm256_setr_pd(ox, oy, oz, 0.0);
+        let dir = _mm256_setr_pd(ray.dir[0], ray.dir[1], ray.dir[2], 1.0);
+        let origin = _mm256_setr_pd(ray.origin[0], ray.origin[1], ray.origin[2], 0.0);
         let slabs = slabs4(origin, dir);
         let parallel_axes = _mm256_movemask_pd(slabs.parallel) as u32;
         if _mm256_movemask_pd(slabs.in_range) != 0b1111 || parallel_axes == 0b0111 {
