@@ -87,7 +87,7 @@ pub fn cast_all_again(prepared: &Prepared, rays: &[LoggedRay], stats: &mut Stats
 /// their shading, [`cast::nearest_hits_of_each`]: [`in_casting_order`] puts a log so), shadow
 /// and occlusion rays in the packets the tracer cast them in ([`cast::any_hits`]). How many met
 /// something. The peer bench's rows are a kind's rays, put in casting order before the clock
-/// starts: a scan for the kind's runs and their order read every ray once more, 5% of the
+/// starts: a scan for the kind's runs and their order read every ray once more, 4% of the
 /// Cornell box's primary rays' time.
 pub fn cast_run_again(prepared: &Prepared, run: &[LoggedRay], stats: &mut Stats) -> usize {
     const PACKET: usize = 16;

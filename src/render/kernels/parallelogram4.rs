@@ -77,8 +77,8 @@ impl Parallelogram4Parts {
 
 /// The solver for one parallelogram, four rays at a time: its parts, borrowed from the prepared
 /// scene. (Made afresh for each packet, by value, its copies' stores were read back as wider
-/// loads the processor could not forward them to: 5% of the ambient-occlusion scene's occlusion
-/// rays' time.)
+/// loads the processor could not forward them to: 5% of the samples of the ambient-occlusion
+/// scene's occlusion rays.)
 #[derive(Clone, Copy)]
 pub struct Parallelogram4<'a> {
     /// The proof that the processor runs the kernel.
