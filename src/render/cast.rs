@@ -1090,7 +1090,7 @@ fn parallelogram_lanes(
         return None;
     };
     let shape = [corner, e1, e2];
-    Parallelogram4::new(simd, lanes.as_deref()?).map(|solver| (solver, shape))
+    Parallelogram4::new(simd, shape, lanes.as_ref()?).map(|solver| (solver, shape))
 }
 
 /// [`any_hit`] testing every object in turn, without the index.

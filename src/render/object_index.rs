@@ -948,7 +948,7 @@ mod tests {
                 || -> [f64; 3] { std::array::from_fn(|_| random.random_range(-2.0..2.0)) };
             let geometry = if i % 3 == 0 {
                 let [corner, e1, e2] = [point(), point(), point()];
-                let lanes = Parallelogram4Parts::of([&corner, &e1, &e2]).map(Box::new);
+                let lanes = Parallelogram4Parts::of([&corner, &e1, &e2]);
                 Geometry::Parallelogram {
                     corner,
                     e1,

@@ -63,10 +63,9 @@ pub enum Geometry {
         e2: V3<f64>,
         /// The unit normal of e1 × e2.
         face_normal: V3<f64>,
-        /// What the four-lane solver needs of the parallelogram, made once
+        /// What the four-lane solver derives from e1 × e2, found once
         /// ([`Parallelogram4Parts::of`]); `None` when it leaves every ray to the one-ray solver.
-        /// (Boxed: the other shapes are smaller.)
-        lanes: Option<Box<Parallelogram4Parts>>,
+        lanes: Option<Parallelogram4Parts>,
     },
 }
 
@@ -235,7 +234,7 @@ pub fn prepare(
                 e1: *e1,
                 e2: *e2,
                 face_normal: unit(cross(e1, e2)),
-                lanes: Parallelogram4Parts::of([corner, e1, e2]).map(Box::new),
+                lanes: Parallelogram4Parts::of([corner, e1, e2]),
             };
             (geometry, false)
         }

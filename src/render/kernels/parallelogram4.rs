@@ -41,12 +41,10 @@ pub struct Found4 {
     pub beta: [f64; 4],
 }
 
-/// What the four-lane solver needs of one parallelogram, made once, when the scene is prepared.
+/// What the four-lane solver needs of one parallelogram beyond its corner and edges, found once,
+/// when the scene is prepared: what it derives from e1 × e2.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Parallelogram4Parts {
-    corner: V3<f64>,
-    e1: V3<f64>,
-    e2: V3<f64>,
     /// The largest |component| of e1 × e2 (for the solver's near-parallel check).
     normal_largest: f64,
     /// n = e1 × e2 rounded, and per component the sum of its two products' magnitudes (what
@@ -58,16 +56,13 @@ pub struct Parallelogram4Parts {
 impl Parallelogram4Parts {
     /// `None` when the parallelogram takes one of the solver's rare paths whatever the ray
     /// (non-finite, or edges that may be parallel): then every ray goes to the one-ray solver.
-    pub fn of(shape @ [corner, e1, e2]: [&V3<f64>; 3]) -> Option<Parallelogram4Parts> {
+    pub fn of(shape @ [_, e1, e2]: [&V3<f64>; 3]) -> Option<Parallelogram4Parts> {
         // n_k = e1_a·e2_b − e1_b·e2_a, (a, b) following k around the axes: n = e1 × e2.
         let product = |k: usize| {
             let (a, b) = ((k + 1) % 3, (k + 2) % 3);
             (e1[a] * e2[b], e1[b] * e2[a])
         };
         Some(Parallelogram4Parts {
-            corner: *corner,
-            e1: *e1,
-            e2: *e2,
             normal_largest: normal_largest(shape)?,
             normal: std::array::from_fn(|k| product(k).0 - product(k).1),
             normal_sizes: std::array::from_fn(|k| product(k).0.abs() + product(k).1.abs()),
@@ -75,14 +70,17 @@ impl Parallelogram4Parts {
     }
 }
 
-/// The solver for one parallelogram, four rays at a time: its parts, borrowed from the prepared
-/// scene. (Made afresh for each packet, by value, its copies' stores were read back as wider
-/// loads the processor could not forward them to: 5% of the samples of the ambient-occlusion
-/// scene's occlusion rays.)
+/// The solver for one parallelogram, four rays at a time: its corner, edges and parts, borrowed
+/// from the prepared scene. (Made afresh for each packet, by value, its copies' stores were read
+/// back as wider loads the processor could not forward them to: 5% of the samples of the
+/// ambient-occlusion scene's occlusion rays.)
 #[derive(Clone, Copy)]
 pub struct Parallelogram4<'a> {
     /// The proof that the processor runs the kernel.
     avx2: Avx2,
+    corner: &'a V3<f64>,
+    e1: &'a V3<f64>,
+    e2: &'a V3<f64>,
     parts: &'a Parallelogram4Parts,
 }
 
@@ -95,11 +93,21 @@ impl std::ops::Deref for Parallelogram4<'_> {
 }
 
 impl<'a> Parallelogram4<'a> {
-    /// The solver for a parallelogram whose parts were made once, when it was prepared. `None`
-    /// without `simd` (a processor without AVX2).
+    /// The solver for parallelogram `[corner, e1, e2]`, whose parts were found once, when it was
+    /// prepared. `None` without `simd` (a processor without AVX2).
     #[inline]
-    pub fn new(simd: Option<Avx2>, parts: &'a Parallelogram4Parts) -> Option<Parallelogram4<'a>> {
-        Some(Parallelogram4 { avx2: simd?, parts })
+    pub fn new(
+        simd: Option<Avx2>,
+        [corner, e1, e2]: [&'a V3<f64>; 3],
+        parts: &'a Parallelogram4Parts,
+    ) -> Option<Parallelogram4<'a>> {
+        Some(Parallelogram4 {
+            avx2: simd?,
+            corner,
+            e1,
+            e2,
+            parts,
+        })
     }
 
     /// The solver's answers for four rays (in the parallelogram's space), keeping only hits with
@@ -126,7 +134,7 @@ impl<'a> Parallelogram4<'a> {
     #[inline]
     pub fn blocks_one(&self, ray: &Ray, t_end: f64) -> Option<bool> {
         let (origin, d) = (&ray.origin, &ray.dir);
-        let (e1, e2, corner) = (&self.e1, &self.e2, &self.corner);
+        let (e1, e2, corner) = (self.e1, self.e2, self.corner);
         // M = [e1 e2 −d] by columns; y = o − c.
         let m = [
             [e1[0], e2[0], -d[0]],
@@ -406,7 +414,7 @@ fn near_parallel_bound(shape: &Parallelogram4<'_>, dir: &Lanes3) -> (__m256d, __
 #[target_feature(enable = "avx2,fma,popcnt,bmi1")]
 #[inline]
 fn out_of_reach(shape: &Parallelogram4<'_>, [origin, dir]: &[Lanes3; 2], t_end: __m256d) -> u32 {
-    let corner = splat(&shape.corner);
+    let corner = splat(shape.corner);
     let (normal, sizes) = (splat(&shape.normal), splat(&shape.normal_sizes));
     // y = o − c as the solver rounds it.
     let y = [0, 1, 2].map(|k| _mm256_sub_pd(origin[k], corner[k]));
@@ -452,7 +460,7 @@ fn solve4<const OPEN: bool>(
     lanes: u32,
     limit: __m256d,
 ) -> Found4 {
-    let (e1, e2) = (splat(&shape.e1), splat(&shape.e2));
+    let (e1, e2) = (splat(shape.e1), splat(shape.e2));
     let minus_d = [negate(dir[0]), negate(dir[1]), negate(dir[2])];
     // M = [e1 e2 −d] by columns; y = o − c.
     let m: [Lanes3; 3] = [
@@ -460,7 +468,7 @@ fn solve4<const OPEN: bool>(
         [e1[1], e2[1], minus_d[1]],
         [e1[2], e2[2], minus_d[2]],
     ];
-    let corner = splat(&shape.corner);
+    let corner = splat(shape.corner);
     let y = [
         _mm256_sub_pd(origin[0], corner[0]),
         _mm256_sub_pd(origin[1], corner[1]),
@@ -615,10 +623,7 @@ mod tests {
             let Some(parts) = Parallelogram4Parts::of(shape) else {
                 panic!("{shape:?}: a usual parallelogram left to the one-ray solver");
             };
-            let solver = Parallelogram4 {
-                avx2,
-                parts: &parts,
-            };
+            let solver = Parallelogram4::new(Some(avx2), shape, &parts).unwrap();
             let four = rays.map(|[o, d]| Ray::new(o, d));
             let found = solver.solve(&four, &t_max);
             assert_eq!(found.hit & found.rare, 0);
@@ -697,10 +702,7 @@ mod tests {
             let Some(parts) = Parallelogram4Parts::of(shape) else {
                 continue;
             };
-            let solver = Parallelogram4 {
-                avx2,
-                parts: &parts,
-            };
+            let solver = Parallelogram4::new(Some(avx2), shape, &parts).unwrap();
             let n = cross(&e1, &e2);
             let size = n.iter().map(|x| x * x).sum::<f64>().sqrt();
             let mut rays = [Ray::new([0.0; 3], [1.0, 0.0, 0.0]); 4];
@@ -768,10 +770,7 @@ mod tests {
         let shape = [[-3.0, -3.0, 0.0], [6.0, 0.0, 0.0], [0.0, 6.0, 0.0]];
         let [corner, e1, e2] = &shape;
         let parts = Parallelogram4Parts::of([corner, e1, e2]).unwrap();
-        let solver = Parallelogram4 {
-            avx2,
-            parts: &parts,
-        };
+        let solver = Parallelogram4::new(Some(avx2), [corner, e1, e2], &parts).unwrap();
         let mut random = rand_pcg::Pcg64::seed_from_u64(14);
         for i in 0..1_000 {
             let (x, y) = (
