@@ -270,7 +270,7 @@ pub fn nearest_hits<const P: usize>(
     #[cfg(target_arch = "x86_64")]
     let mut boxes_made = false;
     for (index, object) in prepared.objects.iter().enumerate() {
-        if gathered.is_some() && object_index::gathers(object) {
+        if gathered.is_some_and(|gathered| gathered.holds(index)) {
             continue;
         }
         let bvh = match &object.geometry {
