@@ -42,7 +42,13 @@ pub(in crate::render) struct Eight {
     /// The whole mesh, as `(child, count)`: node 0 here, or the one leaf of a small mesh; `None`
     /// for an empty hierarchy.
     pub(in crate::render) start: Option<(u32, u32)>,
+    /// Each node's parent ([`NO_PARENT`] for the first): where a walk that found nothing near the
+    /// last blocker looks next.
+    pub(in crate::render) parents: Vec<u32>,
 }
+
+/// The parent of a node that has none.
+pub(in crate::render) const NO_PARENT: u32 = u32::MAX;
 
 impl Eight {
     /// The 8-wide nodes over the binary build `binary` (its root first), whose references are
@@ -68,6 +74,7 @@ impl Eight {
         let mut eight = Eight {
             nodes: Vec::with_capacity(binary.len() / 8 + 1),
             start: None,
+            parents: Vec::with_capacity(binary.len() / 8 + 1),
         };
         eight.start = Some(if whole(0) {
             leaf(0)
@@ -75,6 +82,7 @@ impl Eight {
             (eight.collapse(binary, (&plan, &whole), &mut leaf, 0), 0)
         });
         eight.nodes.shrink_to_fit();
+        eight.parents.shrink_to_fit();
         eight
     }
 
@@ -90,6 +98,7 @@ impl Eight {
     ) -> u32 {
         let at = self.nodes.len();
         self.nodes.push(Node8::empty());
+        self.parents.push(NO_PARENT);
         let mut children = Vec::with_capacity(8);
         plan.children(binary, index, &mut children);
         // The walk visits the last lane first (after the boxes the ray starts in): the smallest
@@ -105,7 +114,11 @@ impl Eight {
         for (lane, &c) in children.iter().enumerate() {
             let (child, count) = match whole(c) {
                 true => leaf(c),
-                false => (self.collapse(binary, (plan, whole), leaf, c), 0),
+                false => {
+                    let child = self.collapse(binary, (plan, whole), leaf, c);
+                    self.parents[child as usize] = at as u32;
+                    (child, 0)
+                }
             };
             let (min, max) = binary[c].bounds.to_f32();
             let node = &mut self.nodes[at];
@@ -121,7 +134,8 @@ impl Eight {
 
     /// The bytes it holds (its packed slots are the hierarchy's).
     pub(in crate::render) fn held_bytes(&self) -> u64 {
-        (std::mem::size_of::<Node8>() * self.nodes.capacity()) as u64
+        (std::mem::size_of::<Node8>() * self.nodes.capacity()
+            + std::mem::size_of::<u32>() * self.parents.capacity()) as u64
     }
 }
 

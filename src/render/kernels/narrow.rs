@@ -32,7 +32,7 @@ use std::mem::MaybeUninit;
 
 use super::Avx2;
 use crate::render::Ray;
-use crate::render::bvh::eight::Node8;
+use crate::render::bvh::eight::{NO_PARENT, Node8};
 use crate::render::bvh::traverse::{Met, Query, children};
 use crate::render::bvh::{Bvh, EMPTY, Nearest, Node, WideNode, close_found};
 use crate::render::crack_free::ShearedRay;
@@ -769,6 +769,11 @@ fn each_axis(lanes: std::arch::x86_64::__m128) -> [std::arch::x86_64::__m256; 3]
 /// the top. On the peer bench's box seen from inside, one ray at a time, 6% less time and 16.1
 /// box tests a ray against 23.5 (19.6 against 28.9 and 7% less time at 363 600 triangles; the
 /// sphere, whose rays mostly miss or meet its far side, 28.0 against 29.8 and the same time).
+/// Between the two, the walk tries that node's parent (its seven neighbours), and a ray nothing
+/// blocks sends the next one straight to the top; each walk leaves out the node the last one
+/// walked. On the same rays (callgrind, two casts on one thread): the box 5.5% fewer
+/// instructions, the finer box 3.5%, the sphere 6.7% (its missing rays no longer walk near an
+/// old blocker first).
 ///
 /// # Safety
 /// Compiled with AVX2 and FMA: safe to call from code compiled with them; `avx2` proves the
@@ -828,7 +833,7 @@ pub fn occluded_one_ray(
     // One walk from `top` (a node's `(child, 0)`, or the mesh's start): the quad that blocks the
     // ray and the node the walk was in when it found it, `Some(None)` when none does, `None` when
     // the ray has no sheared form (then nothing blocks it).
-    let mut walk_from = |top: (u32, u32)| -> Option<Option<(usize, u32)>> {
+    let mut walk_from = |top: (u32, u32), skip: u32| -> Option<Option<(usize, u32)>> {
         // (child, count) of the children still to visit; the build bounds the depth, so `STACK`
         // entries suffice (the index is checked: more would be a bug, and panics).
         let mut stack = [const { MaybeUninit::<(u32, u32)>::uninit() }; STACK];
@@ -859,6 +864,9 @@ pub fn occluded_one_ray(
             while order != 0 {
                 let lane = order.trailing_zeros() as usize & 7;
                 order &= order - 1;
+                if node.child[lane] == skip && node.count[lane] == 0 {
+                    continue;
+                }
                 prefetch(bvh, &bvh.eight.nodes, node.child[lane], node.count[lane]);
                 stack[len].write((node.child[lane], node.count[lane]));
                 len += 1;
@@ -874,11 +882,24 @@ pub fn occluded_one_ray(
         .then_some(last.node)
         .filter(|&node| node != start && (node as usize) < bvh.eight.nodes.len());
     let mut blocker = match near_last {
-        Some(node) => walk_from((node, 0)),
+        Some(node) => walk_from((node, 0), NO_PARENT),
         None => Some(None),
     };
+    // Then the nodes beside it (its parent's other children), then the rest: each walk skips the
+    // node the one before it walked.
+    let mut walked = NO_PARENT;
+    if blocker == Some(None)
+        && let Some(node) = near_last
+    {
+        walked = node;
+        let parent = bvh.eight.parents[node as usize];
+        if parent != NO_PARENT && parent != start {
+            blocker = walk_from((parent, 0), node);
+            walked = parent;
+        }
+    }
     if blocker == Some(None) {
-        blocker = walk_from((start, start_count));
+        blocker = walk_from((start, start_count), walked);
     }
     let found = match blocker {
         Some(Some((quad, node))) => {
@@ -894,7 +915,20 @@ pub fn occluded_one_ray(
             });
             true
         }
-        _ => false,
+        _ => {
+            // Nothing blocks this ray (a ray past the mesh's edge): the next ray walks from the
+            // top, not near a blocker that the rays since may have left behind.
+            if near_last.is_some() {
+                BLOCKERS.with(|blockers| {
+                    let last = blockers.last[lane].get();
+                    blockers.last[lane].set(LastBlocker {
+                        node: NO_PARENT,
+                        ..last
+                    });
+                });
+            }
+            false
+        }
     };
     *box_tests += boxes;
     *triangle_tests += triangles + last_blocker_tests;
