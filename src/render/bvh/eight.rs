@@ -365,6 +365,36 @@ mod tests {
         }
     }
 
+    /// Each node's parent is the node whose lane holds it, once; only the first node has none (the
+    /// any-hit walk climbs these to the top, and a wrong one would leave part of the mesh unwalked).
+    #[test]
+    fn every_node_but_the_first_has_the_parent_that_holds_it() {
+        for level in [0, 3, 5] {
+            let triangles: Vec<PreparedTriangle> = irregular_sphere(level, 7)
+                .into_iter()
+                .map(PreparedTriangle::new)
+                .collect();
+            let eight = &Bvh::build(&triangles).eight;
+            assert_eq!(eight.parents.len(), eight.nodes.len(), "level {level}");
+            let mut held = vec![0; eight.nodes.len()];
+            for (at, node) in eight.nodes.iter().enumerate() {
+                for lane in (0..8).filter(|&l| node.count[l] == 0 && node.child[l] != EMPTY) {
+                    let child = node.child[lane] as usize;
+                    held[child] += 1;
+                    assert_eq!(
+                        eight.parents[child], at as u32,
+                        "level {level}, node {child}"
+                    );
+                }
+            }
+            assert_eq!(eight.parents[0], NO_PARENT, "level {level}");
+            assert!(
+                held[0] == 0 && held[1..].iter().all(|&h| h == 1),
+                "level {level}"
+            );
+        }
+    }
+
     #[test]
     fn the_eight_wide_leaves_hold_the_four_wide_leaves_whole_through_fewer_nodes() {
         for level in [0, 3, 5] {

@@ -773,7 +773,8 @@ fn each_axis(lanes: std::arch::x86_64::__m128) -> [std::arch::x86_64::__m256; 3]
 /// (the nodes beside it, then farther), up to the first node; and a ray nothing blocks sends the
 /// next one straight to the top. On the same rays (callgrind, two casts on one thread): the box
 /// 5.8% fewer instructions than walking from the top after the near node, the finer box 6.1%, the
-/// sphere 11.1% (its missing rays no longer walk near an old blocker first).
+/// sphere 11.1% (its missing rays no longer walk near an old blocker first); box tests a ray
+/// 9.93 on the box (from 16.1) and 21.6 on the sphere (from 28.0).
 ///
 /// # Safety
 /// Compiled with AVX2 and FMA: safe to call from code compiled with them; `avx2` proves the
@@ -930,7 +931,7 @@ pub fn occluded_one_ray(
                 BLOCKERS.with(|blockers| {
                     let last = blockers.last[lane].get();
                     blockers.last[lane].set(LastBlocker {
-                        node: NO_PARENT,
+                        node: LastBlocker::NONE.node,
                         ..last
                     });
                 });
