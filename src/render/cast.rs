@@ -338,7 +338,9 @@ pub fn nearest_hits<const P: usize>(
             (index, primitive)
         });
     }
-    if walls_last {
+    // Rays whose hits so far lie before any gathered triangle's box skip the walk: it would
+    // find nothing nearer.
+    if walls_last && !gathered.is_some_and(|gathered| gathered.beyond_reach(rays, &reaches(best))) {
         walls(best, stats);
     }
 }
