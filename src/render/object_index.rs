@@ -1014,6 +1014,14 @@ mod tests {
         crate::render::shipped_scenes(24, 16)
     }
 
+    /// The shipped Cornell box, shrunk as [`shipped`] shrinks it.
+    fn cornell_box() -> (String, Prepared) {
+        shipped()
+            .into_iter()
+            .find(|(name, _)| name.contains("cornell"))
+            .expect("the Cornell box is shipped")
+    }
+
     /// Objects under awkward transforms: rotated, sheared, scaled by 10⁻⁶ and 10⁶, a sliver
     /// triangle and parallelograms, placed at random, some sharing planes and edges.
     fn awkward(seed: u64) -> Prepared {
@@ -1290,10 +1298,7 @@ mod tests {
     #[test]
     fn rays_inside_a_room_of_walls_find_what_single_rays_find() {
         use crate::render::cast::{TOGETHER, nearest_hit, nearest_hits};
-        let (name, prepared) = shipped()
-            .into_iter()
-            .find(|(name, _)| name.contains("cornell"))
-            .expect("the Cornell box is shipped");
+        let (name, prepared) = cornell_box();
         let gathered = prepared
             .object_index()
             .gathered()
@@ -1345,10 +1350,7 @@ mod tests {
     #[test]
     fn a_hit_on_a_wall_is_never_beyond_reach() {
         use crate::render::cast::{TOGETHER, nearest_hit};
-        let (name, prepared) = shipped()
-            .into_iter()
-            .find(|(name, _)| name.contains("cornell"))
-            .expect("the Cornell box is shipped");
+        let (name, prepared) = cornell_box();
         let gathered = prepared
             .object_index()
             .gathered()
