@@ -338,8 +338,8 @@ pub fn nearest_hits<const P: usize>(
             (index, primitive)
         });
     }
-    // Rays whose hits so far lie before any gathered triangle's box skip the walk: it would
-    // find nothing nearer.
+    // A packet whose rays' hits so far all lie short of every gathered triangle's box skips the
+    // walk: it would find nothing nearer.
     if walls_last && !gathered.is_some_and(|gathered| gathered.beyond_reach(rays, &reaches(best))) {
         walls(best, stats);
     }

@@ -203,6 +203,7 @@ impl Gathered {
     /// reflected inside the glass sphere, which they meet again long before any wall. False when
     /// some ray has no finite reach, or there are too many triangles to test.
     pub fn beyond_reach<const P: usize>(&self, rays: &[Ray; P], t_max: &[f64; P]) -> bool {
+        // A ray that has met nothing (t_max = +∞) must walk: answered before any arithmetic.
         if self.reach_boxes.is_empty() || !t_max.iter().all(|t| t.is_finite()) {
             return false;
         }

@@ -365,16 +365,21 @@ mod tests {
         }
     }
 
+    /// The hierarchy over the irregular sphere of `level` (seed 7).
+    fn sphere_hierarchy(level: u32) -> Bvh {
+        let triangles: Vec<PreparedTriangle> = irregular_sphere(level, 7)
+            .into_iter()
+            .map(PreparedTriangle::new)
+            .collect();
+        Bvh::build(&triangles)
+    }
+
     /// Each node's parent is the node whose lane holds it, once; only the first node has none (the
     /// any-hit walk climbs these to the top, and a wrong one would leave part of the mesh unwalked).
     #[test]
     fn every_node_but_the_first_has_the_parent_that_holds_it() {
         for level in [0, 3, 5] {
-            let triangles: Vec<PreparedTriangle> = irregular_sphere(level, 7)
-                .into_iter()
-                .map(PreparedTriangle::new)
-                .collect();
-            let eight = &Bvh::build(&triangles).eight;
+            let eight = &sphere_hierarchy(level).eight;
             assert_eq!(eight.parents.len(), eight.nodes.len(), "level {level}");
             let mut held = vec![0; eight.nodes.len()];
             for (at, node) in eight.nodes.iter().enumerate() {
@@ -398,11 +403,7 @@ mod tests {
     #[test]
     fn the_eight_wide_leaves_hold_the_four_wide_leaves_whole_through_fewer_nodes() {
         for level in [0, 3, 5] {
-            let triangles: Vec<PreparedTriangle> = irregular_sphere(level, 7)
-                .into_iter()
-                .map(PreparedTriangle::new)
-                .collect();
-            let bvh = Bvh::build(&triangles);
+            let bvh = sphere_hierarchy(level);
             let root = &bvh.nodes[0];
             let mut four = Vec::new();
             leaves4(&bvh, (root.child[0], root.count[0]), &mut four);
