@@ -346,6 +346,8 @@ mod tests {
             let (mut boxes, mut tested, mut occluded, mut rays) = (0, 0, 0, 0);
             for top in (0..side - 3).step_by(4) {
                 for left in (0..side - 3).step_by(4) {
+                    // The walk from the top, not from where the last tile's hit was found.
+                    Bvh::forget_last_blocker();
                     let tile: [Ray; 16] =
                         std::array::from_fn(|k| prepared.ray(top + k / 4, left + k % 4));
                     let limits = [f64::INFINITY; 16];

@@ -22,6 +22,7 @@
 use super::crack_free::ShearedRay;
 use traverse::{Met, Query, children};
 
+pub(in crate::render) mod climb;
 pub(in crate::render) mod eight;
 mod split;
 pub(in crate::render) mod traverse;
@@ -244,6 +245,8 @@ pub struct Bvh {
     pub(in crate::render) narrow: bool,
     /// The nodes merged eight wide, for one ray's any-hit walk ([`narrow::occluded_one_ray`]).
     pub(in crate::render) eight: eight::Eight,
+    /// The 4-wide nodes' parents and leaves' holders, for a packet's any-hit walk.
+    pub(in crate::render) climb: climb::Climb,
 }
 
 /// Per-ray constants of the box test.
@@ -322,6 +325,7 @@ impl Bvh {
             triangles: finite.len(),
             narrow: true,
             eight: eight::Eight::default(),
+            climb: climb::Climb::default(),
         };
         if !binary.is_empty() {
             // Node 0 holds the whole mesh's box as its one child: a ray that misses the mesh costs
@@ -343,6 +347,9 @@ impl Bvh {
         }
         bvh.quads = bvh.build_vertices.par_chunks(4).map(Quad::new).collect();
         bvh.build_vertices = Vec::new();
+        if cfg!(target_arch = "x86_64") {
+            bvh.climb = climb::Climb::of(&bvh.nodes, bvh.quads.len());
+        }
         // The vectors grew while the size was unknown: hold no more than they use.
         bvh.nodes.shrink_to_fit();
         bvh.order.shrink_to_fit();
@@ -423,6 +430,7 @@ impl Bvh {
             + held(&self.build_vertices)
             + held(&self.quads)
             + self.eight.held_bytes()
+            + self.climb.held_bytes()
     }
 
     /// True when it holds no triangle.
@@ -499,8 +507,9 @@ impl Bvh {
     }
 
     /// Forgets the quad that blocked this thread's last blocked any-hit ray, which
-    /// [`Bvh::occluded`] tests first on the same hierarchy: the next query walks from the top. No
-    /// answer changes; only the tests counted and the time do (for measuring the walk alone).
+    /// [`Bvh::occluded`] tests first on the same hierarchy, and the node an any-hit packet's walk
+    /// starts from ([`Bvh::occluded_packet`]): the next query walks from the top. No answer
+    /// changes; only the tests counted and the time do (for measuring the walk alone).
     pub fn forget_last_blocker() {
         #[cfg(target_arch = "x86_64")]
         narrow::forget_last_blocker();
@@ -812,7 +821,10 @@ impl Bvh {
     /// [`Bvh::occluded`] for `P` rays at once (neighbouring pixels, or the shadow rays of their
     /// hits), each with its own t_max and t_min = 0: a bit set of the rays with a crack-free hit at
     /// 0 < t < t_max. A ray leaves the packet at its first such hit; the walk ends when none is
-    /// left. Counts box and triangle tests per ray.
+    /// left. Counts box and triangle tests per ray. With AVX2, the walk starts a few levels above
+    /// the node where this thread's last packet on this hierarchy found a hit, and climbs from
+    /// there (`Bvh::visit_climbing`): packets of neighbouring rays cast one after another end
+    /// near one another.
     pub fn occluded_packet<const P: usize>(
         &self,
         simd: Option<Avx2>,

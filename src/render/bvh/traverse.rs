@@ -62,7 +62,7 @@ impl Bvh {
     /// Walks the hierarchy for `query`'s rays `rays`, from distance `start`.
     #[inline(always)]
     pub(in crate::render) fn visit<Q: Query>(&self, query: &mut Q, rays: u32, start: Q::Near) {
-        self.visit_from(query, (0, 0), rays, start);
+        self.visit_from(query, (0, 0), 0, rays, start);
     }
 
     /// [`Bvh::visit`] from below node 0, whose one box (the whole mesh's) is not tested. A
@@ -88,15 +88,49 @@ impl Bvh {
             [true, false, false, false] => (root.child[0], root.count[0]),
             _ => (0, 0),
         };
-        self.visit_from(query, from, rays, start);
+        self.visit_from(query, from, 0, rays, start);
     }
 
-    /// Walks from `(child, count)`: an inner node, or a leaf's slots.
+    /// [`Bvh::visit`] from inner node `near` (one a last walk found a hit below), then, while some
+    /// ray of `rays` is still live at `start`, each ancestor's other children in turn, up to node
+    /// 0: the whole hierarchy in the end, each node at most once, its nearest part first. For an
+    /// any-hit query of rays beside the last ones, which most often end near where those did.
+    /// Ancestors' boxes are not tested (a skipped box test only culls less).
+    #[inline(always)]
+    #[cfg_attr(
+        not(target_arch = "x86_64"),
+        allow(dead_code, reason = "used by the x86-64 packet walk only")
+    )]
+    pub(in crate::render) fn visit_climbing<Q: Query>(
+        &self,
+        query: &mut Q,
+        near: u32,
+        rays: u32,
+        start: Q::Near,
+    ) {
+        let mut node = near;
+        self.visit_from(query, (node, 0), 0, rays, start);
+        while query.live(rays, start) != 0 {
+            let Some(&parent) = self.climb.parents.get(node as usize) else {
+                return;
+            };
+            if parent == super::climb::NO_PARENT {
+                return;
+            }
+            let below = super::climb::lanes_holding(&self.nodes[parent as usize], node);
+            self.visit_from(query, (parent, 0), below, rays, start);
+            node = parent;
+        }
+    }
+
+    /// Walks from `(child, count)`: an inner node, or a leaf's slots; an inner node's lanes in
+    /// `skip` (a bit each) are left out of it (not of the nodes below it).
     #[inline(always)]
     fn visit_from<Q: Query>(
         &self,
         query: &mut Q,
         (child, count): (u32, u32),
+        skip: u32,
         rays: u32,
         start: Q::Near,
     ) {
@@ -110,6 +144,8 @@ impl Bvh {
             rays,
             near: start,
         });
+        // The first node's lanes to leave out; none below it.
+        let mut skip = skip;
         while let Some(entry) = stack.pop() {
             let live = query.live(entry.rays, entry.near);
             if live == 0 {
@@ -123,7 +159,13 @@ impl Bvh {
                 continue;
             }
             let node = &self.nodes[entry.child as usize];
-            let met = query.boxes(node, live);
+            let mut met = query.boxes(node, live);
+            for (lane, rays) in met.rays.iter_mut().enumerate() {
+                if skip & 1 << lane != 0 {
+                    *rays = 0;
+                }
+            }
+            skip = 0;
             for lane in farthest_first(&met) {
                 query.will_visit(node.child[lane], node.count[lane]);
                 stack.push(Visit {
