@@ -19,11 +19,21 @@ pub(in crate::render) struct Climb {
 }
 
 impl Climb {
-    /// The links of `nodes`, whose leaves lie in the first `quads` quads of slots.
-    pub(in crate::render) fn of(nodes: &[Node], quads: usize) -> Climb {
+    /// The links of `nodes`.
+    pub(in crate::render) fn of(nodes: &[Node]) -> Climb {
+        // The 4-wide leaves come before the 8-wide walk's packed ones: no holder past them.
+        let leaves_end = nodes
+            .iter()
+            .flat_map(|node| {
+                (0..4)
+                    .filter(|&lane| node.count[lane] > 0)
+                    .map(|lane| node.child[lane] + node.count[lane])
+            })
+            .max()
+            .unwrap_or(0);
         let mut climb = Climb {
             parents: vec![NO_PARENT; nodes.len()],
-            holders: vec![NO_PARENT; quads],
+            holders: vec![NO_PARENT; (leaves_end as usize).div_ceil(4)],
         };
         for (at, node) in nodes.iter().enumerate() {
             for lane in 0..4 {

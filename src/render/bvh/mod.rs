@@ -348,7 +348,7 @@ impl Bvh {
         bvh.quads = bvh.build_vertices.par_chunks(4).map(Quad::new).collect();
         bvh.build_vertices = Vec::new();
         if cfg!(target_arch = "x86_64") {
-            bvh.climb = climb::Climb::of(&bvh.nodes, bvh.quads.len());
+            bvh.climb = climb::Climb::of(&bvh.nodes);
         }
         // The vectors grew while the size was unknown: hold no more than they use.
         bvh.nodes.shrink_to_fit();
