@@ -54,6 +54,10 @@ impl Climb {
 
     /// The node whose lane holds the leaf starting at slot `first`, if one does.
     #[inline(always)]
+    #[cfg_attr(
+        not(target_arch = "x86_64"),
+        allow(dead_code, reason = "used by the x86-64 packet walk only")
+    )]
     pub(in crate::render) fn holder(&self, first: usize) -> Option<u32> {
         self.holders
             .get(first / 4)
@@ -62,6 +66,10 @@ impl Climb {
     }
 
     /// `node`'s ancestor `levels` up, or node 0 if it is fewer levels deep.
+    #[cfg_attr(
+        not(target_arch = "x86_64"),
+        allow(dead_code, reason = "used by the x86-64 packet walk only")
+    )]
     pub(in crate::render) fn ancestor(&self, mut node: u32, levels: u32) -> u32 {
         for _ in 0..levels {
             match self.parents.get(node as usize) {

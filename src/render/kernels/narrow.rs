@@ -1247,20 +1247,13 @@ mod tests {
     /// it; and on the box, cast in order alone, at most 60% of the box tests of walks from the top.
     #[test]
     fn the_last_blocker_changes_no_answer_and_spares_the_walk() {
-        use crate::render::generate::{grid_box, irregular_sphere, mesh_hierarchy, mesh_scene};
-        use crate::scene::render::Camera;
+        use crate::render::generate::{irregular_sphere, mesh_hierarchy, mesh_scene};
         let avx2 = crate::render::kernels::avx2_or_skip!();
         fn hierarchy(prepared: &crate::render::Prepared) -> &Bvh {
             mesh_hierarchy(prepared).expect("a mesh scene has a hierarchy")
         }
-        let (camera, side, triangles) = grid_box(12);
-        let grid = mesh_scene(&triangles, camera, side, side);
-        let camera = Camera::Pinhole {
-            position: [0.3, -3.6, 0.5],
-            target: [0.0, 0.0, 0.0],
-            fov_y: 40.0,
-        };
-        let sphere = mesh_scene(&irregular_sphere(3, 12), camera.clone(), side, side);
+        let (grid, sphere, side) = grid_and_sphere();
+        let camera = sphere_camera();
         let (grid_bvh, sphere_bvh) = (hierarchy(&grid), hierarchy(&sphere));
         let (mut blocked, mut open) = (0, 0);
         for row in 0..side {
@@ -1384,17 +1377,9 @@ mod tests {
     /// tests fewer boxes than from the top.
     #[test]
     fn a_packet_walk_from_any_node_answers_as_from_the_top() {
-        use crate::render::generate::{grid_box, irregular_sphere, mesh_hierarchy, mesh_scene};
-        use crate::scene::render::Camera;
+        use crate::render::generate::mesh_hierarchy;
         let avx2 = crate::render::kernels::avx2_or_skip!();
-        let (camera, side, triangles) = grid_box(12);
-        let grid = mesh_scene(&triangles, camera, side, side);
-        let camera = Camera::Pinhole {
-            position: [0.3, -3.6, 0.5],
-            target: [0.0, 0.0, 0.0],
-            fov_y: 40.0,
-        };
-        let sphere = mesh_scene(&irregular_sphere(3, 12), camera, side, side);
+        let (grid, sphere, side) = grid_and_sphere();
         let (mut blocked, mut open) = (0, 0);
         for prepared in [&grid, &sphere] {
             let bvh = mesh_hierarchy(prepared).expect("a mesh scene has a hierarchy");
@@ -1445,6 +1430,25 @@ mod tests {
             );
         }
         assert!(blocked > 500 && open > 500, "{blocked} {open}");
+    }
+
+    /// The camera the sphere of the last-blocker tests is seen from.
+    fn sphere_camera() -> crate::scene::render::Camera {
+        crate::scene::render::Camera::Pinhole {
+            position: [0.3, -3.6, 0.5],
+            target: [0.0, 0.0, 0.0],
+            fov_y: 40.0,
+        }
+    }
+
+    /// The grid box of 12 cells a side seen from inside, and the sphere of level 3 seen from
+    /// outside on an image of the same size (some of its rays miss), and that size.
+    fn grid_and_sphere() -> (crate::render::Prepared, crate::render::Prepared, usize) {
+        use crate::render::generate::{grid_box, irregular_sphere, mesh_scene};
+        let (camera, side, triangles) = grid_box(12);
+        let grid = mesh_scene(&triangles, camera, side, side);
+        let sphere = mesh_scene(&irregular_sphere(3, 12), sphere_camera(), side, side);
+        (grid, sphere, side)
     }
 
     /// A node whose lanes hold `boxes` (min, max), the rest empty.
