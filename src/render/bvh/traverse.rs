@@ -93,9 +93,10 @@ impl Bvh {
 
     /// [`Bvh::visit`] from inner node `near` (one a last walk found a hit below), then, while some
     /// ray of `rays` is still live at `start`, each ancestor's other children in turn, up to node
-    /// 0: the whole hierarchy in the end, each node at most once, its nearest part first. For an
-    /// any-hit query of rays beside the last ones, which most often end near where those did.
-    /// Ancestors' boxes are not tested (a skipped box test only culls less).
+    /// 0: the whole hierarchy in the end, each node at most once, the part around `near` first.
+    /// For an any-hit query of rays beside the last ones, which most often end near where those
+    /// did. The boxes of `near` and its ancestors are not tested, only those of their children (a
+    /// skipped box test only culls less).
     #[inline(always)]
     #[cfg_attr(
         not(target_arch = "x86_64"),
