@@ -65,6 +65,15 @@ impl Climb {
             .filter(|&node| node != NO_PARENT)
     }
 
+    /// `node`'s parent, if it has one (node 0, and a node the links do not know, have none).
+    #[inline(always)]
+    pub(in crate::render) fn parent(&self, node: u32) -> Option<u32> {
+        self.parents
+            .get(node as usize)
+            .copied()
+            .filter(|&parent| parent != NO_PARENT)
+    }
+
     /// `node`'s ancestor `levels` up, or node 0 if it is fewer levels deep.
     #[cfg_attr(
         not(target_arch = "x86_64"),
@@ -72,9 +81,9 @@ impl Climb {
     )]
     pub(in crate::render) fn ancestor(&self, mut node: u32, levels: u32) -> u32 {
         for _ in 0..levels {
-            match self.parents.get(node as usize) {
-                Some(&parent) if parent != NO_PARENT => node = parent,
-                _ => break,
+            match self.parent(node) {
+                Some(parent) => node = parent,
+                None => break,
             }
         }
         node

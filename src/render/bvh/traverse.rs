@@ -112,12 +112,9 @@ impl Bvh {
         let mut node = near;
         self.visit_from(query, (node, 0), 0, rays, start);
         while query.live(rays, start) != 0 {
-            let Some(&parent) = self.climb.parents.get(node as usize) else {
+            let Some(parent) = self.climb.parent(node) else {
                 return;
             };
-            if parent == super::climb::NO_PARENT {
-                return;
-            }
             let below = super::climb::lanes_holding(&self.nodes[parent as usize], node);
             self.visit_from(query, (parent, 0), below, rays, start);
             node = parent;

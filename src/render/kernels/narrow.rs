@@ -1009,7 +1009,7 @@ thread_local! {
         Blockers {
             lane: std::cell::Cell::new(0),
             last: [const { std::cell::Cell::new(LastBlocker::NONE) }; RAYS + 1],
-            packet: std::cell::Cell::new((0, NO_PARENT)),
+            packet: std::cell::Cell::new(NO_PACKET_NODE),
         }
     };
 }
@@ -1024,6 +1024,9 @@ struct Blockers {
     /// bench's 4x4 tiles), most often end in the same part of the mesh.
     packet: std::cell::Cell<(usize, u32)>,
 }
+
+/// No node to start an any-hit packet's walk from (see [`Blockers::packet`]): of no hierarchy.
+const NO_PACKET_NODE: (usize, u32) = (0, NO_PARENT);
 
 /// How many levels above the node holding the last packet's hit the next packet's walk starts.
 /// Started lower, a packet's rays along an edge tested the neighbouring leaves there before the
@@ -1045,7 +1048,7 @@ fn last_packet_node(bvh: &Bvh) -> Option<u32> {
 fn remember_packet_node(bvh: &Bvh, node: Option<u32>) {
     let kept = match node {
         Some(node) => (bvh.quads.as_ptr() as usize, node),
-        None => (0, NO_PARENT),
+        None => NO_PACKET_NODE,
     };
     BLOCKERS.with(|blockers| blockers.packet.set(kept));
 }
@@ -1068,7 +1071,7 @@ pub fn forget_last_blocker() {
             .last
             .iter()
             .for_each(|one| one.set(LastBlocker::NONE));
-        blockers.packet.set((0, NO_PARENT));
+        blockers.packet.set(NO_PACKET_NODE);
     });
 }
 
