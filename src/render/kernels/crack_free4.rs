@@ -217,6 +217,24 @@ pub struct RayQuad {
 }
 
 impl RayQuad {
+    /// Four rays' lanes: their origins' and shears' rows (x, y, z on each ray's sheared axes).
+    #[inline(always)]
+    pub fn of_rows(origin: [[f64; 4]; 3], shear: [[f64; 4]; 3]) -> RayQuad {
+        RayQuad { origin, shear }
+    }
+
+    /// Lane `lane`'s origin on its ray's sheared axes (for tests).
+    #[cfg(test)]
+    pub fn origin_lane(&self, lane: usize) -> [f64; 3] {
+        self.origin.map(|row| row[lane])
+    }
+
+    /// Lane `lane`'s shear constants (for tests).
+    #[cfg(test)]
+    pub fn shear_lane(&self, lane: usize) -> [f64; 3] {
+        self.shear.map(|row| row[lane])
+    }
+
     /// Puts `ray` in `lane`.
     #[inline(always)]
     pub fn set(&mut self, lane: usize, ray: &ShearedRay) {
@@ -253,15 +271,44 @@ impl RaysTogether {
         if self.rays == 0 {
             self.axes = axes;
         }
-        // Compared axis by axis as one number: compared as arrays, the axes just stored one by
-        // one were read back as one wide load, which waited for the stores (5% of a packet of
-        // glass rays' time).
-        let key = |[x, y, z]: [usize; 3]| x | y << 2 | z << 4;
         if key(axes) == key(self.axes) {
             self.rays |= 1 << r;
             self.quads[r / 4].set(r % 4, ray);
         }
     }
+
+    /// Puts in the rays of `lanes` (a bit each, below four) of quarter `quarter` (rays 4q to
+    /// 4q + 3) whose `axes` are those of the first ray put in, `quad` holding all four rays' lanes
+    /// (a quarter's rays are put in at once, so its quad is written once).
+    #[inline(always)]
+    pub fn take_quarter(
+        &mut self,
+        quarter: usize,
+        quad: RayQuad,
+        axes: &[[usize; 3]; 4],
+        lanes: u32,
+    ) {
+        let mut each = lanes;
+        while each != 0 {
+            let lane = each.trailing_zeros() as usize;
+            each &= each - 1;
+            if self.rays == 0 {
+                self.axes = axes[lane];
+            }
+            if key(axes[lane]) == key(self.axes) {
+                self.rays |= 1 << (4 * quarter + lane);
+            }
+        }
+        self.quads[quarter] = quad;
+    }
+}
+
+/// Sheared axes as one number, compared axis by axis: compared as arrays, axes just stored one
+/// by one were read back as one wide load, which waited for the stores (5% of a packet of glass
+/// rays' time).
+#[inline(always)]
+fn key([x, y, z]: [usize; 3]) -> usize {
+    x | y << 2 | z << 4
 }
 
 /// Tests triangle `triangle` of `quad` against the rays of `rays` in `lanes` (a bit each), whose
