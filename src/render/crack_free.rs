@@ -65,21 +65,6 @@ impl ShearedRay {
         })
     }
 
-    /// The sheared ray of `origin` whose `axes` and `shear` [`ShearedRay::new`] made for its
-    /// direction, four lanes at a time (the packet walk's [`super::kernels::narrow`]).
-    #[inline(always)]
-    #[cfg_attr(
-        not(target_arch = "x86_64"),
-        allow(dead_code, reason = "used by the x86-64 kernels only")
-    )]
-    pub(super) fn from_parts(origin: V3<f64>, axes: [usize; 3], shear: [f64; 3]) -> ShearedRay {
-        ShearedRay {
-            origin,
-            axes,
-            shear,
-        }
-    }
-
     /// The origin, the axes that become x, y and z, and the shear constants (sx, sy, sz), for the
     /// four-triangle kernel of [`super::crack_free4`].
     #[inline(always)]

@@ -279,6 +279,10 @@ fn widest_children(binary: &[BinaryNode], index: usize, width: usize) -> Vec<usi
     children
 }
 
+/// A packet's rays' sheared forms, each made when the ray first needs one, and the rays.
+pub(in crate::render) type Sheared<'a, const P: usize> =
+    (&'a mut [Option<ShearedRay>; P], &'a [Ray; P]);
+
 impl Bvh {
     /// Builds the hierarchy over `triangles`.
     pub fn build(triangles: &[PreparedTriangle]) -> Bvh {
@@ -664,7 +668,7 @@ impl Bvh {
         &self,
         avx2: Avx2,
         slots: std::ops::Range<usize>,
-        (taking, together, sheared): (u32, &crack_free4::RaysTogether, &[Option<ShearedRay>; P]),
+        (taking, together, (sheared, packet)): (u32, &crack_free4::RaysTogether, Sheared<'_, P>),
         (t_max, best): (&mut [f64; P], &mut [Nearest; P]),
         mut lowered: impl FnMut(usize, f64),
     ) {
@@ -689,6 +693,10 @@ impl Bvh {
                     let lane = again.trailing_zeros() as usize;
                     again &= again - 1;
                     let r = 4 * group + lane;
+                    // Made when first needed, as in `packet_leaf`.
+                    if sheared[r].is_none() {
+                        sheared[r] = ShearedRay::new(&packet[r].origin, &packet[r].dir);
+                    }
                     let Some(ray) = &sheared[r] else { continue };
                     if let Some(hit) = ray.intersect(&self.slot_vertices(slot), 0.0) {
                         self.offer(slot, hit, (&mut t_max[r], &mut best[r]));
@@ -758,7 +766,7 @@ impl Bvh {
         isa: I,
         slots: std::ops::Range<usize>,
         live: u32,
-        (sheared, rays): (&mut [Option<ShearedRay>; P], &[Ray; P]),
+        (sheared, rays): Sheared<'_, P>,
         (t_max, best): (&mut [f64; P], &mut [Nearest; P]),
         triangle_tests: &mut u64,
         mut lowered: impl FnMut(usize, f64),

@@ -217,10 +217,21 @@ pub struct RayQuad {
 }
 
 impl RayQuad {
-    /// Four rays' lanes: their origins' and shears' rows (x, y, z on each ray's sheared axes).
+    /// Sets four rays' lanes: their origins' and shears' rows (x, y, z on each ray's sheared
+    /// axes).
+    #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    pub fn of_rows(origin: [[f64; 4]; 3], shear: [[f64; 4]; 3]) -> RayQuad {
-        RayQuad { origin, shear }
+    pub fn store(&mut self, origin: [F4; 3], shear: [F4; 3]) {
+        use std::arch::x86_64::*;
+        // SAFETY: each row is four f64s in a 32-byte aligned struct.
+        unsafe {
+            for (row, lanes) in self.origin.iter_mut().zip(origin) {
+                _mm256_store_pd(row.as_mut_ptr(), lanes);
+            }
+            for (row, lanes) in self.shear.iter_mut().zip(shear) {
+                _mm256_store_pd(row.as_mut_ptr(), lanes);
+            }
+        }
     }
 
     /// Lane `lane`'s origin on its ray's sheared axes (for tests).
@@ -278,16 +289,10 @@ impl RaysTogether {
     }
 
     /// Puts in the rays of `lanes` (a bit each, below four) of quarter `quarter` (rays 4q to
-    /// 4q + 3) whose `axes` are those of the first ray put in, `quad` holding all four rays' lanes
-    /// (a quarter's rays are put in at once, so its quad is written once).
+    /// 4q + 3) whose `axes` are those of the first ray put in, their lanes already written in
+    /// the quarter's quad ([`RayQuad::store`]).
     #[inline(always)]
-    pub fn take_quarter(
-        &mut self,
-        quarter: usize,
-        quad: RayQuad,
-        axes: &[[usize; 3]; 4],
-        lanes: u32,
-    ) {
+    pub fn take_quarter(&mut self, quarter: usize, axes: &[[usize; 3]; 4], lanes: u32) {
         let mut each = lanes;
         while each != 0 {
             let lane = each.trailing_zeros() as usize;
@@ -299,7 +304,6 @@ impl RaysTogether {
                 self.rays |= 1 << (4 * quarter + lane);
             }
         }
-        self.quads[quarter] = quad;
     }
 }
 

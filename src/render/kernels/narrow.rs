@@ -364,7 +364,7 @@ impl<const ANY: bool> Query for Narrow<'_, ANY> {
         let together = live & self.together.rays;
         let alone = if together != 0 && together_pays(together, slots.len()) {
             *self.triangle_tests += (slots.len() * together.count_ones() as usize) as u64;
-            let rays = (together, &*self.together, &self.sheared);
+            let rays = (together, &*self.together, (&mut self.sheared, self.rays));
             let hits = (&mut self.t_max, &mut *self.best);
             self.bvh
                 .leaf_rays4(self.avx2, slots.clone(), rays, hits, &mut lowered);
@@ -399,11 +399,10 @@ impl<const ANY: bool> Query for Narrow<'_, ANY> {
 
 #[cfg(target_arch = "x86_64")]
 impl<const ANY: bool> Narrow<'_, ANY> {
-    /// Makes the sheared forms of the rays of `fresh` (reaching their first leaf), and of the
-    /// rays taken beside them in their quarters, putting those that share the packet's axes in
-    /// [`Narrow::together`]. (Made a quarter at a time, four lanes at once, rather than a ray at
-    /// a time as each reached a leaf, the Cornell box's rays took fewer instructions: glass rays
-    /// 5.2%, mirror rays 3.3%, primary rays 7.1%, antialiasing samples 7.5%.)
+    /// Puts the rays of `fresh` (reaching their first leaf), and the rays taken beside them in
+    /// their quarters, in [`Narrow::together`] when they share the packet's sheared axes: their
+    /// sheared forms made as lanes, four at once. (A ray tested alone makes its own
+    /// [`ShearedRay`] when it first needs it, in [`Bvh::packet_leaf`] or [`Bvh::leaf_rays4`].)
     #[inline(always)]
     fn make_sheared(&mut self, fresh: u32) {
         for quarter in 0..RAYS / 4 {
@@ -412,22 +411,13 @@ impl<const ANY: bool> Narrow<'_, ANY> {
             }
             let taken = (self.taking >> (4 * quarter)) & 0b1111;
             self.made |= taken << (4 * quarter);
+            let quad = &mut self.together.quads[quarter];
             // SAFETY: an `Avx2` exists only on a processor with AVX2 and FMA; the quarter holds
             // a ray taken, so `Lanes::fill` found all four of its rays finite.
-            let (axes, shear, quad, aimed) = unsafe { sheared_quarter(self.rays, quarter) };
-            // A ray with no direction has no sheared form (`None`, as `ShearedRay::new` says):
-            // it meets nothing.
-            let lanes = taken & aimed;
-            let mut each = lanes;
-            while each != 0 {
-                let lane = each.trailing_zeros() as usize;
-                each &= each - 1;
-                let r = 4 * quarter + lane;
-                let shear = [shear[0][lane], shear[1][lane], shear[2][lane]];
-                let ray = ShearedRay::from_parts(self.rays[r].origin, axes[lane], shear);
-                self.sheared[r] = Some(ray);
-            }
-            self.together.take_quarter(quarter, quad, &axes, lanes);
+            let (axes, aimed) = unsafe { sheared_quarter(self.rays, quarter, quad) };
+            // A ray with no direction has no sheared form (`ShearedRay::new` says `None`): it
+            // meets nothing, and is not put in.
+            self.together.take_quarter(quarter, &axes, taken & aimed);
         }
     }
 }
@@ -440,12 +430,11 @@ const SHEARED_AXES: [[[usize; 3]; 2]; 3] = [
     [[0, 1, 2], [1, 0, 2]],
 ];
 
-/// The sheared forms of rays 4q to 4q + 3 of a packet, four lanes at once, as
-/// [`ShearedRay::new`] makes each, to the bit: the same compares pick each ray's axes, and the
-/// same division and products make its shear. Returns each ray's axes, the shear rows (sx, sy,
-/// sz, a lane a ray), the rays' lanes for [`RaysTogether`], and the lanes whose ray has a
-/// direction (a bit each): a ray without one has no sheared form, and its lane's numbers mean
-/// nothing.
+/// The sheared forms of rays 4q to 4q + 3 of a packet, four lanes at once, written into `quad`:
+/// as [`ShearedRay::new`] makes each, to the bit (the same compares pick each ray's axes, and the
+/// same division and products make its shear). Returns each ray's axes and the lanes whose ray
+/// has a direction (a bit each): a ray without one has no sheared form, and its lane's numbers
+/// mean nothing.
 ///
 /// # Safety
 /// Only call on a processor with AVX2 and FMA, for a quarter whose four rays are finite (as
@@ -456,7 +445,8 @@ const SHEARED_AXES: [[[usize; 3]; 2]; 3] = [
 unsafe fn sheared_quarter(
     rays: &[Ray; RAYS],
     quarter: usize,
-) -> ([[usize; 3]; 4], [[f64; 4]; 3], RayQuad, u32) {
+    quad: &mut RayQuad,
+) -> ([[usize; 3]; 4], u32) {
     use std::arch::x86_64::*;
     let [a, b, c, d] = [0, 1, 2, 3].map(|lane| &rays[4 * quarter + lane]);
     // Written out, not mapped over arrays: the closures were left uninlined.
@@ -505,17 +495,7 @@ unsafe fn sheared_quarter(
     let sy = _mm256_mul_pd(_mm256_blendv_pd(d_after, d_next, d_z), sz);
     let ox = _mm256_blendv_pd(o_next, o_after, d_z);
     let oy = _mm256_blendv_pd(o_after, o_next, d_z);
-    let mut shear = [[0.0; 4]; 3];
-    let mut moved = [[0.0; 4]; 3];
-    // SAFETY: four f64s into each row.
-    unsafe {
-        _mm256_storeu_pd(shear[0].as_mut_ptr(), sx);
-        _mm256_storeu_pd(shear[1].as_mut_ptr(), sy);
-        _mm256_storeu_pd(shear[2].as_mut_ptr(), sz);
-        _mm256_storeu_pd(moved[0].as_mut_ptr(), ox);
-        _mm256_storeu_pd(moved[1].as_mut_ptr(), oy);
-        _mm256_storeu_pd(moved[2].as_mut_ptr(), o_z);
-    }
+    quad.store([ox, oy, o_z], [sx, sy, sz]);
     let (x, y) = (
         _mm256_movemask_pd(z_is_x) as usize,
         _mm256_movemask_pd(y_over_z) as usize,
@@ -532,11 +512,10 @@ unsafe fn sheared_quarter(
         SHEARED_AXES[main][(down >> lane) & 1]
     };
     let axes = [axes_of(0), axes_of(1), axes_of(2), axes_of(3)];
-    let quad = RayQuad::of_rows(moved, shear);
     // d_z is the direction's largest coordinate: zero only where the direction is.
     let aimless = _mm256_cmp_pd::<_CMP_EQ_OQ>(d_z, _mm256_setzero_pd());
     let aimed = !_mm256_movemask_pd(aimless) as u32 & 0b1111;
-    (axes, shear, quad, aimed)
+    (axes, aimed)
 }
 
 /// True when a leaf of `triangles` costs fewer four-lane tests taken a triangle against four of
@@ -1297,7 +1276,8 @@ mod tests {
             });
             let quarter = case % 4;
             // SAFETY: `_avx2` proves AVX2 and FMA; every ray is finite.
-            let (axes, shear, quad, aimed) = unsafe { sheared_quarter(&rays, quarter) };
+            let mut quad = RayQuad::default();
+            let (axes, aimed) = unsafe { sheared_quarter(&rays, quarter, &mut quad) };
             for lane in 0..4 {
                 let ray = &rays[4 * quarter + lane];
                 let Some(alone) = ShearedRay::new(&ray.origin, &ray.dir) else {
@@ -1309,10 +1289,10 @@ mod tests {
                 let (origin, alone_axes, alone_shear) = alone.parts();
                 assert_eq!(alone_axes, axes[lane], "case {case}, {ray:?}");
                 let bits = |x: [f64; 3]| x.map(f64::to_bits);
-                let lane_shear = [shear[0][lane], shear[1][lane], shear[2][lane]];
+                let lane_shear = quad.shear_lane(lane);
                 assert_eq!(bits(*alone_shear), bits(lane_shear), "case {case}, {ray:?}");
                 let mut quads = RaysTogether::default();
-                quads.take_quarter(0, quad, &axes, 1 << lane);
+                quads.take_quarter(0, &axes, 1 << lane);
                 let mut one = RaysTogether::default();
                 one.offer(lane, &alone);
                 assert_eq!(quads.axes, alone_axes);
