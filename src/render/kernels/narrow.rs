@@ -308,14 +308,15 @@ struct Narrow<'a, const ANY: bool> {
     together: &'a mut RaysTogether,
     /// The rays the walk takes (a bit each).
     taking: u32,
-    /// The rays whose sheared form has been made.
+    /// The rays whose quarter's sheared lanes have been made ([`Narrow::put_together`]).
     made: u32,
     /// Each ray's nearest hit so far (`lanes.t_max` holds it rounded up).
     t_max: [f64; RAYS],
     /// Each ray's t_max at the start (an any-hit query's limit).
     open: [f64; RAYS],
-    /// Made for a quarter's rays when the first of them reaches a leaf (never `None` for the
-    /// rays taken: [`Lanes::fill`] took them, so they are finite, with d ≠ 0).
+    /// Each ray's sheared form, made when the ray is first tested alone ([`Bvh::packet_leaf`],
+    /// or an undecided lane of [`Bvh::leaf_rays4`]): `None` until then, and for a ray with no
+    /// direction.
     sheared: [Option<ShearedRay>; RAYS],
     /// With `ANY`, the first slot of the last leaf in which a ray found its hit.
     found_in: Option<usize>,
@@ -358,7 +359,7 @@ impl<const ANY: bool> Query for Narrow<'_, ANY> {
     #[inline(always)]
     fn leaf(&mut self, slots: std::ops::Range<usize>, live: u32) {
         let first = slots.start;
-        self.make_sheared(live & !self.made);
+        self.put_together(live & !self.made);
         let lanes = &mut *self.lanes;
         let mut lowered = |r: usize, t_max: f64| lanes.t_max[r] = up(t_max);
         let together = live & self.together.rays;
@@ -404,7 +405,7 @@ impl<const ANY: bool> Narrow<'_, ANY> {
     /// sheared forms made as lanes, four at once. (A ray tested alone makes its own
     /// [`ShearedRay`] when it first needs it, in [`Bvh::packet_leaf`] or [`Bvh::leaf_rays4`].)
     #[inline(always)]
-    fn make_sheared(&mut self, fresh: u32) {
+    fn put_together(&mut self, fresh: u32) {
         for quarter in 0..RAYS / 4 {
             if (fresh >> (4 * quarter)) & 0b1111 == 0 {
                 continue;
@@ -472,8 +473,8 @@ unsafe fn sheared_quarter(
         _mm256_cmp_pd::<_CMP_GE_OQ>(size[0], size[2]),
     );
     let y_over_z = _mm256_cmp_pd::<_CMP_GE_OQ>(size[1], size[2]);
-    // A macro, not a closure, so that it is always inlined: each lane's coordinate on its z
-    // axis, and on the two axes after it (z + 1 and z + 2, mod 3), of the rows `$v`.
+    // Each lane's coordinate on its z axis, and on the two axes after it (z + 1 and z + 2,
+    // mod 3), of the rows `$v`: a macro, expanded in place for the directions and the origins.
     macro_rules! on_axes {
         ($v:expr) => {{
             let v = $v;
