@@ -283,6 +283,19 @@ fn widest_children(binary: &[BinaryNode], index: usize, width: usize) -> Vec<usi
 pub(in crate::render) type Sheared<'a, const P: usize> =
     (&'a mut [Option<ShearedRay>; P], &'a [Ray; P]);
 
+/// Ray `r`'s sheared form, made the first time it is asked for; `None` for a ray with none (no
+/// direction, or a number not finite).
+#[inline(always)]
+fn sheared_when_needed<'a, const P: usize>(
+    (sheared, rays): (&'a mut [Option<ShearedRay>; P], &[Ray; P]),
+    r: usize,
+) -> Option<&'a ShearedRay> {
+    if sheared[r].is_none() {
+        sheared[r] = ShearedRay::new(&rays[r].origin, &rays[r].dir);
+    }
+    sheared[r].as_ref()
+}
+
 impl Bvh {
     /// Builds the hierarchy over `triangles`.
     pub fn build(triangles: &[PreparedTriangle]) -> Bvh {
@@ -693,11 +706,9 @@ impl Bvh {
                     let lane = again.trailing_zeros() as usize;
                     again &= again - 1;
                     let r = 4 * group + lane;
-                    // Made when first needed, as in `packet_leaf`.
-                    if sheared[r].is_none() {
-                        sheared[r] = ShearedRay::new(&packet[r].origin, &packet[r].dir);
-                    }
-                    let Some(ray) = &sheared[r] else { continue };
+                    let Some(ray) = sheared_when_needed((sheared, packet), r) else {
+                        continue;
+                    };
                     if let Some(hit) = ray.intersect(&self.slot_vertices(slot), 0.0) {
                         self.offer(slot, hit, (&mut t_max[r], &mut best[r]));
                     }
@@ -775,10 +786,9 @@ impl Bvh {
         while each != 0 {
             let r = each.trailing_zeros() as usize;
             each &= each - 1;
-            if sheared[r].is_none() {
-                sheared[r] = ShearedRay::new(&rays[r].origin, &rays[r].dir);
-            }
-            let Some(ray) = &sheared[r] else { continue };
+            let Some(ray) = sheared_when_needed((sheared, rays), r) else {
+                continue;
+            };
             *triangle_tests += slots.len() as u64;
             t_max[r] = self.leaf_crack_free(isa, ray, slots.clone(), 0.0, t_max[r], &mut best[r]);
             lowered(r, t_max[r]);

@@ -104,7 +104,9 @@ impl Lanes {
         use std::arch::x86_64::*;
         let mut valid = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
         let mut slack = [_mm256_setzero_pd(); RAYS / 4];
-        // Rays parallel to every axis so far (a zero direction is refused).
+        // Lanes parallel to every axis so far, over every quarter taken: a zero direction is
+        // refused only when its lane is zero in each of them (elsewhere its ray meets nothing,
+        // having no sheared form).
         let mut all_parallel = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
         for k in 0..3 {
             for (quarter, slack) in slack.iter_mut().enumerate() {
